@@ -1,0 +1,55 @@
+#include "models/router.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace rcsim {
+
+Router::Router(sc_core::sc_module_name name, bool io_space)
+    : sc_module(name), in("in"), out("out"), io_space_(io_space) {
+    in.register_b_transport(this, &Router::b_transport);
+    in.register_transport_dbg(this, &Router::transport_dbg);
+}
+
+void Router::map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what) {
+    for (const auto& r : ranges_) {
+        if (base < r.base + r.size && r.base < base + size) {
+            std::ostringstream os;
+            os << name() << ": range of '" << what << "' at 0x" << std::hex << base << " overlaps '"
+               << r.what << "' at 0x" << r.base;
+            throw std::invalid_argument(os.str());
+        }
+    }
+    ranges_.push_back({base, size, port, what});
+}
+
+const Router::Range* Router::decode(std::uint64_t addr) const {
+    for (const auto& r : ranges_)
+        if (addr - r.base < r.size) return &r;
+    return nullptr;
+}
+
+void Router::b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time& delay) {
+    const std::uint64_t addr = gp.get_address();
+    const Range* r = decode(addr);
+    if (!r) {
+        ++unmapped_;
+        gp.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
+        return;
+    }
+    gp.set_address(addr - r->base);
+    out[r->port]->b_transport(gp, delay);
+    gp.set_address(addr);
+}
+
+unsigned Router::transport_dbg(tlm::tlm_generic_payload& gp) {
+    const std::uint64_t addr = gp.get_address();
+    const Range* r = decode(addr);
+    if (!r) return 0;
+    gp.set_address(addr - r->base);
+    const unsigned n = out[r->port]->transport_dbg(gp);
+    gp.set_address(addr);
+    return n;
+}
+
+} // namespace rcsim

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs the Debian packages rcsim needs. Idempotent: a quick no-op when all are present;
+# runs `apt-get update` only when something must be installed.
+set -euo pipefail
+PACKAGES=(
+  cmake g++ make pkg-config git
+  libsystemc-dev libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev libyaml-cpp-dev libcli11-dev zlib1g-dev
+  bcc bin86 nasm
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
