@@ -19,6 +19,11 @@ int sc_main(int argc, char* argv[]) {
                   << "SystemC " << sc_core::sc_release() << "\n";
     });
 
+    // `rcsim bench <what>`: benchmarks register themselves under this group.
+    auto* bench = app.add_subcommand("bench", "Run a benchmark and print its figures");
+    bench->require_subcommand(1);
+    (void)bench;
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
