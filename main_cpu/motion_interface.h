@@ -1,0 +1,39 @@
+// rcsim — the seam between the main CPU's token dispatcher and the motion layer.
+//
+// The dispatcher (main_cpu/) hands every motion token of SYSTEM.md §5 (SV HM RS MA MR ML MC ES)
+// to a MotionInterface and sends back its reply as the response frame. The motion layer
+// (main_cpu/motion/: PLCopen function blocks over the CAMC-QI chip and CiA402 drives) implements
+// it; a dispatcher built without one answers BCH 04 ("not allowed in the current state").
+#pragma once
+
+#include <systemc>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rcsim {
+
+/// The response to one command: BCH status (SYSTEM.md §5: 00 ok, 01 unknown token, 02 bad data,
+/// 03 busy, 04 not allowed in the current state, 05 axis error) and response data.
+struct MotionReply {
+    std::uint8_t bch = 0;
+    std::string data;
+};
+
+class MotionInterface {
+public:
+    virtual ~MotionInterface() = default;
+    /// Executes or starts one motion command. Returns at once: a move is acknowledged when it is
+    /// accepted, not when it is done. `token` is two characters, `data` the frame's data field.
+    virtual MotionReply command(const std::string& token, const std::string& data) = 0;
+    /// Called by the main CPU at the start of every control cycle (default 1 ms) at simulated time
+    /// `now`; runs the function blocks and the drives.
+    virtual void control_cycle(const sc_core::sc_time& now) = 0;
+    /// Actual positions of the axes in pulses (for the ST token's response).
+    virtual std::vector<std::int64_t> positions() const = 0;
+    /// A short state text for the ST token (e.g. "STANDSTILL", "ERRORSTOP").
+    virtual std::string state() const = 0;
+};
+
+} // namespace rcsim
