@@ -1,0 +1,68 @@
+// rcsim — typed, line-numbered access to one YAML mapping of a scenario file.
+//
+// Every read names the file and line of the offending value on error, and finish() rejects keys
+// nobody read (a misspelt key must not be silently ignored — VCML fails on unused properties too).
+#pragma once
+
+#include "models/config_error.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rcsim {
+
+class YamlMap {
+public:
+    /// `node` must be a mapping (or null/absent: then every get() returns its default).
+    YamlMap(YAML::Node node, std::string file, std::string context);
+
+    bool has(const std::string& key) const;
+    /// The value of `key` converted to T, or `fallback` when absent.
+    template <typename T> T get(const std::string& key, const T& fallback);
+    /// The value of `key` converted to T; an error naming the key when absent.
+    template <typename T> T require(const std::string& key);
+    /// A numeric value checked against [lo, hi].
+    double number(const std::string& key, double fallback, double lo, double hi);
+    /// The raw child node (marked as read); an undefined node when absent.
+    YAML::Node child(const std::string& key);
+    /// A nested mapping.
+    YamlMap map(const std::string& key);
+
+    /// Throws ConfigError for the first key that was never read.
+    void finish() const;
+
+    [[noreturn]] void fail(const YAML::Node& at, const std::string& message) const;
+    [[noreturn]] void fail(const std::string& message) const { fail(node_, message); }
+    const std::string& file() const { return file_; }
+    const std::string& context() const { return context_; }
+    static int line_of(const YAML::Node& n) { return n.Mark().is_null() ? 0 : n.Mark().line + 1; }
+
+private:
+    YAML::Node node_;
+    std::string file_;
+    std::string context_;
+    mutable std::set<std::string> used_;
+};
+
+template <typename T> T YamlMap::get(const std::string& key, const T& fallback) {
+    if (!has(key)) return fallback;
+    return require<T>(key);
+}
+
+template <typename T> T YamlMap::require(const std::string& key) {
+    YAML::Node v = child(key);
+    if (!v.IsDefined() || v.IsNull()) fail("missing required key '" + context_ + key + "'");
+    try {
+        return v.as<T>();
+    } catch (const YAML::Exception&) {
+        fail(v, "bad value for '" + context_ + key + "': '" + YAML::Dump(v) + "'");
+    }
+}
+
+/// Loads a YAML file; a syntax error becomes a ConfigError naming file and line.
+YAML::Node load_yaml_file(const std::string& path);
+
+} // namespace rcsim
