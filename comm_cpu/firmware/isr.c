@@ -1,0 +1,313 @@
+/*
+ * rcsim communication firmware -- interrupt service routines.
+ *
+ * rs232_isr:  IR0..IR2, one 82510 each (and the 1 ms tick on 82510 #0).  Runs with IF = 0;
+ *             the entry stub in crt0.s sends the rotate-on-non-specific EOI after it.
+ * dpram_isr:  IR3, the IDT7130 INT_L mailbox int2ext.  Reads the word, then lets the RS-232
+ *             interrupts in while it copies a chunk (see docs/firmware.md).
+ */
+#include "fw.h"
+
+static int is_hex(unsigned char c)
+{
+    return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'F');
+}
+
+static unsigned char hex_val(unsigned char c)
+{
+    return c <= '9' ? c - '0' : c - 'A' + 10;
+}
+
+static void send(int port, unsigned char c)
+{
+    outb(UART_BASE(port) + U_TXD, c);
+}
+
+/* ENQ from the host: ACK and start receiving if the port's DP-RAM area is free, else NAK. */
+static int accept_enq(int port)
+{
+    if (!(rx_bad[port] & BAD_LINE) && dp_rd(PFLAG(port)) == P_FREE) {
+        dp_wr(PFLAG(port), EXT_USE);
+        send(port, ACK);
+        rx_len[port] = 0;
+        rx_fwd[port] = 0;
+        rx_sum[port] = 0;
+        rx_bad[port] = 0;
+        rx_t[port] = ticks;
+        fresh[port] = 0;
+        step[port] = ST_RECV;
+        return 1;
+    }
+    send(port, NAK);
+    rx_bad[port] = 0;
+    ++n_busy[port];
+    return 0;
+}
+
+/* ETX seen: check the frame and answer EOT (good) or NAK (dropped). */
+static void rx_end(int port)
+{
+    unsigned char *b = rxbuf[port];
+    unsigned n = rx_len[port];
+    unsigned char c1, c2, sum;
+    int ok;
+
+    ok = rx_bad[port] == 0 && n >= MIN_FRAME && is_hex(b[4]) && is_hex(b[5]);
+    if (ok) {
+        c1 = b[n - 3];
+        c2 = b[n - 2];
+        ok = is_hex(c1) && is_hex(c2);
+        if (ok) {
+            sum = rx_sum[port] - c1 - c2;
+            ok = sum == ((hex_val(c1) << 4) | hex_val(c2));
+        }
+    }
+    if (ok) {
+        send(port, EOT);
+        step[port] = ST_DONE;
+        ++n_good[port];
+    } else {
+        send(port, NAK);
+        step[port] = ST_DROP;
+        ++n_nak[port];
+    }
+}
+
+/* A frame byte in step 1: store it, check it, keep the running checksum. */
+static void rx_store(int port, unsigned char c)
+{
+    unsigned n = rx_len[port];
+
+    rx_t[port] = ticks;
+    if (n >= MAX_FRAME) {
+        rx_bad[port] |= BAD_LONG;
+        if (c == ETX)
+            rx_end(port);
+        return;
+    }
+    rxbuf[port][n] = c;
+    rx_len[port] = n + 1;
+    if (c == ETX) {
+        rx_end(port);
+        return;
+    }
+    if (n == 0) {
+        if (c != SOH)
+            rx_bad[port] |= BAD_CHAR;
+        return;
+    }
+    if (n == 3) {
+        if (c != STX)
+            rx_bad[port] |= BAD_CHAR;
+    } else if (c < 0x20 || c > 0x7E) {
+        rx_bad[port] |= BAD_CHAR;
+    }
+    rx_sum[port] += c;
+}
+
+/* A sent frame is finished: delivered (EOT) or given up. */
+static void tx_done(int port)
+{
+    tx_have[port] = 0;
+    step[port] = ST_IDLE;
+    ++n_sent[port];
+}
+
+/* NAK or timeout while sending: back off 10 ms x attempt, at most MAX_RETRY times.  IF = 0. */
+void tx_retry(int port)
+{
+    if (++tx_try[port] > MAX_RETRY) {
+        tx_have[port] = 0;
+        step[port] = ST_IDLE;
+        ++n_fail[port];
+        mb_post(MB_RESET | port);
+        return;
+    }
+    tx_wait[port] = RETRY_MS * tx_try[port];
+    tx_t[port] = ticks;
+    step[port] = ST_SEND_ENQ;
+    ++n_retry[port];
+}
+
+/* The protocol, one received byte at a time (the paper's rs232_interrupt_service). */
+void rx_char(int port, unsigned char c)
+{
+    unsigned char line_err = rx_bad[port] & BAD_LINE;
+
+    switch (step[port]) {
+    case ST_IDLE:
+        if (c == ENQ)
+            accept_enq(port);
+        else
+            rx_bad[port] = 0;
+        break;
+    case ST_RECV:
+        rx_store(port, c);
+        break;
+    case ST_SEND_ENQ:
+    case ST_WAIT_ACK:
+        if (c == ENQ) {
+            /* collision: the external system wins if the area is free */
+            if (accept_enq(port))
+                ++n_coll[port];
+        } else if (line_err) {
+            rx_bad[port] = 0;
+        } else if (step[port] == ST_WAIT_ACK) {
+            if (c == ACK) {
+                tx_pos[port] = 0;
+                step[port] = ST_SEND;
+            } else if (c == NAK) {
+                tx_retry(port);
+            }
+        }
+        break;
+    case ST_WAIT_EOT:
+        if (line_err)
+            rx_bad[port] = 0;
+        else if (c == EOT)
+            tx_done(port);
+        else if (c == NAK)
+            tx_retry(port);
+        break;
+    default:
+        /* frame complete or being dropped, or sending: the port is busy */
+        if (c == ENQ) {
+            send(port, NAK);
+            ++n_busy[port];
+        }
+        rx_bad[port] = 0;
+        break;
+    }
+}
+
+/* BREAK: reset the port once; further BREAK reports before the port is used just flush. */
+static void line_break(int port)
+{
+    ++n_break[port];
+    if (!fresh[port])
+        port_reset(port, 1);
+    else
+        outb(UART_BASE(port) + U_RCM, RCM_START);
+}
+
+void rs232_isr(int port)
+{
+    unsigned b = UART_BASE(port);
+    unsigned char bank, gir, st;
+    int n;
+
+    bank = inb(b + U_GIR) & BANK_MASK;
+    outb(b + U_BANK, BANK_WORK);
+    for (n = 0; n < 32; n++) {
+        gir = inb(b + U_GIR);
+        if (gir & GIR_NONE)
+            break;
+        switch (gir & GIR_VEC) {
+        case GIR_RXF:
+            rx_char(port, inb(b + U_RXD));
+            break;
+        case GIR_RXM:
+            st = inb(b + U_RST);
+            if (st & RST_BKD) {
+                line_break(port);
+            } else if (st & (RST_OE | RST_PE | RST_FE)) {
+                rx_bad[port] |= BAD_LINE;
+                ++n_lerr[port];
+            }
+            break;
+        case GIR_TIMER:
+            inb(b + U_TMST);
+            outb(b + U_TMCR, TMCR_GO_B);
+            ++ticks;
+            break;
+        default:
+            inb(b + U_GSR);
+            inb(b + U_MSR);
+            break;
+        }
+    }
+    outb(b + U_BANK, bank);
+}
+
+/*
+ * Copy one chunk of a response frame from data[p] into txbuf (the paper's
+ * DP-RAM_interrupt_service loop), then ACK it.  The chunk holding ETX completes the frame:
+ * pflag[p] is freed (the reader frees it) before the ACK word, and the main loop starts
+ * sending (step 10).  Runs in dpram_isr with IF = 1, or from the main loop for a deferred chunk.
+ */
+void take_chunk(int port)
+{
+    unsigned char *b = txbuf[port];
+    unsigned a = area[port];
+    unsigned n = tx_in[port];
+    unsigned char g = gen[port];
+    unsigned i, f;
+    unsigned char c;
+
+    chunk_pending[port] = 0;
+    for (i = 0; i < CHUNK; i++) {
+        c = dp_rd(a + i);
+        if (n < TXBUF_SIZE)
+            b[n++] = c;
+        if (c == ETX)
+            break;
+    }
+    f = irq_off();
+    if (g == gen[port]) {
+        if (i < CHUNK) {
+            tx_len[port] = n;
+            tx_in[port] = 0;
+            tx_pos[port] = 0;
+            tx_try[port] = 0;
+            tx_wait[port] = 0;
+            tx_have[port] = 1;
+            dp_wr(PFLAG(port), P_FREE);
+        } else {
+            tx_in[port] = n;
+        }
+        mb_post(MB_ACK | port);
+    }
+    irq_restore(f);
+}
+
+/* One mailbox word from the main CPU. */
+void dp_event(unsigned char word)
+{
+    int port = word & 0x0F;
+
+    if (port >= NO_PORT) {
+        ++n_badmb;
+        return;
+    }
+    switch (word & 0xF0) {
+    case MB_CHUNK:
+        if (tx_have[port])
+            chunk_pending[port] = 1;   /* txbuf busy: consume it when the frame is sent */
+        else
+            take_chunk(port);
+        break;
+    case MB_ACK:
+        chunk_out[port] = 0;
+        break;
+    case MB_RESET:
+        port_reset(port, 0);
+        break;
+    default:
+        ++n_badmb;
+        break;
+    }
+}
+
+void dpram_isr(void)
+{
+    unsigned char w;
+
+    w = dp_rd(INT2EXT);                             /* clears INT_L */
+    dp_wr(INT2EXT, 0);                              /* the mailbox is free again */
+    outb(PIC_A1, PIC_OCW1 | (1 << IRQ_DPRAM));      /* no nested DP-RAM interrupt */
+    outb(PIC_A0, PIC_EOI_ROT);
+    irq_on();
+    dp_event(w);
+    irq_off();
+    outb(PIC_A1, PIC_OCW1);
+}

@@ -1,0 +1,282 @@
+/*
+ * rcsim communication firmware -- start-up in C and the main loop (the paper's main_routine).
+ */
+#include "fw.h"
+
+/* ---- state ----------------------------------------------------------------------------- */
+unsigned ticks;
+unsigned unexpected;
+unsigned char step[NO_PORT];
+unsigned char gen[NO_PORT];
+
+/* 20 KB per port above the system area: first 10 KB receive, last 10 KB transmit */
+unsigned char *rxbuf[NO_PORT] = {
+    (unsigned char *)BUF_BASE,
+    (unsigned char *)(BUF_BASE + BUF_SIZE),
+    (unsigned char *)(BUF_BASE + 2 * BUF_SIZE)
+};
+unsigned char *txbuf[NO_PORT] = {
+    (unsigned char *)(BUF_BASE + RXBUF_SIZE),
+    (unsigned char *)(BUF_BASE + BUF_SIZE + RXBUF_SIZE),
+    (unsigned char *)(BUF_BASE + 2 * BUF_SIZE + RXBUF_SIZE)
+};
+unsigned area[NO_PORT] = { 0 * AREA, 1 * AREA, 2 * AREA };
+
+unsigned rx_len[NO_PORT], rx_fwd[NO_PORT], rx_t[NO_PORT];
+unsigned char rx_sum[NO_PORT], rx_bad[NO_PORT];
+unsigned char chunk_out[NO_PORT];
+unsigned chunk_t[NO_PORT];
+
+unsigned char tx_have[NO_PORT], chunk_pending[NO_PORT];
+unsigned tx_in[NO_PORT], tx_len[NO_PORT], tx_pos[NO_PORT];
+unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
+unsigned char tx_try[NO_PORT];
+unsigned char fresh[NO_PORT];
+
+unsigned n_good[NO_PORT], n_nak[NO_PORT], n_busy[NO_PORT], n_gap[NO_PORT];
+unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PORT];
+unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
+
+/* comm -> main mailbox words wait here until int2rbt is free */
+#define MBQ 16
+static unsigned char mbq[MBQ];
+static unsigned char mb_head, mb_tail;
+static unsigned mb_t;
+unsigned n_mblost;
+
+/* ---- int2rbt mailbox ------------------------------------------------------------------- */
+void mb_post(unsigned char word)
+{
+    unsigned f = irq_off();
+    unsigned char next = (mb_tail + 1) & (MBQ - 1);
+
+    if (next != mb_head) {
+        mbq[mb_tail] = word;
+        mb_tail = next;
+    } else {
+        ++n_mblost;
+    }
+    irq_restore(f);
+}
+
+/* Write the oldest queued word to int2rbt once the main CPU has emptied it (reads 0), or
+ * MB_WAIT_MS after the previous word if it never does. */
+static void mb_pump(void)
+{
+    unsigned f;
+    unsigned char w;
+
+    if (mb_head == mb_tail)
+        return;
+    if (dp_rd(INT2RBT) != 0 && ticks - mb_t < MB_WAIT_MS)
+        return;
+    f = irq_off();
+    w = mbq[mb_head];
+    mb_head = (mb_head + 1) & (MBQ - 1);
+    irq_restore(f);
+    dp_wr(INT2RBT, w);                  /* raises INT_R on the main CPU */
+    mb_t = ticks;
+}
+
+/* ---- host -> main CPU: forward the received frame through DP-RAM ------------------------ */
+
+/* Step 1 and 2 (the paper's write_data_to_dpram): a full chunk whenever 339 bytes are
+ * waiting, the rest (with ETX) once the frame is good; step 2 ends when its last chunk
+ * has been consumed. */
+static void to_dpram(int port)
+{
+    unsigned char *b;
+    unsigned a, have, n, i, f;
+    unsigned char s;
+
+    if (chunk_out[port])
+        return;
+    f = irq_off();
+    s = step[port];
+    have = rx_len[port];
+    irq_restore(f);
+    n = have - rx_fwd[port];
+    if (s == ST_RECV) {
+        if (n < CHUNK)
+            return;
+        n = CHUNK;
+    } else if (s == ST_DONE) {
+        if (n == 0) {
+            /* the main CPU frees pflag when it consumes the last chunk; make sure */
+            f = irq_off();
+            if (step[port] == ST_DONE) {
+                if (dp_rd(PFLAG(port)) == EXT_USE)
+                    dp_wr(PFLAG(port), P_FREE);
+                step[port] = ST_IDLE;
+            }
+            irq_restore(f);
+            return;
+        }
+        if (n > CHUNK)
+            n = CHUNK;
+    } else {
+        return;
+    }
+    a = area[port];
+    b = rxbuf[port] + rx_fwd[port];
+    for (i = 0; i < n; i++)
+        dp_wr(a + i, b[i]);
+    dp_wr(PFLAG(port), EXT_USE);
+    rx_fwd[port] += n;
+    chunk_t[port] = ticks;
+    chunk_out[port] = 1;
+    mb_post(MB_CHUNK | port);
+}
+
+/* Step 1 timeouts: T1 for the first byte after our ACK, T2 between bytes. */
+static void rx_watch(int port)
+{
+    unsigned f = irq_off();
+
+    if (step[port] == ST_RECV &&
+        ticks - rx_t[port] > (rx_len[port] ? T2_MS : T1_MS)) {
+        step[port] = ST_DROP;
+        ++n_gap[port];
+    }
+    irq_restore(f);
+}
+
+/* Step 3: a dropped frame.  Wait for a chunk in flight, tell the main CPU to discard what it
+ * already got (0x3p), free pflag, back to idle. */
+static void rx_drop(int port)
+{
+    unsigned f;
+
+    if (chunk_out[port])
+        return;
+    f = irq_off();
+    if (step[port] == ST_DROP) {
+        if (rx_fwd[port])
+            mb_post(MB_RESET | port);
+        dp_wr(PFLAG(port), P_FREE);
+        rx_len[port] = 0;
+        rx_fwd[port] = 0;
+        step[port] = ST_IDLE;
+    }
+    irq_restore(f);
+}
+
+/* ---- main CPU -> host: send the frame in txbuf ------------------------------------------ */
+
+static void start_tx(int port)
+{
+    unsigned f = irq_off();
+
+    if (step[port] == ST_IDLE && tx_have[port]) {
+        tx_wait[port] = 0;
+        tx_t[port] = ticks;
+        step[port] = ST_SEND_ENQ;
+    }
+    irq_restore(f);
+}
+
+/* Step 10: ENQ once the back-off has passed. */
+static void send_enq(int port)
+{
+    unsigned f;
+
+    if (ticks - tx_t[port] < tx_wait[port])
+        return;
+    f = irq_off();
+    if (step[port] == ST_SEND_ENQ) {
+        outb(UART_BASE(port) + U_TXD, ENQ);
+        tx_t[port] = ticks;
+        fresh[port] = 0;
+        step[port] = ST_WAIT_ACK;
+    }
+    irq_restore(f);
+}
+
+/* Step 12 (the paper's send_data_to_port): keep the 4-byte TX FIFO filled. */
+static void send_data(int port)
+{
+    unsigned b = UART_BASE(port);
+    unsigned char *d = txbuf[port];
+    unsigned f;
+
+    while (step[port] == ST_SEND && tx_pos[port] < tx_len[port] &&
+           (inb(b + U_FLR) & FLR_TFL) < TXFIFO_DEPTH)
+        outb(b + U_TXD, d[tx_pos[port]++]);
+    f = irq_off();
+    if (step[port] == ST_SEND && tx_pos[port] >= tx_len[port]) {
+        tx_t[port] = ticks;
+        step[port] = ST_WAIT_EOT;
+    }
+    irq_restore(f);
+}
+
+/* Steps 11 and 13: T1 without ACK / EOT -> retry. */
+static void tx_watch(int port)
+{
+    unsigned f = irq_off();
+
+    if ((step[port] == ST_WAIT_ACK || step[port] == ST_WAIT_EOT) &&
+        ticks - tx_t[port] >= T1_MS)
+        tx_retry(port);
+    irq_restore(f);
+}
+
+/* ---- the main loop -------------------------------------------------------------------- */
+void main_loop(void)
+{
+    int port;
+
+    for (;;) {
+        for (port = 0; port < NO_PORT; port++) {
+            switch (step[port]) {
+            case ST_IDLE:
+                if (tx_have[port])
+                    start_tx(port);
+                break;
+            case ST_RECV:
+                rx_watch(port);
+                to_dpram(port);
+                break;
+            case ST_DONE:
+                to_dpram(port);
+                break;
+            case ST_DROP:
+                rx_drop(port);
+                break;
+            case ST_SEND_ENQ:
+                send_enq(port);
+                break;
+            case ST_WAIT_ACK:
+            case ST_WAIT_EOT:
+                tx_watch(port);
+                break;
+            case ST_SEND:
+                send_data(port);
+                break;
+            default:
+                break;
+            }
+            if (chunk_pending[port] && !tx_have[port])
+                take_chunk(port);
+            if (chunk_out[port] && ticks - chunk_t[port] >= DP_ACK_MS)
+                port_reset(port, 1);    /* the main CPU never consumed the chunk */
+        }
+        mb_pump();
+    }
+}
+
+int main(void)
+{
+    int port;
+
+    pic_init();
+    for (port = 0; port < NO_PORT; port++) {
+        uart_init(port);
+        dp_wr(PFLAG(port), P_FREE);
+    }
+    dp_rd(INT2EXT);                     /* drop a stale INT_L so that IR3 sees edges */
+    dp_wr(INT2EXT, 0);
+    irq_on();
+    main_loop();
+    return 0;
+}
