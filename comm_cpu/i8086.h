@@ -1,0 +1,279 @@
+// rcsim — Intel 8086 (8086-2) CPU core, bus-cycle exact, plain C++ (no SystemC).
+//
+// Documentation: Intel 8086 16-bit HMOS Microprocessor data sheet (231455), iAPX 86/88 User's
+// Manual (1981) for instruction semantics and clock counts; the BIU timing rules (queue
+// policy, EU/prefetch bus arbitration delays) follow the behaviour captured from a real
+// P80C86A-2 in the SingleStepTests 8086 suite and the facts in shared/reference/chips.md §4.
+//
+// Structure (docs/cpu8086.md):
+// - The core is stepped one CLK at a time (clk()). Each clock advances the bus interface unit
+//   (T1-T4, Tw, Ti, the 6-byte prefetch queue) and optionally records a per-cycle trace row.
+// - The execution unit is straight-line C++ per opcode that consumes clocks by reading the
+//   queue, asking the BIU for bus cycles, or spending internal cycles.
+// - RAM/ROM are reached by direct pointer through a MemoryMap; everything else (I/O, memory
+//   outside the map such as the DP-RAM, the two INTA cycles) goes through a BusHandler which is
+//   told the absolute start cycle (T1) and answers with the Tw wait states it inserts.
+#pragma once
+
+#include "models/memory.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rcsim::i8086 {
+
+using cycles_t = std::uint64_t;
+
+/// Bus cycle kind = the status lines S2..S0 (same encoding as rcsim::BusCycle).
+enum class Bus : std::uint8_t { int_ack, io_read, io_write, halt, code_fetch, mem_read, mem_write, passive };
+const char* to_string(Bus b);
+
+/// T-states of the bus interface unit.
+enum class TState : std::uint8_t { Ti, T1, T2, T3, Tw, T4 };
+const char* to_string(TState t);
+
+/// Queue status QS1/QS0 as reported for the previous clock.
+enum class QueueOp : std::uint8_t { idle, first, subsequent, flush };
+
+/// Segment status S4/S3 during a bus cycle.
+enum class SegStatus : std::uint8_t { ES, SS, CS, DS, none };
+
+/// Everything that is not direct RAM/ROM. Called once per bus cycle at T1 with the absolute
+/// start cycle; returns the number of Tw states the device inserts. `width` is 1 or 2 (a word
+/// only at an even address). For reads, the handler stores the value in `data`.
+class BusHandler {
+public:
+    virtual ~BusHandler() = default;
+    virtual unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                                cycles_t start) = 0;
+};
+
+/// One completed bus cycle, for the observation hook.
+struct BusRecord {
+    Bus kind;
+    std::uint32_t address;
+    std::uint16_t data;   // value transferred (word or byte, lane-aligned to bit 0)
+    std::uint8_t width;   // 1 or 2 bytes
+    unsigned wait_states;
+    cycles_t start;       // cycle number of T1
+};
+using BusHook = void (*)(void* context, const BusRecord& record);
+
+/// One clock of the per-cycle trace (the fields of the SingleStepTests cycle lists).
+struct CycleRecord {
+    bool ale;
+    std::uint32_t address_latch;
+    SegStatus segment;
+    bool mem_read, mem_write, io_read, io_write; // 8288 command outputs active this clock
+    bool bhe;                                    // BHE# asserted (active low on the pin)
+    std::uint16_t data;                          // data bus (valid where a transfer completes)
+    Bus status;                                  // S2..S0 (passive outside T1/T2 of a cycle)
+    TState t;
+    QueueOp qop;                                 // queue operation of the previous clock
+    std::uint8_t qbyte;
+    bool transfer;                               // a read or write completes in this clock
+};
+
+enum Reg16 { AX, CX, DX, BX, SP, BP, SI, DI };
+enum SReg { ES, CS, SS, DS };
+
+struct Registers {
+    std::uint16_t r[8] = {};
+    std::uint16_t s[4] = {};
+    std::uint16_t ip = 0;
+    std::uint16_t flags = 0xF002;
+};
+
+namespace flag {
+constexpr std::uint16_t CF = 0x0001, PF = 0x0004, AF = 0x0010, ZF = 0x0040, SF = 0x0080, TF = 0x0100,
+                        IF = 0x0200, DF = 0x0400, OF = 0x0800;
+}
+
+class Cpu {
+public:
+    Cpu();
+
+    // --- configuration ---
+    void map_memory(const MemRegion& region) { mem_.add(region); }
+    const MemoryMap& memory() const { return mem_; }
+    void set_bus_handler(BusHandler* handler) { handler_ = handler; }
+    void set_bus_hook(BusHook hook, void* context) { hook_ = hook; hook_ctx_ = context; }
+    /// Per-cycle trace into `out` (nullptr turns it off).
+    void set_cycle_trace(std::vector<CycleRecord>* out) { trace_ = out; }
+
+    // --- reset and state ---
+    /// Hardware reset: CS=FFFF, IP=0, flags cleared, queue empty.
+    void reset();
+    /// Puts the CPU at cs:ip with `queue` already prefetched (the SingleStepTests set-up): the
+    /// fetch pointer is ip + queue size and the BIU idles until the queue has room.
+    void load_state(const Registers& regs, const std::uint8_t* queue, unsigned queue_len);
+    Registers& regs() { return r_; }
+    const Registers& regs() const { return r_; }
+    unsigned queue_size() const { return q_len_; }
+    std::uint8_t queue_byte(unsigned i) const { return q_[(q_head_ + i) % 6]; }
+
+    // --- inputs (levels) ---
+    void set_intr(bool level) { intr_ = level; }
+    void set_nmi(bool level);
+    bool halted() const { return halted_; }
+
+    // --- running ---
+    /// Reads the first byte of the next instruction from the queue (one clock). Execution starts
+    /// with this; afterwards step() keeps one byte pre-read as the hardware does.
+    void start();
+    /// Executes one instruction (with its prefixes, or a whole REP string run, or an interrupt
+    /// entry) and reads the first byte of the following instruction.
+    void step();
+    /// Steps until cycles() >= limit or stop_run() is called (e.g. by a bus handler that needs
+    /// the caller to sync). While halted, the remaining cycles are consumed as idle clocks
+    /// only if `burn_halt`; otherwise it returns at once.
+    void run_until(cycles_t limit, bool burn_halt = true);
+    void stop_run() { stop_ = true; }
+
+    cycles_t cycles() const { return cycle_; }
+    std::uint64_t instructions() const { return instructions_; }
+    /// Linear address of CS:IP of the next instruction to execute.
+    std::uint32_t pc() const { return linear(r_.s[CS], r_.ip); }
+
+    static std::uint32_t linear(std::uint16_t seg, std::uint16_t off) {
+        return ((std::uint32_t(seg) << 4) + off) & 0xFFFFF;
+    }
+
+private:
+    // ---- BIU ----
+    struct BusOp {
+        Bus kind = Bus::passive;
+        SegStatus seg = SegStatus::none;
+        std::uint32_t addr = 0;
+        std::uint16_t data = 0;
+        std::uint8_t width = 1;
+        bool fetch = false;
+        bool discard = false; // a prefetch overtaken by a queue flush
+    };
+
+    void clk();
+    void clks(unsigned n) { while (n--) clk(); }
+    void record_cycle();
+    void bus_start(const BusOp& op, cycles_t t1);
+    void bus_transfer();
+    bool queue_room() const { return q_len_ + (cur_.fetch && t_ != TState::Ti ? 2 : 0) <= 4; }
+    void start_fetch();
+    std::uint8_t q_read(QueueOp op);
+    void flush_queue();
+    void suspend_fetch();
+    std::uint16_t eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
+                         bool last);
+    unsigned direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
+                               cycles_t start);
+
+    // ---- memory operand access (byte-lane splits) ----
+    std::uint8_t read8(int seg, std::uint16_t off);
+    std::uint16_t read16(int seg, std::uint16_t off);
+    void write8(int seg, std::uint16_t off, std::uint8_t v, bool last = false);
+    void write16(int seg, std::uint16_t off, std::uint16_t v, bool last = false);
+    std::uint16_t in(std::uint16_t port, bool word);
+    void out(std::uint16_t port, std::uint16_t v, bool word, bool last);
+    void push(std::uint16_t v, bool last = false);
+    std::uint16_t pop();
+
+    // ---- EU ----
+    void execute(std::uint8_t op);
+    void decode_modrm();
+    void calc_ea();
+    std::uint8_t rm_read8();
+    std::uint16_t rm_read16();
+    void rm_write8(std::uint8_t v, bool last = true);
+    void rm_write16(std::uint16_t v, bool last = true);
+    std::uint8_t reg8(unsigned n) const { return n < 4 ? r_.r[n] & 0xFF : r_.r[n - 4] >> 8; }
+    void set_reg8(unsigned n, std::uint8_t v) {
+        if (n < 4) r_.r[n] = (r_.r[n] & 0xFF00) | v;
+        else r_.r[n - 4] = (r_.r[n - 4] & 0x00FF) | (v << 8);
+    }
+    std::uint8_t imm8() {
+        ++r_.ip;
+        return q_read(QueueOp::subsequent);
+    }
+    std::uint16_t imm16() {
+        r_.ip = static_cast<std::uint16_t>(r_.ip + 2);
+        const std::uint16_t lo = q_read(QueueOp::subsequent);
+        return static_cast<std::uint16_t>(lo | (q_read(QueueOp::subsequent) << 8));
+    }
+    int data_seg(int def) const { return seg_override_ >= 0 ? seg_override_ : def; }
+
+    // ALU
+    std::uint16_t alu(unsigned op, std::uint16_t a, std::uint16_t b, bool word);
+    std::uint16_t shift(unsigned op, std::uint16_t v, unsigned count, bool word);
+    void set_szp(std::uint16_t v, bool word);
+    void set_flag(std::uint16_t f, bool on) { r_.flags = on ? (r_.flags | f) : (r_.flags & ~f); }
+    bool get_flag(std::uint16_t f) const { return r_.flags & f; }
+    bool condition(unsigned cc) const;
+    void grp_muldiv(unsigned op, bool word);
+    bool divide(bool word, bool sign);
+
+    // control transfer
+    void jump_near(std::uint16_t ip);
+    void jump_far(std::uint16_t cs, std::uint16_t ip);
+    void interrupt(std::uint8_t vector, bool hardware_inta = false);
+    void string_op(std::uint8_t op);
+    bool check_interrupts();
+
+    // state
+    Registers r_;
+    MemoryMap mem_;
+    BusHandler* handler_ = nullptr;
+    BusHook hook_ = nullptr;
+    void* hook_ctx_ = nullptr;
+    std::vector<CycleRecord>* trace_ = nullptr;
+
+    cycles_t cycle_ = 0;
+    std::uint64_t instructions_ = 0;
+
+    // queue: 6 bytes; fetch_ip_ is the offset in CS of the next fetch
+    std::uint8_t q_[6] = {};
+    unsigned q_head_ = 0, q_len_ = 0;
+    std::uint16_t fetch_ip_ = 0;
+
+    // bus state
+    TState t_ = TState::Ti;
+    BusOp cur_;
+    unsigned waits_left_ = 0, cur_waits_ = 0;
+    cycles_t cur_start_ = 0;
+    std::uint16_t data_bus_ = 0;
+    std::uint32_t latch_ = 0;      // address latched by the last ALE
+    std::uint16_t eu_data_ = 0;    // value read by the last EU bus cycle
+    std::uint64_t rom_writes_ = 0;
+    bool fetch_sched_ = false;     // a prefetch is scheduled once the bus is idle ...
+    unsigned fetch_delay_ = 0;     // ... and this many clocks have passed
+    bool fetch_next_ = false;      // decided at T2: next fetch follows T4 directly
+    bool eu_claim_ = false;        // the EU has asked for the bus; no prefetch may start
+    bool fetch_suspended_ = false; // EU asked the BIU not to prefetch (e.g. before a flush)
+    QueueOp qop_ = QueueOp::idle, last_qop_ = QueueOp::idle;
+    std::uint8_t qbyte_ = 0, last_qbyte_ = 0;
+    bool last_ale_ = false;
+
+    // EU decode state
+    std::uint8_t opcode_ = 0;       // first byte, read ahead
+    std::uint8_t modrm_ = 0;
+    unsigned mod_ = 0, reg_ = 0, rm_ = 0;
+    std::uint16_t ea_ = 0;
+    int ea_seg_ = DS;
+    int seg_override_ = -1;
+    unsigned rep_ = 0;              // 0, 0xF2 or 0xF3
+    std::uint8_t rm_read8_cached_ = 0;   // divisor, read before the division microcode runs
+    std::uint16_t rm_read16_cached_ = 0;
+    bool lock_ = false;
+    std::uint16_t instr_ip_ = 0;    // IP of the first prefix of the current instruction
+
+    // interrupt inputs and inhibits
+    bool intr_ = false, nmi_level_ = false, nmi_pending_ = false;
+    bool halted_ = false;
+    bool inhibit_ = false;          // no INTR/NMI/TF after this instruction (MOV/POP sreg, STI)
+    bool trap_armed_ = false;       // TF was set at the start of this instruction
+    bool stop_ = false;
+    bool started_ = false;
+
+public:
+    std::uint64_t rom_writes() const { return rom_writes_; }
+};
+
+} // namespace rcsim::i8086

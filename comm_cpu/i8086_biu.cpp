@@ -1,0 +1,278 @@
+// rcsim — Intel 8086 bus interface unit: T-states, prefetch queue, EU/prefetch arbitration.
+//
+// Documentation: Intel 8086 data sheet (231455) "Bus operation" and "Instruction queue";
+// timing rules observed on a P80C86A-2 (SingleStepTests 8086 v1, see docs/cpu8086.md):
+// - a bus cycle is T1 T2 T3 [Tw...] T4; data moves at the end of T3 or the last Tw;
+// - the BIU prefetches a word whenever two queue bytes are free; the decision to run the next
+//   prefetch back-to-back is taken in T2 of the current cycle;
+// - from an idle bus the BIU needs three clocks to begin a cycle the EU or the queue asked for;
+//   an EU request that finds a prefetch in progress starts three clocks after that T4;
+// - a queue read is reported on the QS lines in the following clock.
+#include "comm_cpu/i8086.h"
+
+namespace rcsim::i8086 {
+
+const char* to_string(Bus b) {
+    static const char* const names[] = {"INTA", "IOR", "IOW", "HALT", "CODE", "MEMR", "MEMW", "PASV"};
+    return names[static_cast<unsigned>(b)];
+}
+
+const char* to_string(TState t) {
+    static const char* const names[] = {"Ti", "T1", "T2", "T3", "Tw", "T4"};
+    return names[static_cast<unsigned>(t)];
+}
+
+Cpu::Cpu() { reset(); }
+
+void Cpu::reset() {
+    r_ = Registers{};
+    r_.s[CS] = 0xFFFF;
+    r_.ip = 0;
+    r_.flags = 0xF002;
+    q_head_ = q_len_ = 0;
+    fetch_ip_ = r_.ip;
+    t_ = TState::Ti;
+    cur_ = BusOp{};
+    fetch_sched_ = true;
+    fetch_delay_ = 0;
+    fetch_next_ = eu_claim_ = false;
+    fetch_suspended_ = false;
+    qop_ = last_qop_ = QueueOp::idle;
+    halted_ = inhibit_ = false;
+    nmi_pending_ = false;
+    started_ = false;
+}
+
+void Cpu::load_state(const Registers& regs, const std::uint8_t* queue, unsigned queue_len) {
+    reset();
+    r_ = regs;
+    r_.flags = static_cast<std::uint16_t>((r_.flags & 0x0FD5) | 0xF002);
+    for (unsigned i = 0; i < queue_len && i < 6; ++i) q_[i] = queue[i];
+    q_head_ = 0;
+    q_len_ = queue_len > 6 ? 6 : queue_len;
+    fetch_ip_ = static_cast<std::uint16_t>(r_.ip + q_len_);
+    // The queue as filled by the set-up: the BIU idles until a read frees two bytes.
+    fetch_sched_ = q_len_ <= 4;
+}
+
+void Cpu::set_nmi(bool level) {
+    if (level && !nmi_level_) nmi_pending_ = true; // NMI is rising-edge triggered
+    nmi_level_ = level;
+}
+
+// ---------------------------------------------------------------------------------------------
+// One clock.
+
+void Cpu::clk() {
+    if (trace_) record_cycle();
+
+    switch (t_) {
+    case TState::Ti:
+        break;
+    case TState::T1:
+        t_ = TState::T2;
+        break;
+    case TState::T2:
+        // The decision to prefetch right after this cycle is taken in T2.
+        fetch_next_ = !eu_claim_ && !fetch_suspended_ && q_len_ + (cur_.fetch ? cur_.width : 0) <= 4;
+        t_ = TState::T3;
+        break;
+    case TState::T3:
+    case TState::Tw:
+        if (waits_left_) {
+            --waits_left_;
+            t_ = TState::Tw;
+        } else {
+            t_ = TState::T4;
+        }
+        break;
+    case TState::T4:
+        if (cur_.fetch && !cur_.discard) {
+            // The fetched bytes enter the queue at the end of T4.
+            if (cur_.width == 2) {
+                q_[(q_head_ + q_len_) % 6] = data_bus_ & 0xFF;
+                q_[(q_head_ + q_len_ + 1) % 6] = data_bus_ >> 8;
+                q_len_ += 2;
+            } else {
+                q_[(q_head_ + q_len_) % 6] = data_bus_ >> 8; // odd address: high lane
+                q_len_ += 1;
+            }
+            fetch_ip_ = static_cast<std::uint16_t>(fetch_ip_ + cur_.width);
+        }
+        t_ = TState::Ti;
+        cur_.kind = Bus::passive;
+        if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
+            fetch_next_ = false;
+            fetch_sched_ = false;
+            start_fetch();
+        }
+        fetch_next_ = false;
+        break;
+    }
+
+    if (fetch_sched_) {
+        if (fetch_delay_) --fetch_delay_;
+        if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
+            fetch_sched_ = false;
+            if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
+        }
+    }
+
+    last_qop_ = qop_;
+    last_qbyte_ = qbyte_;
+    qop_ = QueueOp::idle;
+    ++cycle_;
+}
+
+void Cpu::record_cycle() {
+    CycleRecord c{};
+    c.t = t_;
+    c.ale = t_ == TState::T1;
+    c.address_latch = latch_;
+    const bool busy = t_ != TState::Ti;
+    c.segment = (busy && t_ != TState::T1) ? cur_.seg : SegStatus::none;
+    c.status = (t_ == TState::T1 || t_ == TState::T2) ? cur_.kind : Bus::passive;
+    const bool active = t_ == TState::T2 || t_ == TState::T3 || t_ == TState::Tw;
+    const bool rd = cur_.kind == Bus::mem_read || cur_.kind == Bus::code_fetch;
+    c.mem_read = active && rd;
+    c.mem_write = active && cur_.kind == Bus::mem_write;
+    c.io_read = active && cur_.kind == Bus::io_read;
+    c.io_write = active && cur_.kind == Bus::io_write;
+    c.bhe = busy && (cur_.width == 2 || (cur_.addr & 1));
+    c.transfer = (t_ == TState::T3 || t_ == TState::Tw) && waits_left_ == 0;
+    c.data = c.transfer ? data_bus_ : 0;
+    c.qop = last_qop_;
+    c.qbyte = last_qop_ == QueueOp::idle ? 0 : last_qbyte_;
+    trace_->push_back(c);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bus cycles.
+
+unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
+                                cycles_t start) {
+    const bool write = kind == Bus::mem_write;
+    if (kind == Bus::mem_read || kind == Bus::code_fetch || write) {
+        const MemRegion* r = mem_.find(addr);
+        if (r && (width == 1 || r->contains(addr + 1))) {
+            std::uint8_t* p = r->data + (addr - r->base);
+            if (write) {
+                if (r->writable) {
+                    p[0] = data & 0xFF;
+                    if (width == 2) p[1] = data >> 8;
+                } else {
+                    ++rom_writes_;
+                }
+            } else {
+                data = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+            }
+            return r->wait_states;
+        }
+    }
+    if (handler_) return handler_->bus_access(kind, addr, data, width, start);
+    if (!write && kind != Bus::io_write) data = 0xFFFF; // open bus
+    return 0;
+}
+
+// Begins T1 of `op` in the next clock: the device is asked now (start cycle = this clock),
+// so its wait states are known before T3.
+void Cpu::bus_start(const BusOp& op, cycles_t t1) {
+    cur_ = op;
+    t_ = TState::T1;
+    latch_ = op.addr;
+    cur_start_ = t1;
+    std::uint16_t d = op.data;
+    cur_waits_ = waits_left_ = direct_or_handler(op.kind, op.addr, d, op.width, t1);
+    // A byte on the odd lane travels on D8-D15.
+    if (op.kind == Bus::mem_write || op.kind == Bus::io_write) {
+        data_bus_ = op.width == 1 && (op.addr & 1) ? std::uint16_t(op.data << 8) : op.data;
+    } else if (op.width == 1 && (op.addr & 1) && (op.kind == Bus::code_fetch)) {
+        data_bus_ = std::uint16_t((d & 0xFF) << 8);
+    } else {
+        data_bus_ = d;
+    }
+    if (op.kind != Bus::code_fetch) eu_data_ = d;
+    if (hook_) hook_(hook_ctx_, BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
+}
+
+void Cpu::start_fetch() {
+    BusOp op;
+    op.kind = Bus::code_fetch;
+    op.seg = SegStatus::CS;
+    op.addr = linear(r_.s[CS], fetch_ip_);
+    // The 8086 fetches a word from an even address, a single byte from an odd one.
+    op.width = (op.addr & 1) ? 1 : 2;
+    op.fetch = true;
+    bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+}
+
+std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
+                          bool last) {
+    eu_claim_ = true;
+    if (t_ == TState::T4 && !cur_.fetch) {
+        clk(); // our own previous cycle ends: the next one follows its T4 directly
+    } else if (t_ != TState::Ti) {
+        // A prefetch is on the bus: wait for its T4, then the BIU turns round to the EU.
+        while (t_ != TState::T4) clk();
+        clks(3);
+    } else {
+        clks(3); // idle bus: three clocks to start the cycle (a scheduled prefetch waits)
+    }
+    BusOp op;
+    op.kind = kind;
+    op.seg = seg;
+    op.addr = addr;
+    op.data = data;
+    op.width = static_cast<std::uint8_t>(width);
+    op.fetch = false;
+    bus_start(op, cycle_);
+    eu_claim_ = false;
+    clk(); // T1
+    clk(); // T2
+    if (last) {
+        while (waits_left_) clk(); // return on T3 / the last Tw: the next clock moves the data
+        return eu_data_;
+    }
+    while (t_ != TState::T4) clk();
+    return eu_data_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queue.
+
+std::uint8_t Cpu::q_read(QueueOp op) {
+    while (q_len_ == 0) clk();
+    const std::uint8_t b = q_[q_head_];
+    q_head_ = (q_head_ + 1) % 6;
+    --q_len_;
+    qop_ = op;
+    qbyte_ = b;
+    // Two free bytes wake an idle BIU; it starts the fetch three clocks after this one. A
+    // cycle still before its T2 decision will take the room into account itself.
+    const bool deciding = t_ == TState::T1 || t_ == TState::T2;
+    if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_ && !deciding) {
+        fetch_sched_ = true;
+        fetch_delay_ = 2;
+    }
+    clk();
+    return b;
+}
+
+void Cpu::flush_queue() {
+    if (t_ != TState::Ti && cur_.fetch) cur_.discard = true; // its bytes belong to the old stream
+    q_head_ = q_len_ = 0;
+    fetch_ip_ = r_.ip;
+    qop_ = QueueOp::flush;
+    fetch_suspended_ = false;
+    fetch_next_ = false;
+    fetch_sched_ = true;
+    fetch_delay_ = 2;
+}
+
+void Cpu::suspend_fetch() {
+    fetch_suspended_ = true;
+    fetch_next_ = false;
+    fetch_sched_ = false;
+}
+
+} // namespace rcsim::i8086

@@ -1,0 +1,412 @@
+// rcsim — Intel 8086 execution unit: decode, operands, instructions, interrupts.
+//
+// Documentation: iAPX 86/88 User's Manual (Intel 210201), instruction set reference and
+// clock tables; undocumented behaviour (aliases 60-6F/C0/C1/C8/C9/82/F6.1/FF.7, SALC D6,
+// SETMO/SETMOC D0-D3 /6, POP CS 0F, MOV CS, the REP prefix negating the IMUL/IDIV result,
+// IDIV refusing the most negative quotient, the divide error pushing the address of the next
+// instruction) as captured on a P80C86A-2 in the SingleStepTests 8086 suite.
+//
+// Timing: every clock the EU spends is explicit: a queue read (q_read, 1 clock), an internal
+// clock (clks), or a bus cycle through the BIU (eu_bus). Internal clock counts come from the
+// 8086 microcode sequences as observed on the captured hardware (docs/cpu8086.md).
+#include "comm_cpu/i8086.h"
+
+namespace rcsim::i8086 {
+namespace {
+
+// Parity flag: set when the low byte has an even number of one bits.
+constexpr bool parity(std::uint8_t v) {
+    v ^= v >> 4;
+    v ^= v >> 2;
+    v ^= v >> 1;
+    return !(v & 1);
+}
+
+constexpr SegStatus seg_status(int seg) {
+    switch (seg) {
+    case ES: return SegStatus::ES;
+    case SS: return SegStatus::SS;
+    case CS: return SegStatus::CS;
+    default: return SegStatus::DS;
+    }
+}
+
+// Opcodes whose second byte is a ModR/M byte (read in the clock right after the opcode).
+constexpr bool has_modrm(std::uint8_t op) {
+    if (op < 0x40) return (op & 0x04) == 0;
+    if (op >= 0x80 && op <= 0x8F) return true;
+    if (op == 0xC4 || op == 0xC5 || op == 0xC6 || op == 0xC7) return true;
+    if (op >= 0xD0 && op <= 0xD3) return true;
+    if (op >= 0xD8 && op <= 0xDF) return true;
+    if (op == 0xF6 || op == 0xF7 || op == 0xFE || op == 0xFF) return true;
+    return false;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Memory and I/O operands. A word at an odd address is two byte cycles (A0/BHE lanes).
+
+std::uint8_t Cpu::read8(int seg, std::uint16_t off) {
+    const std::uint32_t a = linear(r_.s[seg], off);
+    const std::uint16_t d = eu_bus(Bus::mem_read, seg_status(seg), a, 0, 1, false);
+    return (a & 1) ? std::uint8_t(d) : std::uint8_t(d);
+}
+
+std::uint16_t Cpu::read16(int seg, std::uint16_t off) {
+    const std::uint32_t a = linear(r_.s[seg], off);
+    if (!(a & 1)) return eu_bus(Bus::mem_read, seg_status(seg), a, 0, 2, false);
+    const std::uint8_t lo = std::uint8_t(eu_bus(Bus::mem_read, seg_status(seg), a, 0, 1, false));
+    const std::uint32_t a2 = linear(r_.s[seg], std::uint16_t(off + 1));
+    const std::uint8_t hi = std::uint8_t(eu_bus(Bus::mem_read, seg_status(seg), a2, 0, 1, false));
+    return std::uint16_t(lo | (hi << 8));
+}
+
+void Cpu::write8(int seg, std::uint16_t off, std::uint8_t v, bool last) {
+    eu_bus(Bus::mem_write, seg_status(seg), linear(r_.s[seg], off), v, 1, last);
+}
+
+void Cpu::write16(int seg, std::uint16_t off, std::uint16_t v, bool last) {
+    const std::uint32_t a = linear(r_.s[seg], off);
+    if (!(a & 1)) {
+        eu_bus(Bus::mem_write, seg_status(seg), a, v, 2, last);
+        return;
+    }
+    eu_bus(Bus::mem_write, seg_status(seg), a, v & 0xFF, 1, false);
+    eu_bus(Bus::mem_write, seg_status(seg), linear(r_.s[seg], std::uint16_t(off + 1)), v >> 8, 1, last);
+}
+
+std::uint16_t Cpu::in(std::uint16_t port, bool word) {
+    if (!word) return eu_bus(Bus::io_read, SegStatus::none, port, 0, 1, false) & 0xFF;
+    if (!(port & 1)) return eu_bus(Bus::io_read, SegStatus::none, port, 0, 2, false);
+    const std::uint8_t lo = std::uint8_t(eu_bus(Bus::io_read, SegStatus::none, port, 0, 1, false));
+    const std::uint8_t hi =
+        std::uint8_t(eu_bus(Bus::io_read, SegStatus::none, std::uint16_t(port + 1), 0, 1, false));
+    return std::uint16_t(lo | (hi << 8));
+}
+
+void Cpu::out(std::uint16_t port, std::uint16_t v, bool word, bool last) {
+    if (!word) {
+        eu_bus(Bus::io_write, SegStatus::none, port, v & 0xFF, 1, last);
+    } else if (!(port & 1)) {
+        eu_bus(Bus::io_write, SegStatus::none, port, v, 2, last);
+    } else {
+        eu_bus(Bus::io_write, SegStatus::none, port, v & 0xFF, 1, false);
+        eu_bus(Bus::io_write, SegStatus::none, std::uint16_t(port + 1), v >> 8, 1, last);
+    }
+}
+
+void Cpu::push(std::uint16_t v, bool last) {
+    r_.r[SP] = std::uint16_t(r_.r[SP] - 2);
+    write16(SS, r_.r[SP], v, last);
+}
+
+std::uint16_t Cpu::pop() {
+    const std::uint16_t v = read16(SS, r_.r[SP]);
+    r_.r[SP] = std::uint16_t(r_.r[SP] + 2);
+    return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// ModR/M and effective address.
+
+void Cpu::decode_modrm() {
+    modrm_ = imm8();
+    mod_ = modrm_ >> 6;
+    reg_ = (modrm_ >> 3) & 7;
+    rm_ = modrm_ & 7;
+    if (mod_ != 3) calc_ea();
+}
+
+// EA clocks after the displacement (8086 microcode EA routines): base+index sums take one
+// clock more for [BX+DI]/[BP+SI] than for [BX+SI]/[BP+DI]; a displacement adds an addition.
+void Cpu::calc_ea() {
+    static constexpr std::uint8_t base_clocks[8] = {3, 4, 4, 3, 1, 1, 1, 1};
+    std::uint16_t ea = 0;
+    unsigned n = 0;
+    if (mod_ == 0 && rm_ == 6) {
+        ea = imm16();
+        ea_seg_ = DS;
+        n = 1;
+    } else {
+        switch (rm_) {
+        case 0: ea = r_.r[BX] + r_.r[SI]; ea_seg_ = DS; break;
+        case 1: ea = r_.r[BX] + r_.r[DI]; ea_seg_ = DS; break;
+        case 2: ea = r_.r[BP] + r_.r[SI]; ea_seg_ = SS; break;
+        case 3: ea = r_.r[BP] + r_.r[DI]; ea_seg_ = SS; break;
+        case 4: ea = r_.r[SI]; ea_seg_ = DS; break;
+        case 5: ea = r_.r[DI]; ea_seg_ = DS; break;
+        case 6: ea = r_.r[BP]; ea_seg_ = SS; break;
+        case 7: ea = r_.r[BX]; ea_seg_ = DS; break;
+        }
+        n = base_clocks[rm_];
+        if (mod_ == 1) {
+            ea = std::uint16_t(ea + std::int8_t(imm8()));
+            n += 3;
+        } else if (mod_ == 2) {
+            ea = std::uint16_t(ea + imm16());
+            n += 3;
+        }
+    }
+    ea_ = ea;
+    if (seg_override_ >= 0) ea_seg_ = seg_override_;
+    clks(n);
+}
+
+std::uint8_t Cpu::rm_read8() { return mod_ == 3 ? reg8(rm_) : read8(ea_seg_, ea_); }
+std::uint16_t Cpu::rm_read16() { return mod_ == 3 ? r_.r[rm_] : read16(ea_seg_, ea_); }
+
+void Cpu::rm_write8(std::uint8_t v, bool last) {
+    if (mod_ == 3) set_reg8(rm_, v);
+    else write8(ea_seg_, ea_, v, last);
+}
+
+void Cpu::rm_write16(std::uint16_t v, bool last) {
+    if (mod_ == 3) r_.r[rm_] = v;
+    else write16(ea_seg_, ea_, v, last);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ALU.
+
+void Cpu::set_szp(std::uint16_t v, bool word) {
+    const std::uint16_t sign = word ? 0x8000 : 0x80;
+    const std::uint16_t mask = word ? 0xFFFF : 0xFF;
+    set_flag(flag::SF, v & sign);
+    set_flag(flag::ZF, (v & mask) == 0);
+    set_flag(flag::PF, parity(std::uint8_t(v)));
+}
+
+// op: 0 ADD, 1 OR, 2 ADC, 3 SBB, 4 AND, 5 SUB, 6 XOR, 7 CMP.
+std::uint16_t Cpu::alu(unsigned op, std::uint16_t a, std::uint16_t b, bool word) {
+    const std::uint32_t mask = word ? 0xFFFF : 0xFF;
+    const std::uint32_t sign = word ? 0x8000 : 0x80;
+    std::uint32_t res = 0;
+    switch (op) {
+    case 0:
+    case 2: {
+        const std::uint32_t c = (op == 2 && get_flag(flag::CF)) ? 1 : 0;
+        res = std::uint32_t(a) + b + c;
+        set_flag(flag::CF, res > mask);
+        set_flag(flag::OF, (a ^ res) & (b ^ res) & sign);
+        set_flag(flag::AF, (a ^ b ^ res) & 0x10);
+        break;
+    }
+    case 3:
+    case 5:
+    case 7: {
+        const std::uint32_t c = (op == 3 && get_flag(flag::CF)) ? 1 : 0;
+        res = std::uint32_t(a) - b - c;
+        set_flag(flag::CF, std::uint32_t(a) < std::uint32_t(b) + c);
+        set_flag(flag::OF, (a ^ b) & (a ^ res) & sign);
+        set_flag(flag::AF, (a ^ b ^ res) & 0x10);
+        break;
+    }
+    case 1: res = a | b; break;
+    case 4: res = a & b; break;
+    case 6: res = a ^ b; break;
+    }
+    if (op == 1 || op == 4 || op == 6) {
+        set_flag(flag::CF, false);
+        set_flag(flag::OF, false);
+        set_flag(flag::AF, false);
+    }
+    res &= mask;
+    set_szp(std::uint16_t(res), word);
+    return std::uint16_t(res);
+}
+
+// op: 0 ROL, 1 ROR, 2 RCL, 3 RCR, 4 SHL, 5 SHR, 6 SETMO, 7 SAR. The 8086 does not mask the count.
+std::uint16_t Cpu::shift(unsigned op, std::uint16_t v, unsigned count, bool word) {
+    if (count == 0) return v;
+    const std::uint16_t mask = word ? 0xFFFF : 0xFF;
+    const std::uint16_t sign = word ? 0x8000 : 0x80;
+    bool cf = get_flag(flag::CF), of = get_flag(flag::OF);
+    for (unsigned i = 0; i < count; ++i) {
+        switch (op) {
+        case 0: cf = v & sign; v = std::uint16_t(((v << 1) | cf) & mask); of = bool(v & sign) != cf; break;
+        case 1:
+            cf = v & 1;
+            v = std::uint16_t((v >> 1) | (cf ? sign : 0));
+            of = bool(v & sign) != bool(v & (sign >> 1));
+            break;
+        case 2: {
+            const bool out = v & sign;
+            v = std::uint16_t(((v << 1) | cf) & mask);
+            cf = out;
+            of = bool(v & sign) != cf;
+            break;
+        }
+        case 3: {
+            const bool out = v & 1;
+            v = std::uint16_t((v >> 1) | (cf ? sign : 0));
+            cf = out;
+            of = bool(v & sign) != bool(v & (sign >> 1));
+            break;
+        }
+        case 4: cf = v & sign; v = std::uint16_t((v << 1) & mask); of = bool(v & sign) != cf; break;
+        case 5: cf = v & 1; of = v & sign; v = std::uint16_t(v >> 1); break;
+        case 6: v = mask; cf = false; of = false; break;
+        case 7: cf = v & 1; v = std::uint16_t((v >> 1) | (v & sign)); of = false; break;
+        }
+    }
+    set_flag(flag::CF, cf);
+    set_flag(flag::OF, of);
+    if (op >= 4) {
+        set_szp(v, word);
+        set_flag(flag::AF, op == 6 ? false : get_flag(flag::AF));
+    }
+    return v;
+}
+
+bool Cpu::condition(unsigned cc) const {
+    const std::uint16_t f = r_.flags;
+    bool r = false;
+    switch (cc >> 1) {
+    case 0: r = f & flag::OF; break;
+    case 1: r = f & flag::CF; break;
+    case 2: r = f & flag::ZF; break;
+    case 3: r = (f & flag::CF) || (f & flag::ZF); break;
+    case 4: r = f & flag::SF; break;
+    case 5: r = f & flag::PF; break;
+    case 6: r = bool(f & flag::SF) != bool(f & flag::OF); break;
+    case 7: r = (f & flag::ZF) || (bool(f & flag::SF) != bool(f & flag::OF)); break;
+    }
+    return (cc & 1) ? !r : r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Control transfer.
+
+void Cpu::jump_near(std::uint16_t ip) {
+    r_.ip = ip;
+    flush_queue();
+}
+
+void Cpu::jump_far(std::uint16_t cs, std::uint16_t ip) {
+    r_.s[CS] = cs;
+    r_.ip = ip;
+    flush_queue();
+}
+
+// Interrupt entry (INT n, exceptions, NMI, INTR): for INTR two INTA cycles fetch the type;
+// then read the vector, push FLAGS, clear IF/TF, push CS, push IP, continue at the handler.
+void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
+    if (hardware_inta) {
+        // LOCK is asserted from T2 of the first INTA to T2 of the second; the 8259A drives
+        // the type on D7-D0 in the second.
+        suspend_fetch();
+        clks(1);
+        eu_bus(Bus::int_ack, SegStatus::none, 0, 0, 1, false);
+        vector = std::uint8_t(eu_bus(Bus::int_ack, SegStatus::none, 0, 0, 1, false));
+        clks(1);
+    }
+    suspend_fetch();
+    clks(1);
+    const std::uint32_t ivt = std::uint32_t(vector) * 4;
+    const std::uint16_t new_ip = eu_bus(Bus::mem_read, SegStatus::none, ivt, 0, 2, false);
+    clks(1);
+    const std::uint16_t new_cs = eu_bus(Bus::mem_read, SegStatus::none, ivt + 2, 0, 2, false);
+    clks(1);
+    const std::uint16_t old_flags = r_.flags;
+    set_flag(flag::IF, false);
+    set_flag(flag::TF, false);
+    push(old_flags);
+    clks(1);
+    push(r_.s[CS]);
+    const std::uint16_t ret = r_.ip;
+    r_.s[CS] = new_cs;
+    r_.ip = new_ip;
+    clks(2);
+    flush_queue();
+    clks(1);
+    push(ret, true);
+    halted_ = false;
+}
+
+// NMI (edge), INTR (level, IF=1) and the single-step trap, checked at an instruction
+// boundary unless the instruction just executed inhibits it (MOV/POP sreg, STI).
+bool Cpu::check_interrupts() {
+    if (inhibit_) {
+        inhibit_ = false;
+        return false;
+    }
+    if (nmi_pending_) {
+        nmi_pending_ = false;
+        interrupt(2);
+        return true;
+    }
+    if (intr_ && get_flag(flag::IF)) {
+        interrupt(0, true);
+        return true;
+    }
+    if (trap_armed_ && get_flag(flag::TF)) {
+        interrupt(1);
+        return true;
+    }
+    return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Instruction loop.
+
+void Cpu::start() {
+    opcode_ = q_read(QueueOp::first);
+    started_ = true;
+}
+
+void Cpu::step() {
+    if (!started_) start();
+    if (halted_) {
+        // HLT: the EU idles until NMI or an enabled INTR.
+        if (nmi_pending_ || (intr_ && get_flag(flag::IF))) {
+            halted_ = false;
+            check_interrupts();
+            opcode_ = q_read(QueueOp::first);
+        } else {
+            clk();
+        }
+        return;
+    }
+    instr_ip_ = r_.ip;
+    seg_override_ = -1;
+    rep_ = 0;
+    lock_ = false;
+    trap_armed_ = get_flag(flag::TF);
+    std::uint8_t op = opcode_;
+    ++r_.ip;
+    // Prefixes: no interrupt is taken between a prefix and its instruction.
+    for (;;) {
+        if ((op & 0xE7) == 0x26) {
+            seg_override_ = (op >> 3) & 3;
+        } else if (op == 0xF2 || op == 0xF3) {
+            rep_ = op;
+        } else if (op == 0xF0 || op == 0xF1) {
+            lock_ = true;
+        } else {
+            break;
+        }
+        clk();
+        op = q_read(QueueOp::first);
+        ++r_.ip;
+    }
+    opcode_ = op;
+    if (has_modrm(op)) decode_modrm();
+    else clk();
+    execute(op);
+    ++instructions_;
+    if (halted_) return;
+    check_interrupts();
+    opcode_ = q_read(QueueOp::first);
+}
+
+void Cpu::run_until(cycles_t limit, bool burn_halt) {
+    stop_ = false;
+    while (cycle_ < limit && !stop_) {
+        if (halted_ && !burn_halt && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) return;
+        step();
+    }
+}
+
+
+} // namespace rcsim::i8086

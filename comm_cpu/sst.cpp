@@ -1,0 +1,409 @@
+// rcsim — SingleStepTests 8086 runner. See sst.h.
+#include "comm_cpu/sst.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+namespace rcsim::i8086::sst {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr std::uint32_t kRamSize = 1u << 20;
+constexpr std::uint8_t kFill = 0x90; // bytes the suite did not list are NOPs (upstream README)
+
+const char* const kRegNames[] = {"ax", "cx", "dx", "bx", "sp", "bp", "si", "di"};
+const char* const kSegNames[] = {"es", "cs", "ss", "ds"};
+
+[[noreturn]] void fail(const std::string& file, const std::string& why) {
+    throw InputError(file + ": " + why);
+}
+
+std::string stem_of(const std::string& path) {
+    std::string name = fs::path(path).filename().string();
+    for (const char* ext : {".json.gz", ".json", ".gz"}) {
+        const std::size_t n = std::strlen(ext);
+        if (name.size() > n && name.compare(name.size() - n, n, ext) == 0) {
+            name.resize(name.size() - n);
+            break;
+        }
+    }
+    return name;
+}
+
+std::uint32_t get_u32(const json& j, const std::string& file, const std::string& what, std::uint32_t max) {
+    if (!j.is_number_unsigned() && !(j.is_number_integer() && j.get<std::int64_t>() >= 0))
+        fail(file, what + " is not a non-negative integer: " + j.dump());
+    const std::uint64_t v = j.get<std::uint64_t>();
+    if (v > max) fail(file, what + " out of range: " + std::to_string(v));
+    return static_cast<std::uint32_t>(v);
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+std::string read_text(const std::string& path) {
+    gzFile f = gzopen(path.c_str(), "rb"); // reads plain files transparently
+    if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+    std::string out;
+    char buf[1 << 16];
+    for (;;) {
+        const int n = gzread(f, buf, sizeof buf);
+        if (n < 0) {
+            int err = 0;
+            const std::string msg = gzerror(f, &err);
+            gzclose(f);
+            throw InputError(path + ": read error (" + msg + ")");
+        }
+        if (n == 0) break;
+        out.append(buf, static_cast<std::size_t>(n));
+    }
+    // A truncated gzip stream ends without error from gzread on some zlib versions; check.
+    int err = 0;
+    const char* msg = gzerror(f, &err);
+    if (err != Z_OK && err != Z_STREAM_END) {
+        const std::string m = msg;
+        gzclose(f);
+        throw InputError(path + ": read error (" + m + ")");
+    }
+    if (gzclose(f) != Z_OK) throw InputError(path + ": truncated or corrupt compressed data");
+    return out;
+}
+
+std::vector<std::string> collect(const std::vector<std::string>& paths) {
+    std::vector<std::string> files;
+    for (const auto& p : paths) {
+        std::error_code ec;
+        if (fs::is_directory(p, ec)) {
+            std::vector<std::string> here;
+            for (const auto& e : fs::directory_iterator(p)) {
+                const std::string name = e.path().filename().string();
+                if (name == "metadata.json") continue;
+                if (e.is_regular_file() && (name.size() > 5) &&
+                    (name.find(".json") != std::string::npos))
+                    here.push_back(e.path().string());
+            }
+            std::sort(here.begin(), here.end());
+            files.insert(files.end(), here.begin(), here.end());
+        } else if (fs::exists(p, ec)) {
+            files.push_back(p);
+        } else {
+            throw InputError(p + ": no such file or directory");
+        }
+    }
+    return files;
+}
+
+Metadata Metadata::load(const std::string& path) {
+    Metadata m;
+    try {
+        m.root_ = json::parse(read_text(path));
+    } catch (const json::exception& e) {
+        throw InputError(path + ": malformed JSON (" + e.what() + ")");
+    }
+    if (!m.root_.is_object() || !m.root_.contains("opcodes") || !m.root_["opcodes"].is_object())
+        throw InputError(path + ": no \"opcodes\" object");
+    return m;
+}
+
+OpcodeInfo Metadata::lookup(const std::string& stem) const {
+    OpcodeInfo info;
+    if (root_.is_null()) return info;
+    std::string op = stem, reg;
+    if (const auto dot = stem.find('.'); dot != std::string::npos) {
+        op = stem.substr(0, dot);
+        reg = stem.substr(dot + 1);
+    }
+    std::transform(op.begin(), op.end(), op.begin(), ::toupper);
+    const json& ops = root_["opcodes"];
+    if (!ops.contains(op)) return info;
+    const json* e = &ops[op];
+    if (!reg.empty() && e->contains("reg") && (*e)["reg"].contains(reg)) e = &(*e)["reg"][reg];
+    if (e->contains("status") && (*e)["status"].is_string()) info.status = (*e)["status"].get<std::string>();
+    if (e->contains("flags-mask") && (*e)["flags-mask"].is_number_unsigned())
+        info.flags_mask = static_cast<std::uint16_t>((*e)["flags-mask"].get<unsigned>());
+    return info;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct Runner::Test {
+    std::string name;
+    std::size_t idx = 0;
+    Registers init;
+    std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
+    std::vector<std::uint8_t> queue;
+    // final registers: present[i] says whether register i was listed (8 gp, 4 seg, ip, flags)
+    std::uint16_t fin[14] = {};
+    bool fin_present[14] = {};
+    const json* cycles = nullptr;
+};
+
+namespace {
+
+void parse_regs(const json& j, const std::string& file, const std::string& where, std::uint16_t* vals,
+                bool* present, bool require_all) {
+    if (!j.is_object()) fail(file, where + " is not an object");
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        int slot = -1;
+        for (int i = 0; i < 8; ++i)
+            if (it.key() == kRegNames[i]) slot = i;
+        for (int i = 0; i < 4; ++i)
+            if (it.key() == kSegNames[i]) slot = 8 + i;
+        if (it.key() == "ip") slot = 12;
+        if (it.key() == "flags") slot = 13;
+        if (slot < 0) fail(file, where + ": unknown register \"" + it.key() + "\"");
+        vals[slot] = static_cast<std::uint16_t>(get_u32(it.value(), file, where + "." + it.key(), 0xFFFF));
+        present[slot] = true;
+    }
+    if (require_all)
+        for (int i = 0; i < 14; ++i)
+            if (!present[i]) fail(file, where + ": missing register");
+}
+
+void parse_ram(const json& j, const std::string& file, const std::string& where,
+               std::vector<std::pair<std::uint32_t, std::uint8_t>>& out) {
+    if (!j.is_array()) fail(file, where + " is not an array");
+    for (const auto& e : j) {
+        if (!e.is_array() || e.size() != 2) fail(file, where + ": entry is not [address, value]: " + e.dump());
+        out.emplace_back(get_u32(e[0], file, where + " address", kRamSize - 1),
+                         static_cast<std::uint8_t>(get_u32(e[1], file, where + " value", 0xFF)));
+    }
+}
+
+void check_keys(const json& j, const std::string& file, const std::string& where,
+                std::initializer_list<const char*> allowed) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        bool ok = false;
+        for (const char* a : allowed) ok = ok || it.key() == a;
+        if (!ok) fail(file, where + ": unknown field \"" + it.key() + "\"");
+    }
+}
+
+const char* qop_name(QueueOp q) {
+    switch (q) {
+    case QueueOp::first: return "F";
+    case QueueOp::subsequent: return "S";
+    case QueueOp::flush: return "E";
+    default: return "-";
+    }
+}
+
+} // namespace
+
+Runner::Runner() : ram_(new std::uint8_t[kRamSize]) {
+    std::memset(ram_.get(), kFill, kRamSize);
+    MemRegion r;
+    r.name = "sst-ram";
+    r.base = 0;
+    r.size = kRamSize;
+    r.data = ram_.get();
+    cpu_.map_memory(r);
+    cpu_.set_bus_hook(
+        [](void* ctx, const BusRecord& rec) {
+            if (rec.kind == Bus::mem_write) {
+                auto* self = static_cast<Runner*>(ctx);
+                self->touched_.push_back(rec.address);
+                self->touched_.push_back((rec.address + 1) & (kRamSize - 1));
+            }
+        },
+        this);
+}
+
+FileResult Runner::run_file(const std::string& path, const Metadata& meta) {
+    FileResult result;
+    result.path = path;
+    result.stem = stem_of(path);
+    const OpcodeInfo info = meta.lookup(result.stem);
+    result.status = info.status;
+    json tests;
+    try {
+        tests = json::parse(read_text(path));
+    } catch (const json::exception& e) {
+        throw InputError(path + ": malformed or truncated JSON (" + e.what() + ")");
+    }
+    if (!tests.is_array()) throw InputError(path + ": top level is not an array of tests");
+    result.cycles = run_tests(tests, path, info, &result, true);
+    return result;
+}
+
+std::uint64_t Runner::run_tests(const json& tests, const std::string& file, const OpcodeInfo& info,
+                                FileResult* result, bool trace) {
+    const std::uint64_t c0 = cpu_.cycles();
+    std::size_t n = 0;
+    for (const auto& j : tests) {
+        const std::string where = "test " + std::to_string(n);
+        if (!j.is_object()) fail(file, where + " is not an object");
+        check_keys(j, file, where, {"name", "bytes", "initial", "final", "cycles", "hash", "idx", "test_hash", "test_num"});
+        for (const char* k : {"initial", "final"})
+            if (!j.contains(k) || !j[k].is_object()) fail(file, where + ": missing \"" + std::string(k) + "\"");
+        Test t;
+        t.idx = n;
+        t.name = j.contains("name") && j["name"].is_string() ? j["name"].get<std::string>() : "?";
+        const json& ini = j["initial"];
+        const json& fin = j["final"];
+        check_keys(ini, file, where + ".initial", {"regs", "ram", "queue"});
+        check_keys(fin, file, where + ".final", {"regs", "ram", "queue"});
+        for (const char* k : {"regs", "ram"}) {
+            if (!ini.contains(k)) fail(file, where + ".initial: missing \"" + std::string(k) + "\"");
+            if (!fin.contains(k)) fail(file, where + ".final: missing \"" + std::string(k) + "\"");
+        }
+        std::uint16_t iv[14] = {};
+        bool ip[14] = {};
+        parse_regs(ini["regs"], file, where + ".initial.regs", iv, ip, true);
+        for (int i = 0; i < 8; ++i) t.init.r[i] = iv[i];
+        for (int i = 0; i < 4; ++i) t.init.s[i] = iv[8 + i];
+        t.init.ip = iv[12];
+        t.init.flags = iv[13];
+        parse_regs(fin["regs"], file, where + ".final.regs", t.fin, t.fin_present, false);
+        parse_ram(ini["ram"], file, where + ".initial.ram", t.ram_in);
+        parse_ram(fin["ram"], file, where + ".final.ram", t.ram_out);
+        if (ini.contains("queue")) {
+            if (!ini["queue"].is_array() || ini["queue"].size() > 6)
+                fail(file, where + ".initial.queue is not an array of at most 6 bytes");
+            for (const auto& b : ini["queue"])
+                t.queue.push_back(static_cast<std::uint8_t>(get_u32(b, file, where + ".initial.queue", 0xFF)));
+        }
+        if (j.contains("cycles")) {
+            if (!j["cycles"].is_array()) fail(file, where + ".cycles is not an array");
+            for (const auto& c : j["cycles"])
+                if (!c.is_array() || c.size() != 11 || !c[7].is_string() || !c[8].is_string() ||
+                    !c[9].is_string() || !c[0].is_number() || !c[1].is_number() || !c[5].is_number() ||
+                    !c[6].is_number() || !c[10].is_number())
+                    fail(file, where + ".cycles: malformed cycle entry " + c.dump());
+            t.cycles = &j["cycles"];
+        }
+        run_one(t, info, result, trace);
+        ++n;
+    }
+    if (result) result->tests += n;
+    return cpu_.cycles() - c0;
+}
+
+void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {
+    std::uint8_t* ram = ram_.get();
+    touched_.clear();
+    for (const auto& [a, v] : t.ram_in) {
+        ram[a] = v;
+        touched_.push_back(a);
+    }
+    cpu_.load_state(t.init, t.queue.data(), static_cast<unsigned>(t.queue.size()));
+    cpu_.set_cycle_trace(nullptr);
+    cpu_.start(); // the first byte is read in the clock before the trace begins
+    trace_.clear();
+    if (trace) cpu_.set_cycle_trace(&trace_);
+    const cycles_t c0 = cpu_.cycles();
+    cpu_.step();
+    const cycles_t used = cpu_.cycles() - c0;
+    cpu_.set_cycle_trace(nullptr);
+
+    if (result) {
+        std::ostringstream why;
+        // ---- level 1: registers and RAM ----
+        bool ok1 = true;
+        const Registers& r = cpu_.regs();
+        std::uint16_t got[14];
+        for (int i = 0; i < 8; ++i) got[i] = r.r[i];
+        for (int i = 0; i < 4; ++i) got[8 + i] = r.s[i];
+        got[12] = r.ip;
+        got[13] = r.flags;
+        std::uint16_t init[14];
+        for (int i = 0; i < 8; ++i) init[i] = t.init.r[i];
+        for (int i = 0; i < 4; ++i) init[8 + i] = t.init.s[i];
+        init[12] = t.init.ip;
+        init[13] = t.init.flags;
+        for (int i = 0; i < 14 && ok1; ++i) {
+            std::uint16_t want = t.fin_present[i] ? t.fin[i] : init[i];
+            std::uint16_t have = got[i];
+            if (i == 13) {
+                want &= info.flags_mask;
+                have &= info.flags_mask;
+            }
+            if (want != have) {
+                ok1 = false;
+                const char* name = i < 8 ? kRegNames[i] : i < 12 ? kSegNames[i - 8] : i == 12 ? "ip" : "flags";
+                why << name << " expected " << want << " got " << have;
+            }
+        }
+        // The flags image pushed by a divide error holds the undefined flags: mask it too.
+        std::uint32_t flag_img = ~0u;
+        const std::uint16_t fin_sp = t.fin_present[SP] ? t.fin[SP] : t.init.r[SP];
+        if (info.flags_mask != 0xFFFF && fin_sp == std::uint16_t(t.init.r[SP] - 6))
+            flag_img = Cpu::linear(t.init.s[SS], std::uint16_t(t.init.r[SP] - 2));
+        for (const auto& [a, v] : t.ram_out) {
+            if (!ok1) break;
+            std::uint8_t mask = 0xFF;
+            if (a == flag_img) mask = std::uint8_t(info.flags_mask);
+            if (a == ((flag_img + 1) & (kRamSize - 1)) && flag_img != ~0u) mask = std::uint8_t(info.flags_mask >> 8);
+            if ((ram[a] & mask) != (v & mask)) {
+                ok1 = false;
+                why << "ram[" << a << "] expected " << unsigned(v) << " got " << unsigned(ram[a]);
+            }
+        }
+        if (ok1) ++result->pass[1];
+        else if (result->first_failure[1].empty())
+            result->first_failure[1] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + why.str();
+
+        // ---- level 2: cycle count; level 3: the trace ----
+        if (t.cycles) {
+            const json& cyc = *t.cycles;
+            if (cyc.size() == used) ++result->pass[2];
+            else if (result->first_failure[2].empty())
+                result->first_failure[2] = "test " + std::to_string(t.idx) + " (" + t.name + "): expected " +
+                                           std::to_string(cyc.size()) + " cycles, got " + std::to_string(used);
+            bool ok3 = trace && cyc.size() == trace_.size();
+            std::ostringstream w3;
+            if (!ok3) w3 << "length expected " << cyc.size() << " got " << trace_.size();
+            std::uint32_t latch = 0;
+            std::string kind = "PASV";
+            for (std::size_t k = 0; ok3 && k < cyc.size(); ++k) {
+                const json& e = cyc[k];
+                const CycleRecord& m = trace_[k];
+                const bool ale = e[0].get<unsigned>() & 1;
+                const std::string status = e[7].get<std::string>();
+                const std::string ts = e[8].get<std::string>();
+                const std::string qo = e[9].get<std::string>();
+                if (ale) {
+                    latch = e[1].get<std::uint32_t>();
+                    kind = status;
+                }
+                auto bad = [&](const char* field, const std::string& want, const std::string& have) {
+                    ok3 = false;
+                    w3 << "cycle " << k << " " << field << " expected " << want << " got " << have;
+                };
+                if (status != to_string(m.status)) bad("status", status, to_string(m.status));
+                else if (ts != to_string(m.t)) bad("T-state", ts, to_string(m.t));
+                else if (qo != qop_name(m.qop)) bad("queue op", qo, qop_name(m.qop));
+                else if (qo != "-" && e[10].get<unsigned>() != m.qbyte)
+                    bad("queue byte", std::to_string(e[10].get<unsigned>()), std::to_string(m.qbyte));
+                else if (ale != m.ale) bad("ALE", std::to_string(ale), std::to_string(m.ale));
+                else if (ale && latch != m.address_latch)
+                    bad("address", std::to_string(latch), std::to_string(m.address_latch));
+                else if ((ts == "T3" || ts == "Tw") &&
+                         (k + 1 >= cyc.size() || cyc[k + 1][8].get<std::string>() != "Tw") && kind != "PASV" &&
+                         kind != "HALT") {
+                    const bool bhe_active = e[5].get<unsigned>() == 0;
+                    const std::uint16_t lanes = (latch & 1) ? 0xFF00 : bhe_active ? 0xFFFF : 0x00FF;
+                    const std::uint16_t want = std::uint16_t(e[6].get<unsigned>() & lanes);
+                    const std::uint16_t have = std::uint16_t(m.data & lanes);
+                    if (want != have) bad("data", std::to_string(want), std::to_string(have));
+                }
+            }
+            if (ok3) ++result->pass[3];
+            else if (result->first_failure[3].empty())
+                result->first_failure[3] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + w3.str();
+        }
+    }
+
+    // Back to the fill pattern for the next test.
+    for (std::uint32_t a : touched_) ram[a] = kFill;
+    for (const auto& [a, v] : t.ram_out) ram[a] = kFill;
+}
+
+} // namespace rcsim::i8086::sst

@@ -1,0 +1,84 @@
+// rcsim — SingleStepTests 8086 runner (hardware-captured test vectors).
+//
+// Format: SingleStepTests/8086 v1 README (shared/sst8086/UPSTREAM_README.md): one JSON array
+// per opcode (optionally gzip-compressed), each test with initial/final registers, RAM, the
+// prefetched queue and the per-cycle bus trace; metadata.json gives each opcode's status and
+// the mask of flags left undefined.
+//
+// Levels: 1 = final registers and RAM (undefined flags masked); 2 = total cycle count;
+// 3 = the per-cycle trace (bus status, T-state, queue operation and byte on every cycle, the
+// latched address on ALE cycles, the data on the active lanes where a transfer completes).
+#pragma once
+
+#include "comm_cpu/i8086.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rcsim::i8086::sst {
+
+/// Unreadable or malformed input; the message names the file and the reason.
+class InputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Per-opcode facts from metadata.json.
+struct OpcodeInfo {
+    std::string status = "unknown";
+    std::uint16_t flags_mask = 0xFFFF;
+};
+
+class Metadata {
+public:
+    /// Loads metadata.json; throws InputError.
+    static Metadata load(const std::string& path);
+    /// The entry for a file stem such as "00" or "F6.7".
+    OpcodeInfo lookup(const std::string& stem) const;
+    bool empty() const { return root_.is_null(); }
+
+private:
+    nlohmann::json root_;
+};
+
+struct FileResult {
+    std::string path;
+    std::string stem;
+    std::string status;
+    std::size_t tests = 0;
+    std::size_t pass[4] = {0, 0, 0, 0}; // index 1..3 = levels
+    std::string first_failure[4];       // a description of the first failure per level
+    std::uint64_t cycles = 0;           // emulated cycles over all tests
+};
+
+/// Reads a .json or .json.gz file whole (throws InputError naming the file).
+std::string read_text(const std::string& path);
+/// Expands files and directories into the sorted list of test files (excluding metadata.json).
+std::vector<std::string> collect(const std::vector<std::string>& paths);
+
+class Runner {
+public:
+    Runner();
+    /// Runs every test of one file; throws InputError on unreadable or malformed content.
+    FileResult run_file(const std::string& path, const Metadata& meta);
+    /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
+    std::uint64_t run_tests(const nlohmann::json& tests, const std::string& file, const OpcodeInfo& info,
+                            FileResult* result, bool trace);
+
+private:
+    struct Test;
+    void run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
+
+    std::unique_ptr<std::uint8_t[]> ram_;
+    std::vector<std::uint32_t> touched_;
+    Cpu cpu_;
+    std::vector<CycleRecord> trace_;
+};
+
+} // namespace rcsim::i8086::sst
