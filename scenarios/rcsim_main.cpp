@@ -5,6 +5,10 @@
 #include <cstdlib>
 #include <iostream>
 
+namespace rcsim {
+void add_cputest_command(CLI::App& app);
+}
+
 #ifndef RCSIM_VERSION
 #define RCSIM_VERSION "0.1.0"
 #endif
@@ -23,6 +27,7 @@ int sc_main(int argc, char* argv[]) {
     auto* bench = app.add_subcommand("bench", "Run a benchmark and print its figures");
     bench->require_subcommand(1);
     (void)bench;
+    rcsim::add_cputest_command(app);
 
     try {
         app.parse(argc, argv);
