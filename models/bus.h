@@ -80,9 +80,15 @@ BusResult bus_access(Socket& socket, BusCycle kind, std::uint64_t address, std::
     gp.set_byte_enable_ptr(nullptr);
     gp.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
     gp.set_extension(&ext);
+    // Detach the stack extension however b_transport returns: if a target raises an SC_REPORT_ERROR
+    // (thrown), the payload's destructor must not free it.
+    struct Detach {
+        tlm::tlm_generic_payload& gp;
+        BusExtension* ext;
+        ~Detach() { gp.clear_extension(ext); }
+    } detach{gp, &ext};
     sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
     socket->b_transport(gp, delay);
-    gp.clear_extension(&ext);
     return BusResult{gp.get_response_status(), ext.wait_states};
 }
 
