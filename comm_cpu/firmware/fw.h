@@ -145,6 +145,7 @@
 #define RETRY_MS      10              /* back-off: 10 ms x attempt */
 #define MAX_RETRY     3
 #define DP_ACK_MS     1000            /* main CPU must consume a chunk within this */
+#define TXQ           8               /* frames queued per port (power of two) */
 #define MB_WAIT_MS    2               /* wait at most this for the main CPU to empty int2rbt */
 
 /* step[port] -- the paper's program steps */
@@ -187,11 +188,16 @@ extern unsigned char rx_sum[NO_PORT];       /* running sum of every byte after S
 extern unsigned char rx_bad[NO_PORT];       /* BAD_* bits of the frame being received */
 extern unsigned char chunk_out[NO_PORT];    /* a chunk waits for the main CPU's ACK word */
 extern unsigned chunk_t[NO_PORT];
-/* transmit side (main CPU -> host) */
-extern unsigned char tx_have[NO_PORT];      /* a complete frame waits in txbuf */
-extern unsigned char chunk_pending[NO_PORT];/* a chunk from the main CPU waits for txbuf */
-extern unsigned tx_in[NO_PORT];             /* bytes of the frame assembled so far */
-extern unsigned tx_len[NO_PORT], tx_pos[NO_PORT];
+/* transmit side (main CPU -> host): txbuf is a ring of whole frames, oldest sent first */
+extern unsigned char tx_have[NO_PORT];      /* complete frames queued in txbuf */
+extern unsigned char txq_head[NO_PORT];     /* txq_len index of the frame being sent */
+extern unsigned txq_len[NO_PORT][TXQ];      /* lengths of the queued frames */
+extern unsigned tx_rd[NO_PORT];             /* ring offset of the frame being sent */
+extern unsigned tx_wr[NO_PORT];             /* ring offset where the next chunk goes */
+extern unsigned tx_used[NO_PORT];           /* bytes in the ring (queued + partial) */
+extern unsigned tx_part[NO_PORT];           /* bytes of the frame still being assembled */
+extern unsigned char chunk_pending[NO_PORT];/* a chunk from the main CPU waits for ring space */
+extern unsigned tx_pos[NO_PORT];            /* bytes of the current frame given to the 82510 */
 extern unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
 extern unsigned char tx_try[NO_PORT];
 extern unsigned char fresh[NO_PORT];        /* port reset and untouched since */

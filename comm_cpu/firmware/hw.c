@@ -88,7 +88,11 @@ void port_reset(int port, int notify)
     chunk_out[port] = 0;
     chunk_pending[port] = 0;
     tx_have[port] = 0;
-    tx_in[port] = 0;
+    tx_rd[port] = 0;
+    tx_wr[port] = 0;
+    tx_used[port] = 0;
+    tx_part[port] = 0;
+    tx_try[port] = 0;
     ++gen[port];
     dp_wr(PFLAG(port), P_FREE);
     if (notify)

@@ -105,22 +105,30 @@ static void rx_store(int port, unsigned char c)
     rx_sum[port] += c;
 }
 
-/* A sent frame is finished: delivered (EOT) or given up. */
+/* EOT for the frame being sent: drop it from the ring; the next queued frame follows. */
 static void tx_done(int port)
 {
-    tx_have[port] = 0;
+    unsigned len = txq_len[port][txq_head[port]];
+    unsigned rd = tx_rd[port] + len;
+
+    if (rd >= TXBUF_SIZE)
+        rd -= TXBUF_SIZE;
+    tx_rd[port] = rd;
+    tx_used[port] -= len;
+    txq_head[port] = (txq_head[port] + 1) & (TXQ - 1);
+    --tx_have[port];
+    tx_try[port] = 0;
     step[port] = ST_IDLE;
     ++n_sent[port];
 }
 
-/* NAK or timeout while sending: back off 10 ms x attempt, at most MAX_RETRY times.  IF = 0. */
+/* NAK or timeout while sending: back off 10 ms x attempt and start again with ENQ, at most
+ * MAX_RETRY times; then give up: reset the port and tell the main CPU (0x3p).  IF = 0. */
 void tx_retry(int port)
 {
     if (++tx_try[port] > MAX_RETRY) {
-        tx_have[port] = 0;
-        step[port] = ST_IDLE;
         ++n_fail[port];
-        mb_post(MB_RESET | port);
+        port_reset(port, 1);
         return;
     }
     tx_wait[port] = RETRY_MS * tx_try[port];
@@ -230,40 +238,46 @@ void rs232_isr(int port)
 }
 
 /*
- * Copy one chunk of a response frame from data[p] into txbuf (the paper's
- * DP-RAM_interrupt_service loop), then ACK it.  The chunk holding ETX completes the frame:
- * pflag[p] is freed (the reader frees it) before the ACK word, and the main loop starts
- * sending (step 10).  Runs in dpram_isr with IF = 1, or from the main loop for a deferred chunk.
+ * Copy one chunk of a frame for the host from data[p] into the txbuf ring (the paper's
+ * DP-RAM_interrupt_service loop: byte by byte up to ETX or 339 bytes), then ACK it.  The chunk
+ * holding ETX completes the frame: it is queued for sending (step 10 from the main loop) and
+ * pflag[p] is freed (the reader frees it) before the ACK word.  Without room for a whole chunk
+ * the chunk stays in DP-RAM unacknowledged (chunk_pending) until a frame has been sent.
+ * Runs in dpram_isr with IF = 1, or from the main loop for a pending chunk.
  */
 void take_chunk(int port)
 {
     unsigned char *b = txbuf[port];
     unsigned a = area[port];
-    unsigned n = tx_in[port];
     unsigned char g = gen[port];
-    unsigned i, f;
-    unsigned char c;
+    unsigned w, i, f;
+    unsigned char c, last, room;
 
-    chunk_pending[port] = 0;
-    for (i = 0; i < CHUNK; i++) {
+    f = irq_off();
+    room = tx_used[port] <= TXBUF_SIZE - CHUNK && tx_have[port] < TXQ;
+    chunk_pending[port] = !room;
+    irq_restore(f);
+    if (!room)
+        return;
+    w = tx_wr[port];
+    last = 0;
+    for (i = 0; i < CHUNK && !last; i++) {
         c = dp_rd(a + i);
-        if (n < TXBUF_SIZE)
-            b[n++] = c;
-        if (c == ETX)
-            break;
+        b[w] = c;
+        if (++w == TXBUF_SIZE)
+            w = 0;
+        last = c == ETX;
     }
     f = irq_off();
     if (g == gen[port]) {
-        if (i < CHUNK) {
-            tx_len[port] = n;
-            tx_in[port] = 0;
-            tx_pos[port] = 0;
-            tx_try[port] = 0;
-            tx_wait[port] = 0;
-            tx_have[port] = 1;
+        tx_wr[port] = w;
+        tx_used[port] += i;
+        tx_part[port] += i;
+        if (last) {
+            txq_len[port][(txq_head[port] + tx_have[port]) & (TXQ - 1)] = tx_part[port];
+            tx_part[port] = 0;
+            ++tx_have[port];
             dp_wr(PFLAG(port), P_FREE);
-        } else {
-            tx_in[port] = n;
         }
         mb_post(MB_ACK | port);
     }
@@ -281,10 +295,7 @@ void dp_event(unsigned char word)
     }
     switch (word & 0xF0) {
     case MB_CHUNK:
-        if (tx_have[port])
-            chunk_pending[port] = 1;   /* txbuf busy: consume it when the frame is sent */
-        else
-            take_chunk(port);
+        take_chunk(port);
         break;
     case MB_ACK:
         chunk_out[port] = 0;

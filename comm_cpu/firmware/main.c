@@ -27,8 +27,10 @@ unsigned char rx_sum[NO_PORT], rx_bad[NO_PORT];
 unsigned char chunk_out[NO_PORT];
 unsigned chunk_t[NO_PORT];
 
-unsigned char tx_have[NO_PORT], chunk_pending[NO_PORT];
-unsigned tx_in[NO_PORT], tx_len[NO_PORT], tx_pos[NO_PORT];
+unsigned char tx_have[NO_PORT], txq_head[NO_PORT], chunk_pending[NO_PORT];
+unsigned txq_len[NO_PORT][TXQ];
+unsigned tx_rd[NO_PORT], tx_wr[NO_PORT], tx_used[NO_PORT], tx_part[NO_PORT];
+unsigned tx_pos[NO_PORT];
 unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
 unsigned char tx_try[NO_PORT];
 unsigned char fresh[NO_PORT];
@@ -197,13 +199,18 @@ static void send_data(int port)
 {
     unsigned b = UART_BASE(port);
     unsigned char *d = txbuf[port];
-    unsigned f;
+    unsigned len = txq_len[port][txq_head[port]];
+    unsigned i, f;
 
-    while (step[port] == ST_SEND && tx_pos[port] < tx_len[port] &&
-           (inb(b + U_FLR) & FLR_TFL) < TXFIFO_DEPTH)
-        outb(b + U_TXD, d[tx_pos[port]++]);
+    while (step[port] == ST_SEND && tx_pos[port] < len &&
+           (inb(b + U_FLR) & FLR_TFL) < TXFIFO_DEPTH) {
+        i = tx_rd[port] + tx_pos[port]++;
+        if (i >= TXBUF_SIZE)
+            i -= TXBUF_SIZE;
+        outb(b + U_TXD, d[i]);
+    }
     f = irq_off();
-    if (step[port] == ST_SEND && tx_pos[port] >= tx_len[port]) {
+    if (step[port] == ST_SEND && tx_pos[port] >= len) {
         tx_t[port] = ticks;
         step[port] = ST_WAIT_EOT;
     }
@@ -256,7 +263,7 @@ void main_loop(void)
             default:
                 break;
             }
-            if (chunk_pending[port] && !tx_have[port])
+            if (chunk_pending[port])
                 take_chunk(port);
             if (chunk_out[port] && ticks - chunk_t[port] >= DP_ACK_MS)
                 port_reset(port, 1);    /* the main CPU never consumed the chunk */
