@@ -1,0 +1,55 @@
+// Tests of the single-processor arbitration of the main CPU's activities.
+#include "main_cpu/processor.h"
+#include "models/clock.h"
+
+#include <gtest/gtest.h>
+#include <systemc>
+
+#include <string>
+#include <vector>
+
+using namespace rcsim;
+using sc_core::sc_time;
+
+namespace {
+
+/// Three activities: "a" holds the processor 0..10 us; "low" and "high" ask for it at 2 us and
+/// 3 us; the high-priority one must get it first although it asked later.
+struct Contenders : sc_core::sc_module {
+    Processor cpu{"cpu"};
+    std::vector<std::pair<std::string, sc_time>> starts;
+
+    SC_HAS_PROCESS(Contenders);
+    explicit Contenders(sc_core::sc_module_name n) : sc_module(n) {
+        SC_THREAD(holder);
+        SC_THREAD(low);
+        SC_THREAD(high);
+        SC_THREAD(low2);
+    }
+    void run(Processor::Priority p, const char* who, sc_time at, sc_time hold) {
+        wait(at);
+        cpu.acquire(p);
+        starts.emplace_back(who, sc_core::sc_time_stamp());
+        wait(hold);
+        cpu.release();
+    }
+    void holder() { run(Processor::Priority::interrupt, "holder", sc_core::SC_ZERO_TIME, us(10)); }
+    void low() { run(Processor::Priority::transmit, "low", us(2), us(5)); }
+    void low2() { run(Processor::Priority::transmit, "low2", us(4), us(5)); }
+    void high() { run(Processor::Priority::control_cycle, "high", us(3), us(5)); }
+};
+
+} // namespace
+
+TEST(Processor, HighestPriorityWaiterGetsItThenFirstComeAmongEquals) {
+    Contenders c("c");
+    sc_core::sc_start(us(100));
+    ASSERT_EQ(c.starts.size(), 4u);
+    EXPECT_EQ(c.starts[0], std::make_pair(std::string("holder"), us(0)));
+    EXPECT_EQ(c.starts[1], std::make_pair(std::string("high"), us(10)));
+    EXPECT_EQ(c.starts[2], std::make_pair(std::string("low"), us(15)));
+    EXPECT_EQ(c.starts[3], std::make_pair(std::string("low2"), us(20)));
+    // Busy without a gap from 0 to 25 us.
+    EXPECT_EQ(c.cpu.busy_time(), us(25));
+    EXPECT_FALSE(c.cpu.busy());
+}
