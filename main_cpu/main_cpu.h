@@ -45,9 +45,9 @@ struct MainCpuConfig {
     sc_core::sc_time ack_timeout = us(500000);   // response chunk -> its ACK word
     sc_core::sc_time poll_interval = us(100);    // retry while pflag[p] != 0
     sc_core::sc_time mailbox_gap = sc_core::SC_ZERO_TIME; // least time between int2ext words
-    // Optional mailbox handshake (README "Lost mailbox words"): the reader of a mailbox writes 0
-    // to it after reading, and a writer waits until its mailbox reads 0 before writing.
-    bool mailbox_handshake = false;
+    // Mailbox handshake, as the comm firmware does it (README "Mailbox words"): the reader of a
+    // mailbox writes 0 to it after reading, and a writer waits until its mailbox reads 0.
+    bool mailbox_handshake = true;
     sc_core::sc_time mailbox_poll = us(10); // handshake: retry while int2ext != 0
 
     void validate() const;

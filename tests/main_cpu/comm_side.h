@@ -56,6 +56,14 @@ public:
         return mem.at(addr);
     }
 
+    /// Right-port writes to one address, in order.
+    std::vector<RightAccess> writes_to(std::uint16_t addr) const {
+        std::vector<RightAccess> out;
+        for (const auto& a : log)
+            if (a.addr == addr && a.kind == BusCycle::mem_write) out.push_back(a);
+        return out;
+    }
+
     /// Right-port accesses to one address, in order.
     std::vector<RightAccess> accesses_to(std::uint16_t addr) const {
         std::vector<RightAccess> out;
@@ -103,7 +111,7 @@ public:
     std::function<void(CommSide&)> script;
     std::vector<std::uint8_t> words; // every int2ext word read, in order
     std::deque<std::uint8_t> pending; // words read while waiting for another
-    bool handshake = false; // clear int2ext after reading it; write int2rbt only when it reads 0
+    bool handshake = true; // clear int2ext after reading it; write int2rbt only when it reads 0
 
     SC_HAS_PROCESS(CommSide);
     CommSide(sc_core::sc_module_name n, FakeDpram& ram) : sc_module(n), ram_(ram) { SC_THREAD(run); }

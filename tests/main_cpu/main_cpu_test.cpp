@@ -77,7 +77,7 @@ TEST(MainCpu, SingleChunkFrameIsReassembledAndDispatched) {
     ASSERT_FALSE(pflag_writes.empty());
     EXPECT_EQ(pflag_writes[0].kind, BusCycle::mem_write);
     EXPECT_EQ(pflag_writes[0].value, pflag_free);
-    const auto acks = b.ram.accesses_to(int2ext);
+    const auto acks = b.ram.writes_to(int2ext);
     ASSERT_FALSE(acks.empty());
     EXPECT_EQ(acks[0].value, word(kind_ack, 1));
     EXPECT_LT(pflag_writes[0].time, acks[0].time);
@@ -105,7 +105,7 @@ TEST(MainCpu, EchoResponseComesBackThroughDpramWithPflagAndMailboxSequence) {
     EXPECT_EQ(flag[1].value, pflag_free);
     EXPECT_EQ(flag[2].kind, BusCycle::mem_write);
     EXPECT_EQ(flag[2].value, pflag_rbt_use);
-    const auto words = b.ram.accesses_to(int2ext);
+    const auto words = b.ram.writes_to(int2ext);
     ASSERT_EQ(words.size(), 2u);
     EXPECT_EQ(words[1].value, word(kind_chunk, 2));
     const auto first_data = b.ram.accesses_to(data_addr(2));
@@ -127,7 +127,7 @@ TEST(MainCpu, ResponseIsNotInstantaneous) {
         cs.receive_frame(0);
     };
     sc_core::sc_start(ms(5));
-    const auto words = b.ram.accesses_to(int2ext);
+    const auto words = b.ram.writes_to(int2ext);
     ASSERT_EQ(words.size(), 2u);
     EXPECT_GE(words[1].time - words[0].time, us(300));
 }
@@ -155,7 +155,7 @@ TEST(MainCpu, ThreeThousandByteFrameCrossesInNineChunksBothWays) {
     // The main CPU never writes a chunk before the previous one was ACKed: 9 chunk words, each
     // after an ACK word from the comm CPU (8 ACKs between them).
     unsigned chunk_words = 0;
-    for (const auto& a : b.ram.accesses_to(int2ext))
+    for (const auto& a : b.ram.writes_to(int2ext))
         if (a.value == word(kind_chunk, 0)) ++chunk_words;
     EXPECT_EQ(chunk_words, 9u);
 }
@@ -272,7 +272,7 @@ TEST(MainCpu, ResetWordAbortsTheResponseInFlight) {
     EXPECT_EQ(b.cpu.port_stats(0).frames_sent, 0u);
     EXPECT_EQ(b.cpu.port_stats(0).ack_timeouts, 0u);
     unsigned chunk_words = 0;
-    for (const auto& a : b.ram.accesses_to(int2ext)) chunk_words += a.value == word(kind_chunk, 0);
+    for (const auto& a : b.ram.writes_to(int2ext)) chunk_words += a.value == word(kind_chunk, 0);
     EXPECT_EQ(chunk_words, 1u);
 }
 
@@ -292,7 +292,7 @@ TEST(MainCpu, DpramBurstOverlappingACycleStartDelaysItByTheRestOfTheBurst) {
         c.put_chunk(0, cmd("EC", std::string(400, 'b')).substr(0, chunk_size));
     };
     sc_core::sc_start(ms(3) - us(1));
-    const auto acks = b.ram.accesses_to(int2ext);
+    const auto acks = b.ram.writes_to(int2ext);
     ASSERT_EQ(acks.size(), 1u);
     // The handler holds the processor until its ACK write's bus cycle ends; the cycle starts then.
     const sc_time handler_end = acks[0].time + b.cycle();
@@ -374,7 +374,7 @@ TEST(MainCpu, AckTimeoutAbandonsTheFrameFreesTheAreaAndResetsThePort) {
     EXPECT_EQ(b.cpu.port_stats(1).frames_sent, 0u);
     EXPECT_EQ(b.cpu.port_stats(1).resets_sent, 1u);
     EXPECT_EQ(b.pflag(1), pflag_free);
-    const auto words = b.ram.accesses_to(int2ext);
+    const auto words = b.ram.writes_to(int2ext);
     ASSERT_EQ(words.size(), 3u); // ACK of the command, the chunk, the reset
     EXPECT_GE(words[2].time - words[1].time, ms(5));
 }
@@ -462,7 +462,7 @@ TEST(MainCpu, MailboxGapSpacesInt2extWords) {
         cs.receive_frame(1);
     };
     sc_core::sc_start(ms(10));
-    const auto words = b.ram.accesses_to(int2ext);
+    const auto words = b.ram.writes_to(int2ext);
     ASSERT_GE(words.size(), 4u);
     for (std::size_t i = 1; i < words.size(); ++i) EXPECT_GE(words[i].time - words[i - 1].time, us(400));
     EXPECT_EQ(b.cpu.port_stats(0).frames_sent, 1u);
@@ -474,7 +474,9 @@ TEST(MainCpu, MailboxGapSpacesInt2extWords) {
 TEST(MainCpu, WithoutHandshakeAnUnreadInt2extWordIsOverwritten) {
     MainCpuConfig c;
     c.ack_timeout = ms(5);
+    c.mailbox_handshake = false;
     Bench b(c);
+    b.comm.handshake = false;
     b.comm.script = [&](CommSide& cs) {
         cs.put_chunk(0, cmd("EC", "a"));
         cs.put_chunk(1, cmd("EC", "b"));
@@ -484,16 +486,36 @@ TEST(MainCpu, WithoutHandshakeAnUnreadInt2extWordIsOverwritten) {
     };
     sc_core::sc_start(ms(3));
     // Four words were written (two ACKs, two chunk words) but the comm CPU could read only one.
-    EXPECT_EQ(b.ram.accesses_to(int2ext).size(), 4u);
+    EXPECT_EQ(b.ram.writes_to(int2ext).size(), 4u);
     EXPECT_EQ(b.comm.words.size(), 1u);
 }
 
-TEST(MainCpu, MailboxHandshakeLosesNoWordWithASlowCommCpu) {
+TEST(MainCpu, WithoutHandshakeTheExchangeWorksWhileTheCommCpuKeepsUp) {
     MainCpuConfig c;
-    c.mailbox_handshake = true;
+    c.mailbox_handshake = false;
     Bench b(c);
+    b.comm.handshake = false;
+    test::ReceivedByComm got;
+    b.comm.script = [&](CommSide& cs) {
+        cs.send_frame(0, cmd("EC", "plain"));
+        got = cs.receive_frame(0);
+    };
+    sc_core::sc_start(ms(3));
+    EXPECT_EQ(got.bytes, cmd("EC", "plain"));
+    // No handshake traffic: int2ext is only written, int2rbt only read.
+    for (const auto& a : b.ram.log) {
+        if (a.addr == int2ext) {
+            EXPECT_EQ(a.kind, BusCycle::mem_write);
+        }
+        if (a.addr == int2rbt) {
+            EXPECT_EQ(a.kind, BusCycle::mem_read);
+        }
+    }
+}
+
+TEST(MainCpu, MailboxHandshakeLosesNoWordWithASlowCommCpu) {
+    Bench b; // the handshake is the default on both sides
     std::vector<test::ReceivedByComm> got(2);
-    b.comm.handshake = true;
     b.comm.script = [&](CommSide& cs) {
         cs.put_chunk(0, cmd("EC", "a"));
         cs.put_chunk(1, cmd("EC", "b")); // written as soon as the main CPU cleared int2rbt
