@@ -1,5 +1,7 @@
 #include "models/router.h"
 
+#include "models/bus.h"
+
 #include <sstream>
 #include <stdexcept>
 
@@ -11,7 +13,8 @@ Router::Router(sc_core::sc_module_name name, bool io_space)
     in.register_transport_dbg(this, &Router::transport_dbg);
 }
 
-void Router::map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what) {
+void Router::map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what,
+                 unsigned wait_states) {
     for (const auto& r : ranges_) {
         if (base < r.base + r.size && r.base < base + size) {
             std::ostringstream os;
@@ -20,7 +23,7 @@ void Router::map(std::uint64_t base, std::uint64_t size, unsigned port, const st
             throw std::invalid_argument(os.str());
         }
     }
-    ranges_.push_back({base, size, port, what});
+    ranges_.push_back({base, size, port, what, wait_states});
 }
 
 const Router::Range* Router::decode(std::uint64_t addr) const {
@@ -40,6 +43,8 @@ void Router::b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time& delay) 
     gp.set_address(addr - r->base);
     out[r->port]->b_transport(gp, delay);
     gp.set_address(addr);
+    if (r->wait_states)
+        if (auto* ext = gp.get_extension<BusExtension>()) ext->wait_states += r->wait_states;
 }
 
 unsigned Router::transport_dbg(tlm::tlm_generic_payload& gp) {

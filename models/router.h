@@ -25,9 +25,11 @@ public:
     /// io_space: decoded transactions without a BusExtension are treated as I/O cycles.
     Router(sc_core::sc_module_name name, bool io_space = false);
 
-    /// Routes [base, base+size) to the target bound as out[port] (in bind order).
-    /// Throws std::invalid_argument on overlap.
-    void map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what);
+    /// Routes [base, base+size) to the target bound as out[port] (in bind order), adding
+    /// `wait_states` Tw to every cycle into it (the board's READY logic for that chip select, on
+    /// top of what the target itself answers). Throws std::invalid_argument on overlap.
+    void map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what,
+             unsigned wait_states = 0);
 
     std::uint64_t unmapped_accesses() const { return unmapped_; }
 
@@ -36,6 +38,7 @@ private:
         std::uint64_t base, size;
         unsigned port;
         std::string what;
+        unsigned wait_states;
     };
     std::vector<Range> ranges_;
     std::uint64_t unmapped_ = 0;

@@ -55,7 +55,7 @@ TEST(Router, RebasesAddressAndReturnsWaitStates) {
     io.out.bind(uart.socket);
     io.out.bind(pic.socket);
     io.map(0x80, 0x10, 0, "82510 #0");
-    io.map(0xC0, 0x04, 1, "8259A");
+    io.map(0xC0, 0x04, 1, "8259A", 1);
     EXPECT_THROW(io.map(0x8E, 4, 1, "overlap"), std::invalid_argument);
     sc_core::sc_start(sc_core::SC_ZERO_TIME);
 
@@ -68,6 +68,7 @@ TEST(Router, RebasesAddressAndReturnsWaitStates) {
     EXPECT_EQ(data, 0x5A);
 
     r = bus_access(cpu.socket, BusCycle::io_write, 0xC2, &data, 1, sc_core::sc_time_stamp());
+    EXPECT_EQ(r.wait_states, 3u); // the target's 2 plus the range's 1
     EXPECT_EQ(pic.last_addr, 0x2u);
     EXPECT_EQ(pic.last_kind, BusCycle::io_write);
 
