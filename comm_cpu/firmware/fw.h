@@ -108,7 +108,7 @@
 #define TMCR_GO_B     0x22            /* STB (load + start timer B) | TGB (count enable) */
 #define TMST_TB       0x02            /* timer B expired */
 
-/* the millisecond tick: 82510 #0 BRGB in timer mode, one-shot, re-armed every expiry */
+/* the millisecond tick: 82510 #0 BRGB in timer mode, auto-reloading (periodic) */
 #define TICK_PORT     0
 #define TICK_DIV      9216            /* 1 ms at 9.216 MHz (= 18.432 MHz / 2, the BRG clock) */
 

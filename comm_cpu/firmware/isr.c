@@ -224,8 +224,7 @@ void rs232_isr(int port)
             }
             break;
         case GIR_TIMER:
-            inb(b + U_TMST);
-            outb(b + U_TMCR, TMCR_GO_B);
+            inb(b + U_TMST);            /* clears TBEx; BRGB reloads by itself */
             ++ticks;
             break;
         default:

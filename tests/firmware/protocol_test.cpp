@@ -1,0 +1,1 @@
+#include "fw_bench.h"
