@@ -238,6 +238,25 @@ TEST(MainCpu, MotionTokenReachesTheMotionInterfaceAndControlCycleRuns) {
     for (std::size_t k = 0; k < m.cycles.size(); ++k) EXPECT_GE(m.cycles[k], ms(k));
 }
 
+TEST(MainCpu, ProgramUploadAndDownloadSpanSeveralChunks) {
+    Bench b;
+    std::string text;
+    for (int i = 0; i < 120; ++i) text += "MOVL P" + std::to_string(i) + ",V=100;";
+    ASSERT_GT(text.size(), 2 * chunk_size);
+    test::ReceivedByComm up, down;
+    b.comm.script = [&](CommSide& c) {
+        ASSERT_TRUE(c.send_frame(2, cmd("PU", "weld," + text)));
+        up = c.receive_frame(2);
+        ASSERT_TRUE(c.send_frame(2, cmd("PD", "weld")));
+        down = c.receive_frame(2, ms(20));
+    };
+    sc_core::sc_start(ms(40));
+    EXPECT_EQ(up.bytes, frame::encode({"PU", bch::ok, ""}));
+    EXPECT_EQ(down.bytes, frame::encode({"PD", bch::ok, text}));
+    EXPECT_GE(down.chunks, 3u);
+    EXPECT_EQ(b.cpu.dispatcher().programs().at("weld"), text);
+}
+
 TEST(MainCpu, ResetWordMidFrameDropsThePartialFrame) {
     Bench b;
     const std::string first = cmd("EC", std::string(600, 'a')); // two chunks
