@@ -335,6 +335,35 @@ TEST(MainCpu, ControlCycleDelaysTheIntRHandler) {
     EXPECT_DOUBLE_EQ(lat.max, to_us(b.cpu.config().cycle_time - us(10) + b.cpu.config().irq_entry));
 }
 
+TEST(MainCpu, IntRLatencyOfAnIdleProcessorIsTheEntryTime) {
+    Bench b;
+    b.comm.script = [](CommSide& c) {
+        sc_core::wait(us(500)); // between two control cycles
+        c.put_chunk(0, cmd("EC", "x"));
+    };
+    sc_core::sc_start(ms(1) - us(1));
+    const Summary lat = b.cpu.irq_latency_us().summary();
+    ASSERT_EQ(lat.count, 1u);
+    EXPECT_DOUBLE_EQ(lat.max, to_us(b.cpu.config().irq_entry));
+}
+
+TEST(MainCpu, ACycleStartedAfterItsSuccessorsIdealStartSkipsAPeriod) {
+    Bench b;
+    b.ram.busy_wait_states = 70; // 339 bytes x 78 clocks: the handler holds the CPU 1.65 ms
+    b.comm.script = [](CommSide& c) {
+        sc_core::wait(us(950));
+        c.put_chunk(0, cmd("EC", std::string(400, 'o')).substr(0, chunk_size));
+    };
+    sc_core::sc_start(ms(4) - us(1));
+    // Cycle 0 on time; cycle 1 (ideal 1 ms) starts after 2 ms, so the 2 ms start is skipped;
+    // cycle 3 on time.
+    EXPECT_EQ(b.cpu.cycle_overruns(), 1u);
+    EXPECT_EQ(b.cpu.control_cycles(), 3u);
+    const Summary s = b.cpu.cycle_jitter_us().summary();
+    EXPECT_GT(s.max, 1000.0);
+    EXPECT_EQ(s.min, 0.0);
+}
+
 TEST(MainCpu, BusyWaitStatesFromTheTargetExtendEachAccess) {
     Bench b;
     b.ram.busy_wait_states = 3;
