@@ -7,6 +7,7 @@
 
 namespace rcsim {
 void add_cputest_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
 }
 
 #ifndef RCSIM_VERSION
@@ -28,6 +29,7 @@ int sc_main(int argc, char* argv[]) {
     bench->require_subcommand(1);
     (void)bench;
     rcsim::add_cputest_command(app);
+    rcsim::add_demo_command(app);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,13 @@
+# Runs `rcsim demo` twice: both runs must succeed, print the round-robin order and be identical.
+foreach(run 1 2)
+  execute_process(COMMAND ${RCSIM} demo OUTPUT_VARIABLE out${run} RESULT_VARIABLE rc${run})
+  if(NOT rc${run} EQUAL 0)
+    message(FATAL_ERROR "rcsim demo exited with ${rc${run}}:\n${out${run}}")
+  endif()
+endforeach()
+if(NOT out1 STREQUAL out2)
+  message(FATAL_ERROR "rcsim demo is not deterministic:\n--- run 1\n${out1}\n--- run 2\n${out2}")
+endif()
+if(NOT out1 MATCHES "service order: IR0 IR1 IR2 IR3 IR0\n" OR NOT out1 MATCHES "BUSY_R on 0x153")
+  message(FATAL_ERROR "rcsim demo output lacks the service order or the BUSY line:\n${out1}")
+endif()
