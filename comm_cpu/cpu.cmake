@@ -15,3 +15,4 @@ add_library(rcsim_comm_cpu STATIC
 )
 target_include_directories(rcsim_comm_cpu PUBLIC ${CMAKE_SOURCE_DIR})
 target_link_libraries(rcsim_comm_cpu PUBLIC rcsim_cpu8086_core rcsim_models CLI11::CLI11)
+target_sources(rcsim_comm_cpu PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cpu8086.cpp)

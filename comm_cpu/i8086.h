@@ -129,6 +129,15 @@ public:
     /// only if `burn_halt`; otherwise it returns at once.
     void run_until(cycles_t limit, bool burn_halt = true);
     void stop_run() { stop_ = true; }
+    /// One step() that parks a REP run between elements once `limit` is reached.
+    void step_within(cycles_t limit) {
+        limit_ = limit;
+        step();
+        limit_ = ~cycles_t(0);
+    }
+    /// Moves the cycle counter forward without simulating clocks (only while halted: the
+    /// bus is idle).
+    void skip_to(cycles_t c);
 
     cycles_t cycles() const { return cycle_; }
     std::uint64_t instructions() const { return instructions_; }
@@ -271,6 +280,10 @@ private:
     bool trap_armed_ = false;       // TF was set at the start of this instruction
     bool stop_ = false;
     bool started_ = false;
+    bool boundary_pending_ = false; // an instruction boundary precedes the pre-read opcode
+    bool rep_interrupted_ = false;  // a REP run stopped for an interrupt (IP at the last prefix)
+    bool rep_suspended_ = false;    // a REP run parked at a run_until limit between elements
+    cycles_t limit_ = ~cycles_t(0); // the current run_until limit
 
 public:
     std::uint64_t rom_writes() const { return rom_writes_; }

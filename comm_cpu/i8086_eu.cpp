@@ -292,6 +292,7 @@ void Cpu::jump_far(std::uint16_t cs, std::uint16_t ip) {
 // Interrupt entry (INT n, exceptions, NMI, INTR): for INTR two INTA cycles fetch the type;
 // then read the vector, push FLAGS, clear IF/TF, push CS, push IP, continue at the handler.
 void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
+    halted_ = false;
     if (hardware_inta) {
         // LOCK is asserted from T2 of the first INTA to T2 of the second; the 8259A drives
         // the type on D7-D0 in the second.
@@ -331,6 +332,15 @@ bool Cpu::check_interrupts() {
         inhibit_ = false;
         return false;
     }
+    if (rep_interrupted_) {
+        // A REP run stopped between elements for a pending interrupt: take it now.
+        rep_interrupted_ = false;
+        if (!nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
+            flush_queue(); // the request went away: resume at the prefix
+            opcode_ = q_read(QueueOp::first);
+            return false;
+        }
+    }
     if (nmi_pending_) {
         nmi_pending_ = false;
         interrupt(2);
@@ -357,15 +367,37 @@ void Cpu::start() {
 
 void Cpu::step() {
     if (!started_) start();
+    // The boundary before the pre-read opcode: NMI, INTR and the trap are recognised here, with
+    // the levels as they were before this clock. The opcode byte already read is dropped (IP
+    // still points at it) when an interrupt is taken.
+    if (boundary_pending_) {
+        boundary_pending_ = false;
+        if (check_interrupts()) {
+            opcode_ = q_read(QueueOp::first);
+            return;
+        }
+    }
     if (halted_) {
-        // HLT: the EU idles until NMI or an enabled INTR.
+        clk(); // HLT: the EU idles until NMI or an enabled INTR
+        boundary_pending_ = true;
+        return;
+    }
+    if (rep_suspended_) {
+        // A REP run parked between elements: an interrupt is taken here (IP back to the last
+        // prefix), otherwise the run continues with the same prefixes.
         if (nmi_pending_ || (intr_ && get_flag(flag::IF))) {
-            halted_ = false;
+            rep_suspended_ = false;
+            r_.ip = std::uint16_t(r_.ip - 2);
             check_interrupts();
             opcode_ = q_read(QueueOp::first);
-        } else {
-            clk();
+            return;
         }
+        execute(opcode_);
+        if (rep_suspended_) return;
+        ++instructions_;
+        boundary_pending_ = true;
+        if (halted_ || rep_interrupted_) return;
+        opcode_ = q_read(QueueOp::first);
         return;
     }
     instr_ip_ = r_.ip;
@@ -391,19 +423,35 @@ void Cpu::step() {
         ++r_.ip;
     }
     opcode_ = op;
+    rep_interrupted_ = false;
     if (has_modrm(op)) decode_modrm();
     else clk();
     execute(op);
+    if (rep_suspended_) return; // parked inside a REP run at the end of a slice
     ++instructions_;
-    if (halted_) return;
-    check_interrupts();
+    boundary_pending_ = true;
+    if (halted_ || rep_interrupted_) return; // no next opcode is read: HLT, or a REP run cut short
     opcode_ = q_read(QueueOp::first);
+}
+
+void Cpu::skip_to(cycles_t c) {
+    // HLT: the bus stays idle; no clocks need to be simulated one by one.
+    if (c > cycle_) cycle_ = c;
 }
 
 void Cpu::run_until(cycles_t limit, bool burn_halt) {
     stop_ = false;
+    limit_ = limit;
+    struct Reset {
+        cycles_t& l;
+        ~Reset() { l = ~cycles_t(0); }
+    } reset_limit{limit_};
     while (cycle_ < limit && !stop_) {
-        if (halted_ && !burn_halt && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) return;
+        if (halted_ && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
+            if (!burn_halt) return;
+            skip_to(limit);
+            return;
+        }
         step();
     }
 }

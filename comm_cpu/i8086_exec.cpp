@@ -171,7 +171,8 @@ void Cpu::string_op(std::uint8_t op) {
         one(true);
         return;
     }
-    clks(1);
+    if (!rep_suspended_) clks(1);
+    rep_suspended_ = false;
     for (;;) {
         if (r_.r[CX] == 0) {
             clks(1);
@@ -185,7 +186,12 @@ void Cpu::string_op(std::uint8_t op) {
         // prefix is seen again when the handler returns (the 8086 multiple-prefix bug).
         if (nmi_pending_ || (intr_ && get_flag(flag::IF))) {
             r_.ip = std::uint16_t(r_.ip - 2);
-            flush_queue();
+            rep_interrupted_ = true;
+            return;
+        }
+        if (cycle_ >= limit_) {
+            // End of a run slice: park between elements; step() resumes here.
+            rep_suspended_ = true;
             return;
         }
         clks(1);

@@ -1,0 +1,131 @@
+// rcsim — Intel 8086-2 SystemC module. See cpu8086.h.
+#include "comm_cpu/cpu8086.h"
+
+#include <sstream>
+
+namespace rcsim {
+using namespace sc_core;
+
+Cpu8086::Cpu8086(sc_module_name name, const Clock& clock)
+    : sc_module(name), io("io"), mem("mem"), inta("inta"), intr("intr"), nmi("nmi"), clock_(clock),
+      quantum_(us(10)) {
+    core_.set_bus_handler(this);
+    SC_HAS_PROCESS(Cpu8086);
+    SC_THREAD(run);
+    SC_METHOD(track_inputs);
+    sensitive << intr << nmi;
+    dont_initialize();
+}
+
+void Cpu8086::set_quantum(const sc_time& q) {
+    if (q < clock_.period()) {
+        std::ostringstream os;
+        os << "quantum " << q << " is shorter than one clock (" << clock_.period() << ")";
+        SC_REPORT_ERROR(name(), os.str().c_str());
+        return;
+    }
+    quantum_ = q;
+}
+
+void Cpu8086::track_inputs() {
+    const sc_time now = sc_time_stamp();
+    if (intr.read() != intr_now_) {
+        intr_prev_ = intr_now_;
+        intr_now_ = intr.read();
+        intr_changed_ = now;
+    }
+    if (nmi.read() != nmi_now_) {
+        nmi_prev_ = nmi_now_;
+        nmi_now_ = nmi.read();
+        nmi_changed_ = now;
+    }
+}
+
+// The levels as they were just before the current kernel time (the core's boundary).
+void Cpu8086::sample_inputs() {
+    const sc_time now = sc_time_stamp();
+    core_.set_intr(sampled(intr_now_, intr_prev_, intr_changed_, now));
+    core_.set_nmi(sampled(nmi_now_, nmi_prev_, nmi_changed_, now));
+}
+
+void Cpu8086::run() {
+    const std::uint64_t period = clock_.period_ps();
+    unsigned stuck = 0;
+    for (;;) {
+        // Sync: kernel time catches up with the core.
+        const sc_time core_time = clock_.cycles(core_.cycles());
+        if (core_time > sc_time_stamp()) wait(core_time - sc_time_stamp());
+        const sc_time now = sc_time_stamp();
+        sample_inputs();
+        const bool fresh_change = intr_changed_ == now || nmi_changed_ == now;
+
+        if (core_.halted() && !(intr_now_ && (core_.regs().flags & i8086::flag::IF)) && !nmi_now_) {
+            // HLT: sleep until INTR or NMI changes; the core resumes at the first clock edge
+            // after the change.
+            wait(intr.value_changed_event() | nmi.value_changed_event());
+            track_inputs();
+            core_.skip_to(to_ps(sc_time_stamp()) / period + 1);
+            continue;
+        }
+
+        const i8086::cycles_t start = core_.cycles();
+        i8086::cycles_t limit = start + 1;
+        if (!fresh_change) {
+            sc_time span = quantum_;
+            if (lookahead_ && sc_pending_activity()) {
+                const sc_time ahead = sc_time_to_pending_activity();
+                if (ahead < span) span = ahead;
+            }
+            // Boundaries at edges up to and including the event time still see the old level.
+            limit = (to_ps(now) + to_ps(span)) / period + 1;
+            if (limit <= start) limit = start + 1;
+        }
+        ++slices_;
+        slice_end_ = false;
+        if (boundary_log_) {
+            while (core_.cycles() < limit && !slice_end_) {
+                core_.step_within(limit);
+                boundary_log_->push_back(core_.cycles());
+                if (core_.halted()) break;
+            }
+        } else {
+            core_.run_until(limit, false);
+        }
+        // Stuck-in-time guard: a slice that neither advanced the core nor kernel time.
+        if (core_.cycles() == start && sc_time_stamp() == now) {
+            if (++stuck > 1000) SC_REPORT_FATAL(name(), "CPU made no progress in 1000 slices (stuck in time)");
+        } else {
+            stuck = 0;
+        }
+    }
+}
+
+unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                             i8086::cycles_t start) {
+    // Sync so the target sees sc_time_stamp() == T1 of this cycle.
+    const sc_time t1 = clock_.cycles(start);
+    if (t1 > sc_time_stamp()) wait(t1 - sc_time_stamp());
+    std::uint8_t buf[2] = {std::uint8_t(data), std::uint8_t(data >> 8)};
+    BusResult r;
+    switch (kind) {
+    case i8086::Bus::io_read: r = rcsim::bus_access(io, BusCycle::io_read, address, buf, width, t1); break;
+    case i8086::Bus::io_write: r = rcsim::bus_access(io, BusCycle::io_write, address, buf, width, t1); break;
+    case i8086::Bus::mem_read:
+    case i8086::Bus::code_fetch:
+        r = rcsim::bus_access(mem, kind == i8086::Bus::mem_read ? BusCycle::mem_read : BusCycle::code_fetch,
+                              address, buf, width, t1);
+        break;
+    case i8086::Bus::mem_write: r = rcsim::bus_access(mem, BusCycle::mem_write, address, buf, width, t1); break;
+    case i8086::Bus::int_ack: r = rcsim::bus_access(inta, BusCycle::int_ack, address, buf, 1, t1); break;
+    default: return 0;
+    }
+    const bool read = kind != i8086::Bus::io_write && kind != i8086::Bus::mem_write;
+    if (read) data = r.ok() ? std::uint16_t(buf[0] | (width == 2 ? buf[1] << 8 : 0xFF00)) : 0xFFFF;
+    // The access may have scheduled events that change INTR/NMI: end the slice at the next
+    // boundary so the lookahead is recomputed.
+    core_.stop_run();
+    slice_end_ = true;
+    return r.wait_states;
+}
+
+} // namespace rcsim

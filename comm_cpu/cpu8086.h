@@ -1,0 +1,85 @@
+// rcsim — Intel 8086-2 CPU as a SystemC module around the plain C++ core (i8086.h).
+//
+// Documentation: Intel 8086 data sheet (231455); time-decoupling recipe: shared/reference/
+// virtual-platforms.md §10 and docs/architecture.md "Time model".
+//
+// The core runs ahead of kernel time in an SC_THREAD. RAM/ROM regions are reached by direct
+// pointer (map_memory); I/O, memory outside the map (the DP-RAM) and INTA go through TLM after
+// the thread has synced to the cycle's T1. A slice never runs past the next pending kernel event
+// (sc_time_to_pending_activity(), bounded by the quantum), so an INTR/NMI change scheduled at
+// time T is seen at the first instruction boundary whose clock edge is later than T, exactly as
+// a cycle-by-cycle run would see it (the 8086 samples INTR in the clock before the boundary).
+#pragma once
+
+#include "comm_cpu/i8086.h"
+#include "models/bus.h"
+#include "models/clock.h"
+#include "models/memory.h"
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace rcsim {
+
+class Cpu8086 : public sc_core::sc_module, private i8086::BusHandler {
+public:
+    tlm_utils::simple_initiator_socket<Cpu8086> io;   // I/O space (local offsets via a Router)
+    tlm_utils::simple_initiator_socket<Cpu8086> mem;  // memory outside the direct map (DP-RAM)
+    tlm_utils::simple_initiator_socket<Cpu8086> inta; // the two INTA cycles (8259A)
+    sc_core::sc_in<bool> intr;
+    sc_core::sc_in<bool> nmi;
+
+    explicit Cpu8086(sc_core::sc_module_name name, const Clock& clock = Clock(8'000'000));
+
+    /// A RAM/ROM region reached by direct pointer with its wait states (before simulation).
+    void map_memory(const MemRegion& region) { core_.map_memory(region); }
+    /// Upper bound of one decoupled slice (default 10 us). Must be at least one clock.
+    void set_quantum(const sc_core::sc_time& q);
+    const sc_core::sc_time& quantum() const { return quantum_; }
+    /// With lookahead off, every slice is one quantum regardless of pending events.
+    void set_lookahead(bool on) { lookahead_ = on; }
+
+    i8086::Cpu& core() { return core_; }
+    const Clock& clock() const { return clock_; }
+    i8086::cycles_t cycles() const { return core_.cycles(); }
+    std::uint64_t instructions() const { return core_.instructions(); }
+    /// Absolute simulated time of a core cycle number.
+    sc_core::sc_time time_of(i8086::cycles_t c) const { return clock_.cycles(c); }
+
+    /// Bus-cycle observation: called once per bus cycle with the cycle's record; convert the
+    /// start cycle with time_of(). nullptr turns it off (the default; free when unused).
+    void set_bus_observer(i8086::BusHook hook, void* context) { core_.set_bus_hook(hook, context); }
+    /// Records the cycle number of every instruction boundary into `log` (nullptr: off).
+    void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
+
+    std::uint64_t slices() const { return slices_; }
+
+private:
+    void run();
+    void track_inputs();
+    bool sampled(bool now, bool prev, const sc_core::sc_time& changed, const sc_core::sc_time& at) const {
+        return changed < at ? now : prev;
+    }
+    void sample_inputs();
+    unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                        i8086::cycles_t start) override;
+
+    i8086::Cpu core_;
+    Clock clock_;
+    sc_core::sc_time quantum_;
+    bool lookahead_ = true;
+    std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
+    std::uint64_t slices_ = 0;
+    bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
+
+    // INTR/NMI with the time of their last change: a boundary at time t sees the level that
+    // held before t.
+    bool intr_now_ = false, intr_prev_ = false, nmi_now_ = false, nmi_prev_ = false;
+    sc_core::sc_time intr_changed_, nmi_changed_;
+};
+
+} // namespace rcsim
