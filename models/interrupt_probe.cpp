@@ -1,0 +1,155 @@
+#include "models/interrupt_probe.h"
+
+#include "comm_cpu/cpu8086.h"
+
+namespace rcsim {
+
+using i8086::Bus;
+using i8086::BusRecord;
+
+double InterruptRecord::latency_us() const { return to_us(first_isr - ir_rise); }
+double InterruptRecord::service_us() const { return to_us(iret_done - first_isr); }
+
+InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
+                               std::uint16_t pic_io_base, std::uint32_t dpram_base,
+                               std::uint32_t dpram_data_size)
+    : sc_module(name), cpu_(cpu), ir_(std::move(ir)), pic_io_base_(pic_io_base), dpram_base_(dpram_base),
+      dpram_size_(dpram_data_size) {
+    SC_METHOD(sample_lines);
+    for (IrqLine* line : ir_) sensitive << line->value_changed_event();
+    dont_initialize();
+    cpu_.set_bus_observer(&InterruptProbe::bus_hook, this);
+}
+
+void InterruptProbe::sample_lines() {
+    for (std::size_t level = 0; level < ir_.size() && level < 8; ++level) {
+        const bool now = ir_[level]->read();
+        if (now && !last_level_[level] && !rise_pending_[level]) {
+            rise_[level] = sc_core::sc_time_stamp();
+            rise_pending_[level] = true;
+        }
+        last_level_[level] = now;
+    }
+}
+
+void InterruptProbe::bus_hook(void* self, const BusRecord& r) {
+    static_cast<InterruptProbe*>(self)->on_cycle(r);
+}
+
+void InterruptProbe::on_cycle(const BusRecord& r) {
+    const sc_core::sc_time t = cpu_.time_of(r.start);
+    if (r.kind == Bus::int_ack) {
+        on_inta(r, t);
+    } else if (!stack_.empty()) {
+        Open& top = stack_.back();
+        if (top.entered || !on_entry_cycle(top, r, t)) on_handler_cycle(r, t);
+    }
+    if (on_bus) on_bus(r, t);
+}
+
+void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
+    // The two INTA cycles are back to back: a second one completes the entry opened by the first.
+    if (!stack_.empty() && !stack_.back().entered && stack_.back().rec.inta2 == sc_core::SC_ZERO_TIME &&
+        stack_.back().rec.inta1 != t) {
+        InterruptRecord& rec = stack_.back().rec;
+        rec.inta2 = t;
+        rec.vector = static_cast<std::uint8_t>(r.data & 0xFF);
+        rec.level = rec.vector & 7;
+        if (rise_pending_[rec.level]) {
+            rec.ir_rise = rise_[rec.level];
+            rec.has_rise = true;
+            rise_pending_[rec.level] = false;
+        }
+        return;
+    }
+    Open o;
+    o.rec.inta1 = t;
+    o.rec.depth = static_cast<unsigned>(stack_.size());
+    stack_.push_back(o);
+}
+
+bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::sc_time& t) {
+    if (o.rec.inta2 == sc_core::SC_ZERO_TIME) return false;
+    const std::uint32_t ivt = o.rec.vector * 4u;
+    if (r.kind == Bus::mem_read && o.ivt_reads < 2 && (r.address == ivt || r.address == ivt + 2)) {
+        (r.address == ivt ? o.new_ip : o.new_cs) = r.data;
+        ++o.ivt_reads;
+        return true;
+    }
+    if (r.kind == Bus::mem_write && o.ivt_reads == 2 && r.width == 2 && o.pushes < 3) {
+        // Pushes in order FLAGS, CS, IP.
+        if (o.pushes == 1) o.ret_cs = r.data;
+        if (o.pushes == 2) {
+            o.ret_ip = r.data;
+            o.ip_slot = r.address;
+        }
+        ++o.pushes;
+        return true;
+    }
+    if (r.kind == Bus::code_fetch && o.ivt_reads == 2) {
+        const std::uint32_t handler = ((std::uint32_t(o.new_cs) << 4) + o.new_ip) & 0xFFFFF;
+        if (r.address == handler || r.address == (handler & ~1u)) {
+            o.entered = true;
+            o.rec.handler = handler;
+            o.rec.first_isr = cpu_.time_of(r.start + 4 + r.wait_states);
+            return true;
+        }
+    }
+    (void)t;
+    return false;
+}
+
+void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time& t) {
+    Open& o = stack_.back();
+    if (!o.entered) return;
+    switch (r.kind) {
+    case Bus::io_write:
+        // OCW2 (A0=0, D4:D3 = 00) with the EOI bit (D5) set.
+        if (r.address == pic_io_base_ && (r.data & 0x18) == 0 && (r.data & 0x20) && !o.rec.has_eoi) {
+            o.rec.eoi = t;
+            o.rec.has_eoi = true;
+        }
+        break;
+    case Bus::mem_read:
+        if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_reads += r.width;
+        if (r.address == o.ip_slot && r.width == 2) o.popped = true;
+        break;
+    case Bus::mem_write:
+        if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_writes += r.width;
+        break;
+    case Bus::code_fetch: {
+        const std::uint32_t ret = ((std::uint32_t(o.ret_cs) << 4) + o.ret_ip) & 0xFFFFF;
+        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) {
+            o.rec.iret_done = t;
+            o.rec.done = true;
+            done_.push_back(o.rec);
+            stack_.pop_back();
+        }
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+std::vector<const InterruptRecord*> InterruptProbe::of_level(unsigned level) const {
+    std::vector<const InterruptRecord*> out;
+    for (const auto& r : done_)
+        if (r.level == level) out.push_back(&r);
+    return out;
+}
+
+Samples InterruptProbe::latency_us(unsigned level) const {
+    Samples s;
+    for (const auto* r : of_level(level))
+        if (r->has_rise) s.add(r->latency_us());
+    return s;
+}
+
+Samples InterruptProbe::service_us(unsigned level) const {
+    Samples s;
+    for (const auto* r : of_level(level)) s.add(r->service_us());
+    return s;
+}
+
+} // namespace rcsim

@@ -1,0 +1,96 @@
+// rcsim — interrupt timing probe for the communication board.
+//
+// Measures every interrupt from bus cycles and pins, never from firmware cooperation:
+//   ir_rise    the IR line of the 8259A rises (kernel event on the line)
+//   inta1/2    T1 of the first and second INTA bus cycles (the second carries the vector)
+//   first_isr  the first instruction of the handler is available: the end (T4) of the first code
+//              fetch at the handler address read from the vector table
+//   eoi        T1 of the I/O write of an EOI command (OCW2 with EOI=1) to the 8259A
+//   iret_done  the interrupted code resumes: T1 of the first code fetch at the return address
+//              that the entry pushed, after the handler popped it (IRET)
+// latency = first_isr - ir_rise; service = iret_done - first_isr. Nested interrupts are tracked
+// with a stack. The handler address and return address come from the entry's own bus cycles
+// (vector-table reads and the pushes of CS and IP).
+#pragma once
+
+#include "comm_cpu/i8086.h"
+#include "models/irq.h"
+#include "models/stats.h"
+
+#include <systemc>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rcsim {
+
+class Cpu8086;
+
+struct InterruptRecord {
+    unsigned level = 0;
+    std::uint8_t vector = 0;
+    sc_core::sc_time ir_rise, inta1, inta2, first_isr, eoi, iret_done;
+    bool has_rise = false, has_eoi = false, done = false;
+    unsigned depth = 0;            // nesting depth at entry (0 = interrupted the main program)
+    std::uint32_t handler = 0;     // physical address of the first handler instruction
+    std::uint64_t dpram_reads = 0; // DP-RAM data-area bytes the handler read (left port)
+    std::uint64_t dpram_writes = 0;
+
+    double latency_us() const;
+    double service_us() const;
+};
+
+class InterruptProbe : public sc_core::sc_module {
+public:
+    /// Watches `cpu`'s bus cycles; `ir` are the 8259A's request lines (index = level);
+    /// `pic_io_base` the 8259A's A0=0 I/O address; DP-RAM data bytes are counted in
+    /// [dpram_base, dpram_base + dpram_data_size).
+    SC_HAS_PROCESS(InterruptProbe);
+    InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
+                   std::uint16_t pic_io_base, std::uint32_t dpram_base, std::uint32_t dpram_data_size);
+
+    const std::vector<InterruptRecord>& records() const { return done_; }
+    /// Completed interrupts of one level.
+    std::vector<const InterruptRecord*> of_level(unsigned level) const;
+    Samples latency_us(unsigned level) const;
+    Samples service_us(unsigned level) const;
+
+    /// Called for every bus cycle after the probe has seen it (chained observers).
+    std::function<void(const i8086::BusRecord&, const sc_core::sc_time&)> on_bus;
+
+private:
+    Cpu8086& cpu_;
+    std::vector<IrqLine*> ir_;
+    std::uint16_t pic_io_base_;
+    std::uint32_t dpram_base_, dpram_size_;
+
+    std::array<sc_core::sc_time, 8> rise_{};
+    std::array<bool, 8> rise_pending_{};
+    std::array<bool, 8> last_level_{};
+
+    // Entry in progress: INTA cycles seen, vector-table reads and pushes to collect.
+    struct Open {
+        InterruptRecord rec;
+        unsigned ivt_reads = 0;
+        std::uint16_t new_ip = 0, new_cs = 0;
+        unsigned pushes = 0;
+        std::uint32_t ip_slot = 0;          // stack address where the return IP was pushed
+        std::uint16_t ret_ip = 0, ret_cs = 0;
+        bool entered = false;               // first handler fetch seen
+        bool popped = false;                // the return IP was read back
+    };
+    std::vector<Open> stack_;
+    std::vector<InterruptRecord> done_;
+
+    void sample_lines();
+    static void bus_hook(void* self, const i8086::BusRecord& r);
+    void on_cycle(const i8086::BusRecord& r);
+    void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);
+    bool on_entry_cycle(Open& o, const i8086::BusRecord& r, const sc_core::sc_time& t);
+    void on_handler_cycle(const i8086::BusRecord& r, const sc_core::sc_time& t);
+};
+
+} // namespace rcsim
