@@ -8,10 +8,10 @@ add_library(rcsim_cpu8086_core STATIC
 )
 target_include_directories(rcsim_cpu8086_core PUBLIC ${CMAKE_SOURCE_DIR})
 target_link_libraries(rcsim_cpu8086_core PUBLIC nlohmann_json::nlohmann_json ZLIB::ZLIB)
-target_compile_options(rcsim_cpu8086_core PRIVATE -O2)
 
 add_library(rcsim_comm_cpu STATIC
   ${CMAKE_CURRENT_LIST_DIR}/cputest_cmd.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bench_cpu.cpp
 )
 target_include_directories(rcsim_comm_cpu PUBLIC ${CMAKE_SOURCE_DIR})
 target_link_libraries(rcsim_comm_cpu PUBLIC rcsim_cpu8086_core rcsim_models CLI11::CLI11)

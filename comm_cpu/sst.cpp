@@ -133,18 +133,6 @@ OpcodeInfo Metadata::lookup(const std::string& stem) const {
 
 // ---------------------------------------------------------------------------------------------
 
-struct Runner::Test {
-    std::string name;
-    std::size_t idx = 0;
-    Registers init;
-    std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
-    std::vector<std::uint8_t> queue;
-    // final registers: present[i] says whether register i was listed (8 gp, 4 seg, ip, flags)
-    std::uint16_t fin[14] = {};
-    bool fin_present[14] = {};
-    const json* cycles = nullptr;
-};
-
 namespace {
 
 void parse_regs(const json& j, const std::string& file, const std::string& where, std::uint16_t* vals,
@@ -235,7 +223,21 @@ FileResult Runner::run_file(const std::string& path, const Metadata& meta) {
 
 std::uint64_t Runner::run_tests(const json& tests, const std::string& file, const OpcodeInfo& info,
                                 FileResult* result, bool trace) {
+    const std::vector<Test> list = convert(tests, file);
     const std::uint64_t c0 = cpu_.cycles();
+    for (const Test& t : list) run_one(t, info, result, trace);
+    if (result) result->tests += list.size();
+    return cpu_.cycles() - c0;
+}
+
+std::uint64_t Runner::run_converted(const std::vector<Test>& tests) {
+    const std::uint64_t c0 = cpu_.cycles();
+    for (const Test& t : tests) run_one(t, OpcodeInfo{}, nullptr, false);
+    return cpu_.cycles() - c0;
+}
+
+std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
+    std::vector<Test> out;
     std::size_t n = 0;
     for (const auto& j : tests) {
         const std::string where = "test " + std::to_string(n);
@@ -279,11 +281,10 @@ std::uint64_t Runner::run_tests(const json& tests, const std::string& file, cons
                     fail(file, where + ".cycles: malformed cycle entry " + c.dump());
             t.cycles = &j["cycles"];
         }
-        run_one(t, info, result, trace);
+        out.push_back(std::move(t));
         ++n;
     }
-    if (result) result->tests += n;
-    return cpu_.cycles() - c0;
+    return out;
 }
 
 void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {

@@ -62,9 +62,25 @@ std::string read_text(const std::string& path);
 /// Expands files and directories into the sorted list of test files (excluding metadata.json).
 std::vector<std::string> collect(const std::vector<std::string>& paths);
 
+/// One test, validated and converted from JSON.
+struct Test {
+    std::string name;
+    std::size_t idx = 0;
+    Registers init;
+    std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
+    std::vector<std::uint8_t> queue;
+    std::uint16_t fin[14] = {}; // final registers (8 general, 4 segment, ip, flags) ...
+    bool fin_present[14] = {};  // ... and whether each was listed
+    const nlohmann::json* cycles = nullptr;
+};
+
 class Runner {
 public:
     Runner();
+    /// Validates and converts a parsed test array (throws InputError naming `file`).
+    static std::vector<Test> convert(const nlohmann::json& tests, const std::string& file);
+    /// Runs converted tests without comparison or trace (benchmarks); returns cycles executed.
+    std::uint64_t run_converted(const std::vector<Test>& tests);
     /// Runs every test of one file; throws InputError on unreadable or malformed content.
     FileResult run_file(const std::string& path, const Metadata& meta);
     /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
@@ -72,7 +88,6 @@ public:
                             FileResult* result, bool trace);
 
 private:
-    struct Test;
     void run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
 
     std::unique_ptr<std::uint8_t[]> ram_;
