@@ -7,7 +7,10 @@
 
 namespace rcsim {
 void add_cputest_command(CLI::App& app);
+void add_bench_cpu(CLI::App& bench);
 void add_demo_command(CLI::App& app);
+void add_run_command(CLI::App& app);
+void add_bench_serial(CLI::App& bench);
 }
 
 #ifndef RCSIM_VERSION
@@ -29,12 +32,21 @@ int sc_main(int argc, char* argv[]) {
     bench->require_subcommand(1);
     (void)bench;
     rcsim::add_cputest_command(app);
+    rcsim::add_bench_cpu(*bench);
     rcsim::add_demo_command(app);
+    rcsim::add_run_command(app);
+    rcsim::add_bench_serial(*bench);
 
     try {
         app.parse(argc, argv);
+    } catch (const CLI::RuntimeError& e) {
+        return e.get_exit_code(); // a subcommand's own exit code (0 pass, 1 fail, 2 bad input)
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? 0 : 2;
+    } catch (const std::exception& e) {
+        // Bad input must end in one clear message, never an abort.
+        std::cerr << "rcsim: " << e.what() << "\n";
+        return 2;
     }
     return 0;
 }
