@@ -1,0 +1,52 @@
+// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE]
+#include "models/config_error.h"
+#include "scenarios/runner.h"
+
+#include <CLI/CLI.hpp>
+
+#include <systemc>
+
+#include <iostream>
+
+namespace rcsim {
+
+void add_run_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
+    struct Args {
+        std::string scenario, out, rom, vcd;
+        std::uint64_t seed = 0;
+        bool reproducible = false;
+        bool verbose = false;
+    };
+    auto args = std::make_shared<Args>();
+    cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
+    cmd->add_option("--out", args->out, "Output directory for report.json and pictures");
+    auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
+    auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
+    cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
+    cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
+    cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
+    cmd->callback([args, seed, rom] {
+        RunOptions opt;
+        opt.out_dir = args->out;
+        if (*seed) opt.seed = args->seed;
+        if (*rom) opt.rom = args->rom;
+        opt.reproducible = args->reproducible;
+        opt.vcd = args->vcd;
+        int code = 0;
+        // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
+        if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+        try {
+            nlohmann::json report;
+            code = run_scenario(load_scenario(args->scenario), opt, report);
+            print_summary(report, std::cout);
+            if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
+        } catch (const ConfigError& e) {
+            std::cerr << "rcsim run: " << e.what() << "\n";
+            code = 2;
+        }
+        throw CLI::RuntimeError(code);
+    });
+}
+
+} // namespace rcsim

@@ -1,0 +1,218 @@
+#include "scenarios/scenario.h"
+
+#include "scenarios/yaml_map.h"
+
+#include <filesystem>
+
+namespace rcsim {
+
+namespace {
+
+sc_core::sc_time ms_value(YamlMap& m, const std::string& key, double fallback_ms, double hi_ms = 1e7) {
+    const double v = m.number(key, fallback_ms, 0, hi_ms);
+    return ps(static_cast<std::uint64_t>(v * 1e9 + 0.5));
+}
+
+sc_core::sc_time us_value(YamlMap& m, const std::string& key, double fallback_us, double hi_us = 1e10) {
+    const double v = m.number(key, fallback_us, 0, hi_us);
+    return ps(static_cast<std::uint64_t>(v * 1e6 + 0.5));
+}
+
+SerialFormat format_value(YamlMap& m, const std::string& key) {
+    const std::string text = m.get<std::string>(key, "9600,8E1");
+    try {
+        return SerialFormat::parse(text);
+    } catch (const std::exception& e) {
+        m.fail(m.child(key), "bad serial format '" + text + "': " + e.what());
+    }
+}
+
+void read_traffic(YamlMap& m, HostTraffic& t, std::uint64_t seed) {
+    const std::string pattern = m.get<std::string>("traffic", "none");
+    try {
+        t.pattern = HostTraffic::parse_pattern(pattern);
+    } catch (const std::exception& e) {
+        m.fail(m.child("traffic"), e.what());
+    }
+    t.rate = m.number("rate_hz", t.rate, 1e-6, 1e6);
+    t.burst_size = static_cast<unsigned>(m.number("burst_size", t.burst_size, 1, 1e6));
+    t.burst_period = ms_value(m, "burst_period_ms", 1000);
+    t.count = static_cast<std::uint64_t>(m.number("count", 0, 0, 1e12));
+    t.start = ms_value(m, "start_ms", 0);
+    t.data_size = static_cast<std::size_t>(m.number("data_size", static_cast<double>(t.data_size), 0, 8192));
+    t.random_size = m.get<bool>("random_size", false);
+    t.wait_response = m.get<bool>("wait_response", true);
+    t.response_timeout = ms_value(m, "response_timeout_ms", 1000);
+    t.seed = seed;
+    if (m.has("tokens")) {
+        YAML::Node tokens = m.child("tokens");
+        if (!tokens.IsMap() || tokens.size() == 0)
+            m.fail(tokens, "'" + m.context() + "tokens' must map tokens to weights, e.g. {EC: 1, ST: 1}");
+        t.tokens.clear();
+        for (const auto& kv : tokens) {
+            const auto token = kv.first.as<std::string>();
+            double weight = 0;
+            try {
+                weight = kv.second.as<double>();
+            } catch (const YAML::Exception&) {
+                m.fail(kv.second, "bad weight for token '" + token + "'");
+            }
+            if (token.size() != 2 || weight <= 0)
+                m.fail(kv.first, "token '" + token + "' must be two characters with a weight > 0");
+            t.tokens.emplace_back(token, weight);
+        }
+    }
+}
+
+LineFault read_fault(const YAML::Node& n, const std::string& file, const std::string& ctx) {
+    YamlMap m(n, file, ctx);
+    LineFault f;
+    f.kind = m.require<std::string>("kind");
+    const std::string from = m.get<std::string>("from", "host");
+    if (from == "host") f.from = LineFault::From::host;
+    else if (from == "controller") f.from = LineFault::From::controller;
+    else m.fail(m.child("from"), "'from' must be host or controller, not '" + from + "'");
+    if (f.kind == "break") {
+        f.at = ms_value(m, "at_ms", 0);
+        f.duration = ms_value(m, "duration_ms", 10);
+    } else if (f.kind == "flip_data_bit" || f.kind == "flip_cell" || f.kind == "drop" || f.kind == "corrupt_stop") {
+        f.index = static_cast<std::uint64_t>(m.number("index", 0, 0, 1e15));
+        f.bit = static_cast<unsigned>(m.number("bit", 0, 0, 11));
+    } else {
+        m.fail(m.child("kind"), "unknown fault kind '" + f.kind +
+                                    "' (flip_data_bit, flip_cell, drop, corrupt_stop, break)");
+    }
+    m.finish();
+    return f;
+}
+
+PortScenario read_port(const YAML::Node& n, const std::string& file, const std::string& ctx,
+                       const std::filesystem::path& dir, std::uint64_t seed) {
+    YamlMap m(n, file, ctx);
+    PortScenario p;
+    const std::string host = m.get<std::string>("host", "none");
+    const SerialFormat fmt = format_value(m, "format");
+    if (host == "protocol") {
+        p.host = PortScenario::Host::protocol;
+        p.protocol.format = fmt;
+        read_traffic(m, p.protocol.traffic, seed);
+        p.protocol.nak_enqs = static_cast<unsigned>(m.number("nak_enqs", 0, 0, 1e6));
+        try {
+            p.protocol.validate();
+        } catch (const std::exception& e) {
+            m.fail(e.what());
+        }
+    } else if (host == "raw") {
+        p.host = PortScenario::Host::raw;
+        p.raw.format = fmt;
+        if (m.has("send")) {
+            YAML::Node sends = m.child("send");
+            if (!sends.IsSequence()) m.fail(sends, "'" + ctx + "send' must be a list of {at_ms, bytes}");
+            for (std::size_t i = 0; i < sends.size(); ++i) {
+                YamlMap s(sends[i], file, ctx + "send[" + std::to_string(i) + "].");
+                const auto at = ms_value(s, "at_ms", 0);
+                const auto bytes = s.require<std::string>("bytes");
+                try {
+                    p.raw.add(at, bytes);
+                } catch (const std::exception& e) {
+                    s.fail(s.child("bytes"), e.what());
+                }
+                s.finish();
+            }
+        }
+        if (m.has("record")) {
+            std::filesystem::path rec = m.get<std::string>("record", "");
+            p.raw.record_path = rec.is_absolute() ? rec.string() : (dir / rec).string();
+        }
+    } else if (host != "none") {
+        m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw or none)");
+    }
+    p.noise_per_bit = m.number("noise_per_bit", 0, 0, 1);
+    if (m.has("faults")) {
+        YAML::Node faults = m.child("faults");
+        if (!faults.IsSequence()) m.fail(faults, "'" + ctx + "faults' must be a list");
+        for (std::size_t i = 0; i < faults.size(); ++i)
+            p.faults.push_back(read_fault(faults[i], file, ctx + "faults[" + std::to_string(i) + "]."));
+    }
+    m.finish();
+    return p;
+}
+
+void read_board(YamlMap m, ControllerConfig& b) {
+    CommBoardConfig& c = b.comm;
+    c.cpu_hz = static_cast<std::uint64_t>(m.number("cpu_hz", static_cast<double>(c.cpu_hz), 1e5, 1e8));
+    c.uart_clock_hz = static_cast<std::uint64_t>(m.number("uart_clock_hz", static_cast<double>(c.uart_clock_hz), 1e5, 1e8));
+    c.quantum = us_value(m, "quantum_us", 10, 1e6);
+    if (c.quantum == sc_core::SC_ZERO_TIME) m.fail(m.child("quantum_us"), "'board.quantum_us' must be > 0");
+    c.lookahead = m.get<bool>("lookahead", true);
+    YamlMap w = m.map("wait_states");
+    c.ram_wait = static_cast<unsigned>(w.number("ram", c.ram_wait, 0, 64));
+    c.rom_wait = static_cast<unsigned>(w.number("rom", c.rom_wait, 0, 64));
+    c.dpram_wait = static_cast<unsigned>(w.number("dpram", c.dpram_wait, 0, 64));
+    c.io_wait = static_cast<unsigned>(w.number("io", c.io_wait, 0, 64));
+    w.finish();
+    const double grade = m.number("dpram_speed_grade_ns", b.dpram_speed_grade_ns, 20, 100);
+    if (grade != 20 && grade != 25 && grade != 35 && grade != 55 && grade != 100)
+        m.fail(m.child("dpram_speed_grade_ns"), "'board.dpram_speed_grade_ns' must be 20, 25, 35, 55 or 100");
+    b.dpram_speed_grade_ns = static_cast<unsigned>(grade);
+    m.finish();
+}
+
+void read_main_cpu(YamlMap m, MainCpuConfig& c) {
+    c.bus_clock_hz = static_cast<std::uint64_t>(m.number("bus_clock_hz", static_cast<double>(c.bus_clock_hz), 1e5, 1e9));
+    c.irq_entry = us_value(m, "irq_entry_us", to_us(c.irq_entry));
+    c.command_time = us_value(m, "command_time_us", to_us(c.command_time));
+    c.cycle_period = us_value(m, "cycle_period_us", to_us(c.cycle_period));
+    c.cycle_time = us_value(m, "cycle_time_us", to_us(c.cycle_time));
+    c.ack_timeout = us_value(m, "ack_timeout_us", to_us(c.ack_timeout));
+    try {
+        c.validate();
+    } catch (const std::exception& e) {
+        m.fail(e.what());
+    }
+    m.finish();
+}
+
+void read_checks(YamlMap m, CheckLimits& c) {
+    c.max_overruns = static_cast<std::uint64_t>(m.number("max_overruns", 0, 0, 1e15));
+    c.max_frames_failed = static_cast<std::uint64_t>(m.number("max_frames_failed", 0, 0, 1e15));
+    c.max_frame_mismatches = static_cast<std::uint64_t>(m.number("max_frame_mismatches", 0, 0, 1e15));
+    c.max_char_latency_us = m.number("max_char_latency_us", -1, -1, 1e9);
+    c.min_margin_us = m.number("min_margin_us", 0, -1e9, 1e9);
+    c.min_frames_delivered = static_cast<std::uint64_t>(m.number("min_frames_delivered", 0, 0, 1e15));
+    m.finish();
+}
+
+} // namespace
+
+Scenario load_scenario(const std::string& path) {
+    Scenario s;
+    s.file = path;
+    s.root = load_yaml_file(path);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    YamlMap top(s.root, path, "");
+    s.name = top.get<std::string>("name", std::filesystem::path(path).stem().string());
+    s.duration_s = top.number("duration_s", 1.0, 1e-6, 3600);
+    s.seed = top.get<std::uint64_t>("seed", 1);
+    if (top.has("rom")) {
+        std::filesystem::path rom = top.get<std::string>("rom", "");
+        s.rom = rom.is_absolute() ? rom.string() : (dir / rom).string();
+    }
+    s.budget_us = top.number("budget_us", -1, -1, 1e9);
+    read_board(top.map("board"), s.board);
+    read_main_cpu(top.map("main_cpu"), s.board.main);
+    read_checks(top.map("checks"), s.checks);
+    if (top.has("ports")) {
+        YAML::Node ports = top.child("ports");
+        if (!ports.IsSequence() || ports.size() > CommBoard::kPorts)
+            top.fail(ports, "'ports' must be a list of at most 3 ports");
+        for (std::size_t i = 0; i < ports.size(); ++i)
+            s.ports[i] = read_port(ports[i], path, "ports[" + std::to_string(i) + "].", dir, s.seed * 1000 + i);
+    }
+    s.has_motion = top.has("motion");
+    top.child("motion"); // read by the motion layer
+    top.finish();
+    return s;
+}
+
+} // namespace rcsim

@@ -1,0 +1,64 @@
+// rcsim — a scenario file: what to simulate, for how long, with which hosts on which ports.
+// The schema is documented in docs/scenarios.md; every error names the file and line.
+#pragma once
+
+#include "models/controller.h"
+#include "scenarios/host/protocol_host.h"
+#include "scenarios/host/raw_host.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rcsim {
+
+/// One fault the line applies to a character a side sends (FaultKind), or a BREAK.
+struct LineFault {
+    enum class From { host, controller } from = From::host;
+    std::string kind;            // flip_data_bit, flip_cell, drop, corrupt_stop, break
+    std::uint64_t index = 0;     // character number from that side (0-based)
+    unsigned bit = 0;
+    sc_core::sc_time at;         // break: when
+    sc_core::sc_time duration;   // break: how long
+};
+
+struct PortScenario {
+    enum class Host { none, protocol, raw } host = Host::none;
+    ProtocolHostConfig protocol;
+    RawHostConfig raw;
+    double noise_per_bit = 0;
+    std::vector<LineFault> faults;
+};
+
+/// Limits of the pass/fail checks (docs/scenarios.md "Checks").
+struct CheckLimits {
+    std::uint64_t max_overruns = 0;
+    std::uint64_t max_frames_failed = 0;
+    std::uint64_t max_frame_mismatches = 0;  // host-delivered vs main-CPU-received frames
+    double max_char_latency_us = -1;         // stop bit -> RXD read; < 0: 4 character times (RX FIFO)
+    double min_margin_us = 0;                // Table 3: budget - (RS-232 ISR + DP-RAM byte)
+    std::uint64_t min_frames_delivered = 0;  // all ports together
+    bool expect_motion_ok = true;
+};
+
+struct Scenario {
+    std::string file;
+    std::string name;
+    double duration_s = 1.0;
+    std::uint64_t seed = 1;
+    std::string rom; // "" = the built firmware
+    ControllerConfig board;
+    double budget_us = -1; // < 0: one 9600-bps 8E1 character time / 3 ports (382 us)
+    std::vector<PortScenario> ports{3};
+    CheckLimits checks;
+    YAML::Node root;  // the whole document, for the motion section
+    bool has_motion = false;
+};
+
+/// Reads and validates a scenario file. Throws ConfigError naming file and line.
+Scenario load_scenario(const std::string& path);
+
+} // namespace rcsim
