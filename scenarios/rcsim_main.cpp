@@ -9,7 +9,6 @@ namespace rcsim {
 void add_cputest_command(CLI::App& app);
 void add_bench_cpu(CLI::App& bench);
 void add_demo_command(CLI::App& app);
-void add_bench_serial(CLI::App& bench);
 void add_run_command(CLI::App& app);
 void add_bench_serial(CLI::App& bench);
 }
@@ -35,7 +34,6 @@ int sc_main(int argc, char* argv[]) {
     rcsim::add_cputest_command(app);
     rcsim::add_bench_cpu(*bench);
     rcsim::add_demo_command(app);
-    rcsim::add_bench_serial(*bench);
     rcsim::add_run_command(app);
     rcsim::add_bench_serial(*bench);
 
