@@ -36,11 +36,13 @@ FaultKind fault_kind(const std::string& k) {
     return FaultKind::corrupt_stop;
 }
 
-/// One chunk the comm CPU wrote into DP-RAM: from its first data byte to its 0x1p mailbox word.
+/// One chunk the comm CPU wrote into DP-RAM: its data-byte writes, closed by its 0x1p mailbox
+/// word. The time per byte is measured over the data writes only (first to last), so waiting for
+/// the mailbox to be free is not counted as processing.
 struct DpramChunk {
     unsigned port = 0;
-    sc_time start, end;
-    std::uint64_t bytes = 0;
+    sc_time first, last; // T1 of the first and of the last data write
+    std::uint64_t writes = 0, bytes = 0;
 };
 
 /// The simulated world of one run: the controller, three lines, the hosts, the probes.
@@ -118,13 +120,14 @@ private:
             const unsigned port = off / 340;
             if (open_chunk_[port] < 0) {
                 open_chunk_[port] = static_cast<int>(chunks.size());
-                chunks.push_back({port, t, t, 0});
+                chunks.push_back({port, t, t, 0, 0});
             }
-            chunks[open_chunk_[port]].bytes += r.width;
+            DpramChunk& ch = chunks[open_chunk_[port]];
+            ch.last = t;
+            ++ch.writes;
+            ch.bytes += r.width;
         } else if (off == Idt7130::kMailboxRight && (r.data & 0xF0) == 0x10 && (r.data & 0x0F) < kPorts) {
-            const unsigned port = r.data & 0x0F;
-            if (open_chunk_[port] >= 0) chunks[open_chunk_[port]].end = t;
-            open_chunk_[port] = -1;
+            open_chunk_[r.data & 0x0F] = -1;
         }
     }
 };
@@ -175,13 +178,17 @@ Collected collect_interrupts(const Bench& b) {
     c.interrupts["rs232_rx"] = {{"count", c.rs232_rx_service.count()},
                                 {"latency_us", samples_json(c.rs232_rx_latency)},
                                 {"service_us", samples_json(c.rs232_rx_service)}};
+    // Per byte: the span of a chunk's data writes over the writes it holds (n writes, n-1 gaps),
+    // less the interrupt handlers that ran inside it.
     double time_us = 0;
+    std::uint64_t gaps = 0;
     for (const DpramChunk& ch : b.chunks) {
-        if (ch.end <= ch.start || ch.bytes == 0) continue;
-        time_us += to_us(ch.end - ch.start) - isr_time_inside_us(b.probe, ch.start, ch.end);
+        if (ch.writes < 2) continue;
+        time_us += to_us(ch.last - ch.first) - isr_time_inside_us(b.probe, ch.first, ch.last);
+        gaps += ch.writes - 1;
         c.dpram_bytes += ch.bytes;
     }
-    c.dpram_byte_us = c.dpram_bytes ? time_us / static_cast<double>(c.dpram_bytes) : 0;
+    c.dpram_byte_us = gaps ? time_us / static_cast<double>(gaps) : 0;
     return c;
 }
 
