@@ -20,7 +20,7 @@ build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 
 run: build
-	$(BUILD)/rcsim run scenarios/default.yaml --out $(BUILD)/run
+	$(BUILD)/rcsim run scenarios/three_ports_9600.yaml --out $(BUILD)/run
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
