@@ -37,6 +37,9 @@ void InterruptProbe::bus_hook(void* self, const BusRecord& r) {
 }
 
 void InterruptProbe::on_cycle(const BusRecord& r) {
+    const bool dpram_write = r.kind == Bus::mem_write && r.address - dpram_base_ < 0x400;
+    // Outside interrupts only INTA and DP-RAM writes matter: skip the rest cheaply.
+    if (stack_.empty() && r.kind != Bus::int_ack && !dpram_write) return;
     const sc_core::sc_time t = cpu_.time_of(r.start);
     if (r.kind == Bus::int_ack) {
         on_inta(r, t);
@@ -44,7 +47,7 @@ void InterruptProbe::on_cycle(const BusRecord& r) {
         Open& top = stack_.back();
         if (top.entered || !on_entry_cycle(top, r, t)) on_handler_cycle(r, t);
     }
-    if (on_bus) on_bus(r, t);
+    if (dpram_write && on_dpram_write) on_dpram_write(r, t);
 }
 
 void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {

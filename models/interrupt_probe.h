@@ -58,8 +58,10 @@ public:
     Samples latency_us(unsigned level) const;
     Samples service_us(unsigned level) const;
 
-    /// Called for every bus cycle after the probe has seen it (chained observers).
-    std::function<void(const i8086::BusRecord&, const sc_core::sc_time&)> on_bus;
+    /// Called for every memory write into the DP-RAM window [dpram_base, dpram_base + 1 KB) with
+    /// the write's T1 time (for per-byte DP-RAM measurements). Other cycles are not passed on, so
+    /// the hook costs nothing on the hot path of code fetches and RAM accesses.
+    std::function<void(const i8086::BusRecord&, const sc_core::sc_time&)> on_dpram_write;
 
 private:
     Cpu8086& cpu_;

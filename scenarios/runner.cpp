@@ -72,7 +72,7 @@ public:
                 char_latency_us[p].add(to_us(c.read - c.stop));
             };
         }
-        probe.on_bus = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
+        probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
         SC_THREAD(inject_breaks);
     }
 
@@ -114,7 +114,6 @@ private:
 
     // DP-RAM forwarding: data bytes written into data[p], closed by the 0x1p word in int2rbt.
     void watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
-        if (r.kind != i8086::Bus::mem_write) return;
         const std::uint32_t off = r.address - scenario_.board.comm.dpram_base;
         if (off < kDpramDataBytes && off % 340 != 339) {
             const unsigned port = off / 340;
