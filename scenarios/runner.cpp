@@ -79,12 +79,18 @@ public:
 private:
     const Scenario& scenario_;
     std::array<int, kPorts> open_chunk_{-1, -1, -1};
+    std::array<std::ofstream, kPorts> logs_;
 
     void attach_host(unsigned p, const PortScenario& ps) {
         const std::string n = "host" + std::to_string(p);
         if (ps.host == PortScenario::Host::protocol) {
             protocol[p] = std::make_unique<ProtocolHost>(n.c_str(), ps.protocol);
             protocol[p]->connect(lines[p], SerialLine::b);
+            if (!ps.log_path.empty()) {
+                logs_[p].open(ps.log_path);
+                if (!logs_[p]) throw ConfigError(ps.log_path, 0, "cannot write the host log");
+                protocol[p]->log_to(&logs_[p]);
+            }
         } else if (ps.host == PortScenario::Host::raw) {
             raw[p] = std::make_unique<RawHost>(n.c_str(), ps.raw);
             raw[p]->connect(lines[p], SerialLine::b);

@@ -127,6 +127,10 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
     } else if (host != "none") {
         m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw or none)");
     }
+    if (m.has("log")) {
+        std::filesystem::path log = m.get<std::string>("log", "");
+        p.log_path = log.is_absolute() ? log.string() : (dir / log).string();
+    }
     p.noise_per_bit = m.number("noise_per_bit", 0, 0, 1);
     if (m.has("faults")) {
         YAML::Node faults = m.child("faults");

@@ -29,6 +29,7 @@ struct PortScenario {
     enum class Host { none, protocol, raw } host = Host::none;
     ProtocolHostConfig protocol;
     RawHostConfig raw;
+    std::string log_path; // protocol host: transaction log ("" = none)
     double noise_per_bit = 0;
     std::vector<LineFault> faults;
 };
