@@ -352,6 +352,24 @@ TEST(Idt7130Busy, StretchedLoserCycleBlocksTheNextAccess) {
     EXPECT_EQ(tb.ram.peek(0x0AA), 2);
 }
 
+// The loser's wait states lengthen its window: [100, 725) instead of [100, 600).
+TEST(Idt7130Busy, LosersWaitStatesExtendItsWindow) {
+    DpramBench tb("tb");
+    BusResult r, l2;
+    tb.left_body = [&] {
+        tb.write_at(tb.left, ns(0), 0x0C0, 1);
+        tb.read_at(tb.left, ns(600), 0x0C0, &l2); // after the nominal window, inside the stretched one
+        tb.read_at(tb.left, ns(2000), 0x0C0);     // after both
+    };
+    tb.right_body = [&] { tb.read_at(tb.right, ns(100), 0x0C0, &r); };
+    sc_core::sc_start();
+    EXPECT_EQ(r.wait_states, 1u); // 575 - 475 = 100 -> 1
+    EXPECT_EQ(tb.ram.stats(Idt7130::left_port).busy, 1u);
+    EXPECT_EQ(l2.wait_states, 0u); // 725 + 30 + 45 = 800 < 600 + 375
+    ASSERT_EQ(tb.busy.size(), 2u);
+    EXPECT_EQ(tb.busy[1].busy_high, ns(755));
+}
+
 TEST(Idt7130Busy, StartsCloserThanTapsAreCounted) {
     DpramBench tb("tb");
     tb.left_body = [&] {
