@@ -9,6 +9,8 @@
 !
 ! bcc calling convention: arguments pushed right to left as words, caller pops; result in AX;
 ! a C function preserves BP, SI, DI (and DS, SS); AX, BX, CX, DX, ES and flags are scratch.
+! bcc's code never uses ES (no string instructions), so dp_rd/dp_wr leave ES = DP_SEG; the
+! interrupt entries save ES and reload it.
 
 DATA_SEG  = 0x0040
 STACK_TOP = 0x0C00
@@ -189,8 +191,6 @@ _dp_rd:
 	seg	es
 	mov	al,[bx]
 	xor	ah,ah
-	mov	dx,ds
-	mov	es,dx
 	ret
 
 ! void dp_wr(unsigned offset, unsigned char value)
@@ -202,8 +202,6 @@ _dp_wr:
 	mov	es,dx
 	seg	es
 	mov	[bx],al
-	mov	dx,ds
-	mov	es,dx
 	ret
 
 ! ---- interrupt flag ------------------------------------------------------------------------

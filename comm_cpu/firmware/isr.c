@@ -73,38 +73,6 @@ static void rx_end(int port)
     }
 }
 
-/* A frame byte in step 1: store it, check it, keep the running checksum. */
-static void rx_store(int port, unsigned char c)
-{
-    unsigned n = rx_len[port];
-
-    rx_t[port] = ticks;
-    if (n >= MAX_FRAME) {
-        rx_bad[port] |= BAD_LONG;
-        if (c == ETX)
-            rx_end(port);
-        return;
-    }
-    rxbuf[port][n] = c;
-    rx_len[port] = n + 1;
-    if (c == ETX) {
-        rx_end(port);
-        return;
-    }
-    if (n == 0) {
-        if (c != SOH)
-            rx_bad[port] |= BAD_CHAR;
-        return;
-    }
-    if (n == 3) {
-        if (c != STX)
-            rx_bad[port] |= BAD_CHAR;
-    } else if (c < 0x20 || c > 0x7E) {
-        rx_bad[port] |= BAD_CHAR;
-    }
-    rx_sum[port] += c;
-}
-
 /* EOT for the frame being sent: drop it from the ring; the next queued frame follows. */
 static void tx_done(int port)
 {
@@ -140,17 +108,42 @@ void tx_retry(int port)
 /* The protocol, one received byte at a time (the paper's rs232_interrupt_service). */
 void rx_char(int port, unsigned char c)
 {
-    unsigned char line_err = rx_bad[port] & BAD_LINE;
+    register unsigned n;
+    unsigned char line_err;
 
+    if (step[port] == ST_RECV) {
+        /* store the byte, check it, keep the running checksum of everything after SOH */
+        rx_t[port] = ticks;
+        n = rx_len[port];
+        if (n >= MAX_FRAME) {
+            rx_bad[port] |= BAD_LONG;
+            if (c == ETX)
+                rx_end(port);
+            return;
+        }
+        rxbuf[port][n] = c;
+        rx_len[port] = n + 1;
+        if (c == ETX) {
+            rx_end(port);
+            return;
+        }
+        if (c >= 0x20 && c <= 0x7E) {
+            if (n == 0 || n == 3)
+                rx_bad[port] |= BAD_CHAR;   /* SOH or STX expected here */
+        } else if (!(n == 0 && c == SOH) && !(n == 3 && c == STX)) {
+            rx_bad[port] |= BAD_CHAR;
+        }
+        if (n)
+            rx_sum[port] += c;
+        return;
+    }
+    line_err = rx_bad[port] & BAD_LINE;
     switch (step[port]) {
     case ST_IDLE:
         if (c == ENQ)
             accept_enq(port);
         else
             rx_bad[port] = 0;
-        break;
-    case ST_RECV:
-        rx_store(port, c);
         break;
     case ST_SEND_ENQ:
     case ST_WAIT_ACK:
@@ -198,42 +191,49 @@ static void line_break(int port)
         outb(UART_BASE(port) + U_RCM, RCM_START);
 }
 
+/* Rx machine status: BREAK resets the port, an error spoils the frame being received. */
+static void line_status(int port, unsigned char st)
+{
+    if (st & RST_BKD) {
+        line_break(port);
+    } else if (st & (RST_OE | RST_PE | RST_FE)) {
+        rx_bad[port] |= BAD_LINE;
+        ++n_lerr[port];
+    }
+}
+
+/* IR0..IR2.  Works in bank 1; if the interrupted code had another bank selected, that bank is
+ * restored on the way out.  Loops until GIR shows nothing pending, so the INT pin falls and the
+ * edge-triggered 8259A sees the next request. */
 void rs232_isr(int port)
 {
     unsigned b = UART_BASE(port);
-    unsigned char bank, gir, st;
+    unsigned char bank, gir;
     int n;
 
-    bank = inb(b + U_GIR) & BANK_MASK;
-    outb(b + U_BANK, BANK_WORK);
-    for (n = 0; n < 32; n++) {
-        gir = inb(b + U_GIR);
+    gir = inb(b + U_GIR);               /* the pending source and the current bank */
+    bank = gir & BANK_MASK;
+    if (bank != BANK_WORK)
+        outb(b + U_BANK, BANK_WORK);
+    for (n = 32; n; --n) {
         if (gir & GIR_NONE)
             break;
-        switch (gir & GIR_VEC) {
-        case GIR_RXF:
+        gir &= GIR_VEC;
+        if (gir == GIR_RXF) {
             rx_char(port, inb(b + U_RXD));
-            break;
-        case GIR_RXM:
-            st = inb(b + U_RST);
-            if (st & RST_BKD) {
-                line_break(port);
-            } else if (st & (RST_OE | RST_PE | RST_FE)) {
-                rx_bad[port] |= BAD_LINE;
-                ++n_lerr[port];
-            }
-            break;
-        case GIR_TIMER:
+        } else if (gir == GIR_TIMER) {
             inb(b + U_TMST);            /* clears TBEx; BRGB reloads by itself */
             ++ticks;
-            break;
-        default:
+        } else if (gir == GIR_RXM) {
+            line_status(port, inb(b + U_RST));
+        } else {
             inb(b + U_GSR);
             inb(b + U_MSR);
-            break;
         }
+        gir = inb(b + U_GIR);
     }
-    outb(b + U_BANK, bank);
+    if (bank != BANK_WORK)
+        outb(b + U_BANK, bank);
 }
 
 /*

@@ -315,11 +315,15 @@ public:
         int_l = true;
         update_lines();
     }
-    /// Takes the oldest posted word, if any (as the main CPU's INT_R handler would).
+    /// Takes the oldest posted word, if any (as the main CPU's INT_R handler would), and
+    /// empties int2rbt as docs/firmware.md recommends (unless main_clears_int2rbt is false).
+    bool main_clears_int2rbt = true;
     bool main_take_word(std::uint8_t& w) {
         if (posted.empty()) return false;
         w = posted.front();
         posted.erase(posted.begin());
+        int_r = false;
+        if (main_clears_int2rbt) dp[0x3FF] = 0;
         return true;
     }
     /// Copies chunk p out of DP-RAM the way the main CPU does (up to ETX or 339 bytes).

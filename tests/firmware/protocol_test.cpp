@@ -1,1 +1,426 @@
+// The firmware's protocol on the plain 8086 core with the bench's fakes: the test plays the host
+// (bytes into 82510 #p, bytes out of TXD) and the main CPU (DP-RAM and the mailbox words).
 #include "fw_bench.h"
+#include "tests/support/sc_test.h"
+
+#include <cstdio>
+#include <string>
+
+namespace {
+
+using namespace fwbench;
+
+const char SOH = 0x01, STX = 0x02, ETX = 0x03, EOT = 0x04, ENQ = 0x05, ACK = 0x06, NAK = 0x15;
+
+std::string hex2(unsigned v) {
+    char b[3];
+    std::snprintf(b, sizeof b, "%02X", v & 0xFF);
+    return b;
+}
+
+// SOH T1 T2 STX B1 B2 data C1 C2 ETX; checksum = sum of T1 .. last data byte.
+std::string frame(const std::string& token, const std::string& data, unsigned bch = 0, int sum_delta = 0) {
+    std::string body = token + STX + hex2(bch) + data;
+    unsigned sum = 0;
+    for (unsigned char c : body) sum += c;
+    return std::string(1, SOH) + body + hex2(sum + sum_delta) + ETX;
+}
+
+// A booted bench.
+struct Booted : Bench {
+    Booted() { run_ms(5); }
+
+    /// Host: ENQ, expect ACK; then the frame (without waiting for anything).
+    void host_frame(unsigned p, const std::string& f, double char_us = 1146.0) {
+        host_send(p, std::string(1, ENQ), char_us);
+        run_until([&] { return !uart[p].tx.empty(); }, 5);
+        ASSERT_EQ(host_take(p), std::string(1, ACK)) << "port " << p;
+        host_send(p, f, char_us);
+    }
+    /// Main CPU: wait for 0x1p, copy the chunk, free pflag on the last one, answer 0x2p.
+    /// Returns the bytes of the frame (several chunks) or "" when no chunk came within `ms`.
+    std::string main_receive_frame(unsigned p, double ms = 100) {
+        std::string got;
+        for (;;) {
+            std::uint8_t w = 0;
+            if (!run_until([&] { return !posted.empty(); }, ms)) return got;
+            main_take_word(w);
+            EXPECT_EQ(w, 0x10 | p);
+            if (w != (0x10 | p)) return got;
+            EXPECT_EQ(pflag(p), 1) << "EXT_USE while the comm CPU writes";
+            const std::string c = main_read_chunk(p);
+            got += c;
+            const bool last = c.back() == ETX;
+            if (last) dp[p * area + chunk] = 0; // the reader frees pflag
+            else EXPECT_EQ(c.size(), chunk) << "a chunk without ETX is full";
+            main_word(std::uint8_t(0x20 | p));
+            if (last) return got;
+        }
+    }
+};
+
+TEST(FirmwareProtocol, GoodFrameGetsEotAndReachesTheMainCpuIntact) {
+    Booted b;
+    const std::string f = frame("EC", "HELLO,123");
+    b.host_frame(1, f);
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(1), std::string(1, EOT));
+    EXPECT_EQ(b.main_receive_frame(1), f);
+    b.run_ms(5);
+    EXPECT_EQ(b.step(1), 0);
+    EXPECT_EQ(b.pflag(1), 0);
+    EXPECT_EQ(b.var16(fw::data::n_good, 1), 1u);
+    EXPECT_TRUE(b.posted.empty());
+}
+
+TEST(FirmwareProtocol, BadChecksumGetsNakAndNothingIsDelivered) {
+    Booted b;
+    b.host_frame(0, frame("EC", "ABC", 0, +1));
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(0), std::string(1, NAK));
+    b.run_ms(20);
+    EXPECT_TRUE(b.posted.empty()) << "a short dropped frame never reaches DP-RAM";
+    EXPECT_EQ(b.pflag(0), 0);
+    EXPECT_EQ(b.step(0), 0);
+    EXPECT_EQ(b.var16(fw::data::n_nak, 0), 1u);
+}
+
+TEST(FirmwareProtocol, ParityErrorGetsNak) {
+    Booted b;
+    const std::string f = frame("ST", "");
+    b.host_send(2, std::string(1, ENQ));
+    ASSERT_EQ(b.host_take(2), std::string(1, ACK));
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        b.host_byte(2, std::uint8_t(f[i]), i == 4 ? 0x04 : 0); // parity error on B1
+        b.run_us(1146);
+    }
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(2), std::string(1, NAK));
+    b.run_ms(10);
+    EXPECT_TRUE(b.posted.empty());
+    EXPECT_EQ(b.var16(fw::data::n_lerr, 2), 1u);
+}
+
+TEST(FirmwareProtocol, CharacterOutsideTheAllowedSetGetsNak) {
+    Booted b;
+    std::string f = frame("EC", "AB");
+    f[6] = char(0x7F); // DEL is not printable (checksum recomputed below so only the set fails)
+    unsigned sum = 0;
+    for (std::size_t i = 1; i < f.size() - 3; ++i) sum += std::uint8_t(f[i]);
+    f.replace(f.size() - 3, 2, hex2(sum));
+    b.host_frame(0, f);
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(0), std::string(1, NAK));
+}
+
+TEST(FirmwareProtocol, T2GapDropsThePartialFrame) {
+    Booted b;
+    const std::string f = frame("EC", "PARTIAL");
+    b.host_frame(0, f.substr(0, 6));
+    b.run_ms(25); // more than T2 = 20 ms
+    EXPECT_EQ(b.step(0), 0);
+    EXPECT_EQ(b.pflag(0), 0);
+    EXPECT_EQ(b.var16(fw::data::n_gap, 0), 1u);
+    EXPECT_EQ(b.host_take(0), "") << "no answer to a frame that timed out";
+    // the rest arriving late is not taken for a frame
+    b.host_send(0, f.substr(6));
+    b.run_ms(5);
+    EXPECT_EQ(b.host_take(0), "");
+    EXPECT_TRUE(b.posted.empty());
+    // a gap shorter than T2 is fine
+    b.host_frame(0, f.substr(0, 6));
+    b.run_ms(15);
+    b.host_send(0, f.substr(6));
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(0), std::string(1, EOT));
+}
+
+TEST(FirmwareProtocol, EnqWhileTheAreaIsBusyGetsNak) {
+    Booted b;
+    b.dp[1 * 340 + 339] = 2; // the main CPU is writing port 1's area
+    b.host_send(1, std::string(1, ENQ));
+    b.run_ms(1);
+    EXPECT_EQ(b.host_take(1), std::string(1, NAK));
+    EXPECT_EQ(b.step(1), 0);
+    EXPECT_EQ(b.var16(fw::data::n_busy, 1), 1u);
+    b.dp[1 * 340 + 339] = 0;
+    b.host_send(1, std::string(1, ENQ));
+    b.run_ms(1);
+    EXPECT_EQ(b.host_take(1), std::string(1, ACK));
+    EXPECT_EQ(b.pflag(1), 1);
+}
+
+TEST(FirmwareProtocol, LongFrameCrossesDpramInChunksIntact) {
+    Booted b;
+    std::string data;
+    for (int i = 0; data.size() < 3000; ++i) data += std::to_string(i) + ",";
+    data.resize(3000);
+    const std::string f = frame("PU", data);
+    // the main CPU consumes chunks while the frame is still arriving
+    std::string got;
+    b.host_byte(0, ENQ);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 5));
+    ASSERT_EQ(b.host_take(0), std::string(1, ACK));
+    std::size_t sent = 0;
+    while (sent < f.size() || got.empty() || got.back() != ETX) {
+        if (sent < f.size()) b.host_byte(0, std::uint8_t(f[sent++]));
+        b.run_us(400);
+        std::uint8_t w;
+        while (b.main_take_word(w)) {
+            ASSERT_EQ(w, 0x10);
+            const std::string c = b.main_read_chunk(0);
+            got += c;
+            if (c.back() == ETX) b.dp[339] = 0;
+            b.main_word(0x20);
+        }
+        ASSERT_LT(b.now(), 3 * clk_hz) << "stuck";
+    }
+    EXPECT_EQ(got.size(), f.size());
+    EXPECT_EQ(got, f);
+    EXPECT_EQ(b.host_take(0), std::string(1, EOT));
+    b.run_ms(2);
+    EXPECT_EQ(b.step(0), 0);
+}
+
+TEST(FirmwareProtocol, OverlongFrameGetsNakAndTheMainCpuIsToldToDropIt) {
+    Booted b;
+    const std::string f = frame("EC", std::string(8193, 'x'));
+    b.host_byte(0, ENQ);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 5));
+    ASSERT_EQ(b.host_take(0), std::string(1, ACK));
+    std::size_t sent = 0;
+    std::string words;
+    while (sent < f.size()) {
+        b.host_byte(0, std::uint8_t(f[sent++]));
+        b.run_us(700);
+        std::uint8_t w;
+        while (b.main_take_word(w)) {
+            words += char(w);
+            if (w == 0x10) b.main_word(0x20);
+        }
+    }
+    std::uint8_t w;
+    b.run_until([&] {
+        while (b.main_take_word(w)) {
+            words += char(w);
+            if (w == 0x10) b.main_word(0x20);
+        }
+        return !words.empty() && words.back() == char(0x30);
+    }, 300);
+    EXPECT_EQ(b.host_take(0), std::string(1, NAK));
+    ASSERT_FALSE(words.empty());
+    EXPECT_EQ(words.back(), char(0x30)) << "0x30 tells the main CPU to drop the partial frame";
+    EXPECT_EQ(b.pflag(0), 0);
+    EXPECT_EQ(b.step(0), 0);
+}
+
+// Main CPU -> host: a response frame in one chunk.
+TEST(FirmwareProtocol, ResponseFrameReachesTheHost) {
+    Booted b;
+    const std::string f = frame("ST", "RUN,IDLE,1,2,3,4");
+    b.main_write_chunk(2, f, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 10));
+    std::uint8_t w = 0;
+    ASSERT_TRUE(b.main_take_word(w));
+    EXPECT_EQ(w, 0x22) << "chunk consumed";
+    EXPECT_EQ(b.pflag(2), 0) << "the reader frees pflag with the last chunk";
+    EXPECT_EQ(b.dp[0x3FE], 0) << "int2ext emptied after reading";
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[2].tx.empty(); }, 10));
+    EXPECT_EQ(b.host_take(2), std::string(1, ENQ));
+    b.run_ms(0.2);
+    EXPECT_EQ(b.step(2), 11);
+    b.host_send(2, std::string(1, ACK));
+    EXPECT_TRUE(b.run_until([&] { return b.step(2) == 13; }, 20));
+    EXPECT_EQ(b.host_take(2), f);
+    b.host_send(2, std::string(1, EOT));
+    b.run_ms(1);
+    EXPECT_EQ(b.step(2), 0);
+    EXPECT_EQ(b.var16(fw::data::n_sent, 2), 1u);
+}
+
+TEST(FirmwareProtocol, MultiChunkResponseAndQueuedFramesGoOutInOrder) {
+    Booted b;
+    const std::string big = frame("PD", std::string(700, 'p'));
+    const std::string small = frame("EC", "2");
+    // three chunks of `big`, then `small`, each after the ACK of the previous chunk
+    for (std::size_t off = 0; off < big.size(); off += 339) {
+        b.main_write_chunk(0, big.substr(off, 339), off == 0);
+        std::uint8_t w = 0;
+        ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 60)); // ~70 us per byte
+        b.main_take_word(w);
+        ASSERT_EQ(w, 0x20);
+    }
+    EXPECT_EQ(b.pflag(0), 0);
+    b.main_write_chunk(0, small, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 10));
+    b.posted.clear();
+    std::string out;
+    for (int frames = 0; frames < 2; ++frames) {
+        ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 100));
+        ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+        b.host_send(0, std::string(1, ACK));
+        b.run_until([&] { return b.step(0) == 13; }, 100);
+        out += b.host_take(0);
+        b.host_send(0, std::string(1, EOT));
+    }
+    EXPECT_EQ(out, big + small);
+}
+
+TEST(FirmwareProtocol, NakAndTimeoutAreRetriedWithBackoffThenReported) {
+    Booted b;
+    const std::string f = frame("EC", "R");
+    b.main_write_chunk(1, f, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[1].tx.empty(); }, 10));
+    b.posted.clear();
+    ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
+    // attempt 1: NAK -> next ENQ about 10 ms later
+    const cycles_t t_nak = b.now();
+    b.host_send(1, std::string(1, NAK));
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[1].tx.empty(); }, 30));
+    const double gap1 = double(b.now() - t_nak) / cycles_per_us / 1000.0;
+    EXPECT_GE(gap1, 9.0);
+    EXPECT_LE(gap1, 12.5);
+    ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
+    // attempt 2: no answer -> T1 (50 ms) then 20 ms back-off
+    const cycles_t t_enq = b.now();
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[1].tx.empty(); }, 100));
+    const double gap2 = double(b.now() - t_enq) / cycles_per_us / 1000.0;
+    EXPECT_GE(gap2, 69.0);
+    EXPECT_LE(gap2, 73.0);
+    ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
+    // attempt 3: ACK, frame, then NAK for the frame -> whole frame again after 30 ms
+    b.host_send(1, std::string(1, ACK));
+    b.run_until([&] { return b.step(1) == 13; }, 50);
+    EXPECT_EQ(b.host_take(1), f);
+    b.host_send(1, std::string(1, NAK));
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[1].tx.empty(); }, 50));
+    ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
+    // attempt 4 (third retry): NAK -> give up: 0x31 to the main CPU, port reset
+    b.host_send(1, std::string(1, NAK));
+    b.run_ms(60);
+    EXPECT_EQ(b.host_take(1), "");
+    std::uint8_t w = 0;
+    ASSERT_TRUE(b.main_take_word(w));
+    EXPECT_EQ(w, 0x31);
+    EXPECT_EQ(b.step(1), 0);
+    EXPECT_EQ(b.var16(fw::data::n_retry, 1), 3u);
+    EXPECT_EQ(b.var16(fw::data::n_fail, 1), 1u);
+}
+
+TEST(FirmwareProtocol, EnqCollisionTheExternalSystemWins) {
+    Booted b;
+    const std::string mine = frame("ST", "0");
+    b.main_write_chunk(0, mine, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 10));
+    b.posted.clear();
+    ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+    b.run_ms(0.2);
+    EXPECT_EQ(b.step(0), 11);
+    // the host sends its own ENQ instead of answering
+    const std::string theirs = frame("EC", "HOST");
+    b.host_send(0, std::string(1, ENQ));
+    EXPECT_EQ(b.host_take(0), std::string(1, ACK)) << "the external system wins";
+    EXPECT_EQ(b.step(0), 1);
+    b.host_send(0, theirs);
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(0), std::string(1, EOT));
+    EXPECT_EQ(b.main_receive_frame(0), theirs);
+    // then the comm CPU tries its own frame again
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 20));
+    EXPECT_EQ(b.host_take(0), std::string(1, ENQ));
+    b.host_send(0, std::string(1, ACK));
+    b.run_until([&] { return b.step(0) == 13; }, 50);
+    EXPECT_EQ(b.host_take(0), mine);
+    EXPECT_EQ(b.var16(fw::data::n_coll, 0), 1u);
+}
+
+TEST(FirmwareProtocol, PortResetByMailboxWord) {
+    Booted b;
+    b.host_frame(2, frame("EC", "X").substr(0, 4)); // a frame in progress
+    EXPECT_EQ(b.step(2), 1);
+    EXPECT_EQ(b.pflag(2), 1);
+    const unsigned resets = b.uart[2].resets;
+    b.main_word(0x32);
+    b.run_ms(2);
+    EXPECT_EQ(b.uart[2].resets, resets + 1) << "82510 #2 re-initialised (ICM software reset)";
+    EXPECT_EQ(b.uart[2].lcr, 0x1B);
+    EXPECT_EQ(b.uart[2].ger, 0x05);
+    EXPECT_EQ(b.step(2), 0);
+    EXPECT_EQ(b.pflag(2), 0);
+    EXPECT_TRUE(b.posted.empty()) << "a reset the main CPU asked for is not echoed";
+    EXPECT_EQ(b.uart[0].resets, 1u) << "other ports untouched";
+    // the port works afterwards
+    b.host_frame(2, frame("EC", "Y"));
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(2), std::string(1, EOT));
+}
+
+TEST(FirmwareProtocol, PortResetByBreak) {
+    Booted b;
+    b.host_frame(1, frame("EC", "X").substr(0, 5));
+    EXPECT_EQ(b.step(1), 1);
+    b.host_break(1);
+    b.run_ms(2);
+    EXPECT_EQ(b.uart[1].resets, 2u);
+    EXPECT_EQ(b.step(1), 0);
+    EXPECT_EQ(b.pflag(1), 0);
+    std::uint8_t w = 0;
+    ASSERT_TRUE(b.main_take_word(w));
+    EXPECT_EQ(w, 0x31) << "the main CPU hears of the reset";
+    // a BREAK that goes on is reported again by the chip: no second reset
+    b.host_break(1);
+    b.run_ms(2);
+    EXPECT_EQ(b.uart[1].resets, 2u);
+    EXPECT_TRUE(b.posted.empty());
+    EXPECT_EQ(b.var16(fw::data::n_break, 1), 2u);
+    b.host_frame(1, frame("EC", "Y"));
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(1), std::string(1, EOT));
+}
+
+TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
+    Booted b;
+    const std::string f[3] = {frame("EC", std::string(400, 'a')), frame("EC", std::string(400, 'b')),
+                              frame("EC", std::string(400, 'c'))};
+    for (unsigned p = 0; p < 3; ++p) b.host_byte(p, ENQ);
+    b.run_ms(1.2);
+    for (unsigned p = 0; p < 3; ++p) ASSERT_EQ(b.host_take(p), std::string(1, ACK)) << p;
+    std::string got[3];
+    for (std::size_t i = 0; i < f[0].size(); ++i) {
+        for (unsigned p = 0; p < 3; ++p) b.host_byte(p, std::uint8_t(f[p][i]));
+        b.run_us(1146);
+        std::uint8_t w;
+        while (b.main_take_word(w)) {
+            const unsigned p = w & 0x0F;
+            ASSERT_EQ(w & 0xF0, 0x10);
+            const std::string c = b.main_read_chunk(p);
+            got[p] += c;
+            if (c.back() == ETX) b.dp[p * 340 + 339] = 0;
+            b.main_word(std::uint8_t(0x20 | p));
+            b.run_us(50);
+        }
+    }
+    auto done = [&] {
+        for (unsigned p = 0; p < 3; ++p)
+            if (got[p].empty() || got[p].back() != ETX) return false;
+        return true;
+    };
+    b.run_until([&] {
+        std::uint8_t w;
+        while (b.main_take_word(w)) {
+            const unsigned p = w & 0x0F;
+            const std::string c = b.main_read_chunk(p);
+            got[p] += c;
+            if (c.back() == ETX) b.dp[p * 340 + 339] = 0;
+            b.main_word(std::uint8_t(0x20 | p));
+        }
+        return done();
+    }, 500);
+    for (unsigned p = 0; p < 3; ++p) {
+        EXPECT_EQ(got[p], f[p]) << p;
+        EXPECT_EQ(b.host_take(p), std::string(1, EOT)) << p;
+        EXPECT_EQ(b.var16(fw::data::n_lerr, p), 0u);
+    }
+}
+
+} // namespace
