@@ -213,6 +213,22 @@ TEST(ProtocolHost, AcceptsAControllerFrameWithEot) {
     EXPECT_EQ(b.host.counters().enqs_received, 1u);
 }
 
+TEST(ProtocolHost, ReplyDelayIsTheHostsTurnaround) {
+    ProtocolHostConfig cfg;
+    cfg.timing.reply_delay = ms(3);
+    Bench b(cfg);
+    b.fake.send_at(ms(1), "\x05");
+    b.fake.replies[ACK] = {encode(Frame{"ST", 0, ""})};
+    sc_core::sc_start(ms(200));
+    const auto acks = b.fake.times_of(ACK);
+    ASSERT_EQ(acks.size(), 1u);
+    EXPECT_EQ(acks[0], ms(1) + k_char + ms(3) + k_char);
+    const auto eots = b.fake.times_of(EOT);
+    ASSERT_EQ(eots.size(), 1u);
+    // Frame (9 bytes: no data) 1 ms after the ACK, then 3 ms, then the EOT.
+    EXPECT_EQ(eots[0], acks[0] + ms(1) + k_char * 9.0 + ms(3) + k_char);
+}
+
 TEST(ProtocolHost, BadChecksumIsAnsweredWithNak) {
     Bench b;
     std::string bad = encode(Frame{"ST", 0, "42"});

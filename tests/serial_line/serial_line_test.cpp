@@ -357,3 +357,25 @@ TEST(SerialLineFaults, NoiseRateOneFlipsEveryCell) {
     EXPECT_EQ(s.glitches, 10u); // every START reads MARK
     EXPECT_EQ(s.delivered, 0u);
 }
+
+TEST(SerialLine, TraceShowsEveryCell) {
+    SerialLine line("line");
+    const SerialFormat f = fmt(BitTime::baud(9600));
+    Recorder ea(f), eb(f);
+    line.attach(SerialLine::a, ea);
+    line.attach(SerialLine::b, eb);
+    std::ostringstream os;
+    line.trace_to(&os);
+    std::vector<SerialLine::Traced> seen;
+    line.on_transmit = [&](const SerialLine::Traced& t) { seen.push_back(t); };
+    at(us(5), [&] { line.transmit(SerialLine::a, SerialWord::encode(0x41, f)); });
+    at(us(2000), [&] { line.insert_break(SerialLine::b, us(3000)); });
+    sc_core::sc_start();
+    // 0x41 8E1: START 0, data 10000010, parity 0, STOP 1.
+    EXPECT_NE(os.str().find("5 us a>b 01000001001 @9600bps"), std::string::npos) << os.str();
+    EXPECT_NE(os.str().find("2 ms b>a BREAK on"), std::string::npos) << os.str();
+    EXPECT_NE(os.str().find("5 ms b>a BREAK off"), std::string::npos) << os.str();
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_EQ(seen[0].start, us(5));
+    EXPECT_FALSE(seen[0].dropped);
+}

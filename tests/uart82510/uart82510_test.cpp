@@ -827,3 +827,93 @@ TEST(Uart82510Pair, MismatchedBaudGivesWrongDataAndErrors) {
     EXPECT_EQ(p.u1.stats().framing_errors, 1u);
     EXPECT_EQ(p.u1.peek(RXD), 0x66);
 }
+
+// ---- less common paths -------------------------------------------------------------------
+
+TEST(Uart82510Serial, FlushRxMachineDropsTheCharacterInProgress) {
+    Bench b;
+    run([&] {
+        b.cpu.setup_9600_8e1();
+        b.cpu.bank(1);
+        sc_core::sc_spawn([&] { b.host.send("ab"); });
+        sc_core::wait(k_char / 2.0); // 'a' half received
+        b.cpu.wr(RCM, RCM_FRM);
+        sc_core::wait(k_char * 3.0);
+        EXPECT_EQ(b.cpu.rd(FLR) >> 4, 1); // only 'b'
+        EXPECT_EQ(b.cpu.rd(RXD), 'b');
+    });
+}
+
+TEST(Uart82510Serial, NineBitCharactersAndSoftwareParity) {
+    Bench b;
+    b.host.fmt.data_bits = 9;
+    b.host.fmt.parity = Parity::none;
+    run([&] {
+        b.cpu.wr(LCR, LCR_DLAB);
+        b.cpu.wr(BAL, 60);
+        b.cpu.wr(LCR, 0x00); // CL = 00 with NBCL: 9 bits, no parity
+        b.cpu.bank(2);
+        b.cpu.wr(TMD, TMD_NBCL);
+        b.cpu.bank(1);
+        b.cpu.wr(TXF, 0x20); // D8 = 1
+        b.cpu.wr(TXD, 0x41);
+        sc_core::wait(k_char * 2.0);
+        // And a 9-bit character in: RXF.RND holds bit 8.
+        b.host.line.transmit(SerialLine::b, SerialWord::encode(0x155, b.host.fmt));
+        sc_core::wait(k_char * 2.0);
+        EXPECT_EQ(b.cpu.rd(RXF) & RXF_RND, RXF_RND);
+        EXPECT_EQ(b.cpu.rd(RXD), 0x55);
+        // Software parity: 8 data + parity cell from TXF.SP regardless of the data.
+        b.cpu.bank(0);
+        b.cpu.wr(LCR, 0x1B); // 8E1
+        b.cpu.bank(2);
+        b.cpu.wr(TMD, TMD_SPF);
+        b.cpu.bank(1);
+        b.cpu.wr(TXF, 0x40); // SP = 1
+        b.host.fmt = SerialFormat::rs232(9600);
+        b.cpu.wr(TXD, 0x03); // even parity would be 0
+    });
+    ASSERT_EQ(b.host.got.size(), 2u);
+    EXPECT_EQ(b.host.got[0].data, 0x141);
+    EXPECT_EQ(b.host.got[1].data & 0xFF, 0x03);
+    EXPECT_TRUE(b.host.got[1].parity);       // the forced parity bit
+    EXPECT_TRUE(b.host.got[1].parity_error); // as an even-parity receiver sees it
+}
+
+TEST(Uart82510Serial, FlushTxMachineFreesTheShifter) {
+    Bench b;
+    run([&] {
+        b.cpu.setup_9600_8e1();
+        b.cpu.bank(1);
+        b.cpu.wr(TXD, '1');
+        b.cpu.wr(TXD, '2');
+        EXPECT_EQ(b.cpu.rd(FLR) & 7, 1);
+        b.cpu.wr(TCM, TCM_FTM); // '1' already on the wire; '2' starts now
+        EXPECT_EQ(b.cpu.rd(FLR) & 7, 0);
+    });
+    ASSERT_EQ(b.host.got.size(), 2u);
+    EXPECT_EQ(b.host.got[0].data, '1');
+    EXPECT_EQ(b.host.got[1].data, '2');
+    EXPECT_EQ(b.host.got[1].start, sc_core::SC_ZERO_TIME);
+}
+
+TEST(Uart82510Interrupts, ModemDeltasAndMieGating) {
+    Bench b;
+    run([&] {
+        b.cpu.wr(GER, 1u << modem);
+        b.cpu.bank(3);
+        b.cpu.wr(MIE, 0x04); // TERI only
+        b.cpu.bank(0);
+        b.uart.set_modem_inputs(true, true, true, true);
+        EXPECT_EQ(b.cpu.rd(GIR), 0x01); // DCTS, DDSR, DDCD set but masked; RI rising is no TERI
+        EXPECT_EQ(b.cpu.rd(MSR), 0xFB);
+        EXPECT_EQ(b.cpu.rd(MSR), 0xF0); // deltas cleared by the read
+        b.uart.set_modem_inputs(true, true, false, true); // RI trailing edge
+        EXPECT_EQ(b.cpu.rd(GIR), 0x00);
+        settle();
+        EXPECT_TRUE(b.irq.read());
+        b.cpu.bank(1);
+        b.cpu.wr(ICM, ICM_STC); // status clear takes the delta too
+        EXPECT_EQ(b.cpu.rd(GIR), 0x21);
+    });
+}
