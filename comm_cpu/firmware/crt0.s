@@ -130,7 +130,7 @@ rs232_entry:
 	pop	ax
 	iret
 
-! IR3: IDT7130 INT_L.  _dpram_isr reads the mailbox, masks IR3, issues the EOI itself and
+! IR3: IDT7130 INT_L.  _dpram_isr reads and empties the mailbox, issues the EOI itself and
 ! re-enables interrupts while it copies a chunk (see docs/firmware.md), and returns with IF = 0.
 _isr_dpram:
 	push	ax

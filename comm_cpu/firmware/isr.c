@@ -3,8 +3,9 @@
  *
  * rs232_isr:  IR0..IR2, one 82510 each (and the 1 ms tick on 82510 #0).  Runs with IF = 0;
  *             the entry stub in crt0.s sends the rotate-on-non-specific EOI after it.
- * dpram_isr:  IR3, the IDT7130 INT_L mailbox int2ext.  Reads the word, then lets the RS-232
- *             interrupts in while it copies a chunk (see docs/firmware.md).
+ * dpram_isr:  IR3, the IDT7130 INT_L mailbox int2ext.  Reads and empties the mailbox, sends
+ *             the EOI, then runs with IF = 1 so that the RS-232 interrupts (and the next
+ *             mailbox word) are served while it copies a chunk (see docs/firmware.md).
  */
 #include "fw.h"
 
@@ -314,10 +315,8 @@ void dpram_isr(void)
 
     w = dp_rd(INT2EXT);                             /* clears INT_L */
     dp_wr(INT2EXT, 0);                              /* the mailbox is free again */
-    outb(PIC_A1, PIC_OCW1 | (1 << IRQ_DPRAM));      /* no nested DP-RAM interrupt */
-    outb(PIC_A0, PIC_EOI_ROT);
-    irq_on();
+    outb(PIC_A0, PIC_EOI_ROT);                      /* IR3 may request again at once */
+    irq_on();                                       /* RS-232 (and DP-RAM) may nest */
     dp_event(w);
     irq_off();
-    outb(PIC_A1, PIC_OCW1);
 }

@@ -239,6 +239,8 @@ public:
     Pic pic;
     bool int_l = false, int_r = false;
     std::vector<std::uint8_t> posted; // words the firmware wrote to int2rbt
+    std::vector<cycles_t> posted_at;  // when (all of them, never consumed)
+    cycles_t int2ext_read_at = 0;     // last firmware read of int2ext
     std::vector<IoWrite> io_writes;
     std::vector<IrqRecord> irqs;
     rcsim::i8086::Cpu cpu;
@@ -360,7 +362,10 @@ public:
             if (address >= 0xD0000 && address < 0xD0400) {
                 const unsigned a = address - 0xD0000;
                 data = dp[a];
-                if (a == 0x3FE) int_l = false;
+                if (a == 0x3FE) {
+                    int_l = false;
+                    int2ext_read_at = start;
+                }
             } else {
                 data = 0xFFFF;
             }
@@ -372,6 +377,7 @@ public:
                 if (a == 0x3FF) {
                     int_r = true;
                     posted.push_back(std::uint8_t(data));
+                    posted_at.push_back(start);
                 }
             }
             break;

@@ -378,6 +378,52 @@ TEST(FirmwareProtocol, PortResetByBreak) {
     EXPECT_EQ(b.host_take(1), std::string(1, EOT));
 }
 
+TEST(FirmwareProtocol, MailboxWordIsTakenPromptlyEvenDuringAChunkCopy) {
+    Booted b;
+    b.main_write_chunk(0, std::string(339, 'z'), true); // a full chunk: a long copy
+    b.run_ms(3);
+    EXPECT_EQ(b.dp[0x3FE], 0);
+    EXPECT_TRUE(b.posted.empty()) << "still copying";
+    // a second word while the copy runs: read (and emptied) within a millisecond
+    const cycles_t t = b.now();
+    b.main_word(0x31);
+    ASSERT_TRUE(b.run_until([&] { return b.dp[0x3FE] == 0; }, 5));
+    EXPECT_LT(b.int2ext_read_at - t, 1000 * cycles_per_us);
+    b.run_ms(1);
+    EXPECT_EQ(b.uart[1].resets, 2u) << "port 1 reset while port 0's chunk is copied";
+    EXPECT_TRUE(b.posted.empty()) << "port 0 still copying";
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 60));
+    EXPECT_EQ(b.posted.front(), 0x20);
+    EXPECT_EQ(b.pflag(0), 2) << "not the last chunk: pflag stays with the main CPU";
+}
+
+TEST(FirmwareProtocol, NextWordWaitsUntilTheMainCpuEmptiedInt2rbt) {
+    // Three frames complete at once -> three 0x1p words. When the main CPU empties int2rbt
+    // after each read they follow as fast as the chunks are written; when it never does, the
+    // comm CPU spaces them by MB_WAIT_MS (at least one full tick).
+    cycles_t min_gap[2] = {~cycles_t(0), ~cycles_t(0)};
+    for (int run = 0; run < 2; ++run) {
+        Booted b;
+        b.main_clears_int2rbt = run == 0;
+        const std::string f = frame("EC", "");
+        for (unsigned p = 0; p < 3; ++p) b.host_byte(p, ENQ);
+        b.run_ms(1.2);
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            for (unsigned p = 0; p < 3; ++p) b.host_byte(p, std::uint8_t(f[i]));
+            b.run_us(1146);
+        }
+        ASSERT_TRUE(b.run_until([&] {
+            std::uint8_t w;
+            while (b.main_take_word(w)) {}
+            return b.posted_at.size() >= 3;
+        }, 30));
+        for (std::size_t i = 1; i < 3; ++i)
+            min_gap[run] = std::min(min_gap[run], b.posted_at[i] - b.posted_at[i - 1]);
+    }
+    EXPECT_LT(min_gap[0], 1000 * cycles_per_us);
+    EXPECT_GE(min_gap[1], 1000 * cycles_per_us);
+}
+
 TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
     Booted b;
     const std::string f[3] = {frame("EC", std::string(400, 'a')), frame("EC", std::string(400, 'b')),
