@@ -26,6 +26,7 @@ EOI_ROT   = 0xA0
 .globl _rs232_isr
 .globl _dpram_isr
 .globl _unexpected
+.globl _ticks
 .globl _isr_port0
 .globl _isr_port1
 .globl _isr_port2
@@ -95,8 +96,31 @@ halt_forever:
 ! ---- interrupt entries ---------------------------------------------------------------------
 ! IR0..IR2: 82510 #0..#2.  The C handler does the work; the entry ends with the OCW2
 ! rotate-on-non-specific EOI and IRET.  Runs with IF = 0 throughout (no nesting).
+! IR0 also carries the 1 ms tick (BRGB of 82510 #0).  Fast path for a tick alone: GIR reads
+! exactly 0x2A (bank 1 selected, timer pending); read TMST (clears TBEx; BRGB reloads itself),
+! count, EOI.  Anything else pending goes on to the C handler.
+GIR0      = 0x84
+TMST0     = 0x86
+GIR_TICK  = 0x2A
 _isr_port0:
 	push	ax
+	in	al,GIR0
+	cmp	al,#GIR_TICK
+	jne	port0_slow
+	in	al,TMST0
+	push	ds
+	mov	ax,#DATA_SEG
+	mov	ds,ax
+	inc	word ptr [_ticks]
+	pop	ds
+	in	al,GIR0
+	test	al,#1
+	jz	port0_slow
+	mov	al,#EOI_ROT
+	out	PIC_A0,al
+	pop	ax
+	iret
+port0_slow:
 	xor	ax,ax
 	jmp	rs232_entry
 _isr_port1:

@@ -115,6 +115,12 @@ TEST(FirmwareBoot, TimerTicksEveryMillisecond) {
         EXPECT_EQ(r.vector, 0x20);
         EXPECT_TRUE(r.eoi_seen);
     }
+    // a tick alone takes the assembly fast path: INTA to EOI well under 50 us
+    const std::size_t n = b.irqs.size();
+    ASSERT_TRUE(b.run_until([&] { return b.irqs.size() > n; }, 2));
+    const cycles_t inta = b.irqs.back().inta;
+    while (!b.irqs.back().eoi_seen) b.cpu.step();
+    EXPECT_LT(b.now() - inta, 50 * cycles_per_us);
 }
 
 TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {

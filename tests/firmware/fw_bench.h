@@ -14,6 +14,7 @@
 #include "comm_cpu/i8086.h"
 #include "comm_fw_symbols.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <deque>
@@ -57,8 +58,10 @@ struct Uart {
     }
     bool irq() const { return !(vector() & 1); }
 
+    std::size_t rx_high = 0; // RX FIFO high-water mark (a real 82510 holds 4)
     void receive(std::uint8_t c, std::uint8_t err = 0) {
         rx.push_back(c);
+        rx_high = std::max(rx_high, rx.size());
         rx_flags.push_back(err);
         if (rx.size() == 1) rst |= err;
     }
