@@ -27,6 +27,9 @@ Uart82510::Uart82510(sc_core::sc_module_name name, const Config& cfg)
         throw std::invalid_argument(me + "address shift " + std::to_string(cfg_.addr_shift) + " (0..8)");
     if (cfg_.timer_prescale == 0 || cfg_.timer_prescale > 1024)
         throw std::invalid_argument(me + "timer prescale " + std::to_string(cfg_.timer_prescale) + " (1..1024)");
+    if (cfg_.inta_low_cycles == 0 || cfg_.inta_low_cycles > 1'000'000)
+        throw std::invalid_argument(me + "INTA low time " + std::to_string(cfg_.inta_low_cycles) +
+                                    " cycles (1..1000000)");
     if (cfg_.fifo_depth == 0 || cfg_.fifo_depth > rx_fifo_.size())
         throw std::invalid_argument(me + "FIFO depth " + std::to_string(cfg_.fifo_depth) + " (1..16)");
 
@@ -322,7 +325,7 @@ void Uart82510::write_bank1(unsigned off, std::uint8_t v) {
             inta_hold_ = true;
             update_int();
             inta_release_ev_.cancel();
-            inta_release_ev_.notify(ratio_time(2, cfg_.clock_hz)); // [U] two clock periods
+            inta_release_ev_.notify(ratio_time(cfg_.inta_low_cycles, cfg_.clock_hz)); // [U]
         }
         break;
     default: break; // FLR is read-only

@@ -75,6 +75,7 @@ public:
         unsigned addr_shift = 1;             // register r at local offset r << addr_shift
         unsigned timer_prescale = 2;         // [U] clock cycles per timer count (BRG input)
         unsigned fifo_depth = 4;             // TX and RX FIFO bytes
+        unsigned inta_low_cycles = 2;        // [U] clock cycles INT stays low after ICM.INTA
     };
 
     /// Per-port figures for reports.

@@ -281,6 +281,9 @@ TEST(Uart82510Registers, BadConfigurationIsNamed) {
     Uart82510::Config c3;
     c3.addr_shift = 9;
     EXPECT_NE(message(c3).find("address shift 9"), std::string::npos);
+    Uart82510::Config c4;
+    c4.inta_low_cycles = 0;
+    EXPECT_NE(message(c4).find("INTA low time 0"), std::string::npos);
 }
 
 // ---- transmit, receive, timing -----------------------------------------------------------
