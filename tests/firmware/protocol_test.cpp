@@ -113,6 +113,35 @@ TEST(FirmwareProtocol, CharacterOutsideTheAllowedSetGetsNak) {
     EXPECT_EQ(b.host_take(0), std::string(1, NAK));
 }
 
+TEST(FirmwareProtocol, EnqWithALineErrorGetsNak) {
+    Booted b;
+    b.host_byte(0, ENQ, 0x08); // framing error
+    b.run_ms(1);
+    EXPECT_EQ(b.host_take(0), std::string(1, NAK));
+    EXPECT_EQ(b.step(0), 0);
+    EXPECT_EQ(b.pflag(0), 0);
+    b.host_byte(0, ENQ);
+    b.run_ms(1);
+    EXPECT_EQ(b.host_take(0), std::string(1, ACK));
+}
+
+TEST(FirmwareProtocol, ChunkNeverAcknowledgedResetsThePort) {
+    Booted b;
+    b.host_frame(0, frame("EC", "LOST"));
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 20));
+    std::uint8_t w = 0;
+    b.main_take_word(w);
+    EXPECT_EQ(w, 0x10);
+    // the main CPU never answers: after DP_ACK_MS the port is reset and 0x30 goes out
+    EXPECT_FALSE(b.run_until([&] { return !b.posted.empty(); }, 900));
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 200));
+    b.main_take_word(w);
+    EXPECT_EQ(w, 0x30);
+    EXPECT_EQ(b.step(0), 0);
+    EXPECT_EQ(b.pflag(0), 0);
+    EXPECT_EQ(b.uart[0].resets, 2u);
+}
+
 TEST(FirmwareProtocol, T2GapDropsThePartialFrame) {
     Booted b;
     const std::string f = frame("EC", "PARTIAL");
