@@ -291,7 +291,10 @@ void CamcQi::write_register(unsigned axis, std::uint8_t reg, std::uint32_t v) {
     case qi::OBJORG: a.objorg = v; break;
     case qi::CNT1:
         // Presetting the command counter while pulsing would tear the path: the chip ignores it.
-        if (!a.drive) a.cnt1 = static_cast<std::int32_t>(v);
+        if (!a.drive) {
+            a.preset_shift += static_cast<std::int32_t>(v) - a.cnt1;
+            a.cnt1 = static_cast<std::int32_t>(v);
+        }
         break;
     case qi::CNT2: {
         const std::int64_t raw = a.encoder ? a.encoder() : command_position(axis);

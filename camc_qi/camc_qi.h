@@ -169,6 +169,8 @@ public:
     // --- observation (tests, tracing, the trajectory recorder) ---
     std::int64_t command_position(unsigned axis) const; // CNT1 now
     std::int64_t encoder_position(unsigned axis) const; // CNT2 now
+    /// Net pulses emitted on PULSE/DIR since reset (CNT1 without its presets): what a drive counts.
+    std::int64_t pulse_count(unsigned axis) const { return command_position(axis) - ax(axis).preset_shift; }
     bool busy(unsigned axis) const;
     double current_speed(unsigned axis) const;          // steps/s of the drive the axis is in
     std::uint32_t end_status(unsigned axis) const { return ax(axis).end_status; }
@@ -196,6 +198,7 @@ private:
         // counters
         std::int64_t cnt1 = 0;        // command position while idle / at drive start
         std::int64_t enc_offset = 0;  // CNT2 = source() + enc_offset
+        std::int64_t preset_shift = 0; // sum of CNT1 preset jumps (no pulses emitted)
         std::int64_t remain = 0, driven = 0;
         std::array<bool, 6> pins{};   // electrical levels
         std::function<std::int64_t()> encoder;

@@ -1,0 +1,237 @@
+// rcsim — the motion layer module. See motion_controller.h.
+#include "main_cpu/motion/motion_controller.h"
+
+#include "models/bus.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace rcsim::motion {
+
+/// The paper's library reaches the chip through the main board's bus: DATA then COMMAND.
+class MotionController::Bus : public QiBus {
+public:
+    explicit Bus(tlm_utils::simple_initiator_socket<MotionController>& s) : s_(s) {}
+    void write(unsigned axis, std::uint8_t code, std::uint32_t data) override {
+        std::uint8_t b[4] = {std::uint8_t(data), std::uint8_t(data >> 8), std::uint8_t(data >> 16),
+                             std::uint8_t(data >> 24)};
+        access(BusCycle::mem_write, axis * camc::win::stride + camc::win::data, b, 4);
+        access(BusCycle::mem_write, axis * camc::win::stride + camc::win::command, &code, 1);
+    }
+    std::uint32_t read(unsigned axis, std::uint8_t code) override {
+        access(BusCycle::mem_write, axis * camc::win::stride + camc::win::command, &code, 1);
+        std::uint8_t b[4] = {};
+        access(BusCycle::mem_read, axis * camc::win::stride + camc::win::data, b, 4);
+        return b[0] | (b[1] << 8) | (b[2] << 16) | (std::uint32_t{b[3]} << 24);
+    }
+
+private:
+    tlm_utils::simple_initiator_socket<MotionController>& s_;
+    void access(BusCycle k, unsigned addr, std::uint8_t* d, unsigned len) {
+        if (!bus_access(s_, k, addr, d, len, sc_core::sc_time_stamp()).ok())
+            SC_REPORT_ERROR("rcsim/motion", ("CAMC-QI bus access failed at offset " + std::to_string(addr)).c_str());
+    }
+};
+
+MotionController::MotionController(sc_core::sc_module_name name, const MotionConfig& cfg)
+    : sc_module(name), bus("bus"), chip_("camc_qi"), qi_bus_(std::make_unique<Bus>(bus)), api_(*qi_bus_),
+      cfg_(cfg) {
+    bus.bind(chip_.socket);
+    for (unsigned a = 0; a < axes; ++a) {
+        drives_[a] = Cia402Drive(cfg.drive);
+        axes_[a] = std::make_unique<McAxis>(a, api_, drives_[a]);
+        power_[a].Axis = axes_[a].get();
+        Blocks& b = blocks_[a];
+        b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.halt.Axis = axes_[a].get();
+        chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
+        api_.SetStartSpeed(static_cast<int>(a), static_cast<float>(cfg.start_speed));
+    }
+    line_.AxisX = circle_.AxisX = axes_[0].get();
+    line_.AxisY = circle_.AxisY = axes_[1].get();
+}
+
+MotionController::~MotionController() = default;
+
+void MotionController::update_mechanism() {
+    for (unsigned a = 0; a < axes; ++a) {
+        const auto& sw = cfg_.switches[a];
+        const std::int64_t p = drives_[a].actual_position();
+        auto set = [&](camc::Pin pin, bool active) {
+            if (chip_.pin(a, pin) != active) chip_.set_pin(a, pin, active); // active-high wiring
+        };
+        if (sw.pelm) set(camc::Pin::pelm, p >= *sw.pelm);
+        if (sw.nelm) set(camc::Pin::nelm, p <= *sw.nelm);
+        if (sw.home) set(camc::Pin::org, cfg_.switches[a].home && std::llabs(p - *sw.home) <= 0);
+        set(camc::Pin::alarm, drives_[a].alarm_output());
+    }
+}
+
+void MotionController::control_cycle(const sc_core::sc_time& now) {
+    const double dt = first_cycle_ ? 0.0 : (now - last_).to_seconds();
+    first_cycle_ = false;
+    last_ = now;
+    for (unsigned a = 0; a < axes; ++a) {
+        Cia402Drive& d = drives_[a];
+        d.set_pulse_input(chip_.pulse_count(a));
+        d.set_alarm_reset_input(chip_.alarm_reset(a));
+        d.update(dt);
+    }
+    update_mechanism();
+    for (auto& ax : axes_) ax->cycle();
+    run_blocks();
+    if (cfg_.record) {
+        std::vector<std::int64_t> cmd(axes), act(axes);
+        for (unsigned a = 0; a < axes; ++a) {
+            cmd[a] = chip_.command_position(a);
+            act[a] = chip_.encoder_position(a);
+        }
+        recorder_.add(now.to_seconds(), std::move(cmd), std::move(act));
+    }
+}
+
+void MotionController::run_blocks() {
+    auto run = [this](McExecuteFb& fb) {
+        fb.call();
+        // The token "program" drops Execute once the block reports an outcome.
+        if ((fb.Done || fb.Error || fb.CommandAborted) && auto_.erase(&fb)) fb.Execute = false;
+    };
+    for (unsigned a = 0; a < axes; ++a) {
+        power_[a].call();
+        Blocks& b = blocks_[a];
+        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.halt})
+            run(*fb);
+        b.stop.call();
+        if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
+    }
+    run(line_);
+    run(circle_);
+}
+
+std::vector<std::int64_t> MotionController::positions() const {
+    std::vector<std::int64_t> p(axes);
+    for (unsigned a = 0; a < axes; ++a) p[a] = chip_.encoder_position(a);
+    return p;
+}
+
+std::string MotionController::state() const {
+    // The most significant axis state (errors first).
+    static constexpr AxisState order[] = {AxisState::error_stop, AxisState::stopping, AxisState::homing,
+                                          AxisState::synchronized_motion, AxisState::discrete_motion,
+                                          AxisState::continuous_motion, AxisState::standstill, AxisState::disabled};
+    for (AxisState s : order)
+        for (const auto& a : axes_)
+            if (a->state() == s) return to_string(s);
+    return "DISABLED";
+}
+
+MotionReply MotionController::fb_reply(std::uint16_t e) const {
+    switch (e) {
+    case err::none: return {0x00, ""};
+    case axl::in_motion: return {0x03, ""};
+    case err::axis_disabled: case err::wrong_state: case err::axis_stopping: return {0x04, std::to_string(e)};
+    case err::axis_error_stop: case err::limit_positive: case err::limit_negative: case err::drive_fault:
+    case err::emergency_stop: case err::home_not_found: return {0x05, std::to_string(e)};
+    default: return {0x02, std::to_string(e)};
+    }
+}
+
+template <typename Fb> MotionReply MotionController::execute_now(Fb& fb) {
+    if (fb.Execute) { // a previous command on this block: a new rising edge
+        fb.Execute = false;
+        fb.call();
+    }
+    fb.Execute = true;
+    fb.call();
+    if (fb.Error) {
+        fb.Execute = false;
+        return fb_reply(fb.ErrorID);
+    }
+    auto_release(fb);
+    return {0x00, ""};
+}
+
+namespace {
+/// Comma-separated decimal numbers; false when a field is not a number or the count is wrong.
+bool parse_numbers(const std::string& data, std::size_t min_n, std::size_t max_n, std::vector<double>& out) {
+    out.clear();
+    std::stringstream ss(data);
+    std::string f;
+    while (std::getline(ss, f, ',')) {
+        std::size_t used = 0;
+        try {
+            out.push_back(std::stod(f, &used));
+        } catch (const std::exception&) {
+            return false;
+        }
+        if (used != f.size() || !std::isfinite(out.back())) return false;
+    }
+    return out.size() >= min_n && out.size() <= max_n;
+}
+bool parse_mask(const std::string& data, unsigned& mask) {
+    std::vector<double> v;
+    if (!parse_numbers(data, 1, 1, v) || v[0] < 1 || v[0] > 15 || v[0] != std::floor(v[0])) return false;
+    mask = static_cast<unsigned>(v[0]);
+    return true;
+}
+} // namespace
+
+MotionReply MotionController::command(const std::string& token, const std::string& data) {
+    std::vector<double> v;
+    const MotionReply bad{0x02, "bad data: '" + data + "'"};
+    if (token == "SV") {
+        if (data != "0" && data != "1") return bad;
+        for (auto& p : power_) p.Enable = data == "1";
+        return {0x00, ""};
+    }
+    if (token == "HM" || token == "RS") {
+        unsigned mask = 0;
+        if (!parse_mask(data, mask)) return bad;
+        for (unsigned a = 0; a < axes; ++a) {
+            if (!(mask & (1u << a))) continue;
+            MotionReply r = token == "HM" ? execute_now(blocks_[a].home) : execute_now(blocks_[a].reset);
+            if (r.bch) return r;
+        }
+        return {0x00, ""};
+    }
+    if (token == "MA" || token == "MR") {
+        if (!parse_numbers(data, 5, 5, v)) return bad;
+        if (v[0] < 0 || v[0] >= axes || v[0] != std::floor(v[0])) return {0x02, "unknown axis " + std::to_string(v[0])};
+        const unsigned a = static_cast<unsigned>(v[0]);
+        if (token == "MA") {
+            auto& fb = blocks_[a].move_abs;
+            fb.Position = v[1], fb.Velocity = v[2], fb.Acceleration = v[3], fb.Deceleration = v[4];
+            return execute_now(fb);
+        }
+        auto& fb = blocks_[a].move_rel;
+        fb.Distance = v[1], fb.Velocity = v[2], fb.Acceleration = v[3], fb.Deceleration = v[4];
+        return execute_now(fb);
+    }
+    if (token == "ML") {
+        if (!parse_numbers(data, 5, 5, v)) return bad;
+        // Absolute targets on axes 0/1 for the host; the block takes them relative.
+        line_.X = v[0] - static_cast<double>(chip_.command_position(0));
+        line_.Y = v[1] - static_cast<double>(chip_.command_position(1));
+        line_.Velocity = v[2], line_.Acceleration = v[3], line_.Deceleration = v[4];
+        return execute_now(line_);
+    }
+    if (token == "MC") {
+        if (!parse_numbers(data, 6, 6, v)) return bad;
+        if (v[4] != 0 && v[4] != 1) return bad;
+        const double x = static_cast<double>(chip_.command_position(0));
+        const double y = static_cast<double>(chip_.command_position(1));
+        circle_.CenterX = v[0] - x, circle_.CenterY = v[1] - y;
+        circle_.EndX = v[2] - x, circle_.EndY = v[3] - y;
+        circle_.Direction = v[4] == 1 ? dir_cw : dir_ccw;
+        circle_.Velocity = v[5];
+        circle_.Acceleration = circle_.Deceleration = 10 * v[5]; // ramps of 0.1 s
+        return execute_now(circle_);
+    }
+    if (token == "ES") {
+        api_.EmergencyStopAll();
+        return {0x00, ""};
+    }
+    return {0x01, "unknown token " + token};
+}
+
+} // namespace rcsim::motion

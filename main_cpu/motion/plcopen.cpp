@@ -1,0 +1,489 @@
+// rcsim — PLCopen motion function blocks. See plcopen.h.
+#include "main_cpu/motion/plcopen.h"
+
+#include <cmath>
+
+namespace rcsim::motion {
+
+using camc::endst::alarm;
+using camc::endst::estop_cmd;
+using camc::endst::estop_signal;
+using camc::endst::home_ok;
+using camc::endst::nelm;
+using camc::endst::pelm;
+
+const char* to_string(AxisState s) {
+    switch (s) {
+    case AxisState::disabled: return "DISABLED";
+    case AxisState::standstill: return "STANDSTILL";
+    case AxisState::homing: return "HOMING";
+    case AxisState::discrete_motion: return "DISCRETE_MOTION";
+    case AxisState::continuous_motion: return "CONTINUOUS_MOTION";
+    case AxisState::synchronized_motion: return "SYNCHRONIZED_MOTION";
+    case AxisState::stopping: return "STOPPING";
+    case AxisState::error_stop: return "ERRORSTOP";
+    }
+    return "?";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Axis
+
+std::uint16_t McAxis::motion_refusal() const {
+    switch (state_) {
+    case AxisState::error_stop: return err::axis_error_stop;
+    case AxisState::disabled: return err::axis_disabled;
+    case AxisState::homing: return err::wrong_state;
+    case AxisState::stopping: return stop_held_ ? err::axis_stopping : 0;
+    default: return 0;
+    }
+}
+
+void McAxis::enter_error(std::uint16_t id) {
+    error_id_ = id;
+    state_ = AxisState::error_stop;
+    stop_held_ = false;
+    if (api_.InMotion(static_cast<int>(index_))) api_.EmergencyStop(static_cast<int>(index_));
+    // Every command in the axis' hands ends with Error (Part 1 §2.2: buffered ones too).
+    for (auto* slot : {&active_, &queued_})
+        if (auto j = *slot) {
+            j->status = Job::Status::error;
+            j->error_id = id;
+            for (McAxis* a : j->axes)
+                if (a != this) {
+                    if (a->active_ == j) a->active_.reset();
+                    if (a->queued_ == j) a->queued_.reset();
+                    if (a->state_ == AxisState::synchronized_motion) {
+                        if (a->api_.InMotion(static_cast<int>(a->index_))) a->api_.EmergencyStop(static_cast<int>(a->index_));
+                        a->settle_state();
+                    }
+                }
+            slot->reset();
+        }
+}
+
+void McAxis::settle_state() {
+    if (state_ == AxisState::error_stop || state_ == AxisState::disabled) return;
+    if (state_ == AxisState::stopping && stop_held_) return;
+    state_ = powered_ ? AxisState::standstill : AxisState::disabled;
+}
+
+void McAxis::start(const std::shared_ptr<Job>& j) {
+    j->status = Job::Status::active;
+    j->started = true;
+    for (McAxis* a : j->axes) a->state_ = j->motion_state;
+    const int r = j->start();
+    if (r == axl::success) return;
+    if (r == axl::sensor_check) {
+        // A limit, the alarm or ESTOP refused the start: an axis error (Part 1 Note 1).
+        const std::uint32_t es = api_.EndStatus(static_cast<int>(index_));
+        enter_error((es & pelm) ? err::limit_positive : (es & nelm) ? err::limit_negative
+                    : (es & alarm) ? err::drive_fault : err::emergency_stop);
+        return;
+    }
+    finish_job(Job::Status::error, static_cast<std::uint16_t>(r)); // a parameter error: FB error only
+}
+
+void McAxis::finish_job(Job::Status st, std::uint16_t id) {
+    auto j = active_;
+    if (!j) return;
+    j->status = st;
+    j->error_id = id;
+    for (McAxis* a : j->axes) {
+        if (a->active_ != j) continue;
+        a->active_.reset();
+        if (a->queued_) {
+            a->active_ = std::move(a->queued_);
+            a->active_->status = Job::Status::active;
+        } else {
+            a->settle_state();
+        }
+    }
+}
+
+void McAxis::cycle() {
+    const int ax = static_cast<int>(index_);
+    if (state_ != AxisState::error_stop) {
+        std::uint16_t e = 0;
+        if (drive_.alarm_output()) {
+            e = err::drive_fault;
+        } else {
+            const std::uint32_t es = api_.EndStatus(ax);
+            if (es & pelm) e = err::limit_positive;
+            else if (es & nelm) e = err::limit_negative;
+            else if (es & alarm) e = err::drive_fault;
+            else if (es & (estop_signal | estop_cmd)) e = err::emergency_stop;
+        }
+        if (e) {
+            enter_error(e);
+            return;
+        }
+    }
+    if (!active_) return;
+    if (active_->status != Job::Status::active && active_->status != Job::Status::queued) {
+        active_.reset(); // finished through the partner axis of a group job
+        if (queued_) active_ = std::move(queued_);
+        else settle_state();
+        if (!active_) return;
+    }
+    Job& j = *active_;
+    bool any_busy = false;
+    for (McAxis* a : j.axes) any_busy |= a->api_.InMotion(static_cast<int>(a->index_));
+    if (!j.started) {
+        if (!any_busy) start(active_);
+        return;
+    }
+    if (any_busy) return;
+    if (j.is_home) {
+        if (api_.EndStatus(ax) & home_ok) {
+            api_.SetPos(ax, j.home_position);
+            api_.ClearEndStatus(ax);
+            finish_job(Job::Status::done);
+        } else {
+            enter_error(err::home_not_found);
+        }
+        return;
+    }
+    if (j.is_stop) {
+        j.status = Job::Status::done; // Done, but the axis stays in Stopping while Execute
+        active_.reset();
+        if (!stop_held_) settle_state();
+        return;
+    }
+    finish_job(Job::Status::done);
+}
+
+void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
+    for (McAxis* a : job->axes) {
+        if (mode == BufferMode::aborting || !a->active_) {
+            for (auto* slot : {&a->active_, &a->queued_})
+                if (*slot && *slot != job) {
+                    (*slot)->status = Job::Status::aborted;
+                    for (McAxis* b : (*slot)->axes)
+                        if (b != a && b->active_ == *slot) b->active_.reset();
+                    slot->reset();
+                }
+            // The CAMC-QI cannot retarget a running drive: decelerate, then start the new job.
+            if (a->api_.InMotion(static_cast<int>(a->index_)) && !job->is_stop)
+                a->api_.SlowStop(static_cast<int>(a->index_), 0);
+            a->active_ = job;
+            a->state_ = job->motion_state; // the state changes when the command is issued
+        } else {
+            if (a->queued_ && a->queued_ != job) a->queued_->status = Job::Status::aborted;
+            a->queued_ = job;
+        }
+    }
+    bool active_everywhere = true, any_busy = false;
+    for (McAxis* a : job->axes) {
+        active_everywhere &= a->active_ == job;
+        any_busy |= a->api_.InMotion(static_cast<int>(a->index_));
+    }
+    if (active_everywhere) job->status = Job::Status::active;
+    if (active_everywhere && (!any_busy || job->is_stop)) start(job);
+}
+
+void McAxis::set_power(bool status) {
+    if (powered_ == status) return;
+    powered_ = status;
+    if (!status) {
+        for (auto* slot : {&active_, &queued_})
+            if (*slot) {
+                (*slot)->status = Job::Status::aborted;
+                slot->reset();
+            }
+        if (api_.InMotion(static_cast<int>(index_))) api_.EmergencyStop(static_cast<int>(index_));
+        stop_held_ = false;
+        if (state_ != AxisState::error_stop) state_ = AxisState::disabled; // Note 2
+    } else if (state_ == AxisState::disabled) {
+        state_ = AxisState::standstill; // Note 5
+    }
+}
+
+void McAxis::release_stop() {
+    stop_held_ = false;
+    if (state_ == AxisState::stopping && !active_) settle_state(); // Note 6
+}
+
+void McAxis::reset_error() {
+    if (state_ != AxisState::error_stop) return;
+    api_.ClearEndStatus(static_cast<int>(index_));
+    error_id_ = 0;
+    state_ = powered_ ? AxisState::standstill : AxisState::disabled; // Notes 3, 4
+}
+
+// ---------------------------------------------------------------------------------------------
+// Block interface
+
+void McExecuteFb::call() {
+    // Done/Error/CommandAborted reset when Execute is low, after being visible for one call.
+    if (!Execute && (Done || Error || CommandAborted)) {
+        Done = Error = CommandAborted = false;
+        ErrorID = 0;
+    }
+    const bool rising = Execute && !prev_;
+    prev_ = Execute;
+    if (rising) {
+        Done = Busy = Active = CommandAborted = Error = false;
+        ErrorID = 0;
+        job_.reset(); // a new edge before completion: no Done for the previous job
+        if (const std::uint16_t e = begin()) {
+            Error = true;
+            ErrorID = e;
+            job_.reset();
+        }
+    }
+    if (job_) {
+        running();
+        switch (job_->status) {
+        case Job::Status::queued: Busy = true; Active = false; break;
+        case Job::Status::active: Busy = true; Active = true; break;
+        case Job::Status::done: Done = true; Busy = Active = false; job_.reset(); break;
+        case Job::Status::aborted: CommandAborted = true; Busy = Active = false; job_.reset(); break;
+        case Job::Status::error:
+            Error = true;
+            ErrorID = job_->error_id;
+            Busy = Active = false;
+            job_.reset();
+            break;
+        }
+    }
+    after();
+}
+
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec) {
+    if (!axis) return err::invalid_axis;
+    if (const std::uint16_t r = axis->motion_refusal()) return r;
+    if (!(vel > 0)) return err::invalid_velocity;
+    if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
+    if (!(acc > 0) || !(dec > 0)) return err::invalid_accel;
+    return 0;
+}
+
+namespace {
+std::shared_ptr<Job> make_job(std::vector<McAxis*> axes, AxisState st, std::function<int()> start) {
+    auto j = std::make_shared<Job>();
+    j->axes = std::move(axes);
+    j->motion_state = st;
+    j->start = std::move(start);
+    return j;
+}
+} // namespace
+
+void MC_Power::call() {
+    if (!Axis) {
+        Error = Enable;
+        ErrorID = Enable ? err::invalid_axis : 0;
+        return;
+    }
+    Cia402Drive& d = Axis->drive();
+    QiMotionApi& api = Axis->api();
+    const int ax = static_cast<int>(Axis->index());
+    if (!Enable) {
+        if (Status || Valid) {
+            api.SignalServoOn(ax, 0);
+            d.set_servo_on_input(false);
+            d.set_controlword(cw::shutdown);
+        }
+        Status = Valid = Error = false;
+        ErrorID = 0;
+        waited_ = 0;
+        Axis->set_power(false);
+        return;
+    }
+    api.SignalServoOn(ax, 1);
+    d.set_servo_on_input(true);
+    std::uint16_t write = 0;
+    switch (d.state()) {
+    case Cia402State::switch_on_disabled: write = cw::shutdown; break;
+    case Cia402State::ready_to_switch_on: write = cw::switch_on_cmd; break;
+    case Cia402State::switched_on: write = cw::enable_operation_cmd; break;
+    default: break;
+    }
+    if (write) {
+        d.set_controlword(write);
+        history.emplace_back(write, d.statusword());
+    }
+    Status = d.state() == Cia402State::operation_enabled && !write;
+    if (!Status && !d.alarm_output() && ++waited_ > timeout_cycles && !Error) {
+        Error = true;
+        ErrorID = err::power_timeout;
+    }
+    if (Status) waited_ = 0;
+    Valid = !Error;
+    Axis->set_power(Status);
+}
+
+std::uint16_t MC_Reset::begin() {
+    if (!Axis) return err::invalid_axis;
+    phase_ = 0;
+    job_ = std::make_shared<Job>();
+    job_->status = Job::Status::active; // the block's own job: never handed to the axis
+    return 0;
+}
+
+void MC_Reset::running() {
+    if (job_->status != Job::Status::active) return;
+    Cia402Drive& d = Axis->drive();
+    QiMotionApi& api = Axis->api();
+    const int ax = static_cast<int>(Axis->index());
+    switch (phase_) {
+    case 0: // ALMRST on, controlword bit 7 rising edge, clear the chip's end status
+        api.SignalServoAlarmReset(ax, 1);
+        d.set_alarm_reset_input(true);
+        d.set_controlword(static_cast<std::uint16_t>(d.controlword() & ~cw::fault_reset));
+        d.set_controlword(cw::fault_reset);
+        api.ClearEndStatus(ax);
+        phase_ = 1;
+        break;
+    case 1:
+        api.SignalServoAlarmReset(ax, 0);
+        d.set_alarm_reset_input(false);
+        d.set_controlword(0);
+        if (d.alarm_output()) { // the cause is still there
+            job_->status = Job::Status::error;
+            job_->error_id = err::drive_fault;
+            return;
+        }
+        phase_ = 2;
+        break;
+    default:
+        // Wait until MC_Power has the drive enabled again (or stays off), then leave ErrorStop.
+        if (d.state() == Cia402State::operation_enabled || !Axis->powered() ||
+            d.state() == Cia402State::switch_on_disabled) {
+            if (Axis->state() == AxisState::error_stop &&
+                (d.state() == Cia402State::operation_enabled || d.state() == Cia402State::switch_on_disabled)) {
+                if (d.state() == Cia402State::switch_on_disabled) Axis->set_power(false);
+                Axis->reset_error();
+            }
+            if (Axis->state() != AxisState::error_stop) job_->status = Job::Status::done;
+        }
+    }
+}
+
+std::uint16_t MC_Stop::begin() {
+    if (!Axis) return err::invalid_axis;
+    if (Axis->state() == AxisState::error_stop) return err::axis_error_stop;
+    if (Axis->state() == AxisState::disabled) return err::axis_disabled;
+    const int ax = static_cast<int>(Axis->index());
+    const float dec = static_cast<float>(Deceleration);
+    job_ = make_job({Axis}, AxisState::stopping, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
+    job_->is_stop = true;
+    Axis->submit(job_, BufferMode::aborting);
+    return 0;
+}
+
+void MC_Stop::running() {}
+
+void MC_Stop::after() {
+    if (Axis && Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
+    if (Axis && !Execute && !job_) Axis->release_stop();
+}
+
+std::uint16_t MC_Halt::begin() {
+    if (!Axis) return err::invalid_axis;
+    if (const std::uint16_t r = Axis->motion_refusal()) return r;
+    const int ax = static_cast<int>(Axis->index());
+    const float dec = static_cast<float>(Deceleration);
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
+    job_->is_stop = false;
+    // Halt decelerates the running drive; it must not be preceded by another SSTOP.
+    job_->started = false;
+    Axis->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_Home::begin() {
+    if (!Axis) return err::invalid_axis;
+    if (Axis->state() != AxisState::standstill) return Axis->motion_refusal() ? Axis->motion_refusal() : err::wrong_state;
+    if (!(Velocity > 0)) return err::invalid_velocity;
+    if (!(Acceleration > 0)) return err::invalid_accel;
+    const int ax = static_cast<int>(Axis->index());
+    const int dir = Direction;
+    const float v = static_cast<float>(Velocity), a = static_cast<float>(Acceleration);
+    job_ = make_job({Axis}, AxisState::homing, [&api = Axis->api(), ax, dir, v, a] { return api.HomeSearch(ax, dir, v, a); });
+    job_->is_home = true;
+    job_->home_position = std::llround(Position);
+    Axis->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_MoveAbsolute::begin() {
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    const int ax = static_cast<int>(Axis->index());
+    const float p = static_cast<float>(Position), v = static_cast<float>(Velocity);
+    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    job_ = make_job({Axis}, AxisState::discrete_motion,
+                    [&api = Axis->api(), ax, p, v, a, d] { return api.MovePos(ax, p, v, a, d); });
+    Axis->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_MoveRelative::begin() {
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    const int ax = static_cast<int>(Axis->index());
+    const double dist = Distance;
+    const float v = static_cast<float>(Velocity), a = static_cast<float>(Acceleration);
+    const float d = static_cast<float>(Deceleration);
+    // Relative to the set position when the move actually starts (after a buffered predecessor).
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d] {
+        return api.MovePos(ax, static_cast<float>(static_cast<double>(api.CmdPos(ax)) + dist), v, a, d);
+    });
+    Axis->submit(job_, Mode);
+    return 0;
+}
+
+namespace {
+std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d) {
+    if (!x || !y || x == y) return err::invalid_axis;
+    if (const std::uint16_t e = check_motion(x, v, a, d)) return e;
+    return check_motion(y, v, a, d);
+}
+} // namespace
+
+std::uint16_t MC_LineMove2::begin() {
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    QiMotionApi& api = AxisX->api();
+    const int coord = 0;
+    const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
+    const bool swapped = AxisX->index() > AxisY->index(); // the chip orders axes by number
+    const float x = static_cast<float>(X), y = static_cast<float>(Y), v = static_cast<float>(Velocity);
+    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    job_ = make_job({AxisX, AxisY}, AxisState::synchronized_motion, [&api, coord, mask, swapped, x, y, v, a, d] {
+        api.SetCoord(coord, mask);
+        const float pos[2] = {swapped ? y : x, swapped ? x : y};
+        return api.LineMove(coord, pos, v, a, d);
+    });
+    AxisX->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_CircleCenterMove::begin() {
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (Direction != dir_cw && Direction != dir_ccw) return err::interpolation_value;
+    if (AxisX->index() > AxisY->index()) return err::invalid_axis; // X must be the lower-numbered axis
+    // The end must lie on the circle through the start (within one pulse), or the chip would stop
+    // where the short axis happens to reach the end's coordinate.
+    const double r0 = std::hypot(CenterX, CenterY), r1 = std::hypot(EndX - CenterX, EndY - CenterY);
+    if (r0 < 1 || std::abs(r1 - r0) > 1.0) return err::interpolation_value;
+    try {
+        camc::circle_step_count({-std::llround(CenterX), -std::llround(CenterY)},
+                                {std::llround(EndX) - std::llround(CenterX), std::llround(EndY) - std::llround(CenterY)},
+                                Direction == dir_cw ? camc::ArcDirection::cw : camc::ArcDirection::ccw);
+    } catch (const camc::InterpolationError&) {
+        return err::interpolation_value;
+    }
+    QiMotionApi& api = AxisX->api();
+    const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
+    const float cx = static_cast<float>(CenterX), cy = static_cast<float>(CenterY);
+    const float ex = static_cast<float>(EndX), ey = static_cast<float>(EndY), v = static_cast<float>(Velocity);
+    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    const int dir = Direction;
+    job_ = make_job({AxisX, AxisY}, AxisState::synchronized_motion, [&api, mask, cx, cy, ex, ey, v, a, d, dir] {
+        api.SetCoord(1, mask);
+        return api.CircleCenterMove(1, cx, cy, ex, ey, v, a, d, dir);
+    });
+    AxisX->submit(job_, Mode);
+    return 0;
+}
+
+} // namespace rcsim::motion

@@ -1,0 +1,227 @@
+// rcsim — PLCopen Motion Control function blocks (Part 1 v2.0 single-axis state diagram and
+// interface rules, reference/motion.md §2; the seed paper's Table 2) over the paper's C motion
+// library (qi_api.h) and a CiA402 drive per axis.
+//
+// Every block is called once per control cycle (call()); motion blocks hand a Job to the axis,
+// which starts it on the chip and reports Active/Done/Aborted/Error back. The interpolating
+// blocks (MC_LineMove2, MC_CircleCenterMove) put both axes into SynchronizedMotion (a two-axis
+// group in the sense of Part 4).
+#pragma once
+
+#include "main_cpu/motion/cia402_drive.h"
+#include "main_cpu/motion/qi_api.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcsim::motion {
+
+enum class AxisState : std::uint8_t {
+    disabled, standstill, homing, discrete_motion, continuous_motion, synchronized_motion, stopping, error_stop,
+};
+const char* to_string(AxisState s);
+
+enum class BufferMode : std::uint8_t { aborting = 0, buffered = 1 };
+
+/// ErrorID values (AXL codes where AXL has one, 0x7xxx our own).
+namespace err {
+constexpr std::uint16_t none = 0;
+constexpr std::uint16_t invalid_axis = 4101, invalid_velocity = 4113, invalid_accel = 4114;
+constexpr std::uint16_t sensor_check = 4169, interpolation_value = 4184, velocity_out_of_bound = 4253;
+constexpr std::uint16_t axis_disabled = 0x7001;  // motion command while Disabled
+constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorStop
+constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
+constexpr std::uint16_t wrong_state = 0x7004;    // e.g. MC_Home outside Standstill
+constexpr std::uint16_t power_timeout = 0x7005;  // drive did not reach Operation enabled
+constexpr std::uint16_t limit_positive = 0x7101, limit_negative = 0x7102, drive_fault = 0x7103;
+constexpr std::uint16_t emergency_stop = 0x7104, home_not_found = 0x7105;
+} // namespace err
+
+class McAxis;
+
+/// One motion command in the hands of an axis.
+struct Job {
+    enum class Status : std::uint8_t { queued, active, done, aborted, error };
+    Status status = Status::queued;
+    std::uint16_t error_id = 0;
+    AxisState motion_state = AxisState::discrete_motion;
+    std::vector<McAxis*> axes;                 // 1, or 2 for the interpolating blocks
+    std::function<int()> start;                // issues the chip commands; returns an AXL code
+    bool started = false;
+    bool is_stop = false;                      // MC_Stop: holds the axis in Stopping
+    bool is_home = false;
+    std::int64_t home_position = 0;
+};
+
+class McAxis {
+public:
+    McAxis(unsigned index, QiMotionApi& api, Cia402Drive& drive) : index_(index), api_(api), drive_(drive) {}
+
+    unsigned index() const { return index_; }
+    AxisState state() const { return state_; }
+    std::uint16_t error_id() const { return error_id_; }
+    QiMotionApi& api() { return api_; }
+    Cia402Drive& drive() { return drive_; }
+    bool powered() const { return powered_; }
+
+    /// Start of every control cycle: errors from the chip/drive, job completion, buffered starts.
+    void cycle();
+    /// Hands a job over (the caller has checked the state). Aborting: the running job is
+    /// aborted (the chip decelerates with SSTOP before the new one starts); buffered: queued.
+    void submit(const std::shared_ptr<Job>& job, BufferMode mode);
+    /// Why a new motion command would be refused now (0 = accepted).
+    std::uint16_t motion_refusal() const;
+    void set_power(bool status);
+    void release_stop();                        // MC_Stop.Execute fell
+    void hold_stop() { stop_held_ = true; }     // MC_Stop.Execute is high
+    void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
+    void enter_error(std::uint16_t id);
+    bool stop_pending() const { return stop_held_; }
+
+private:
+    unsigned index_;
+    QiMotionApi& api_;
+    Cia402Drive& drive_;
+    AxisState state_ = AxisState::disabled;
+    std::uint16_t error_id_ = 0;
+    bool powered_ = false, stop_held_ = false;
+    std::shared_ptr<Job> active_, queued_;
+
+    void finish_job(Job::Status st, std::uint16_t id = 0);
+    void start(const std::shared_ptr<Job>& j);
+    void settle_state();
+};
+
+// ---------------------------------------------------------------------------------------------
+
+/// Execute-type block: Done/Busy/Active/CommandAborted/Error/ErrorID by the Part 1 rules.
+class McExecuteFb {
+public:
+    virtual ~McExecuteFb() = default;
+    bool Execute = false;
+    bool Done = false, Busy = false, Active = false, CommandAborted = false, Error = false;
+    std::uint16_t ErrorID = 0;
+
+    void call();
+
+protected:
+    /// On the rising edge of Execute: validate, build and submit a job (or return an ErrorID).
+    virtual std::uint16_t begin() = 0;
+    /// Each call while the job runs.
+    virtual void running() {}
+    /// At the end of every call (MC_Stop holds Stopping while Execute).
+    virtual void after() {}
+    std::shared_ptr<Job> job_;
+
+private:
+    bool prev_ = false;
+};
+
+class MC_Power {
+public:
+    McAxis* Axis = nullptr;
+    bool Enable = false;
+    bool Status = false, Valid = false, Error = false;
+    std::uint16_t ErrorID = 0;
+    int timeout_cycles = 100;
+    /// (controlword written, statusword seen) per call, for the seed's 0x06/0x07/0x0F sequence.
+    std::vector<std::pair<std::uint16_t, std::uint16_t>> history;
+    void call();
+
+private:
+    int waited_ = 0;
+};
+
+class MC_Reset : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+
+protected:
+    std::uint16_t begin() override;
+    void running() override;
+    int phase_ = 0;
+};
+
+class MC_Stop : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Deceleration = 0; // 0 = the axis' programmed decel
+
+protected:
+    std::uint16_t begin() override;
+    void running() override;
+    void after() override;
+};
+
+class MC_Halt : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Deceleration = 0;
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+class MC_Home : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Position = 0;      // set at the home point
+    int Direction = -1;
+    double Velocity = 10000, Acceleration = 40000; // AXL home defaults
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+class MC_MoveAbsolute : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Position = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+class MC_MoveRelative : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Distance = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+class MC_LineMove2 : public McExecuteFb {
+public:
+    McAxis *AxisX = nullptr, *AxisY = nullptr;
+    double X = 0, Y = 0; // relative to the current position (the paper's MC_LineMove)
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+class MC_CircleCenterMove : public McExecuteFb {
+public:
+    McAxis *AxisX = nullptr, *AxisY = nullptr;
+    double CenterX = 0, CenterY = 0, EndX = 0, EndY = 0; // relative to the current position
+    int Direction = dir_ccw;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+/// Shared parameter checks (0 = ok).
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec);
+
+} // namespace rcsim::motion

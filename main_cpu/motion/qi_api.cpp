@@ -1,0 +1,204 @@
+// rcsim — the seed paper's C motion library over CAMC-QI registers. See qi_api.h.
+#include "main_cpu/motion/qi_api.h"
+
+#include <cmath>
+
+namespace rcsim::motion {
+
+using namespace camc;
+
+int QiMotionApi::SignalSetHomeLevel(int a, unsigned level) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (level == level_high) ucfg1_[a] |= ucfg::org_high;
+    else ucfg1_[a] &= ~ucfg::org_high;
+    bus_.write(a, qi::write | qi::UCFG1, ucfg1_[a]);
+    return axl::success;
+}
+
+int QiMotionApi::SignalSetLimit(int a, unsigned stop_mode, unsigned pos_level, unsigned neg_level) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    std::uint32_t v = ucfg1_[a] & ~(ucfg::pelm_high | ucfg::pelm_used | ucfg::nelm_high | ucfg::nelm_used |
+                                    ucfg::limit_slowdown);
+    if (pos_level != level_unused) v |= ucfg::pelm_used | (pos_level == level_high ? ucfg::pelm_high : 0);
+    if (neg_level != level_unused) v |= ucfg::nelm_used | (neg_level == level_high ? ucfg::nelm_high : 0);
+    if (stop_mode == stop_slowdown) v |= ucfg::limit_slowdown;
+    ucfg1_[a] = v;
+    bus_.write(a, qi::write | qi::UCFG1, v);
+    return axl::success;
+}
+
+void QiMotionApi::uio(int a, unsigned bit, bool on) {
+    std::uint32_t v = bus_.read(a, qi::UIO);
+    v = on ? (v | bit) : (v & ~bit);
+    bus_.write(a, qi::write | qi::UIO, v);
+}
+
+int QiMotionApi::SignalServoOn(long a, unsigned on) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    uio(static_cast<int>(a), 1u, on != 0);
+    return axl::success;
+}
+
+int QiMotionApi::SignalServoAlarmReset(int a, unsigned on) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    uio(a, 2u, on != 0);
+    return axl::success;
+}
+
+int QiMotionApi::speeds(int a, float vel, float acc, float dec, std::uint32_t mode_bits) {
+    if (!(vel > 0)) return axl::invalid_velocity;
+    if (!(acc > 0) || !(dec > 0)) return axl::invalid_accel;
+    if (vel > CamcQi::max_pps) return axl::velocity_out_of_bound;
+    const float std_speed = std::min(start_speed_[a], vel);
+    bus_.write(a, qi::write | qi::STD, static_cast<std::uint32_t>(std::max(1.0f, std::round(std_speed))));
+    bus_.write(a, qi::write | qi::OBJ, static_cast<std::uint32_t>(std::max(1.0f, std::round(vel))));
+    bus_.write(a, qi::write | qi::RATE1, static_cast<std::uint32_t>(std::max(1.0f, std::round(acc))));
+    bus_.write(a, qi::write | qi::RATE2, static_cast<std::uint32_t>(std::max(1.0f, std::round(dec))));
+    bus_.write(a, qi::write | qi::DCFG, mode_bits | 1u); // asymmetric trapezoid: RATE1 up, RATE2 down
+    return axl::success;
+}
+
+int QiMotionApi::MovePos(int a, float pos, float vel, float acc, float dec) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (InMotion(a)) return axl::in_motion;
+    if (int r = speeds(a, vel, acc, dec, dcfg::preset << dcfg::mode_shift)) return r;
+    const std::int64_t dist = std::llround(pos) - CmdPos(a);
+    bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
+    bus_.write(a, qi::STRN, 0);
+    return (EndStatus(a) & (endst::alarm | endst::pelm | endst::nelm | endst::estop_signal)) ? axl::sensor_check
+                                                                                             : axl::success;
+}
+
+int QiMotionApi::MoveVel(int a, float vel, float acc, float dec) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (InMotion(a)) return axl::in_motion;
+    const std::uint32_t m = (vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift;
+    if (int r = speeds(a, std::abs(vel), acc, dec, m)) return r;
+    bus_.write(a, qi::STRN, 0);
+    return (EndStatus(a) & ~endst::slowdown_cmd) ? axl::sensor_check : axl::success;
+}
+
+int QiMotionApi::HomeSearch(int a, int dir, float vel, float acc) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (InMotion(a)) return axl::in_motion;
+    const std::uint32_t m = (dir < 0 ? dcfg::origin_neg : dcfg::origin_pos) << dcfg::mode_shift;
+    if (int r = speeds(a, vel, acc, acc, m)) return r;
+    bus_.write(a, qi::write | qi::OBJORG, static_cast<std::uint32_t>(std::round(vel)));
+    bus_.write(a, qi::STRN, 0);
+    return axl::success;
+}
+
+int QiMotionApi::SetCoord(int c, std::uint32_t mask) {
+    if (c < 0 || c >= coords || mask == 0 || mask > 0xF) return axl::invalid_axis;
+    coord_[c] = mask;
+    return axl::success;
+}
+
+int QiMotionApi::LineMove(int c, const float* pos, float vel, float acc, float dec) {
+    if (c < 0 || c >= coords) return axl::invalid_axis;
+    const std::uint32_t mask = coord_[c];
+    int master = -1;
+    double len2 = 0, longest = 0;
+    unsigned n = 0;
+    for (int a = 0; a < 4; ++a) {
+        if (!(mask & (1u << a))) continue;
+        if (master < 0) master = a;
+        if (InMotion(a)) return axl::in_motion;
+        const double d = std::llround(pos[n++]);
+        len2 += d * d;
+        longest = std::max(longest, std::abs(d));
+    }
+    if (!(vel > 0)) return axl::invalid_velocity;
+    if (len2 == 0) return axl::success; // nothing to move
+    // The chip's speed is the long axis' step rate; scale so that the path speed is Vel.
+    const double k = longest / std::sqrt(len2);
+    if (int r = speeds(master, static_cast<float>(vel * k), static_cast<float>(acc * k), static_cast<float>(dec * k),
+                       (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift)))
+        return r;
+    n = 0;
+    for (int a = 0; a < 4; ++a)
+        if (mask & (1u << a)) bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(pos[n++])));
+    bus_.write(master, qi::write | qi::ISNUM, static_cast<std::uint32_t>(longest));
+    bus_.write(master, qi::STRN, 0);
+    const std::uint32_t es = EndStatus(master);
+    return (es & (endst::interp_data | endst::data_error)) ? axl::interpolation_value
+           : (es & (endst::alarm | endst::pelm | endst::nelm | endst::estop_signal)) ? axl::sensor_check
+                                                                                    : axl::success;
+}
+
+int QiMotionApi::CircleCenterMove(int c, float cx, float cy, float ex, float ey, float vel, float acc, float dec,
+                                  int dir) {
+    if (c < 0 || c >= coords) return axl::invalid_axis;
+    int ids[2], n = 0;
+    for (int a = 0; a < 4; ++a)
+        if (coord_[c] & (1u << a)) {
+            if (n == 2) return axl::invalid_axis;
+            ids[n++] = a;
+        }
+    if (n != 2 || (dir != dir_cw && dir != dir_ccw)) return axl::invalid_axis;
+    if (InMotion(ids[0]) || InMotion(ids[1])) return axl::in_motion;
+    if (!(vel > 0)) return axl::invalid_velocity;
+    const Point s{-std::llround(cx), -std::llround(cy)};
+    const Point e{std::llround(ex) - std::llround(cx), std::llround(ey) - std::llround(cy)};
+    const ArcDirection ad = dir == dir_cw ? ArcDirection::cw : ArcDirection::ccw;
+    std::uint64_t steps = 0;
+    try {
+        steps = circle_step_count(s, e, ad); // the paper's eqs. 1-10, on the pulse lattice
+    } catch (const InterpolationError&) {
+        return axl::interpolation_value;
+    }
+    // Path speed -> step rate: steps per unit of arc length (between 1 and sqrt(2)).
+    const double R = std::sqrt(static_cast<double>(s.x) * s.x + static_cast<double>(s.y) * s.y);
+    const double pi = std::acos(-1.0);
+    double sweep = std::atan2(static_cast<double>(e.y), static_cast<double>(e.x)) -
+                   std::atan2(static_cast<double>(s.y), static_cast<double>(s.x));
+    if (ad == ArcDirection::cw) sweep = -sweep;
+    while (sweep <= 1e-12) sweep += 2 * pi;
+    const double k = static_cast<double>(steps) / (R * sweep);
+    if (int r = speeds(ids[0], static_cast<float>(vel * k), static_cast<float>(acc * k), static_cast<float>(dec * k),
+                       ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
+                           (coord_[c] << dcfg::axes_shift)))
+        return r;
+    bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(std::llround(cx)));
+    bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(std::llround(cy)));
+    bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(ex)));
+    bus_.write(ids[1], qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(ey)));
+    bus_.write(ids[0], qi::write | qi::ISNUM, static_cast<std::uint32_t>(steps));
+    bus_.write(ids[0], qi::STRN, 0);
+    const std::uint32_t es = EndStatus(ids[0]);
+    return (es & (endst::interp_data | endst::data_error)) ? axl::interpolation_value
+           : es ? axl::sensor_check : axl::success;
+}
+
+int QiMotionApi::SlowStop(int a, float dec) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (dec > 0) {
+        bus_.write(a, qi::write | qi::RATE2, static_cast<std::uint32_t>(std::max(1.0f, std::round(dec))));
+        bus_.write(a, qi::write | qi::DCFG, bus_.read(a, qi::DCFG) | 1u); // use RATE2
+    }
+    bus_.write(a, qi::SSTOP, 0);
+    return axl::success;
+}
+
+int QiMotionApi::EmergencyStop(int a) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    bus_.write(a, qi::STOP, 0);
+    return axl::success;
+}
+
+int QiMotionApi::EmergencyStopAll() {
+    bus_.write(0, qi::ESTOP, 0);
+    return axl::success;
+}
+
+bool QiMotionApi::InMotion(int a) { return bus_.read(a, qi::STAT2) & drvst::busy; }
+std::uint32_t QiMotionApi::EndStatus(int a) { return bus_.read(a, qi::STAT1); }
+void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
+std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }
+std::int64_t QiMotionApi::ActPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT2)); }
+void QiMotionApi::SetPos(int a, std::int64_t pos) {
+    bus_.write(a, qi::write | qi::CNT1, static_cast<std::uint32_t>(pos));
+    bus_.write(a, qi::write | qi::CNT2, static_cast<std::uint32_t>(pos));
+}
+
+} // namespace rcsim::motion

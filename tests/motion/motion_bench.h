@@ -1,0 +1,48 @@
+// Test bench: a MotionController and a thread that runs the test body with 1 ms control cycles.
+#pragma once
+
+#include "main_cpu/motion/motion_controller.h"
+#include "tests/support/sc_test.h"
+
+#include <functional>
+
+namespace rcsim::motion::test {
+
+struct Bench : sc_core::sc_module {
+    MotionController mc;
+    std::function<void(Bench&)> body;
+    SC_HAS_PROCESS(Bench);
+    Bench(sc_core::sc_module_name n, const MotionConfig& cfg) : sc_module(n), mc("mc", cfg) { SC_THREAD(run); }
+    void run() {
+        body(*this);
+        sc_core::sc_stop();
+    }
+    /// n control cycles of 1 ms.
+    void cycles(int n) {
+        for (int i = 0; i < n; ++i) {
+            mc.control_cycle(sc_core::sc_time_stamp());
+            wait(sc_core::sc_time(1, sc_core::SC_MS));
+        }
+    }
+    /// Cycles until pred() or the limit; returns the cycles used (-1 on timeout).
+    int until(const std::function<bool()>& pred, int limit = 20000) {
+        for (int i = 0; i < limit; ++i) {
+            if (pred()) return i;
+            cycles(1);
+        }
+        return -1;
+    }
+    void power_on() {
+        mc.command("SV", "1");
+        cycles(6);
+    }
+};
+
+inline void run_bench(const std::function<void(Bench&)>& body, MotionConfig cfg = {}) {
+    cfg.drive.following_lag_s = cfg.drive.following_lag_s;
+    Bench b("bench", cfg);
+    b.body = body;
+    sc_core::sc_start();
+}
+
+} // namespace rcsim::motion::test
