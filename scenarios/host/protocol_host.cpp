@@ -144,8 +144,8 @@ void ProtocolHost::run() {
             ++counters_.response_timeouts;
             note("no response frame within " + ms(cfg_.traffic.response_timeout));
         }
-        if (!awaiting_response_ && commands_.empty() && cfg_.traffic.pattern == HostTraffic::Pattern::saturate &&
-            may_generate())
+        const bool saturate = cfg_.traffic.pattern == HostTraffic::Pattern::saturate && may_generate();
+        if (!awaiting_response_ && commands_.empty() && saturate && now >= cfg_.traffic.start)
             commands_.push_back(make_command());
         if (!awaiting_response_ && !commands_.empty()) {
             const Frame f = commands_.front();
@@ -153,7 +153,12 @@ void ProtocolHost::run() {
             do_command(f);
             continue;
         }
-        if (awaiting_response_) wait(response_deadline_ - now, rx_ev_ | cmd_ev_);
+        // Sleep until a byte or a command arrives, the response times out, or traffic starts.
+        sc_core::sc_time wake = sc_core::SC_ZERO_TIME;
+        if (awaiting_response_) wake = response_deadline_ - now;
+        if (saturate && now < cfg_.traffic.start && (wake == sc_core::SC_ZERO_TIME || cfg_.traffic.start - now < wake))
+            wake = cfg_.traffic.start - now;
+        if (wake != sc_core::SC_ZERO_TIME) wait(wake, rx_ev_ | cmd_ev_);
         else wait(rx_ev_ | cmd_ev_);
     }
 }

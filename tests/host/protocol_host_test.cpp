@@ -367,12 +367,14 @@ TEST(HostTraffic, SaturateSendsAsFastAsTheLineAllows) {
     cfg.traffic.pattern = HostTraffic::Pattern::saturate;
     cfg.traffic.count = 3;
     cfg.traffic.data_size = 5;
+    cfg.traffic.start = ms(7);
     Bench b(cfg);
     b.fake.delay = sc_core::SC_ZERO_TIME;
     sc_core::sc_start(ms(400));
     const auto enqs = b.fake.times_of(ENQ);
     const auto eots = b.host.counters().frames_delivered;
     ASSERT_EQ(enqs.size(), 3u);
+    EXPECT_EQ(enqs[0], ms(7) + k_char);
     EXPECT_EQ(eots, 3u);
     // One command = ENQ, ACK, 14-byte frame, EOT: 17 characters back to back.
     EXPECT_EQ(enqs[1] - enqs[0], k_char * 17.0);
