@@ -171,8 +171,12 @@ void rx_char(int port, unsigned char c)
         else if (c == NAK)
             tx_retry(port);
         break;
+    case ST_SEND:
+        /* our frame is going out: a NAK now would land in the middle of it */
+        rx_bad[port] = 0;
+        break;
     default:
-        /* frame complete or being dropped, or sending: the port is busy */
+        /* frame complete or being dropped: the port is busy */
         if (c == ENQ) {
             send(port, NAK);
             ++n_busy[port];
