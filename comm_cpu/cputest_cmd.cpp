@@ -20,6 +20,8 @@ struct CputestOptions {
     std::string metadata; // metadata.json (default: beside the first input)
     std::vector<std::string> paths;
     double min_rate = 100.0; // percent of tests that must pass at `level` for exit code 0
+    std::size_t diff = 0;    // side-by-side traces of this many failing tests per file
+    bool quiet = false;      // totals only
 };
 
 int run_cputest(const CputestOptions& o) {
@@ -42,6 +44,7 @@ int run_cputest(const CputestOptions& o) {
         return 2;
     }
     Runner runner;
+    runner.set_diff(o.diff, o.level >= 2 ? o.level : 3);
     std::size_t passed = 0, failed = 0;
     nlohmann::json report = nlohmann::json::array();
     std::size_t tot[4] = {0, 0, 0, 0}, total = 0;
@@ -58,9 +61,13 @@ int run_cputest(const CputestOptions& o) {
         if (!o.status.empty() && r.status != o.status) continue;
         total += r.tests;
         for (int l = 1; l <= 3; ++l) tot[l] += r.pass[l];
-        std::printf("%-8s %-12s L1 %4zu/%-4zu L2 %4zu/%-4zu L3 %4zu/%-4zu\n", r.stem.c_str(), r.status.c_str(),
-                    r.pass[1], r.tests, r.pass[2], r.tests, r.pass[3], r.tests);
-        if (r.pass[o.level] != r.tests) std::printf("         first failure: %s\n", r.first_failure[o.level].c_str());
+        if (!o.quiet) {
+            std::printf("%-8s %-12s L1 %4zu/%-4zu L2 %4zu/%-4zu L3 %4zu/%-4zu\n", r.stem.c_str(), r.status.c_str(),
+                        r.pass[1], r.tests, r.pass[2], r.tests, r.pass[3], r.tests);
+            if (r.pass[o.level] != r.tests)
+                std::printf("         first failure: %s\n", r.first_failure[o.level].c_str());
+            for (const auto& d : r.diffs) std::printf("%s", d.c_str());
+        }
         passed += r.pass[o.level];
         failed += r.tests - r.pass[o.level];
         report.push_back({{"file", r.stem}, {"status", r.status}, {"tests", r.tests},
@@ -96,6 +103,10 @@ void add_cputest_command(CLI::App& app) {
     cmd->add_option("--metadata", o->metadata, "metadata.json (default: beside the first PATH)");
     cmd->add_option("--min-rate", o->min_rate, "Pass rate in percent needed for exit code 0 (default 100)")
         ->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--diff", o->diff,
+                    "Print expected | emulated per-cycle traces of the first N failing tests per file "
+                    "(at --level 2 or 3; first differing cycle marked)");
+    cmd->add_flag("--quiet", o->quiet, "Print only the totals");
     cmd->add_option("PATH", o->paths, "Test files or folders")->required();
     cmd->callback([o] {
         const int rc = run_cputest(*o);

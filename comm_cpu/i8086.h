@@ -170,6 +170,8 @@ private:
     std::uint8_t q_read(QueueOp op);
     void flush_queue();
     void suspend_fetch();
+    void susp();
+    void reljmp(std::uint16_t target);
     std::uint16_t eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
                          bool last);
     unsigned direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,

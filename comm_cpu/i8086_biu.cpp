@@ -252,7 +252,7 @@ std::uint8_t Cpu::q_read(QueueOp op) {
     const bool deciding = t_ == TState::T1 || t_ == TState::T2;
     if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_ && !deciding) {
         fetch_sched_ = true;
-        fetch_delay_ = 2;
+        fetch_delay_ = 3;
     }
     clk();
     return b;
@@ -266,13 +266,34 @@ void Cpu::flush_queue() {
     fetch_suspended_ = false;
     fetch_next_ = false;
     fetch_sched_ = true;
-    fetch_delay_ = 2;
+    fetch_delay_ = 3;
 }
 
 void Cpu::suspend_fetch() {
     fetch_suspended_ = true;
     fetch_next_ = false;
     fetch_sched_ = false;
+}
+
+// The SUSP micro-instruction: prefetching stops; a bus cycle in progress runs to its T4 and
+// the micro-instruction completes in that clock (one clock when the bus is idle).
+void Cpu::susp() {
+    suspend_fetch();
+    for (;;) {
+        const bool done = t_ == TState::Ti || t_ == TState::T4;
+        clk();
+        if (done) break;
+    }
+}
+
+// The RELJMP tail shared by the near jumps: SUSP, three clocks (CORR, the addition), then the
+// queue flush, reported in the following clock.
+void Cpu::reljmp(std::uint16_t target) {
+    susp();
+    clks(3);
+    r_.ip = target;
+    flush_queue();
+    clk();
 }
 
 } // namespace rcsim::i8086

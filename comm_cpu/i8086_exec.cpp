@@ -246,6 +246,7 @@ void Cpu::execute(std::uint8_t op) {
     case 0x04: case 0x0C: case 0x14: case 0x1C: case 0x24: case 0x2C: case 0x34: case 0x3C: {
         const unsigned f = op >> 3;
         const std::uint8_t r = std::uint8_t(alu(f, reg8(0), imm8(), false));
+        clk();
         if (f != 7) set_reg8(0, r);
         break;
     }
@@ -334,10 +335,10 @@ void Cpu::execute(std::uint8_t op) {
     case 0x70: case 0x71: case 0x72: case 0x73: case 0x74: case 0x75: case 0x76: case 0x77:
     case 0x78: case 0x79: case 0x7A: case 0x7B: case 0x7C: case 0x7D: case 0x7E: case 0x7F: {
         const std::int8_t d = std::int8_t(imm8());
+        clk();
         if (condition(op & 0x0F)) {
-            clks(4);
-            jump_near(std::uint16_t(r_.ip + d));
-            clks(1);
+            clk();
+            reljmp(std::uint16_t(r_.ip + d));
         }
         break;
     }
@@ -474,6 +475,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0xA8:
         alu(4, reg8(0), imm8(), false);
+        clk();
         break;
     case 0xA9:
         alu(4, r_.r[AX], imm16(), true);
@@ -481,6 +483,7 @@ void Cpu::execute(std::uint8_t op) {
 
     case 0xB0: case 0xB1: case 0xB2: case 0xB3: case 0xB4: case 0xB5: case 0xB6: case 0xB7:
         set_reg8(op & 7, imm8());
+        clk();
         break;
     case 0xB8: case 0xB9: case 0xBA: case 0xBB: case 0xBC: case 0xBD: case 0xBE: case 0xBF:
         r_.r[op & 7] = imm16();
@@ -687,10 +690,8 @@ void Cpu::execute(std::uint8_t op) {
     }
     case 0xEB: {
         const std::int8_t d = std::int8_t(imm8());
-        suspend_fetch();
-        clks(2);
-        jump_near(std::uint16_t(r_.ip + d));
-        clks(1);
+        clk();
+        reljmp(std::uint16_t(r_.ip + d));
         break;
     }
 

@@ -4,6 +4,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -181,6 +182,23 @@ const char* qop_name(QueueOp q) {
     case QueueOp::flush: return "E";
     default: return "-";
     }
+}
+
+std::string hex(std::uint32_t v, int w) {
+    char b[16];
+    std::snprintf(b, sizeof b, "%0*X", w, v);
+    return b;
+}
+
+// One trace row in a fixed layout: ALE+address, bus status, T-state, queue op+byte, data.
+std::string row(bool ale, std::uint32_t addr, const std::string& status, const std::string& t,
+                const std::string& qop, unsigned qbyte, bool show_data, std::uint16_t data) {
+    std::string s = ale ? "A:" + hex(addr, 5) : "       ";
+    s += " " + status + std::string(5 - std::min<std::size_t>(5, status.size()), ' ');
+    s += t + std::string(3 - std::min<std::size_t>(3, t.size()), ' ');
+    s += qop + (qop != "-" ? hex(qbyte, 2) : std::string("  "));
+    s += show_data ? " D:" + hex(data, 4) : std::string("       ");
+    return s;
 }
 
 } // namespace
@@ -399,6 +417,39 @@ void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, 
             if (ok3) ++result->pass[3];
             else if (result->first_failure[3].empty())
                 result->first_failure[3] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + w3.str();
+            const bool failed = diff_level_ == 2 ? cyc.size() != used : !ok3;
+            if (trace && failed && result->diffs.size() < diff_n_) {
+                std::ostringstream d;
+                d << "test " << t.idx << " (" << t.name << ") bytes at " << hex(Cpu::linear(t.init.s[CS], t.init.ip), 5)
+                  << ", queue " << t.queue.size() << ", expected " << cyc.size() << " cycles, got " << used << "\n";
+                const std::size_t n = std::max<std::size_t>(cyc.size(), trace_.size());
+                bool marked = false;
+                for (std::size_t k = 0; k < n; ++k) {
+                    std::string a = "", b = "";
+                    if (k < cyc.size()) {
+                        const json& e = cyc[k];
+                        const std::string ts = e[8].get<std::string>();
+                        a = row(e[0].get<unsigned>() & 1, e[1].get<std::uint32_t>(), e[7].get<std::string>(), ts,
+                                e[9].get<std::string>(), e[10].get<unsigned>(), ts == "T3" || ts == "Tw",
+                                std::uint16_t(e[6].get<unsigned>()));
+                    }
+                    if (k < trace_.size()) {
+                        const CycleRecord& m = trace_[k];
+                        b = row(m.ale, m.address_latch, to_string(m.status), to_string(m.t), qop_name(m.qop), m.qbyte,
+                                m.transfer, m.data);
+                    }
+                    // Compare on the fields level 3 checks (data only roughly: lanes are not masked here).
+                    std::string ac = a.substr(0, std::min<std::size_t>(a.size(), 24));
+                    std::string bc = b.substr(0, std::min<std::size_t>(b.size(), 24));
+                    const bool differ = ac != bc;
+                    char line[160];
+                    std::snprintf(line, sizeof line, "  %3zu %-38s | %-38s%s\n", k, a.c_str(), b.c_str(),
+                                  differ && !marked ? "  <==" : "");
+                    if (differ) marked = true;
+                    d << line;
+                }
+                result->diffs.push_back(d.str());
+            }
         }
     }
 

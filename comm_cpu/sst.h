@@ -54,6 +54,7 @@ struct FileResult {
     std::size_t tests = 0;
     std::size_t pass[4] = {0, 0, 0, 0}; // index 1..3 = levels
     std::string first_failure[4];       // a description of the first failure per level
+    std::vector<std::string> diffs;     // side-by-side traces of failing tests (Runner::set_diff)
     std::uint64_t cycles = 0;           // emulated cycles over all tests
 };
 
@@ -86,6 +87,12 @@ public:
     /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
     std::uint64_t run_tests(const nlohmann::json& tests, const std::string& file, const OpcodeInfo& info,
                             FileResult* result, bool trace);
+    /// Keep a side-by-side trace (expected | emulated, first mismatch marked) of the first `n`
+    /// tests per file that fail at `level` (2 or 3) in FileResult::diffs.
+    void set_diff(std::size_t n, int level) {
+        diff_n_ = n;
+        diff_level_ = level;
+    }
 
 private:
     void run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
@@ -94,6 +101,8 @@ private:
     std::vector<std::uint32_t> touched_;
     Cpu cpu_;
     std::vector<CycleRecord> trace_;
+    std::size_t diff_n_ = 0;
+    int diff_level_ = 3;
 };
 
 } // namespace rcsim::i8086::sst
