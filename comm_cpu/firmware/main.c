@@ -45,6 +45,7 @@ static unsigned char mbq[MBQ];
 static unsigned char mb_head, mb_tail;
 static unsigned mb_t;
 unsigned n_mblost;
+unsigned n_implicit;                 /* last chunks taken as ACKed through pflag */
 
 /* ---- int2rbt mailbox ------------------------------------------------------------------- */
 void mb_post(unsigned char word)
@@ -91,8 +92,16 @@ static void to_dpram(int port)
     unsigned a, have, n, i, f;
     unsigned char s;
 
-    if (chunk_out[port])
+    if (chunk_out[port]) {
+        /* The main CPU frees pflag before it ACKs the last chunk: if that ACK word got lost
+         * (overwritten in int2ext), pflag still tells us the frame was consumed. */
+        if (step[port] == ST_DONE && rx_fwd[port] == rx_len[port] &&
+            dp_rd(PFLAG(port)) != EXT_USE) {
+            chunk_out[port] = 0;
+            ++n_implicit;
+        }
         return;
+    }
     f = irq_off();
     s = step[port];
     have = rx_len[port];

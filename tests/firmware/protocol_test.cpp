@@ -125,6 +125,22 @@ TEST(FirmwareProtocol, EnqWithALineErrorGetsNak) {
     EXPECT_EQ(b.host_take(0), std::string(1, ACK));
 }
 
+TEST(FirmwareProtocol, LostAckOfTheLastChunkIsRecoveredThroughPflag) {
+    Booted b;
+    const std::string f = frame("EC", "ACKLOST");
+    b.host_frame(2, f);
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 20));
+    std::uint8_t w = 0;
+    b.main_take_word(w);
+    EXPECT_EQ(b.main_read_chunk(2), f);
+    b.dp[2 * 340 + 339] = 0; // the main CPU frees pflag ... and its 0x22 word is overwritten
+    b.main_word(0x21);       // by a word for another port (here: an unexpected ACK, ignored)
+    ASSERT_TRUE(b.run_until([&] { return b.step(2) == 0; }, 20));
+    EXPECT_TRUE(b.posted.empty()) << "no reset, nothing lost";
+    EXPECT_EQ(b.uart[2].resets, 1u);
+    EXPECT_EQ(b.var16(fw::data::n_implicit), 1u);
+}
+
 TEST(FirmwareProtocol, ChunkNeverAcknowledgedResetsThePort) {
     Booted b;
     b.host_frame(0, frame("EC", "LOST"));
