@@ -186,7 +186,7 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
     // A byte on the odd lane travels on D8-D15.
     if (op.kind == Bus::mem_write || op.kind == Bus::io_write) {
         data_bus_ = op.width == 1 && (op.addr & 1) ? std::uint16_t(op.data << 8) : op.data;
-    } else if (op.width == 1 && (op.addr & 1) && (op.kind == Bus::code_fetch)) {
+    } else if (op.width == 1 && (op.addr & 1)) {
         data_bus_ = std::uint16_t((d & 0xFF) << 8);
     } else {
         data_bus_ = d;

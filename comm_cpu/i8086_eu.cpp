@@ -118,16 +118,19 @@ void Cpu::decode_modrm() {
     if (mod_ != 3) calc_ea();
 }
 
-// EA clocks after the displacement (8086 microcode EA routines): base+index sums take one
-// clock more for [BX+DI]/[BP+SI] than for [BX+SI]/[BP+DI]; a displacement adds an addition.
+// EA clocks as measured on the P80C86A-2 (clocks after the ModR/M read until the EU asks for
+// the operand): [disp16] reads its displacement one clock after the ModR/M byte; a base or
+// index register takes 3 clocks before a displacement (4 without), [BX+SI]/[BP+DI] 5 and
+// [BX+DI]/[BP+SI] 6 (one more each without a displacement); after a displacement byte, 3
+// clocks (2 after the high byte of a 16-bit displacement).
 void Cpu::calc_ea() {
-    static constexpr std::uint8_t base_clocks[8] = {3, 4, 4, 3, 1, 1, 1, 1};
+    static constexpr std::uint8_t pre[8] = {5, 6, 6, 5, 3, 3, 3, 3};
     std::uint16_t ea = 0;
-    unsigned n = 0;
     if (mod_ == 0 && rm_ == 6) {
+        clk();
         ea = imm16();
         ea_seg_ = DS;
-        n = 1;
+        clk();
     } else {
         switch (rm_) {
         case 0: ea = r_.r[BX] + r_.r[SI]; ea_seg_ = DS; break;
@@ -139,18 +142,19 @@ void Cpu::calc_ea() {
         case 6: ea = r_.r[BP]; ea_seg_ = SS; break;
         case 7: ea = r_.r[BX]; ea_seg_ = DS; break;
         }
-        n = base_clocks[rm_];
+        clks(pre[rm_]);
         if (mod_ == 1) {
             ea = std::uint16_t(ea + std::int8_t(imm8()));
-            n += 3;
+            clks(3);
         } else if (mod_ == 2) {
             ea = std::uint16_t(ea + imm16());
-            n += 3;
+            clks(2);
+        } else {
+            clk();
         }
     }
     ea_ = ea;
     if (seg_override_ >= 0) ea_seg_ = seg_override_;
-    clks(n);
 }
 
 std::uint8_t Cpu::rm_read8() { return mod_ == 3 ? reg8(rm_) : read8(ea_seg_, ea_); }

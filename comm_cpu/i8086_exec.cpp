@@ -326,7 +326,6 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x58: case 0x59: case 0x5A: case 0x5B: case 0x5C: case 0x5D: case 0x5E: case 0x5F:
         r_.r[op & 7] = pop();
-        clks(1);
         break;
 
     // ---- conditional jumps (60-6F alias 70-7F on the 8086) ----
@@ -632,22 +631,21 @@ void Cpu::execute(std::uint8_t op) {
 
     // ---- loops ----
     case 0xE0: case 0xE1: case 0xE2: case 0xE3: {
-        const std::int8_t d = std::int8_t(imm8());
         bool take;
+        clks(2); // CX (- 1) before the displacement is read
         if (op == 0xE3) {
             take = r_.r[CX] == 0;
-            clks(1);
         } else {
             r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
             take = r_.r[CX] != 0;
             if (op == 0xE0) take = take && !get_flag(flag::ZF);
             if (op == 0xE1) take = take && get_flag(flag::ZF);
-            clks(1);
         }
+        const std::int8_t d = std::int8_t(imm8());
+        clk();
         if (take) {
-            clks(4);
-            jump_near(std::uint16_t(r_.ip + d));
-            clks(1);
+            if (op != 0xE2) clk(); // the extra condition test of LOOPE/LOOPNE/JCXZ
+            reljmp(std::uint16_t(r_.ip + d));
         }
         break;
     }
@@ -673,10 +671,7 @@ void Cpu::execute(std::uint8_t op) {
     }
     case 0xE9: {
         const std::uint16_t d = imm16();
-        suspend_fetch();
-        clks(2);
-        jump_near(std::uint16_t(r_.ip + d));
-        clks(1);
+        reljmp(std::uint16_t(r_.ip + d));
         break;
     }
     case 0xEA: {

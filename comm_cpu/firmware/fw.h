@@ -180,6 +180,9 @@ extern unsigned char gen[NO_PORT];          /* bumped by every port reset */
 extern unsigned char *rxbuf[NO_PORT];
 extern unsigned char *txbuf[NO_PORT];
 extern unsigned area[NO_PORT];              /* DP-RAM offset of data[p] */
+extern unsigned port_div[NO_PORT];          /* BRGA divisor per port (patchable) */
+extern unsigned char port_lcr[NO_PORT];     /* LCR per port (patchable) */
+extern unsigned tick_div;                   /* BRGB divisor of the 1 ms tick (patchable) */
 /* receive side (host -> main CPU) */
 extern unsigned rx_len[NO_PORT];            /* bytes stored in rxbuf (SOH .. ETX) */
 extern unsigned rx_fwd[NO_PORT];            /* bytes already written to DP-RAM */

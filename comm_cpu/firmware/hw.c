@@ -28,17 +28,17 @@ void uart_init(int port)
 
     /* bank 0: line format and BRGA divisor */
     outb(b + U_BANK, BANK_NAS);
-    outb(b + U_LCR, LCR_DLAB | LCR_8E1);
-    outb(b + U_BAL, BAUD_DIV);
-    outb(b + U_BAH, 0);
+    outb(b + U_LCR, LCR_DLAB | port_lcr[port]);
+    outb(b + U_BAL, port_div[port] & 0xFF);
+    outb(b + U_BAH, port_div[port] >> 8);
     if (tick) {
         /* BRGB divisor: bank 3 offsets 0/1 while DLAB = 1 */
         outb(b + U_BANK, BANK_MODM);
-        outb(b + U_BBL, TICK_DIV & 0xFF);
-        outb(b + U_BBH, TICK_DIV >> 8);
+        outb(b + U_BBL, tick_div & 0xFF);
+        outb(b + U_BBH, tick_div >> 8);
         outb(b + U_BANK, BANK_NAS);
     }
-    outb(b + U_LCR, LCR_8E1);
+    outb(b + U_LCR, port_lcr[port]);
     outb(b + U_MCR, MCR_ON);
 
     /* bank 2: FIFO thresholds 0 (interrupt at 1 byte), normal modes, RX error interrupts */

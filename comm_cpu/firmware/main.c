@@ -22,6 +22,12 @@ unsigned char *txbuf[NO_PORT] = {
 };
 unsigned area[NO_PORT] = { 0 * AREA, 1 * AREA, 2 * AREA };
 
+/* Line set-up, in initialised data so that a ROM image can be patched for other baud rates,
+ * formats or crystals (docs/firmware.md "Patching the line set-up"). */
+unsigned port_div[NO_PORT] = { BAUD_DIV, BAUD_DIV, BAUD_DIV };   /* BRGA divisor */
+unsigned char port_lcr[NO_PORT] = { LCR_8E1, LCR_8E1, LCR_8E1 }; /* LCR without DLAB */
+unsigned tick_div = TICK_DIV;                                      /* BRGB: 1 ms */
+
 unsigned rx_len[NO_PORT], rx_fwd[NO_PORT], rx_t[NO_PORT];
 unsigned char rx_sum[NO_PORT], rx_bad[NO_PORT];
 unsigned char chunk_out[NO_PORT];

@@ -165,6 +165,10 @@ int run(int argc, char** argv) {
       << "constexpr std::uint32_t code_bytes = " << text_end << ";\n"
       << "constexpr std::uint32_t data_bytes = " << edata << ";\n"
       << "constexpr std::uint32_t bss_bytes = " << (end - edata) << ";\n\n"
+      << "/// ROM offset of the initial value of an initialised variable (data::x < data_end).\n"
+      << "constexpr std::uint32_t data_end = " << hex(data_seg * 16u + edata, 5) << ";\n"
+      << "constexpr std::uint32_t rom_offset_of(std::uint32_t data_linear) {\n"
+      << "    return code_bytes + (data_linear - data_segment * 16u);\n}\n\n"
       << "/// Functions and ISR entries (CS = code_segment).\nnamespace code {\n" << code_h.str()
       << "} // namespace code\n\n/// Variables (DS = data_segment).\nnamespace data {\n" << data_h.str()
       << "} // namespace data\n\nstruct Symbol {\n    const char* name;\n    std::uint32_t linear;\n"
