@@ -62,6 +62,26 @@ TEST(FirmwareBoot, SetsUpEach82510InOrder) {
     EXPECT_EQ(b.uart[0].bbl | (b.uart[0].bbh << 8), 9216);
 }
 
+TEST(FirmwareBoot, LineSetUpComesFromThePatchableTable) {
+    Bench b;
+    // port 1: 19200 bps 8N1 (divisor 30, LCR 0x03); a 9.216 MHz-based tick of 2 ms on #0
+    b.rom[fw::rom_offset_of(fw::data::port_div) + 2] = 30;
+    b.rom[fw::rom_offset_of(fw::data::port_lcr) + 1] = 0x03;
+    b.rom[fw::rom_offset_of(fw::data::tick_div)] = 0x00;
+    b.rom[fw::rom_offset_of(fw::data::tick_div) + 1] = 0x48; // 18432
+    b.run_ms(5);
+    EXPECT_EQ(b.uart[0].bal, 60);
+    EXPECT_EQ(b.uart[0].lcr, 0x1B);
+    EXPECT_EQ(b.uart[1].bal, 30);
+    EXPECT_EQ(b.uart[1].lcr, 0x03);
+    EXPECT_EQ(b.uart[2].bal, 60);
+    const unsigned t0 = b.var16(fw::data::ticks);
+    b.run_ms(20);
+    const unsigned n = b.var16(fw::data::ticks) - t0;
+    EXPECT_GE(n, 9u);
+    EXPECT_LE(n, 11u);
+}
+
 TEST(FirmwareBoot, InstallsVectors20To23InRam) {
     Bench b;
     b.run_ms(5);

@@ -56,6 +56,10 @@ TEST(FirmwareRom, InitialisedDataFollowsTheCode) {
     EXPECT_EQ(word(r, at + 4), 0xAC00);
     const std::uint32_t tx = fw::code_bytes + (fw::data::txbuf - fw::data_segment * 16u);
     EXPECT_EQ(word(r, tx), 0x0C00 + 0x2800);
+    EXPECT_EQ(word(r, fw::rom_offset_of(fw::data::port_div)), 60);      // 9600 bps at 18.432 MHz
+    EXPECT_EQ(r[fw::rom_offset_of(fw::data::port_lcr) + 2], 0x1B);      // 8E1
+    EXPECT_EQ(word(r, fw::rom_offset_of(fw::data::tick_div)), 9216);   // 1 ms
+    EXPECT_LE(fw::data::tick_div + 2, fw::data_end);
     const std::uint32_t ar = fw::code_bytes + (fw::data::area - fw::data_segment * 16u);
     EXPECT_EQ(word(r, ar + 2), 340);
     EXPECT_EQ(word(r, ar + 4), 680);
