@@ -256,6 +256,7 @@ private:
     bool fetch_sched_ = false;     // a prefetch is scheduled once the bus is idle ...
     unsigned fetch_delay_ = 0;     // ... and this many clocks have passed
     bool fetch_next_ = false;      // decided at T2: next fetch follows T4 directly
+    bool fetch_after_t4_ = false;  // room appeared in T3/T4: prefetch four clocks after T4
     bool eu_claim_ = false;        // the EU has asked for the bus; no prefetch may start
     bool fetch_suspended_ = false; // EU asked the BIU not to prefetch (e.g. before a flush)
     QueueOp qop_ = QueueOp::idle, last_qop_ = QueueOp::idle;

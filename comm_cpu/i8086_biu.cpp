@@ -36,7 +36,7 @@ void Cpu::reset() {
     fetch_sched_ = true;
     fetch_delay_ = 0;
     fetch_next_ = eu_claim_ = false;
-    fetch_suspended_ = false;
+    fetch_suspended_ = fetch_after_t4_ = false;
     qop_ = last_qop_ = QueueOp::idle;
     halted_ = inhibit_ = false;
     nmi_pending_ = false;
@@ -104,7 +104,13 @@ void Cpu::clk() {
         if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
             fetch_next_ = false;
             fetch_sched_ = false;
+            fetch_after_t4_ = false;
             start_fetch();
+        } else if (fetch_after_t4_) {
+            // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
+            fetch_after_t4_ = false;
+            fetch_sched_ = true;
+            fetch_delay_ = 4;
         }
         fetch_next_ = false;
         break;
@@ -211,12 +217,17 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
     eu_claim_ = true;
     if (t_ == TState::T4 && !cur_.fetch) {
         clk(); // our own previous cycle ends: the next one follows its T4 directly
-    } else if (t_ != TState::Ti) {
-        // A prefetch is on the bus: wait for its T4, then the BIU turns round to the EU.
-        while (t_ != TState::T4) clk();
-        clks(3);
     } else {
-        clks(3); // idle bus: three clocks to start the cycle (a scheduled prefetch waits)
+        // Three clocks from the request to T1 on an idle bus (a scheduled prefetch waits). A
+        // prefetch on the bus runs to its T4: a request seen by its T2 decision follows T4
+        // directly, a later one starts three clocks after T4.
+        if (t_ == TState::Ti) {
+            clks(3);
+        } else {
+            const bool early = t_ == TState::T1 || t_ == TState::T2;
+            while (t_ != TState::T4) clk();
+            clks(early ? 1 : 3);
+        }
     }
     BusOp op;
     op.kind = kind;
@@ -249,10 +260,13 @@ std::uint8_t Cpu::q_read(QueueOp op) {
     qbyte_ = b;
     // Two free bytes wake an idle BIU; it starts the fetch three clocks after this one. A
     // cycle still before its T2 decision will take the room into account itself.
-    const bool deciding = t_ == TState::T1 || t_ == TState::T2;
-    if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_ && !deciding) {
-        fetch_sched_ = true;
-        fetch_delay_ = 3;
+    if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_) {
+        if (t_ == TState::Ti) {
+            fetch_sched_ = true;
+            fetch_delay_ = 3;
+        } else if (t_ != TState::T1 && t_ != TState::T2) {
+            fetch_after_t4_ = true; // decided after this cycle's T4
+        }
     }
     clk();
     return b;
@@ -265,12 +279,14 @@ void Cpu::flush_queue() {
     qop_ = QueueOp::flush;
     fetch_suspended_ = false;
     fetch_next_ = false;
+    fetch_after_t4_ = false;
     fetch_sched_ = true;
     fetch_delay_ = 3;
 }
 
 void Cpu::suspend_fetch() {
     fetch_suspended_ = true;
+    fetch_after_t4_ = false;
     fetch_next_ = false;
     fetch_sched_ = false;
 }

@@ -386,23 +386,28 @@ void Cpu::execute(std::uint8_t op) {
         break;
     }
     case 0x88:
+        if (mod_ != 3) clks(3);
         rm_write8(reg8(reg_));
         break;
     case 0x89:
+        if (mod_ != 3) clks(3);
         rm_write16(r_.r[reg_]);
         break;
     case 0x8A:
         set_reg8(reg_, rm_read8());
+        if (mod_ != 3) clks(2);
         break;
     case 0x8B:
         r_.r[reg_] = rm_read16();
+        if (mod_ != 3) clks(2);
         break;
     case 0x8C:
+        if (mod_ != 3) clks(3);
         rm_write16(r_.s[reg_ & 3]);
         break;
     case 0x8D:
         r_.r[reg_] = ea_;
-        clks(1);
+        clks(2);
         break;
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086.
