@@ -209,7 +209,7 @@ void Cpu::execute(std::uint8_t op) {
             clks(1);
             if (f != 7) rm_write8(r);
         } else {
-            clks(f == 7 ? 1 : 4);
+            clks(f == 7 ? 1 : 5);
             if (f != 7) rm_write8(r);
         }
         break;
@@ -222,7 +222,7 @@ void Cpu::execute(std::uint8_t op) {
             clks(1);
             if (f != 7) rm_write16(r);
         } else {
-            clks(f == 7 ? 1 : 4);
+            clks(f == 7 ? 1 : 5);
             if (f != 7) rm_write16(r);
         }
         break;
@@ -231,7 +231,7 @@ void Cpu::execute(std::uint8_t op) {
         const unsigned f = op >> 3;
         const std::uint8_t b = rm_read8();
         const std::uint8_t r = std::uint8_t(alu(f, reg8(reg_), b, false));
-        clks(1);
+        clks(mod_ == 3 ? 1 : 3);
         if (f != 7) set_reg8(reg_, r);
         break;
     }
@@ -239,7 +239,7 @@ void Cpu::execute(std::uint8_t op) {
         const unsigned f = op >> 3;
         const std::uint16_t b = rm_read16();
         const std::uint16_t r = alu(f, r_.r[reg_], b, true);
-        clks(1);
+        clks(mod_ == 3 ? 1 : 3);
         if (f != 7) r_.r[reg_] = r;
         break;
     }
@@ -407,7 +407,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x8D:
         r_.r[reg_] = ea_;
-        clks(2);
+        clks(mod_ == 0 ? 1 : 2); // without a displacement the EA routine returns a clock earlier
         break;
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086.

@@ -81,7 +81,9 @@
 #define MCR_ON        0x0B            /* DTR, RTS, OUT2 */
 #define GER_RXF       0x01            /* Rx FIFO (data available) */
 #define GER_RXM       0x04            /* Rx machine (errors, break) */
+#define GER_TXF       0x02            /* Tx FIFO at or below its threshold (0: empty) */
 #define GER_TIMER     0x20
+#define GER_ON(p)     ((p) == TICK_PORT ? (GER_RXF | GER_RXM | GER_TIMER) : (GER_RXF | GER_RXM))
 #define GIR_NONE      0x01            /* IP is active low: 1 = nothing pending */
 #define GIR_VEC       0x0E
 #define GIR_TIMER     0x0A
@@ -211,6 +213,7 @@ extern unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
 
 /* isr.c */
 void rs232_isr(int port);
+void tx_fill(int port);
 void dpram_isr(void);
 void rx_char(int port, unsigned char c);
 void dp_event(unsigned char word);

@@ -67,7 +67,7 @@ void uart_init(int port)
 
     /* bank 0: interrupt enables, then back to the working bank */
     outb(b + U_BANK, BANK_NAS);
-    outb(b + U_GER, tick ? (GER_RXF | GER_RXM | GER_TIMER) : (GER_RXF | GER_RXM));
+    outb(b + U_GER, GER_ON(port));
     outb(b + U_BANK, BANK_WORK);
 }
 

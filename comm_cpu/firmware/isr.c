@@ -74,6 +74,45 @@ static void rx_end(int port)
     }
 }
 
+/* GER of one 82510 (bank 0), from bank 1 and back. */
+static void set_ger(int port, unsigned char ger)
+{
+    unsigned b = UART_BASE(port);
+
+    outb(b + U_BANK, BANK_NAS);
+    outb(b + U_GER, ger);
+    outb(b + U_BANK, BANK_WORK);
+}
+
+/*
+ * Step 12 (the paper's send_data_to_port), interrupt driven: fill the 4-byte TX FIFO from the
+ * frame being sent; the Tx FIFO interrupt (enabled while sending, threshold 0 = empty) asks for
+ * the next bytes while the last one is still in the shifter, so the frame leaves without gaps
+ * even while the main loop or a DP-RAM copy is busy.  When the last byte (ETX) is in the FIFO
+ * the interrupt is switched off and T1 starts for the EOT.  IF = 0.
+ */
+void tx_fill(int port)
+{
+    unsigned b = UART_BASE(port);
+    unsigned char *d = txbuf[port];
+    unsigned len = txq_len[port][txq_head[port]];
+    unsigned i;
+
+    if (step[port] != ST_SEND)
+        return;
+    while (tx_pos[port] < len && (inb(b + U_FLR) & FLR_TFL) < TXFIFO_DEPTH) {
+        i = tx_rd[port] + tx_pos[port]++;
+        if (i >= TXBUF_SIZE)
+            i -= TXBUF_SIZE;
+        outb(b + U_TXD, d[i]);
+    }
+    if (tx_pos[port] >= len) {
+        set_ger(port, GER_ON(port));
+        tx_t[port] = ticks;
+        step[port] = ST_WAIT_EOT;
+    }
+}
+
 /* EOT for the frame being sent: drop it from the ring; the next queued frame follows. */
 static void tx_done(int port)
 {
@@ -158,6 +197,8 @@ void rx_char(int port, unsigned char c)
             if (c == ACK) {
                 tx_pos[port] = 0;
                 step[port] = ST_SEND;
+                set_ger(port, GER_ON(port) | GER_TXF);
+                tx_fill(port);
             } else if (c == NAK) {
                 tx_retry(port);
             }
@@ -231,6 +272,11 @@ void rs232_isr(int port)
             ++ticks;
         } else if (gir == GIR_RXM) {
             line_status(port, inb(b + U_RST));
+        } else if (gir == GIR_TXF) {
+            if (step[port] == ST_SEND)
+                tx_fill(port);
+            else
+                set_ger(port, GER_ON(port));   /* nothing to send (port reset, retry) */
         } else {
             inb(b + U_GSR);
             inb(b + U_MSR);

@@ -209,26 +209,13 @@ static void send_enq(int port)
     irq_restore(f);
 }
 
-/* Step 12 (the paper's send_data_to_port): keep the 4-byte TX FIFO filled. */
+/* Step 12 is interrupt driven (tx_fill in isr.c); the main loop only tops the FIFO up as well,
+ * should a Tx FIFO interrupt ever be missed. */
 static void send_data(int port)
 {
-    unsigned b = UART_BASE(port);
-    unsigned char *d = txbuf[port];
-    unsigned len = txq_len[port][txq_head[port]];
-    unsigned i, f;
+    unsigned f = irq_off();
 
-    while (step[port] == ST_SEND && tx_pos[port] < len &&
-           (inb(b + U_FLR) & FLR_TFL) < TXFIFO_DEPTH) {
-        i = tx_rd[port] + tx_pos[port]++;
-        if (i >= TXBUF_SIZE)
-            i -= TXBUF_SIZE;
-        outb(b + U_TXD, d[i]);
-    }
-    f = irq_off();
-    if (step[port] == ST_SEND && tx_pos[port] >= len) {
-        tx_t[port] = ticks;
-        step[port] = ST_WAIT_EOT;
-    }
+    tx_fill(port);
     irq_restore(f);
 }
 
