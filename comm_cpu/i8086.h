@@ -191,6 +191,8 @@ private:
     void execute(std::uint8_t op);
     void decode_modrm();
     void calc_ea();
+    /// A memory operand addressed by registers alone (mod 0, not [disp16]).
+    bool ea_nodisp() const { return mod_ == 0 && rm_ != 6; }
     std::uint8_t rm_read8();
     std::uint16_t rm_read16();
     void rm_write8(std::uint8_t v, bool last = true);

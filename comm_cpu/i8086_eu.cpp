@@ -142,7 +142,7 @@ void Cpu::calc_ea() {
         case 6: ea = r_.r[BP]; ea_seg_ = SS; break;
         case 7: ea = r_.r[BX]; ea_seg_ = DS; break;
         }
-        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 5, 3, 3, 3, 3}; // no displacement
+        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 4, 3, 3, 3, 3}; // no displacement
         clks(mod_ == 0 ? pre0[rm_] : pre[rm_]);
         if (mod_ == 1) {
             ea = std::uint16_t(ea + std::int8_t(imm8()));

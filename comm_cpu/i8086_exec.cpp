@@ -386,11 +386,11 @@ void Cpu::execute(std::uint8_t op) {
         break;
     }
     case 0x88:
-        if (mod_ != 3) clks(3);
+        if (mod_ != 3) clks(ea_nodisp() && rm_ >= 4 ? 3 : 4);
         rm_write8(reg8(reg_));
         break;
     case 0x89:
-        if (mod_ != 3) clks(3);
+        if (mod_ != 3) clks(ea_nodisp() && rm_ >= 4 ? 3 : 4);
         rm_write16(r_.r[reg_]);
         break;
     case 0x8A:
