@@ -259,7 +259,7 @@ void Cpu::execute(std::uint8_t op) {
 
     // ---- segment push/pop ----
     case 0x06: case 0x0E: case 0x16: case 0x1E:
-        clks(2);
+        clks(3);
         push(r_.s[(op >> 3) & 3], true);
         break;
     case 0x07: case 0x0F: case 0x17: case 0x1F:
@@ -363,24 +363,24 @@ void Cpu::execute(std::uint8_t op) {
     }
     case 0x84: {
         alu(4, rm_read8(), reg8(reg_), false);
-        clks(mod_ == 3 ? 1 : 2);
+        clks(mod_ == 3 ? 1 : 3);
         break;
     }
     case 0x85: {
         alu(4, rm_read16(), r_.r[reg_], true);
-        clks(mod_ == 3 ? 1 : 2);
+        clks(mod_ == 3 ? 1 : 3);
         break;
     }
     case 0x86: {
         const std::uint8_t a = rm_read8();
-        clks(mod_ == 3 ? 2 : 3);
+        clks(mod_ == 3 ? 2 : 6);
         rm_write8(reg8(reg_));
         set_reg8(reg_, a);
         break;
     }
     case 0x87: {
         const std::uint16_t a = rm_read16();
-        clks(mod_ == 3 ? 2 : 3);
+        clks(mod_ == 3 ? 2 : 6);
         rm_write16(r_.r[reg_]);
         r_.r[reg_] = a;
         break;
@@ -412,6 +412,7 @@ void Cpu::execute(std::uint8_t op) {
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086.
         r_.s[reg_ & 3] = rm_read16();
+        if (mod_ != 3) clks(2);
         inhibit_ = true;
         break;
     case 0x8F: {
@@ -426,7 +427,7 @@ void Cpu::execute(std::uint8_t op) {
         const std::uint16_t t = r_.r[AX];
         r_.r[AX] = r_.r[op & 7];
         r_.r[op & 7] = t;
-        if (op != 0x90) clks(1);
+        clks(1);
         break;
     }
     case 0x98:
@@ -454,7 +455,7 @@ void Cpu::execute(std::uint8_t op) {
         clks(3);
         break;
     case 0x9C:
-        clks(2);
+        clks(3);
         push(r_.flags, true);
         break;
     case 0x9D:
@@ -462,6 +463,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x9E:
         r_.flags = std::uint16_t((r_.flags & 0xFF00) | (reg8(4) & 0xD5) | 0x02);
+        clks(2);
         break;
     case 0x9F:
         set_reg8(4, std::uint8_t(r_.flags));
@@ -470,8 +472,8 @@ void Cpu::execute(std::uint8_t op) {
     // ---- MOV acc, moffs ----
     case 0xA0: { const std::uint16_t a = imm16(); set_reg8(0, read8(data_seg(DS), a)); break; }
     case 0xA1: { const std::uint16_t a = imm16(); r_.r[AX] = read16(data_seg(DS), a); break; }
-    case 0xA2: { const std::uint16_t a = imm16(); write8(data_seg(DS), a, reg8(0), true); break; }
-    case 0xA3: { const std::uint16_t a = imm16(); write16(data_seg(DS), a, r_.r[AX], true); break; }
+    case 0xA2: { const std::uint16_t a = imm16(); clk(); write8(data_seg(DS), a, reg8(0), true); break; }
+    case 0xA3: { const std::uint16_t a = imm16(); clk(); write16(data_seg(DS), a, r_.r[AX], true); break; }
 
     case 0xA4: case 0xA5: case 0xA6: case 0xA7: case 0xAA: case 0xAB: case 0xAC: case 0xAD: case 0xAE:
     case 0xAF:
@@ -534,14 +536,16 @@ void Cpu::execute(std::uint8_t op) {
         // reg is ignored by the 8086.
         if (mod_ == 3) set_reg8(rm_, imm8());
         else {
+            clks(2);
             const std::uint8_t v = imm8();
-            clks(1);
+            clks(2);
             write8(ea_seg_, ea_, v, true);
         }
         break;
     case 0xC7:
         if (mod_ == 3) r_.r[rm_] = imm16();
         else {
+            clks(2);
             const std::uint16_t v = imm16();
             clks(1);
             write16(ea_seg_, ea_, v, true);
