@@ -197,6 +197,7 @@ Scenario load_scenario(const std::string& path) {
     YamlMap top(s.root, path, "");
     s.name = top.get<std::string>("name", std::filesystem::path(path).stem().string());
     s.duration_s = top.number("duration_s", 1.0, 1e-6, 3600);
+    s.drain_s = top.number("drain_s", 1.0, 0, 3600);
     s.seed = top.get<std::uint64_t>("seed", 1);
     if (top.has("rom")) {
         std::filesystem::path rom = top.get<std::string>("rom", "");

@@ -49,6 +49,7 @@ struct Scenario {
     std::string file;
     std::string name;
     double duration_s = 1.0;
+    double drain_s = 1.0; // after duration_s: no new commands; what is in flight completes
     std::uint64_t seed = 1;
     std::string rom; // "" = the built firmware
     ControllerConfig board;

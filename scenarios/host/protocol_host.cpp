@@ -217,6 +217,7 @@ void ProtocolHost::do_command(const Frame& f) {
             r = await_reply(EOT, "EOT/NAK");
             if (r == Reply::positive) {
                 ++counters_.frames_delivered;
+                delivered_.push_back(f);
                 delivery_us_.add(to_us(sc_core::sc_time_stamp() - command_start_));
                 awaiting_response_ = cfg_.traffic.wait_response;
                 response_deadline_ = sc_core::sc_time_stamp() + cfg_.traffic.response_timeout;
@@ -326,7 +327,8 @@ Frame ProtocolHost::make_command() {
         }
         pick -= weight;
     }
-    const std::size_t n = t.random_size ? static_cast<std::size_t>(next_random() % (t.data_size + 1)) : t.data_size;
+    std::size_t n = t.random_size ? static_cast<std::size_t>(next_random() % (t.data_size + 1)) : t.data_size;
+    if (f.token == "ST" || f.token == "HT") n = 0; // SYSTEM.md §5: these commands take no data
     f.data.resize(n);
     for (auto& c : f.data) c = static_cast<char>(0x20 + next_random() % 95); // printable ASCII
     return f;

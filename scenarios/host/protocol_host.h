@@ -102,6 +102,11 @@ public:
 
     const Counters& counters() const { return counters_; }
     const std::vector<proto::Frame>& responses() const { return responses_; }
+    /// The commands that got EOT, in order (what the controller accepted).
+    const std::vector<proto::Frame>& delivered() const { return delivered_; }
+    /// Generates no further commands; what is queued or in progress still completes (a scenario's
+    /// drain phase).
+    void stop_traffic() { stopped_ = true; }
     const std::vector<LogEntry>& log() const { return log_; }
     /// Also writes every log entry as a line to `os` (nullptr: off).
     void log_to(std::ostream* os) { log_os_ = os; }
@@ -155,7 +160,11 @@ private:
     bool wait_byte(const sc_core::sc_time& timeout, RxByte& out);
     void send_bytes(const std::string& bytes);
     void note(const std::string& text);
-    bool may_generate() const { return cfg_.traffic.count == 0 || generated_ < cfg_.traffic.count; }
+    bool may_generate() const {
+        return !stopped_ && (cfg_.traffic.count == 0 || generated_ < cfg_.traffic.count);
+    }
+    bool stopped_ = false;
+    std::vector<proto::Frame> delivered_;
     proto::Frame make_command();
     std::uint64_t next_random();
     double next_uniform() { return static_cast<double>(next_random() >> 11) * (1.0 / 9007199254740992.0); }
