@@ -346,17 +346,21 @@ void Cpu::execute(std::uint8_t op) {
     case 0x80: case 0x81: case 0x82: case 0x83: {
         const bool word = op & 1;
         const unsigned f = reg_;
+        const bool mem = mod_ != 3;
         if (!word) {
             const std::uint8_t a = rm_read8();
+            if (mem) clks(2); // the immediate is read two clocks after the operand's T4
             const std::uint8_t b = imm8();
             const std::uint8_t r = std::uint8_t(alu(f, a, b, false));
-            clks(mod_ == 3 ? 0 : (f == 7 ? 1 : 3));
+            clks(!mem ? 1 : (f == 7 ? 2 : 3));
             if (f != 7) rm_write8(r);
         } else {
             const std::uint16_t a = rm_read16();
-            const std::uint16_t b = op == 0x83 ? std::uint16_t(std::int8_t(imm8())) : imm16();
+            if (mem) clks(2);
+            const bool imm_word = op == 0x81;
+            const std::uint16_t b = imm_word ? imm16() : std::uint16_t(std::int8_t(imm8()));
             const std::uint16_t r = alu(f, a, b, true);
-            clks(mod_ == 3 ? 0 : (f == 7 ? 1 : 3));
+            clks(!mem ? (imm_word ? 0 : 1) : (f == 7 ? (imm_word ? 1 : 2) : (imm_word ? 2 : 3)));
             if (f != 7) rm_write16(r);
         }
         break;
