@@ -594,13 +594,13 @@ void Cpu::execute(std::uint8_t op) {
             const std::uint8_t v = rm_read8();
             if (op & 2) clks(4 + 4 * count);
             const std::uint8_t r = std::uint8_t(shift(reg_, v, count, false));
-            if (mod_ != 3) clks(2);
+            clks(mod_ != 3 ? ((op & 2) ? 5 : 4) : ((op & 2) ? 2 : 0));
             rm_write8(r);
         } else {
             const std::uint16_t v = rm_read16();
             if (op & 2) clks(4 + 4 * count);
             const std::uint16_t r = shift(reg_, v, count, true);
-            if (mod_ != 3) clks(2);
+            clks(mod_ != 3 ? ((op & 2) ? 5 : 4) : ((op & 2) ? 2 : 0));
             rm_write16(r);
         }
         break;
