@@ -10,7 +10,9 @@ void add_cputest_command(CLI::App& app);
 void add_bench_cpu(CLI::App& bench);
 void add_demo_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_bench_system(CLI::App& bench);
 void add_bench_serial(CLI::App& bench);
+void add_bench_motion(CLI::App& bench);
 }
 
 #ifndef RCSIM_VERSION
@@ -35,7 +37,9 @@ int sc_main(int argc, char* argv[]) {
     rcsim::add_bench_cpu(*bench);
     rcsim::add_demo_command(app);
     rcsim::add_run_command(app);
+    rcsim::add_bench_system(*bench);
     rcsim::add_bench_serial(*bench);
+    rcsim::add_bench_motion(*bench);
 
     try {
         app.parse(argc, argv);

@@ -12,7 +12,7 @@ namespace {
 struct BenchDriver : sc_core::sc_module {
     MotionController& mc;
     std::uint64_t cycles;
-    std::uint64_t moves = 0;
+    std::uint64_t moves = 0, refused = 0;
     SC_HAS_PROCESS(BenchDriver);
     BenchDriver(sc_core::sc_module_name n, MotionController& m, std::uint64_t c) : sc_module(n), mc(m), cycles(c) {
         SC_THREAD(run);
@@ -22,12 +22,15 @@ struct BenchDriver : sc_core::sc_module {
         mc.command("SV", "1");
         for (std::uint64_t k = 0; k <= cycles; ++k) {
             mc.control_cycle(sc_core::sc_time_stamp());
-            // Keep every axis moving: a new 1-2 s move as soon as the last one is done.
-            for (unsigned a = 0; a < MotionController::axes; ++a) {
+            // Keep every axis moving: a new 1-2 s move as soon as the last one is done (after
+            // MC_Power's enable sequence of the first cycles).
+            for (unsigned a = 0; a < MotionController::axes && k >= 10; ++a) {
                 if (mc.axis(a).state() != AxisState::standstill) continue;
                 const long target = (mc.chip().command_position(a) > 0 ? -1 : 1) * (20000 + 5000 * static_cast<long>(a));
-                mc.command("MA", std::to_string(a) + "," + std::to_string(target) + ",30000,100000,100000");
-                ++moves;
+                const MotionReply r =
+                    mc.command("MA", std::to_string(a) + "," + std::to_string(target) + ",30000,100000,100000");
+                if (r.bch == 0) ++moves;
+                else ++refused;
             }
             wait(cycle);
         }
@@ -36,7 +39,7 @@ struct BenchDriver : sc_core::sc_module {
 };
 } // namespace
 
-void add_bench_motion(CLI::App& bench) {
+void register_bench_motion(CLI::App& bench) {
     auto* cmd = bench.add_subcommand("motion", "4 axes moving continuously, 1 ms control cycle");
     auto seconds = std::make_shared<double>(60.0);
     cmd->add_option("--seconds", *seconds, "simulated seconds")->check(CLI::Range(0.001, 36000.0));
@@ -46,13 +49,16 @@ void add_bench_motion(CLI::App& bench) {
         const auto t0 = std::chrono::steady_clock::now(); // wall clock for the report only
         sc_core::sc_start();
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("bench motion: %.0f s simulated, 4 axes, 1 ms cycle, %llu moves, %zu samples: %.3f s wall "
+        std::printf("bench motion: %.0f s simulated, 4 axes, 1 ms cycle, %llu moves (%llu refused), %zu samples: %.3f s wall "
                     "(%.1fx real time)\n",
-                    *seconds, static_cast<unsigned long long>(drv.moves), mc.recorder().samples().size(), wall,
+                    *seconds, static_cast<unsigned long long>(drv.moves),
+                    static_cast<unsigned long long>(drv.refused), mc.recorder().samples().size(), wall,
                     *seconds / wall);
     });
 }
 
 } // namespace rcsim::motion
 
-void add_bench_motion(CLI::App& bench) { rcsim::motion::add_bench_motion(bench); }
+namespace rcsim {
+void add_bench_motion(CLI::App& bench) { motion::register_bench_motion(bench); }
+} // namespace rcsim

@@ -137,10 +137,10 @@ MotionReply MotionController::fb_reply(std::uint16_t e) const {
 }
 
 template <typename Fb> MotionReply MotionController::execute_now(Fb& fb) {
-    if (fb.Execute) { // a previous command on this block: a new rising edge
-        fb.Execute = false;
-        fb.call();
-    }
+    // A falling edge first: a previous command on this block (or one just released whose block
+    // has not yet been called with Execute low) must not swallow the new rising edge.
+    fb.Execute = false;
+    fb.call();
     fb.Execute = true;
     fb.call();
     if (fb.Error) {

@@ -85,10 +85,8 @@ BufferMode buffer_of(Fields& f) {
 
 /// Sets a block's inputs and raises Execute (a new edge if it was already high).
 template <typename Fb> void trigger(MotionController& mc, Fb& fb) {
-    if (fb.Execute) {
-        fb.Execute = false;
-        fb.call();
-    }
+    fb.Execute = false; // a falling edge first, so that Execute rises again
+    fb.call();
     fb.Execute = true;
     mc.auto_release(fb);
 }

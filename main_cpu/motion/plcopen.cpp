@@ -278,6 +278,7 @@ void MC_Power::call() {
     Cia402Drive& d = Axis->drive();
     QiMotionApi& api = Axis->api();
     const int ax = static_cast<int>(Axis->index());
+    Axis->set_power_enable(Enable);
     if (!Enable) {
         if (Status || Valid) {
             api.SignalServoOn(ax, 0);
@@ -347,16 +348,12 @@ void MC_Reset::running() {
         phase_ = 2;
         break;
     default:
-        // Wait until MC_Power has the drive enabled again (or stays off), then leave ErrorStop.
-        if (d.state() == Cia402State::operation_enabled || !Axis->powered() ||
-            d.state() == Cia402State::switch_on_disabled) {
-            if (Axis->state() == AxisState::error_stop &&
-                (d.state() == Cia402State::operation_enabled || d.state() == Cia402State::switch_on_disabled)) {
-                if (d.state() == Cia402State::switch_on_disabled) Axis->set_power(false);
-                Axis->reset_error();
-            }
-            if (Axis->state() != AxisState::error_stop) job_->status = Job::Status::done;
-        }
+        // Note 4: with MC_Power.Enable the axis returns to Standstill once MC_Power has the drive
+        // in Operation enabled again; Note 3: without it, to Disabled at once.
+        if (Axis->power_enable() && d.state() != Cia402State::operation_enabled) return;
+        Axis->set_power(Axis->power_enable() && d.state() == Cia402State::operation_enabled);
+        Axis->reset_error();
+        job_->status = Job::Status::done;
     }
 }
 

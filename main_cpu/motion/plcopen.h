@@ -80,6 +80,9 @@ public:
     void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
     void enter_error(std::uint16_t id);
     bool stop_pending() const { return stop_held_; }
+    /// MC_Power.Enable as last seen (MC_Reset decides between Notes 3 and 4 with it).
+    void set_power_enable(bool e) { power_enable_ = e; }
+    bool power_enable() const { return power_enable_; }
 
 private:
     unsigned index_;
@@ -87,7 +90,7 @@ private:
     Cia402Drive& drive_;
     AxisState state_ = AxisState::disabled;
     std::uint16_t error_id_ = 0;
-    bool powered_ = false, stop_held_ = false;
+    bool powered_ = false, stop_held_ = false, power_enable_ = false;
     std::shared_ptr<Job> active_, queued_;
 
     void finish_job(Job::Status st, std::uint16_t id = 0);

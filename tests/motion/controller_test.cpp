@@ -39,6 +39,19 @@ TEST(MotionController, TokensMoveAndReportWithBchCodes) {
     });
 }
 
+TEST(MotionController, ConsecutiveTokensOnOneBlockEachMove) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        for (int target : {4000, -2000, 1000}) {
+            ASSERT_EQ(b.mc.command("MA", "0," + std::to_string(target) + ",30000,200000,200000").bch, 0x00);
+            b.cycles(1);
+            EXPECT_EQ(b.mc.axis(0).state(), AxisState::discrete_motion) << target;
+            b.until([&] { return b.mc.axis(0).state() == AxisState::standstill; });
+            EXPECT_EQ(b.mc.chip().command_position(0), target);
+        }
+    });
+}
+
 TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     const std::string file = std::string(RCSIM_SOURCE_DIR) + "/scenarios/xy_plotter_circle.yaml";
     const YAML::Node root = YAML::LoadFile(file);

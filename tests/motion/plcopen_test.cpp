@@ -133,7 +133,7 @@ TEST(PLCopen, StopHoldsStoppingAndRejectsMotionWhileExecute) {
         MC_Stop& s = b.mc.blocks(1).stop;
         s.Deceleration = 400000;
         s.Execute = true;
-        b.cycles(1);
+        b.cycles(2); // the move's block runs before the stop's in a cycle: it sees it next cycle
         EXPECT_TRUE(m.CommandAborted);
         EXPECT_EQ(b.mc.axis(1).state(), AxisState::stopping);
         MC_MoveRelative r;
