@@ -25,8 +25,13 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+SST_DIR ?= $(if $(RCSIM_SST_DIR),$(RCSIM_SST_DIR),../shared/sst8086/v1)
+
 bench: build
-	$(BUILD)/rcsim bench all
+	$(BUILD)/rcsim bench cpu $(if $(wildcard $(SST_DIR)),--sst $(SST_DIR))
+	$(BUILD)/rcsim bench serial
+	$(BUILD)/rcsim bench motion
+	$(BUILD)/rcsim bench system
 
 clean:
 	rm -rf $(BUILD)
