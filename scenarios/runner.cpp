@@ -3,6 +3,8 @@
 #include "models/config_error.h"
 #include "models/interrupt_probe.h"
 #include "models/stats.h"
+#include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/motion/motion_scenario.h"
 
 #include <algorithm>
 #include <chrono>
@@ -56,6 +58,7 @@ public:
     std::array<std::vector<sc_time>, kPorts> char_reads;
     std::array<Samples, kPorts> char_latency_us;
     std::vector<DpramChunk> chunks;
+    std::unique_ptr<motion::MotionController> motion;
 
     SC_HAS_PROCESS(Bench);
     Bench(sc_core::sc_module_name name, const Scenario& s)
@@ -71,6 +74,10 @@ public:
                 char_reads[p].push_back(c.read);
                 char_latency_us[p].add(to_us(c.read - c.stop));
             };
+        }
+        if (s.main_motion) {
+            motion = std::make_unique<motion::MotionController>("motion");
+            ctl.set_motion(motion.get());
         }
         probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
         SC_THREAD(inject_breaks);
@@ -278,8 +285,41 @@ double default_budget_us(const Scenario& s) {
 
 } // namespace
 
+/// A scenario with a `motion:` section: the motion side alone (main_cpu/motion, docs/motion.md).
+int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
+    const std::filesystem::path out = opt.out_dir.empty() ? std::filesystem::path(".") : std::filesystem::path(opt.out_dir);
+    const auto wall0 = std::chrono::steady_clock::now();
+    nlohmann::json motion_report;
+    const int rc = run_motion_scenario(s.root, s.file, out, s.seed, motion_report);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    if (rc == 2) throw ConfigError(s.file, 0, motion_report.value("error", std::string("bad motion section")));
+    const double sim_s = sc_core::sc_time_stamp().to_seconds();
+    report = nlohmann::json::object();
+    report["scenario"] = s.name;
+    report["seed"] = s.seed;
+    report["sim_time_s"] = sim_s;
+    report["wall_time_s"] = opt.reproducible ? 0.0 : wall;
+    report["rtf"] = opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall;
+    const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
+    if (opt.reproducible) {
+        // Output paths depend on where the run was started: keep the file names only.
+        nlohmann::json clean = m;
+        for (const char* k : {"trajectory_csv", "trajectory_svg"})
+            if (clean.contains(k)) clean[k] = std::filesystem::path(clean[k].get<std::string>()).filename().string();
+        report["motion"] = clean;
+    } else {
+        report["motion"] = m;
+    }
+    report["checks"] = nlohmann::json::array();
+    for (const auto& c : m.value("checks", nlohmann::json::array())) report["checks"].push_back(c);
+    report["passed"] = rc == 0;
+    if (!opt.out_dir.empty()) std::ofstream(out / "report.json") << report.dump(2) << "\n";
+    return rc;
+}
+
 int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.seed) s.seed = *opt.seed;
+    if (s.has_motion) return run_motion_only(s, opt, report);
     for (unsigned p = 0; p < kPorts; ++p) s.ports[p].protocol.traffic.seed = s.seed * 1000 + p;
     std::string rom = opt.rom ? *opt.rom : s.rom;
     if (rom.empty()) rom = RCSIM_COMM_FW_ROM;
@@ -343,6 +383,15 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     }
     report["main_cpu"] = bench.ctl.main.report();
     report["dpram"] = {{"collisions", bench.ctl.dpram.collisions()}};
+    if (bench.motion) {
+        report["motion"] = {{"state", bench.motion->state()}, {"positions", bench.motion->positions()},
+                            {"samples", bench.motion->recorder().samples().size()}};
+        if (!opt.out_dir.empty()) {
+            const std::filesystem::path out = opt.out_dir;
+            bench.motion->recorder().write_csv(out / "trajectory.csv");
+            bench.motion->recorder().write_svg(out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
+        }
+    }
 
     const CheckLimits& L = s.checks;
     // A character may wait in the 4-byte RX FIFO: it is lost only when its read comes later than
@@ -374,7 +423,27 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     return passed ? 0 : 1;
 }
 
+namespace {
+void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
+    const auto& m = r["motion"];
+    os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
+       << r["sim_time_s"].get<double>() << " s";
+    if (r["wall_time_s"].get<double>() > 0)
+        os << " in " << r["wall_time_s"].get<double>() << " s wall (" << r["rtf"].get<double>() << "x real time)";
+    os << "\nmotion state " << m.value("state", std::string("?"));
+    if (m.contains("final_cmd_pulses")) os << ", final command " << m["final_cmd_pulses"].dump();
+    if (m.contains("final_act_pulses")) os << ", final actual " << m["final_act_pulses"].dump();
+    if (m.contains("max_following_error_pulses"))
+        os << "\nmax following error " << m["max_following_error_pulses"].get<double>() << " pulses";
+    os << "\n\nchecks\n";
+    for (const auto& c : r["checks"]) os << "  " << c.dump() << "\n";
+    if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
+}
+} // namespace
+
 void print_summary(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("interrupts")) return print_motion_summary(r, os);
     auto f = [](double v, int prec = 1) {
         std::ostringstream s;
         s << std::fixed << std::setprecision(prec) << v;

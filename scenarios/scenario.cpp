@@ -162,7 +162,8 @@ void read_board(YamlMap m, ControllerConfig& b) {
     m.finish();
 }
 
-void read_main_cpu(YamlMap m, MainCpuConfig& c) {
+void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion) {
+    motion = m.get<bool>("motion", false);
     c.bus_clock_hz = static_cast<std::uint64_t>(m.number("bus_clock_hz", static_cast<double>(c.bus_clock_hz), 1e5, 1e9));
     c.irq_entry = us_value(m, "irq_entry_us", to_us(c.irq_entry));
     c.command_time = us_value(m, "command_time_us", to_us(c.command_time));
@@ -205,7 +206,7 @@ Scenario load_scenario(const std::string& path) {
     }
     s.budget_us = top.number("budget_us", -1, -1, 1e9);
     read_board(top.map("board"), s.board);
-    read_main_cpu(top.map("main_cpu"), s.board.main);
+    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion);
     read_checks(top.map("checks"), s.checks);
     if (top.has("ports")) {
         YAML::Node ports = top.child("ports");
@@ -216,6 +217,9 @@ Scenario load_scenario(const std::string& path) {
     }
     s.has_motion = top.has("motion");
     top.child("motion"); // read by the motion layer
+    if (s.has_motion && top.has("ports"))
+        top.fail(top.child("motion"), "a 'motion' section runs the motion side alone; with 'ports' use "
+                                      "'main_cpu: {motion: true}' and motion tokens from the hosts");
     top.finish();
     return s;
 }

@@ -57,7 +57,8 @@ struct Scenario {
     std::vector<PortScenario> ports{3};
     CheckLimits checks;
     YAML::Node root;  // the whole document, for the motion section
-    bool has_motion = false;
+    bool has_motion = false;   // a `motion:` section: a motion-only run (docs/motion.md)
+    bool main_motion = false;  // main_cpu.motion: the motion layer in the main board's slot
 };
 
 /// Reads and validates a scenario file. Throws ConfigError naming file and line.
