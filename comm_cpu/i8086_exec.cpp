@@ -117,10 +117,13 @@ void Cpu::string_op(std::uint8_t op) {
     const bool word = op & 1;
     const std::uint16_t step = get_flag(flag::DF) ? std::uint16_t(word ? -2 : -1) : std::uint16_t(word ? 2 : 1);
     const int src_seg = data_seg(DS);
+    // Element timings measured on the P80C86A-2 (clocks counted from the end of the
+    // previous step; a read returns in its T4 clock, a write that is not the last one too).
     auto one = [&](bool last) -> bool {
         switch (op) {
         case 0xA4:
         case 0xA5: { // MOVS
+            // Not covered by the v1 suite (no A4/A5 files): the earlier estimate is kept.
             const std::uint16_t v = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
             clks(1);
             if (word) write16(ES, r_.r[DI], v, last);
@@ -131,10 +134,11 @@ void Cpu::string_op(std::uint8_t op) {
         }
         case 0xA6:
         case 0xA7: { // CMPS
+            clks(1);
             const std::uint16_t a = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
             clks(2);
             const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
-            clks(3);
+            clks(last ? 4 : 4);
             alu(7, a, b, word);
             r_.r[SI] += step;
             r_.r[DI] += step;
@@ -143,23 +147,25 @@ void Cpu::string_op(std::uint8_t op) {
         case 0xAA:
         case 0xAB: // STOS
             clks(1);
-            if (word) write16(ES, r_.r[DI], r_.r[AX], last);
-            else write8(ES, r_.r[DI], reg8(0), last);
+            if (word) write16(ES, r_.r[DI], r_.r[AX], false);
+            else write8(ES, r_.r[DI], reg8(0), false);
+            clks(last ? 2 : 2);
             r_.r[DI] += step;
             return true;
         case 0xAC:
         case 0xAD: { // LODS
+            clks(1);
             const std::uint16_t v = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
             if (word) r_.r[AX] = v;
             else set_reg8(0, std::uint8_t(v));
             r_.r[SI] += step;
-            clks(2);
+            clks(last ? 3 : 3);
             return true;
         }
         default: { // SCAS
-            clks(1);
-            const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
             clks(3);
+            const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
+            clks(last ? 4 : 4);
             alu(7, word ? r_.r[AX] : reg8(0), b, word);
             r_.r[DI] += step;
             return true;
@@ -171,17 +177,34 @@ void Cpu::string_op(std::uint8_t op) {
         one(true);
         return;
     }
-    if (!rep_suspended_) clks(1);
+    // REP timings measured on the P80C86A-2: a 4-clock prologue (CX tested in the fifth), a
+    // first-element set-up, a per-element loop overhead when the run continues and one clock
+    // when it ends.
+    const bool lods_cmps = op == 0xAC || op == 0xAD || op == 0xA6 || op == 0xA7;
+    const bool scas = op == 0xAE || op == 0xAF;
+    const unsigned overhead = lods_cmps ? 3 : scas ? 2 : 1;
+    const unsigned setup = (op == 0xA6 || op == 0xA7) ? 4 : 3;
+    bool first = !rep_suspended_;
+    if (first) clks(4);
+    else clks(overhead); // resuming a parked run: the overhead of the element boundary
     rep_suspended_ = false;
     for (;;) {
         if (r_.r[CX] == 0) {
             clks(1);
             return;
         }
+        if (first) clks(setup);
+        first = false;
         one(false);
         r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
-        if (compare && (get_flag(flag::ZF) != (rep_ == 0xF3))) return;
-        if (r_.r[CX] == 0) return;
+        if (compare && (get_flag(flag::ZF) != (rep_ == 0xF3))) {
+            clk();
+            return;
+        }
+        if (r_.r[CX] == 0) {
+            clks(op == 0xAA || op == 0xAB ? 1 : (op == 0xAC || op == 0xAD) ? 3 : scas ? 3 : 2);
+            return;
+        }
         // Interruptible between elements: IP goes back to the last prefix, so only that
         // prefix is seen again when the handler returns (the 8086 multiple-prefix bug).
         if (nmi_pending_ || (intr_ && get_flag(flag::IF))) {
@@ -194,7 +217,7 @@ void Cpu::string_op(std::uint8_t op) {
             rep_suspended_ = true;
             return;
         }
-        clks(1);
+        clks(overhead);
     }
 }
 
@@ -209,7 +232,7 @@ void Cpu::execute(std::uint8_t op) {
             clks(1);
             if (f != 7) rm_write8(r);
         } else {
-            clks(f == 7 ? 1 : 5);
+            clks(f == 7 ? 3 : 5);
             if (f != 7) rm_write8(r);
         }
         break;
@@ -222,7 +245,7 @@ void Cpu::execute(std::uint8_t op) {
             clks(1);
             if (f != 7) rm_write16(r);
         } else {
-            clks(f == 7 ? 1 : 5);
+            clks(f == 7 ? 3 : 5);
             if (f != 7) rm_write16(r);
         }
         break;
