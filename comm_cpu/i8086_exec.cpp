@@ -534,20 +534,25 @@ void Cpu::execute(std::uint8_t op) {
             cs = pop();
         }
         r_.r[SP] = std::uint16_t(r_.r[SP] + n);
-        clks(1);
+        clks(2);
         jump_far(cs, ip);
         clks(2);
         break;
     }
     case 0xC1: case 0xC3: case 0xC9: case 0xCB: {
-        suspend_fetch();
-        const std::uint16_t ip = pop();
-        std::uint16_t cs = r_.s[CS];
-        if (op & 8) {
-            clks(1);
-            cs = pop();
+        if (op & 8) { // RETF: prefetching goes on until IP has been read
+            clks(2);
+            const std::uint16_t ip = pop();
+            suspend_fetch();
+            clks(3);
+            const std::uint16_t cs = pop();
+            jump_far(cs, ip);
+        } else {
+            suspend_fetch();
+            const std::uint16_t ip = pop();
+            clk();
+            jump_near(ip);
         }
-        jump_far(cs, ip);
         clks(2);
         break;
     }
@@ -696,12 +701,9 @@ void Cpu::execute(std::uint8_t op) {
 
     case 0xE8: {
         const std::uint16_t d = imm16();
-        suspend_fetch();
-        clks(2);
         const std::uint16_t ret = r_.ip;
-        r_.ip = std::uint16_t(r_.ip + d);
-        flush_queue();
-        clks(1);
+        reljmp(std::uint16_t(r_.ip + d));
+        clks(2);
         push(ret, true);
         break;
     }
