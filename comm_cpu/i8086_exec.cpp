@@ -525,16 +525,16 @@ void Cpu::execute(std::uint8_t op) {
     // ---- returns (C0/C1 alias C2/C3, C8/C9 alias CA/CB) ----
     case 0xC0: case 0xC2: case 0xC8: case 0xCA: {
         const std::uint16_t n = imm16();
-        suspend_fetch();
         clks(1);
         const std::uint16_t ip = pop();
+        suspend_fetch();
         std::uint16_t cs = r_.s[CS];
         if (op & 8) {
-            clks(1);
+            clks(3);
             cs = pop();
         }
         r_.r[SP] = std::uint16_t(r_.r[SP] + n);
-        clks(2);
+        clks((op & 8) ? 0 : 2);
         jump_far(cs, ip);
         clks(2);
         break;
