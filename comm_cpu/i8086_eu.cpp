@@ -307,25 +307,28 @@ void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
         vector = std::uint8_t(eu_bus(Bus::int_ack, SegStatus::none, 0, 0, 1, false));
         clks(1);
     }
-    suspend_fetch();
-    clks(1);
+    // From SUSP on (measured on the P80C86A-2 for INT n): two clocks, read IP, one clock,
+    // read CS, two clocks, push FLAGS, four clocks, push CS, three clocks, flush (reported in
+    // the next clock), two clocks, push IP.
+    susp(); // a prefetch in progress completes first
+    clks(2);
     const std::uint32_t ivt = std::uint32_t(vector) * 4;
     const std::uint16_t new_ip = eu_bus(Bus::mem_read, SegStatus::none, ivt, 0, 2, false);
     clks(1);
     const std::uint16_t new_cs = eu_bus(Bus::mem_read, SegStatus::none, ivt + 2, 0, 2, false);
-    clks(1);
+    clks(2);
     const std::uint16_t old_flags = r_.flags;
     set_flag(flag::IF, false);
     set_flag(flag::TF, false);
     push(old_flags);
-    clks(1);
+    clks(4);
     push(r_.s[CS]);
+    clks(3);
     const std::uint16_t ret = r_.ip;
     r_.s[CS] = new_cs;
     r_.ip = new_ip;
-    clks(2);
     flush_queue();
-    clks(1);
+    clks(3);
     push(ret, true);
     halted_ = false;
 }

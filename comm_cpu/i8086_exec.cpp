@@ -467,14 +467,16 @@ void Cpu::execute(std::uint8_t op) {
     case 0x9A: {
         const std::uint16_t ip = imm16();
         const std::uint16_t cs = imm16();
-        suspend_fetch();
+        clk();
+        susp();
         clks(2);
         push(r_.s[CS]);
+        clks(3);
         const std::uint16_t ret = r_.ip;
         r_.s[CS] = cs;
         r_.ip = ip;
-        clks(3);
         flush_queue();
+        clks(3);
         push(ret, true);
         break;
     }
@@ -586,30 +588,31 @@ void Cpu::execute(std::uint8_t op) {
 
     // ---- interrupts ----
     case 0xCC:
-        clks(1);
+        clks(4);
         interrupt(3);
         break;
     case 0xCD: {
         const std::uint8_t v = imm8();
-        clks(1);
+        clks(2);
         interrupt(v);
         break;
     }
     case 0xCE:
         if (get_flag(flag::OF)) {
-            clks(2);
+            clks(5);
             interrupt(4);
         } else {
-            clks(1);
+            clks(2);
         }
         break;
     case 0xCF: {
-        suspend_fetch();
+        clks(2);
         const std::uint16_t ip = pop();
-        clks(1);
+        suspend_fetch();
+        clks(3);
         const std::uint16_t cs = pop();
         jump_far(cs, ip);
-        clks(1);
+        clks(2);
         r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
         break;
     }
