@@ -695,10 +695,10 @@ void Cpu::execute(std::uint8_t op) {
     }
     case 0xE4: { const std::uint8_t p = imm8(); clks(1); set_reg8(0, std::uint8_t(in(p, false))); break; }
     case 0xE5: { const std::uint8_t p = imm8(); clks(1); r_.r[AX] = in(p, true); break; }
-    case 0xE6: { const std::uint8_t p = imm8(); clks(1); out(p, reg8(0), false, true); break; }
-    case 0xE7: { const std::uint8_t p = imm8(); clks(1); out(p, r_.r[AX], true, true); break; }
-    case 0xEC: clks(1); set_reg8(0, std::uint8_t(in(r_.r[DX], false))); break;
-    case 0xED: clks(1); r_.r[AX] = in(r_.r[DX], true); break;
+    case 0xE6: { const std::uint8_t p = imm8(); clks(2); out(p, reg8(0), false, true); break; }
+    case 0xE7: { const std::uint8_t p = imm8(); clks(2); out(p, r_.r[AX], true, true); break; }
+    case 0xEC: set_reg8(0, std::uint8_t(in(r_.r[DX], false))); break;
+    case 0xED: r_.r[AX] = in(r_.r[DX], true); break;
     case 0xEE: clks(1); out(r_.r[DX], reg8(0), false, true); break;
     case 0xEF: clks(1); out(r_.r[DX], r_.r[AX], true, true); break;
 
@@ -756,20 +756,22 @@ void Cpu::execute(std::uint8_t op) {
         case 1:
             if (!word) {
                 const std::uint8_t a = rm_read8();
+                clks(mod_ != 3 ? 2 : 1);
                 alu(4, a, imm8(), false);
             } else {
                 const std::uint16_t a = rm_read16();
+                clks(mod_ != 3 ? 2 : 1);
                 alu(4, a, imm16(), true);
             }
-            clks(1);
+            clks(mod_ != 3 ? 2 : 1);
             break;
         case 2:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 2); rm_write8(std::uint8_t(~a)); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 2); rm_write16(std::uint16_t(~a)); }
+            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 4); rm_write8(std::uint8_t(~a)); }
+            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 4); rm_write16(std::uint16_t(~a)); }
             break;
         case 3:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 2); rm_write8(std::uint8_t(alu(5, 0, a, false))); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 2); rm_write16(alu(5, 0, a, true)); }
+            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 4); rm_write8(std::uint8_t(alu(5, 0, a, false))); }
+            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 4); rm_write16(alu(5, 0, a, true)); }
             break;
         default:
             if (reg_ >= 6) {
@@ -793,25 +795,31 @@ void Cpu::execute(std::uint8_t op) {
                 const std::uint8_t a = rm_read8();
                 const std::uint8_t r = std::uint8_t(alu(reg_ ? 5 : 0, a, 1, false));
                 set_flag(flag::CF, cf);
-                clks(mod_ == 3 ? 0 : 2);
+                clks(mod_ == 3 ? 1 : 4);
                 rm_write8(r);
             } else {
                 const std::uint16_t a = rm_read16();
                 const std::uint16_t r = alu(reg_ ? 5 : 0, a, 1, true);
                 set_flag(flag::CF, cf);
-                clks(mod_ == 3 ? 0 : 2);
+                clks(mod_ == 3 ? 1 : 4);
                 rm_write16(r);
             }
             break;
         }
         case 2: { // CALL near r/m
             const std::uint16_t t = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            suspend_fetch();
-            clks(2);
+            if (mod_ == 3) {
+                clk();
+                susp();
+            } else {
+                clks(2);
+                susp();
+            }
+            clks(3);
             const std::uint16_t ret = r_.ip;
             r_.ip = t;
             flush_queue();
-            clks(1);
+            clks(3);
             push(ret, true);
             break;
         }
@@ -831,8 +839,13 @@ void Cpu::execute(std::uint8_t op) {
         }
         case 4: { // JMP near r/m
             const std::uint16_t t = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            suspend_fetch();
-            clks(1);
+            if (mod_ == 3) {
+                clk();
+                susp();
+            } else {
+                clks(2); // a prefetch may still start after the operand read
+                susp();
+            }
             jump_near(t);
             clks(1);
             break;
