@@ -185,13 +185,13 @@ Outcome Dispatcher::emergency_stop(const std::string& data) {
     if (!motion_)
         return refuse(bch::not_allowed, "ES: no motion interface, only the program was halted");
     const MotionReply r = motion_->command("ES", data);
-    return Outcome{r.bch, r.data, r.bch == bch::ok ? "" : "ES: the motion layer answered " + frame::hex2(r.bch)};
+    return Outcome{r.bch, r.data, r.bch == bch::ok ? "" : "ES: the motion layer answered " + proto::hex2(r.bch)};
 }
 
 Outcome Dispatcher::motion_command(const std::string& token, const std::string& data) {
     if (!motion_) return refuse(bch::not_allowed, token + ": no motion interface");
     const MotionReply r = motion_->command(token, data);
-    return Outcome{r.bch, r.data, r.bch == bch::ok ? "" : token + ": the motion layer answered " + frame::hex2(r.bch)};
+    return Outcome{r.bch, r.data, r.bch == bch::ok ? "" : token + ": the motion layer answered " + proto::hex2(r.bch)};
 }
 
 } // namespace rcsim

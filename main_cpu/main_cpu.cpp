@@ -150,7 +150,7 @@ void MainCpu::handle_word(std::uint8_t word) {
     const std::uint8_t kind = word_kind(word);
     if (p >= ports || kind < kind_chunk || kind > kind_reset) {
         ++unknown_words_;
-        log("ignored mailbox word 0x" + frame::hex2(word) + " (not 0x1p/0x2p/0x3p with p 0..2)");
+        log("ignored mailbox word 0x" + proto::hex2(word) + " (not 0x1p/0x2p/0x3p with p 0..2)");
         return;
     }
     Port& port = ports_[p];
@@ -182,10 +182,10 @@ void MainCpu::receive_chunk(unsigned p) {
     for (unsigned i = 0; i < chunk_size && !last; ++i) {
         const std::uint8_t b = read_byte(data_addr(p) + i, config_.copy_loop_cycles);
         chunk += char(b);
-        last = b == frame::ETX;
+        last = b == proto::ETX;
     }
     ++port.stats.chunks_received;
-    if (!port.rx_overflow && port.rx.size() + chunk.size() > frame::max_frame) {
+    if (!port.rx_overflow && port.rx.size() + chunk.size() > proto::max_frame) {
         port.rx_overflow = true; // keep ACKing until ETX so the comm CPU is not left hanging
         port.rx.clear();
     }
@@ -198,11 +198,11 @@ void MainCpu::receive_chunk(unsigned p) {
 void MainCpu::finish_frame(unsigned p) {
     Port& port = ports_[p];
     std::string reason;
-    frame::Frame f;
+    proto::Frame f;
     if (port.rx_overflow)
-        reason = "frame longer than " + std::to_string(frame::max_frame) + " bytes";
+        reason = "frame longer than " + std::to_string(proto::max_frame) + " bytes";
     else
-        reason = frame::decode(port.rx, f);
+        reason = proto::decode(port.rx, f);
     if (!reason.empty()) {
         ++port.stats.malformed;
         malformed_.push_back(MalformedRecord{p, sc_time_stamp(), reason});
@@ -240,24 +240,24 @@ void MainCpu::dispatch_thread() {
         cpu_.release();
         if (!o.note.empty()) log(port_text(r.port) + ": " + o.note);
         try {
-            enqueue(r.port, frame::Frame{r.frame.token, o.bch, o.data});
+            enqueue(r.port, proto::Frame{r.frame.token, o.bch, o.data});
         } catch (const std::invalid_argument& e) {
             // Only a motion layer can produce such data; answer "bad data" rather than send junk.
             log(port_text(r.port) + ": " + r.frame.token + " response not sendable: " + e.what());
-            enqueue(r.port, frame::Frame{r.frame.token, bch::bad_data, ""});
+            enqueue(r.port, proto::Frame{r.frame.token, bch::bad_data, ""});
         }
     }
 }
 
-void MainCpu::enqueue(unsigned p, const frame::Frame& f) {
-    Outgoing out{frame::encode(f), FrameRecord{p, sc_core::SC_ZERO_TIME, f.token, f.bch, f.data}};
+void MainCpu::enqueue(unsigned p, const proto::Frame& f) {
+    Outgoing out{proto::encode(f), FrameRecord{p, sc_core::SC_ZERO_TIME, f.token, f.bch, f.data}};
     ports_[p].queue.push_back(std::move(out));
     ports_[p].wake.notify(sc_core::SC_ZERO_TIME);
 }
 
 void MainCpu::send(unsigned port, const std::string& token, const std::string& data, std::uint8_t status) {
     check_port(port, "send");
-    enqueue(port, frame::Frame{token, status, data});
+    enqueue(port, proto::Frame{token, status, data});
 }
 
 void MainCpu::request_port_reset(unsigned port) {

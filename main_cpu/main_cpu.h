@@ -13,7 +13,7 @@
 
 #include "main_cpu/dispatcher.h"
 #include "main_cpu/dpram_layout.h"
-#include "main_cpu/frame.h"
+#include "scenarios/host/frame_codec.h"
 #include "main_cpu/motion_interface.h"
 #include "main_cpu/processor.h"
 #include "models/bus.h"
@@ -152,7 +152,7 @@ private:
     };
     struct Received {
         unsigned port;
-        frame::Frame frame;
+        proto::Frame frame;
     };
 
     // processes
@@ -176,7 +176,7 @@ private:
     enum class AckResult { acked, reset, timeout };
     AckResult wait_ack(unsigned p, std::uint64_t epoch);
     void send_reset(unsigned p, bool release_area);
-    void enqueue(unsigned p, const frame::Frame& f);
+    void enqueue(unsigned p, const proto::Frame& f);
 
     // bus
     std::uint8_t read_byte(std::uint16_t addr, unsigned extra_cycles = 0);

@@ -17,6 +17,8 @@ namespace rcsim::proto {
 
 constexpr std::uint8_t SOH = 0x01, STX = 0x02, ETX = 0x03, EOT = 0x04, ENQ = 0x05, ACK = 0x06, NAK = 0x15;
 constexpr std::size_t max_data = 8192;
+constexpr std::size_t overhead = 9;                     // SOH T1 T2 STX B1 B2 C1 C2 ETX
+constexpr std::size_t max_frame = max_data + overhead;
 
 struct Frame {
     std::string token; // two printable characters

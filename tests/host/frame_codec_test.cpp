@@ -6,6 +6,7 @@
 #include <functional>
 #include <stdexcept>
 
+using namespace rcsim;
 using namespace rcsim::proto;
 
 namespace {
@@ -80,4 +81,90 @@ TEST(FrameCodec, EscapesAndUnescapes) {
     EXPECT_NE(error_of([] { unescape("\\q"); }).find("'\\q' at offset 0"), std::string::npos);
     EXPECT_NE(error_of([] { unescape("x\\"); }).find("offset 1"), std::string::npos);
     EXPECT_NE(error_of([] { unescape("\\x4"); }).find("'\\x4'"), std::string::npos);
+}
+
+namespace {
+std::string raw_bytes(std::initializer_list<int> v) {
+    std::string s;
+    for (int c : v) s += char(c);
+    return s;
+}
+} // namespace
+
+// Whole-frame decode (what the main CPU does with a reassembled frame).
+TEST(FrameCodecWhole, EncodesTheDocumentedLayoutWithChecksumFromT1ThroughData) {
+    // Sum of 'E' 'C' STX '0' '0' 'h' 'i' = 0x45+0x43+0x02+0x30+0x30+0x68+0x69 = 0x1BB -> BB.
+    const std::string wire = proto::encode({"EC", 0x00, "hi"});
+    EXPECT_EQ(wire, raw_bytes({0x01, 'E', 'C', 0x02, '0', '0', 'h', 'i', 'B', 'B', 0x03}));
+}
+
+TEST(FrameCodecWhole, DecodesWhatItEncodes) {
+    proto::Frame f;
+    ASSERT_EQ(proto::decode(proto::encode({"PW", 0x2A, "12,-7"}), f), "");
+    EXPECT_EQ(f.token, "PW");
+    EXPECT_EQ(f.bch, 0x2A);
+    EXPECT_EQ(f.data, "12,-7");
+}
+
+TEST(FrameCodecWhole, AcceptsEmptyAndMaximumData) {
+    proto::Frame f;
+    EXPECT_EQ(proto::decode(proto::encode({"ST", 0, ""}), f), "");
+    EXPECT_EQ(f.data, "");
+    const std::string big(proto::max_data, 'x');
+    EXPECT_EQ(proto::decode(proto::encode({"EC", 0, big}), f), "");
+    EXPECT_EQ(f.data.size(), 8192u);
+}
+
+TEST(FrameCodecWhole, RejectsBadChecksumNamingBothValues) {
+    std::string wire = proto::encode({"EC", 0, "hi"});
+    wire[8] = '0'; // BB -> 0B
+    proto::Frame f;
+    const std::string why = proto::decode(wire, f);
+    EXPECT_NE(why.find("0B"), std::string::npos) << why;
+    EXPECT_NE(why.find("BB"), std::string::npos) << why;
+}
+
+TEST(FrameCodecWhole, RejectsStructuralErrors) {
+    proto::Frame f;
+    const std::string good = proto::encode({"EC", 0, "abc"});
+    std::string no_soh = good;
+    no_soh[0] = 'X';
+    EXPECT_NE(proto::decode(no_soh, f).find("SOH"), std::string::npos);
+    std::string no_stx = good;
+    no_stx[3] = 'X';
+    EXPECT_NE(proto::decode(no_stx, f).find("STX"), std::string::npos);
+    EXPECT_NE(proto::decode(good.substr(0, good.size() - 1), f).find("ETX"), std::string::npos);
+    EXPECT_NE(proto::decode(good.substr(0, 5), f).find("ETX"), std::string::npos);
+    EXPECT_NE(proto::decode(raw_bytes({0x01, 'E', 'C', 0x02, '0', '0', '0', 0x03}), f).find("too short"),
+              std::string::npos);
+    std::string lower_bch = good;
+    lower_bch[4] = 'a';
+    EXPECT_NE(proto::decode(lower_bch, f).find("BCH"), std::string::npos);
+}
+
+TEST(FrameCodecWhole, RejectsNonPrintableDataNamingTheByte) {
+    std::string wire = proto::encode({"EC", 0, "abc"});
+    wire[7] = char(0x7F);
+    proto::Frame f;
+    const std::string why = proto::decode(wire, f);
+    EXPECT_NE(why.find("\\x7F"), std::string::npos) << why;
+    EXPECT_NE(why.find("byte 7"), std::string::npos) << why;
+}
+
+TEST(FrameCodecWhole, RejectsOverlongFrame) {
+    proto::Frame f;
+    std::string wire = proto::encode({"EC", 0, std::string(proto::max_data, 'x')});
+    wire.insert(6, "y");
+    EXPECT_NE(proto::decode(wire, f).find("longer than"), std::string::npos);
+}
+
+TEST(FrameCodecWhole, EncodeRejectsBadInputWithOneClearError) {
+    EXPECT_THROW(proto::encode({"E", 0, ""}), std::invalid_argument);
+    EXPECT_THROW(proto::encode({"EC", 0, std::string(8193, 'x')}), std::invalid_argument);
+    try {
+        proto::encode({"EC", 0, std::string("a\tb")});
+        FAIL() << "no exception";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("\\x09"), std::string::npos) << e.what();
+    }
 }

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "main_cpu/dpram_layout.h"
-#include "main_cpu/frame.h"
+#include "scenarios/host/frame_codec.h"
 #include "models/bus.h"
 
 #include <gtest/gtest.h>
@@ -196,7 +196,7 @@ public:
             for (unsigned i = 0; i < dpram_layout::chunk_size && !last; ++i) {
                 const std::uint8_t b = ram_.mem[dpram_layout::data_addr(p) + i];
                 r.bytes += char(b);
-                last = b == frame::ETX;
+                last = b == proto::ETX;
             }
             if (last) ram_.left_write(dpram_layout::pflag_addr(p), dpram_layout::pflag_free);
             post_word(dpram_layout::word(dpram_layout::kind_ack, p));

@@ -47,12 +47,12 @@ struct Bench {
 };
 
 std::string cmd(const std::string& token, const std::string& data) {
-    return frame::encode({token, 0, data});
+    return proto::encode({token, 0, data});
 }
 
-frame::Frame decoded(const std::string& bytes) {
-    frame::Frame f;
-    const std::string why = frame::decode(bytes, f);
+proto::Frame decoded(const std::string& bytes) {
+    proto::Frame f;
+    const std::string why = proto::decode(bytes, f);
     EXPECT_EQ(why, "");
     return f;
 }
@@ -93,7 +93,7 @@ TEST(MainCpu, EchoResponseComesBackThroughDpramWithPflagAndMailboxSequence) {
         got = c.receive_frame(2);
     };
     sc_core::sc_start(ms(5));
-    EXPECT_EQ(got.bytes, frame::encode({"EC", bch::ok, "ping 42"}));
+    EXPECT_EQ(got.bytes, proto::encode({"EC", bch::ok, "ping 42"}));
     EXPECT_EQ(got.chunks, 1u);
     ASSERT_EQ(got.pflag_at_chunk.size(), 1u);
     EXPECT_EQ(got.pflag_at_chunk[0], pflag_rbt_use);
@@ -187,7 +187,7 @@ TEST(MainCpu, UnknownTokenAnswersBch01) {
         got = c.receive_frame(0);
     };
     sc_core::sc_start(ms(5));
-    const frame::Frame f = decoded(got.bytes);
+    const proto::Frame f = decoded(got.bytes);
     EXPECT_EQ(f.token, "QQ");
     EXPECT_EQ(f.bch, bch::unknown_token);
 }
@@ -211,7 +211,7 @@ TEST(MainCpu, MotionTokenWithoutMotionInterfaceAnswersBch04) {
         got = c.receive_frame(1);
     };
     sc_core::sc_start(ms(5));
-    const frame::Frame f = decoded(got.bytes);
+    const proto::Frame f = decoded(got.bytes);
     EXPECT_EQ(f.token, "SV");
     EXPECT_EQ(f.bch, bch::not_allowed);
 }
@@ -229,7 +229,7 @@ TEST(MainCpu, MotionTokenReachesTheMotionInterfaceAndControlCycleRuns) {
     ASSERT_EQ(m.commands.size(), 1u);
     EXPECT_EQ(m.commands[0].first, "MA");
     EXPECT_EQ(m.commands[0].second, "1,1000,50,10,10");
-    const frame::Frame f = decoded(got.bytes);
+    const proto::Frame f = decoded(got.bytes);
     EXPECT_EQ(f.bch, bch::ok);
     EXPECT_EQ(f.data, "accepted");
     // Cycles at 0..5 ms, each at its actual start time.
@@ -251,8 +251,8 @@ TEST(MainCpu, ProgramUploadAndDownloadSpanSeveralChunks) {
         down = c.receive_frame(2, ms(20));
     };
     sc_core::sc_start(ms(40));
-    EXPECT_EQ(up.bytes, frame::encode({"PU", bch::ok, ""}));
-    EXPECT_EQ(down.bytes, frame::encode({"PD", bch::ok, text}));
+    EXPECT_EQ(up.bytes, proto::encode({"PU", bch::ok, ""}));
+    EXPECT_EQ(down.bytes, proto::encode({"PD", bch::ok, text}));
     EXPECT_GE(down.chunks, 3u);
     EXPECT_EQ(b.cpu.dispatcher().programs().at("weld"), text);
 }
@@ -443,7 +443,7 @@ TEST(MainCpu, ControllerInitiatedFrameIsSent) {
     b.comm.script = [&](CommSide& c) { got = c.receive_frame(1); };
     b.cpu.send(1, "ST", "ALARM,3");
     sc_core::sc_start(ms(2));
-    EXPECT_EQ(got.bytes, frame::encode({"ST", 0, "ALARM,3"}));
+    EXPECT_EQ(got.bytes, proto::encode({"ST", 0, "ALARM,3"}));
 }
 
 TEST(MainCpu, SendRejectsBadPortAndBadFrameNamingTheValue) {
@@ -598,7 +598,7 @@ TEST(MainCpu, MailboxHandshakeGivesUpAfterTheTimeoutAndCountsIt) {
     Bench b(c);
     b.ram.mem[int2ext] = 0x55; // a comm CPU that never clears its mailbox
     b.comm.script = [&](CommSide& cs) { cs.post_word(word(kind_chunk, 0)); };
-    b.ram.mem[data_addr(0)] = frame::ETX; // a one-byte (malformed) frame, answered by an ACK
+    b.ram.mem[data_addr(0)] = proto::ETX; // a one-byte (malformed) frame, answered by an ACK
     sc_core::sc_start(ms(5));
     EXPECT_EQ(b.cpu.mailbox_overwrites(), 1u);
     EXPECT_EQ(b.ram.mem[int2ext], word(kind_ack, 0));
@@ -607,7 +607,7 @@ TEST(MainCpu, MailboxHandshakeGivesUpAfterTheTimeoutAndCountsIt) {
 TEST(MainCpu, OverlongFrameIsDrainedAndCountedAsMalformed) {
     Bench b;
     // 8202 bytes without an ETX until the end: one over the limit.
-    std::string huge = cmd("EC", std::string(frame::max_data, 'q'));
+    std::string huge = cmd("EC", std::string(proto::max_data, 'q'));
     huge.insert(6, "q");
     b.comm.script = [&](CommSide& c) { EXPECT_TRUE(c.send_frame(0, huge)); };
     sc_core::sc_start(ms(200));

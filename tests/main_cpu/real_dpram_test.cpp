@@ -83,7 +83,7 @@ struct LeftCpu : sc_core::sc_module {
             for (unsigned i = 0; i < chunk_size && !last; ++i) {
                 const std::uint8_t b = rd(static_cast<std::uint16_t>(data_addr(p) + i));
                 bytes += char(b);
-                last = b == frame::ETX;
+                last = b == proto::ETX;
             }
             if (last) wr(pflag_addr(p), pflag_free);
             post_word(word(kind_ack, p));
@@ -109,8 +109,8 @@ TEST(MainCpuWithIdt7130, FramesCrossBothWaysAndBusyStretchesTheMainCpu) {
     ram.ports[Idt7130::right_port].clock = Clock(cfg.bus_clock_hz).period();
     ram.ports[Idt7130::right_port].cycle_clocks = cfg.access_cycles;
 
-    const std::string a = frame::encode({"EC", 0, std::string(700, 'a')}); // 3 chunks
-    const std::string b = frame::encode({"PW", 0, "7,123"});
+    const std::string a = proto::encode({"EC", 0, std::string(700, 'a')}); // 3 chunks
+    const std::string b = proto::encode({"PW", 0, "7,123"});
     std::string got_a, got_b;
     comm.script = [&](LeftCpu& c) {
         // Port 1's word follows port 0's at once: the second post polls int2rbt back to back
@@ -129,7 +129,7 @@ TEST(MainCpuWithIdt7130, FramesCrossBothWaysAndBusyStretchesTheMainCpu) {
     sc_core::sc_start(ms(40));
 
     EXPECT_EQ(got_a, a);
-    EXPECT_EQ(got_b, frame::encode({"PW", 0, ""}));
+    EXPECT_EQ(got_b, proto::encode({"PW", 0, ""}));
     ASSERT_EQ(cpu.received().size(), 2u);
     EXPECT_EQ(cpu.dispatcher().parameters().at(7), 123);
     EXPECT_EQ(ram.peek(pflag_addr(0)), pflag_free);
