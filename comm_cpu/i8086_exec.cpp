@@ -763,15 +763,15 @@ void Cpu::execute(std::uint8_t op) {
                 clks(mod_ != 3 ? 2 : 1);
                 alu(4, a, imm16(), true);
             }
-            clks(mod_ != 3 ? 2 : 1);
+            clks(mod_ != 3 ? (word ? 1 : 2) : (word ? 0 : 1));
             break;
         case 2:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 4); rm_write8(std::uint8_t(~a)); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 4); rm_write16(std::uint16_t(~a)); }
+            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 1 : 4); rm_write8(std::uint8_t(~a)); }
+            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 1 : 4); rm_write16(std::uint16_t(~a)); }
             break;
         case 3:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 0 : 4); rm_write8(std::uint8_t(alu(5, 0, a, false))); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 0 : 4); rm_write16(alu(5, 0, a, true)); }
+            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 1 : 4); rm_write8(std::uint8_t(alu(5, 0, a, false))); }
+            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 1 : 4); rm_write16(alu(5, 0, a, true)); }
             break;
         default:
             if (reg_ >= 6) {
@@ -861,7 +861,7 @@ void Cpu::execute(std::uint8_t op) {
         }
         default: { // PUSH r/m (7 is an alias)
             const std::uint16_t v = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            clks(2);
+            clks(mod_ == 3 ? 4 : 5);
             r_.r[SP] = std::uint16_t(r_.r[SP] - 2);
             // PUSH SP through r/m pushes the decremented value as well.
             write16(SS, r_.r[SP], (mod_ == 3 && rm_ == SP) ? r_.r[SP] : v, true);
