@@ -44,7 +44,17 @@ struct Uart {
     std::uint16_t bbl = 0, bbh = 0, bal = 0, bah = 0;
     std::deque<std::uint8_t> rx;
     std::deque<std::uint8_t> rx_flags; // RST bits (PE/FE) that come with each character
-    std::vector<std::uint8_t> tx;
+    std::vector<std::uint8_t> tx;        // bytes that left the transmitter (the host has them)
+    std::vector<cycles_t> tx_at;         // when each of them was complete (never cleared)
+    // Transmitter: instantaneous unless tx_char_cycles > 0; then a 4-byte FIFO and a shifter
+    // that takes tx_char_cycles per character.
+    cycles_t tx_char_cycles = 0;
+    std::deque<std::uint8_t> tx_fifo;
+    bool tx_busy = false;
+    std::uint8_t tx_shift = 0;
+    cycles_t tx_done_at = 0;
+    unsigned tx_overflows = 0;
+    std::uint8_t fmd = 0;
     bool timer_armed = false, timer_expired = false;
     cycles_t timer_due = 0;
     unsigned resets = 0, rx_flushes = 0, timer_starts = 0;
@@ -54,7 +64,19 @@ struct Uart {
         if (timer_expired && (ger & 0x20) && (tmie & 0x02)) return 0x0A;
         if (rst && (ger & 0x04)) return 0x06;
         if (!rx.empty() && (ger & 0x01)) return 0x04;
+        if ((ger & 0x02) && tx_fifo.size() <= (fmd & 3u)) return 0x02;
         return 0x01;
+    }
+    void put_tx(std::uint8_t v, cycles_t now) {
+        if (tx_char_cycles == 0) {
+            tx.push_back(v);
+            tx_at.push_back(now);
+        } else if (tx_fifo.size() < 4) {
+            tx_fifo.push_back(v);
+            tick(now);
+        } else {
+            ++tx_overflows;
+        }
     }
     bool irq() const { return !(vector() & 1); }
 
@@ -67,6 +89,8 @@ struct Uart {
     }
     void soft_reset() {
         bank = 0;
+        tx_fifo.clear();
+        fmd = 0;
         lcr = ger = tmie = rst = 0;
         rx.clear();
         rx_flags.clear();
@@ -95,7 +119,7 @@ struct Uart {
                 timer_expired = false;
                 return v;
             }
-            if (r == 4) return 0; // FLR: the transmitter is infinitely fast
+            if (r == 4) return std::uint8_t(tx_fifo.size()); // FLR: TX level in bits 2:0
             if (r == 5) {         // RST: read clears
                 const std::uint8_t v = std::uint8_t(rst | (rx.empty() ? 0 : 1));
                 rst = 0;
@@ -116,7 +140,7 @@ struct Uart {
         case 0x00:
             if (r == 0) {
                 if (dlab()) bal = v;
-                else tx.push_back(v);
+                else put_tx(v, now);
             }
             if (r == 1) {
                 if (dlab()) bah = v;
@@ -126,7 +150,7 @@ struct Uart {
             if (r == 4) mcr = v;
             break;
         case 0x20:
-            if (r == 0) tx.push_back(v);
+            if (r == 0) put_tx(v, now);
             if (r == 3 && (v & 0x02)) { // TMCR STB: load BRGB and start a fresh period
                 timer_armed = true;
                 timer_due = now + period();
@@ -138,6 +162,9 @@ struct Uart {
                 ++rx_flushes;
             }
             if (r == 7 && (v & 0x10)) soft_reset();
+            break;
+        case 0x40:
+            if (r == 1) fmd = v;
             break;
         case 0x60:
             if (r == 0 && dlab()) bbl = v;
@@ -155,6 +182,21 @@ struct Uart {
         if (timer_armed && now >= timer_due) {
             timer_due += period();
             timer_expired = true;
+        }
+        for (;;) {
+            cycles_t start = now;
+            if (tx_busy) {
+                if (now < tx_done_at) break;
+                tx.push_back(tx_shift);
+                tx_at.push_back(tx_done_at);
+                tx_busy = false;
+                start = tx_done_at; // the next character follows back to back
+            }
+            if (tx_fifo.empty()) break;
+            tx_shift = tx_fifo.front();
+            tx_fifo.pop_front();
+            tx_busy = true;
+            tx_done_at = start + tx_char_cycles;
         }
     }
 };

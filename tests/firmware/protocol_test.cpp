@@ -283,6 +283,31 @@ TEST(FirmwareProtocol, ResponseFrameReachesTheHost) {
     EXPECT_EQ(b.var16(fw::data::n_sent, 2), 1u);
 }
 
+TEST(FirmwareProtocol, ResponseLeavesWithoutGapsWhileAChunkIsCopied) {
+    Booted b;
+    const cycles_t char_cycles = 1146 * cycles_per_us;
+    b.uart[0].tx_char_cycles = char_cycles; // a real 9600 bps transmitter with its 4-byte FIFO
+    const std::string f = frame("PD", std::string(300, 'r'));
+    b.main_write_chunk(0, f, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 60));
+    ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+    const std::size_t first = b.uart[0].tx_at.size();
+    b.host_send(0, std::string(1, ACK));
+    // while the frame goes out, the main CPU hands over a full chunk for port 1 (a ~20 ms copy
+    // in the DP-RAM ISR) and port 2 receives a frame
+    b.run_ms(5);
+    b.main_write_chunk(1, std::string(339, 'x'), true);
+    b.host_frame(2, frame("EC", std::string(40, 'e')));
+    ASSERT_TRUE(b.run_until([&] { return b.step(0) == 13; }, 1000));
+    b.run_ms(10);
+    EXPECT_EQ(b.host_take(0), f);
+    EXPECT_EQ(b.uart[0].tx_overflows, 0u);
+    cycles_t worst = 0;
+    for (std::size_t i = first + 1; i < b.uart[0].tx_at.size(); ++i)
+        worst = std::max(worst, b.uart[0].tx_at[i] - b.uart[0].tx_at[i - 1]);
+    EXPECT_EQ(worst, char_cycles) << "characters back to back: the FIFO never ran dry";
+}
+
 TEST(FirmwareProtocol, MultiChunkResponseAndQueuedFramesGoOutInOrder) {
     Booted b;
     const std::string big = frame("PD", std::string(700, 'p'));
