@@ -560,7 +560,7 @@ void Cpu::execute(std::uint8_t op) {
     }
     case 0xC4: case 0xC5: {
         const std::uint16_t off = read16(ea_seg_, ea_);
-        clks(1);
+        clks(4);
         const std::uint16_t seg = read16(ea_seg_, std::uint16_t(ea_ + 2));
         r_.r[reg_] = off;
         r_.s[op == 0xC4 ? ES : DS] = seg;
@@ -825,15 +825,17 @@ void Cpu::execute(std::uint8_t op) {
         }
         case 3: { // CALL far m
             const std::uint16_t ip = read16(ea_seg_, ea_);
+            clks(4);
             const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
             suspend_fetch();
-            clks(2);
+            clks(4);
             push(r_.s[CS]);
+            clks(3);
             const std::uint16_t ret = r_.ip;
             r_.s[CS] = cs;
             r_.ip = ip;
-            clks(2);
             flush_queue();
+            clks(3);
             push(ret, true);
             break;
         }
@@ -852,9 +854,9 @@ void Cpu::execute(std::uint8_t op) {
         }
         case 5: { // JMP far m
             const std::uint16_t ip = read16(ea_seg_, ea_);
+            clks(4);
             const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
             suspend_fetch();
-            clks(1);
             jump_far(cs, ip);
             clks(1);
             break;
