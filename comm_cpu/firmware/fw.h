@@ -148,7 +148,7 @@
 #define MAX_RETRY     3
 #define DP_ACK_MS     1000            /* main CPU must consume a chunk within this */
 #define TXQ           8               /* frames queued per port (power of two) */
-#define MB_WAIT_MS    2               /* wait at most this for the main CPU to empty int2rbt */
+#define MB_WAIT_MS    5               /* wait at most this for the main CPU to empty int2rbt */
 
 /* step[port] -- the paper's program steps */
 #define ST_IDLE       0
