@@ -404,6 +404,61 @@ TEST(FirmwareProtocol, EnqCollisionTheExternalSystemWins) {
     EXPECT_EQ(b.var16(fw::data::n_coll, 0), 1u);
 }
 
+TEST(FirmwareProtocol, CollisionWhileTheAreaIsBusyKeepsOurAttempt) {
+    Booted b;
+    const std::string mine = frame("ST", "1");
+    b.main_write_chunk(0, mine, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 10));
+    ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+    b.dp[339] = 2; // the main CPU has started writing the next frame for port 0
+    b.host_send(0, std::string(1, ENQ));
+    EXPECT_EQ(b.host_take(0), std::string(1, NAK));
+    EXPECT_EQ(b.step(0), 11) << "our ENQ still stands";
+    b.host_send(0, std::string(1, ACK));
+    ASSERT_TRUE(b.run_until([&] { return b.step(0) == 13; }, 50));
+    EXPECT_EQ(b.host_take(0), mine);
+    EXPECT_EQ(b.var16(fw::data::n_coll, 0), 0u);
+}
+
+TEST(FirmwareProtocol, FullTransmitQueueHoldsTheChunkUnacknowledged) {
+    Booted b;
+    // the host does not answer our ENQ yet, so frames pile up: 8 fit, the 9th waits in DP-RAM
+    for (int i = 0; i < 9; ++i) {
+        b.main_write_chunk(0, frame("EC", std::to_string(i)), true);
+        const bool acked = b.run_until([&] { return !b.posted.empty(); }, 5);
+        EXPECT_EQ(acked, i < 8) << i;
+        if (acked) {
+            std::uint8_t w;
+            b.main_take_word(w);
+            EXPECT_EQ(w, 0x20);
+        }
+    }
+    EXPECT_EQ(b.var8(fw::data::tx_have), 8);
+    EXPECT_EQ(b.var8(fw::data::chunk_pending), 1);
+    ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+    b.host_send(0, std::string(1, ACK));
+    ASSERT_TRUE(b.run_until([&] { return b.step(0) == 13; }, 50));
+    EXPECT_EQ(b.host_take(0), frame("EC", "0"));
+    b.host_send(0, std::string(1, EOT));
+    // one frame gone: the waiting chunk is taken and acknowledged
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 10));
+    EXPECT_EQ(b.posted.front(), 0x20);
+    EXPECT_EQ(b.var8(fw::data::chunk_pending), 0);
+    // and all nine frames reach the host in order
+    std::string out;
+    for (int i = 1; i < 9; ++i) {
+        ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 20)) << i;
+        ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
+        b.host_send(0, std::string(1, ACK));
+        ASSERT_TRUE(b.run_until([&] { return b.step(0) == 13; }, 50));
+        out += b.host_take(0);
+        b.host_send(0, std::string(1, EOT));
+    }
+    std::string want;
+    for (int i = 1; i < 9; ++i) want += frame("EC", std::to_string(i));
+    EXPECT_EQ(out, want);
+}
+
 TEST(FirmwareProtocol, PortResetByMailboxWord) {
     Booted b;
     b.host_frame(2, frame("EC", "X").substr(0, 4)); // a frame in progress
