@@ -5,7 +5,22 @@
 // are already decoded (step()) when execute() runs; each case spends the remaining clocks.
 #include "comm_cpu/i8086.h"
 
+#include <cstdlib>
+
 namespace rcsim::i8086 {
+namespace {
+unsigned popcount16(std::uint16_t v) {
+    unsigned n = 0;
+    for (; v; v &= std::uint16_t(v - 1)) ++n;
+    return n;
+}
+// IMUL clocks beyond the base (measured): one per one bit of |multiplicand|, one more when
+// both operands are negative, 11 when only the multiplier (r/m) is negative, 14 when only the
+// accumulator is.
+unsigned imul_extra(bool neg_a, bool neg_s, std::uint16_t abs_a) {
+    return popcount16(abs_a) + (neg_a ? (neg_s ? 1 : 14) : (neg_s ? 11 : 0));
+}
+} // namespace
 
 // MUL/IMUL (F6/F7 /4 and /5).
 void Cpu::grp_muldiv(unsigned op, bool word) {
@@ -18,13 +33,15 @@ void Cpu::grp_muldiv(unsigned op, bool word) {
             bool high;
             if (op == 4) {
                 prod = std::uint16_t(al * src);
-                clks(68);
+                // The multiply loop takes a clock more for every one bit of AL (measured).
+                clks(67 + popcount16(al) + (mod_ != 3 ? 1 : 0));
                 high = prod >> 8;
             } else {
                 int p = int(std::int8_t(al)) * int(std::int8_t(src));
                 if (negate) p = -p;
                 prod = std::uint16_t(p);
-                clks(78);
+                clks(77 + imul_extra(al & 0x80, src & 0x80, std::uint16_t(std::abs(int(std::int8_t(al))))) +
+                     (mod_ != 3 ? 1 : 0));
                 high = std::int16_t(prod) != std::int8_t(prod & 0xFF);
             }
             r_.r[AX] = prod;
@@ -41,13 +58,14 @@ void Cpu::grp_muldiv(unsigned op, bool word) {
             bool high;
             if (op == 4) {
                 prod = std::uint32_t(ax) * src;
-                clks(116);
+                clks(115 + popcount16(ax) + (mod_ != 3 ? 1 : 0));
                 high = prod >> 16;
             } else {
                 std::int64_t p = std::int64_t(std::int16_t(ax)) * std::int16_t(src);
                 if (negate) p = -p;
                 prod = std::uint32_t(p);
-                clks(126);
+                clks(125 + imul_extra(ax & 0x8000, src & 0x8000, std::uint16_t(std::abs(int(std::int16_t(ax))))) +
+                     (mod_ != 3 ? 1 : 0));
                 high = std::int32_t(prod) != std::int16_t(prod & 0xFFFF);
             }
             r_.r[AX] = std::uint16_t(prod);

@@ -145,38 +145,12 @@ void tx_retry(int port)
     ++n_retry[port];
 }
 
-/* The protocol, one received byte at a time (the paper's rs232_interrupt_service). */
+/* The protocol for one received byte outside step 1 (step 1 is handled inline in rs232_isr:
+ * together they are the paper's rs232_interrupt_service). */
 void rx_char(int port, unsigned char c)
 {
-    register unsigned n;
     unsigned char line_err;
 
-    if (step[port] == ST_RECV) {
-        /* store the byte, check it, keep the running checksum of everything after SOH */
-        rx_t[port] = ticks;
-        n = rx_len[port];
-        if (n >= MAX_FRAME) {
-            rx_bad[port] |= BAD_LONG;
-            if (c == ETX)
-                rx_end(port);
-            return;
-        }
-        rxbuf[port][n] = c;
-        rx_len[port] = n + 1;
-        if (c == ETX) {
-            rx_end(port);
-            return;
-        }
-        if (c >= 0x20 && c <= 0x7E) {
-            if (n == 0 || n == 3)
-                rx_bad[port] |= BAD_CHAR;   /* SOH or STX expected here */
-        } else if (!(n == 0 && c == SOH) && !(n == 3 && c == STX)) {
-            rx_bad[port] |= BAD_CHAR;
-        }
-        if (n)
-            rx_sum[port] += c;
-        return;
-    }
     line_err = rx_bad[port] & BAD_LINE;
     switch (step[port]) {
     case ST_IDLE:
@@ -254,7 +228,8 @@ static void line_status(int port, unsigned char st)
 void rs232_isr(int port)
 {
     unsigned b = UART_BASE(port);
-    unsigned char bank, gir;
+    unsigned char bank, gir, c;
+    unsigned k;
     int n;
 
     gir = inb(b + U_GIR);               /* the pending source and the current bank */
@@ -266,7 +241,34 @@ void rs232_isr(int port)
             break;
         gir &= GIR_VEC;
         if (gir == GIR_RXF) {
-            rx_char(port, inb(b + U_RXD));
+            c = inb(b + U_RXD);
+            if (step[port] != ST_RECV) {
+                rx_char(port, c);
+            } else {
+                /* step 1: store, check, keep the running sum of everything after SOH */
+                rx_t[port] = ticks;
+                k = rx_len[port];
+                if (k >= MAX_FRAME) {
+                    rx_bad[port] |= BAD_LONG;
+                    if (c == ETX)
+                        rx_end(port);
+                } else {
+                    rxbuf[port][k] = c;
+                    rx_len[port] = k + 1;
+                    if (c == ETX) {
+                        rx_end(port);
+                    } else {
+                        if (c >= 0x20 && c <= 0x7E) {
+                            if (k == 0 || k == 3)
+                                rx_bad[port] |= BAD_CHAR;   /* SOH or STX expected here */
+                        } else if (!(k == 0 && c == SOH) && !(k == 3 && c == STX)) {
+                            rx_bad[port] |= BAD_CHAR;
+                        }
+                        if (k)
+                            rx_sum[port] += c;
+                    }
+                }
+            }
         } else if (gir == GIR_TIMER) {
             inb(b + U_TMST);            /* clears TBEx; BRGB reloads by itself */
             ++ticks;
