@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <memory>
 #include <ostream>
 #include <sstream>
@@ -54,6 +55,9 @@ public:
     sc_core::sc_vector<SerialLine> lines;
     std::array<std::unique_ptr<ProtocolHost>, kPorts> protocol;
     std::array<std::unique_ptr<RawHost>, kPorts> raw;
+    std::array<std::unique_ptr<TcpHost>, kPorts> tcp;
+    std::array<std::unique_ptr<ReplayHost>, kPorts> replay;
+    std::unique_ptr<RealtimePacer> pacer; // with a tcp host, or `realtime:` set
     InterruptProbe probe;
     std::array<std::vector<sc_time>, kPorts> char_reads;
     std::array<Samples, kPorts> char_latency_us;
@@ -80,6 +84,10 @@ public:
             ctl.set_motion(motion.get());
         }
         probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
+        bool any_tcp = false;
+        for (const auto& h : tcp) any_tcp = any_tcp || h;
+        const double rtf = s.realtime >= 0 ? s.realtime : any_tcp ? 1.0 : 0.0;
+        if (rtf > 0) pacer = std::make_unique<RealtimePacer>("pacer", rtf);
         SC_THREAD(inject_breaks);
     }
 
@@ -101,6 +109,13 @@ private:
         } else if (ps.host == PortScenario::Host::raw) {
             raw[p] = std::make_unique<RawHost>(n.c_str(), ps.raw);
             raw[p]->connect(lines[p], SerialLine::b);
+        } else if (ps.host == PortScenario::Host::tcp) {
+            tcp[p] = std::make_unique<TcpHost>(n.c_str(), ps.tcp);
+            tcp[p]->connect(lines[p], SerialLine::b);
+            std::cout << "port " << p << ": tcp host listening on " << tcp[p]->endpoint() << std::endl;
+        } else if (ps.host == PortScenario::Host::replay) {
+            replay[p] = std::make_unique<ReplayHost>(n.c_str(), ps.replay);
+            replay[p]->connect(lines[p], SerialLine::b);
         }
         if (ps.noise_per_bit > 0) lines[p].set_noise(ps.noise_per_bit, scenario_.seed * 7919 + p);
         for (const LineFault& f : ps.faults) {
@@ -207,7 +222,7 @@ Collected collect_interrupts(const Bench& b) {
 nlohmann::json port_json(const Bench& b, unsigned p) {
     const auto& u = b.ctl.comm.uart[p].stats();
     nlohmann::json j;
-    j["host"] = b.protocol[p] ? "protocol" : b.raw[p] ? "raw" : "none";
+    j["host"] = b.protocol[p] ? "protocol" : b.raw[p] ? "raw" : b.tcp[p] ? "tcp" : b.replay[p] ? "replay" : "none";
     std::uint64_t sent = 0, delivered = 0, failed = 0, naks = 0, retries = 0;
     if (const auto& h = b.protocol[p]) {
         const auto& c = h->counters();
@@ -222,6 +237,19 @@ nlohmann::json port_json(const Bench& b, unsigned p) {
     if (const auto& h = b.raw[p]) {
         j["bytes_sent"] = h->bytes_sent();
         j["bytes_received"] = h->received().size();
+    }
+    if (const auto& h = b.tcp[p]) {
+        const auto c = h->counters();
+        j["tcp"] = {{"listen", h->endpoint()},   {"connections", c.connections}, {"bytes_in", c.bytes_in},
+                    {"bytes_sent", c.bytes_sent}, {"bytes_received", c.bytes_received}, {"bytes_out", c.bytes_out},
+                    {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped}};
+    }
+    if (const auto& h = b.replay[p]) {
+        const auto& c = h->counters();
+        j["replay"] = {{"bytes_sent", c.bytes_sent},         {"bytes_late", c.bytes_late},
+                       {"bytes_received", c.bytes_received}, {"out_expected", c.out_expected},
+                       {"out_matched", c.out_matched},       {"out_mismatched", c.out_mismatched},
+                       {"out_missing", h->out_missing()},   {"first_mismatch", h->first_mismatch()}};
     }
     j["frames_sent"] = sent;
     j["frames_delivered"] = delivered;
@@ -276,10 +304,8 @@ std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, un
 double default_budget_us(const Scenario& s) {
     // One character time at the slowest active port, shared by the three ports (SYSTEM.md §4).
     double char_us = to_us(SerialFormat::rs232(9600).frame_time());
-    for (const auto& p : s.ports) {
-        const SerialFormat& f = p.host == PortScenario::Host::raw ? p.raw.format : p.protocol.format;
-        if (p.host != PortScenario::Host::none) char_us = std::min(char_us, to_us(f.frame_time()));
-    }
+    for (const auto& p : s.ports)
+        if (p.host != PortScenario::Host::none) char_us = std::min(char_us, to_us(p.format().frame_time()));
     return char_us / kPorts;
 }
 
@@ -338,7 +364,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     }
 
     const auto wall0 = std::chrono::steady_clock::now();
-    sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
+    if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
+    else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     drain(bench, s.drain_s);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
@@ -383,6 +410,15 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     }
     report["main_cpu"] = bench.ctl.main.report();
     report["dpram"] = {{"collisions", bench.ctl.dpram.collisions()}};
+    if (bench.pacer) {
+        const auto& ps_ = bench.pacer->stats();
+        const bool r = opt.reproducible; // the pacer's figures measure the host
+        report["realtime"] = {{"rtf_target", ps_.rtf},
+                              {"naps", r ? 0 : ps_.naps},
+                              {"slept_s", r ? 0.0 : ps_.slept_s},
+                              {"max_lag_ms", r ? 0.0 : ps_.max_lag_s * 1e3},
+                              {"max_lead_ms", r ? 0.0 : ps_.max_lead_s * 1e3}};
+    }
     if (bench.motion) {
         report["motion"] = {{"state", bench.motion->state()}, {"positions", bench.motion->positions()},
                             {"samples", bench.motion->recorder().samples().size()}};
@@ -412,6 +448,12 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
                            double(L.min_frames_delivered)));
     checks.push_back(check("char_latency_max_us", lat_max <= char_limit, lat_max, char_limit));
     checks.push_back(check("table3_margin_us", margin >= L.min_margin_us, margin, L.min_margin_us));
+    for (unsigned p = 0; p < kPorts; ++p)
+        if (const auto& h = bench.replay[p]) {
+            // The replayed session must draw the recorded answers: same bytes at the same times.
+            const double bad = double(h->counters().out_mismatched + h->out_missing());
+            checks.push_back(check("replay_port" + std::to_string(p) + "_matches_record", bad == 0, bad, 0));
+        }
     bool passed = true;
     for (const auto& ch : checks) passed = passed && ch["passed"].get<bool>();
     report["checks"] = checks;

@@ -86,6 +86,11 @@ LineFault read_fault(const YAML::Node& n, const std::string& file, const std::st
     return f;
 }
 
+std::string path_value(YamlMap& m, const std::string& key, const std::filesystem::path& dir) {
+    std::filesystem::path f = m.require<std::string>(key);
+    return f.is_absolute() ? f.string() : (dir / f).string();
+}
+
 PortScenario read_port(const YAML::Node& n, const std::string& file, const std::string& ctx,
                        const std::filesystem::path& dir, std::uint64_t seed) {
     YamlMap m(n, file, ctx);
@@ -124,8 +129,24 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
             std::filesystem::path rec = m.get<std::string>("record", "");
             p.raw.record_path = rec.is_absolute() ? rec.string() : (dir / rec).string();
         }
+    } else if (host == "tcp") {
+        p.host = PortScenario::Host::tcp;
+        p.tcp.format = fmt;
+        const std::string listen = m.get<std::string>("listen", "127.0.0.1:0");
+        try {
+            p.tcp.set_listen(listen);
+        } catch (const std::exception& e) {
+            m.fail(m.child("listen"), std::string("bad 'listen': ") + e.what());
+        }
+        if (m.has("record")) p.tcp.record_path = path_value(m, "record", dir);
+        if (m.has("port_file")) p.tcp.port_file = path_value(m, "port_file", dir);
+    } else if (host == "replay") {
+        p.host = PortScenario::Host::replay;
+        p.replay.file = path_value(m, "file", dir);
+        if (m.has("format")) p.replay.format = fmt;
+        if (m.has("record")) p.replay.record_path = path_value(m, "record", dir);
     } else if (host != "none") {
-        m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw or none)");
+        m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw, tcp, replay or none)");
     }
     if (m.has("log")) {
         std::filesystem::path log = m.get<std::string>("log", "");
@@ -190,6 +211,15 @@ void read_checks(YamlMap m, CheckLimits& c) {
 
 } // namespace
 
+SerialFormat PortScenario::format() const {
+    switch (host) {
+    case Host::raw: return raw.format;
+    case Host::tcp: return tcp.format;
+    case Host::replay: return replay.format ? *replay.format : SerialFormat::rs232(9600);
+    default: return protocol.format;
+    }
+}
+
 Scenario load_scenario(const std::string& path) {
     Scenario s;
     s.file = path;
@@ -197,7 +227,8 @@ Scenario load_scenario(const std::string& path) {
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     YamlMap top(s.root, path, "");
     s.name = top.get<std::string>("name", std::filesystem::path(path).stem().string());
-    s.duration_s = top.number("duration_s", 1.0, 1e-6, 3600);
+    s.duration_s = top.number("duration_s", 1.0, 0, 3600);
+    s.realtime = top.number("realtime", -1, -1, 1e6);
     s.drain_s = top.number("drain_s", 1.0, 0, 3600);
     s.seed = top.get<std::uint64_t>("seed", 1);
     if (top.has("rom")) {
@@ -215,6 +246,15 @@ Scenario load_scenario(const std::string& path) {
         for (std::size_t i = 0; i < ports.size(); ++i)
             s.ports[i] = read_port(ports[i], path, "ports[" + std::to_string(i) + "].", dir, s.seed * 1000 + i);
     }
+    bool interactive = false; // a tcp or replay host can end the run by itself
+    for (auto& p : s.ports) {
+        if (p.host == PortScenario::Host::tcp || p.host == PortScenario::Host::replay) interactive = true;
+        p.tcp.end_on_disconnect = s.duration_s == 0;
+        p.replay.end_at_log_end = s.duration_s == 0;
+    }
+    if (s.duration_s == 0 && !interactive)
+        top.fail(top.child("duration_s"), "'duration_s: 0' (run until the session ends) needs a tcp or replay host");
+    if (s.duration_s > 0 && s.duration_s < 1e-6) top.fail(top.child("duration_s"), "'duration_s' must be 0 or >= 1e-6");
     s.has_motion = top.has("motion");
     top.child("motion"); // read by the motion layer
     if (s.has_motion && top.has("ports"))

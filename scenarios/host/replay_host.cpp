@@ -1,0 +1,218 @@
+// rcsim — session logs and the replay host (see replay_host.h).
+#include "scenarios/host/replay_host.h"
+
+#include "models/clock.h"
+#include "models/config_error.h"
+#include "scenarios/host/frame_codec.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace rcsim {
+
+namespace {
+
+const char* kind_word(SessionEvent::Kind k) {
+    switch (k) {
+    case SessionEvent::Kind::in: return "in";
+    case SessionEvent::Kind::out: return "out";
+    case SessionEvent::Kind::connect: return "connect";
+    case SessionEvent::Kind::disconnect: return "disconnect";
+    case SessionEvent::Kind::listen: return "listen";
+    case SessionEvent::Kind::end: return "end";
+    }
+    return "?";
+}
+
+std::string describe_out(std::uint8_t byte, bool p, bool f, const sc_core::sc_time& at) {
+    std::string s = proto::hex2(byte);
+    if (p) s += " P";
+    if (f) s += " F";
+    return s + " at " + std::to_string(at.value()) + " ps";
+}
+
+} // namespace
+
+// ---- writer ----
+
+void SessionLogWriter::open(const std::string& path, const SerialFormat& f) {
+    os_.open(path, std::ios::trunc);
+    if (!os_) throw ConfigError(path, 0, "cannot open the session log for writing");
+    os_ << "# rcsim serial session log v1: <time ps> in|out <hex> [P][F] | connect | disconnect | end\n"
+        << "format " << f.describe() << '\n'
+        << std::flush;
+}
+
+void SessionLogWriter::in(const sc_core::sc_time& at, std::uint8_t byte) {
+    if (os_.is_open()) os_ << at.value() << " in " << proto::hex2(byte) << '\n' << std::flush;
+}
+
+void SessionLogWriter::out(const sc_core::sc_time& at, std::uint8_t byte, bool parity_error, bool framing_error) {
+    if (!os_.is_open()) return;
+    os_ << at.value() << " out " << proto::hex2(byte);
+    if (parity_error || framing_error) os_ << ' ' << (parity_error ? "P" : "") << (framing_error ? "F" : "");
+    os_ << '\n' << std::flush;
+}
+
+void SessionLogWriter::event(const sc_core::sc_time& at, SessionEvent::Kind k, const std::string& text) {
+    if (!os_.is_open()) return;
+    os_ << at.value() << ' ' << kind_word(k);
+    if (!text.empty()) os_ << ' ' << text;
+    os_ << '\n' << std::flush;
+}
+
+// ---- reader ----
+
+SessionLog read_session_log(const std::string& path) {
+    std::ifstream is(path);
+    if (!is) throw ConfigError(path, 0, "cannot open the session log");
+    SessionLog log;
+    std::string line;
+    int n = 0;
+    std::uint64_t last = 0;
+    while (std::getline(is, line)) {
+        ++n;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream ls(line);
+        std::string first;
+        ls >> first;
+        if (first == "format") {
+            std::string f;
+            ls >> f;
+            try {
+                log.format = SerialFormat::parse(f);
+            } catch (const std::exception& e) {
+                throw ConfigError(path, n, "bad format '" + f + "': " + e.what());
+            }
+            continue;
+        }
+        std::uint64_t t = 0;
+        try {
+            std::size_t used = 0;
+            t = std::stoull(first, &used, 10);
+            if (used != first.size()) throw std::invalid_argument(first);
+        } catch (const std::exception&) {
+            throw ConfigError(path, n, "expected '<time ps> <event>' or 'format ...', got '" + line + "'");
+        }
+        if (t < last) throw ConfigError(path, n, "time " + std::to_string(t) + " ps goes backwards");
+        last = t;
+        SessionEvent ev;
+        ev.at = ps(t);
+        std::string word;
+        ls >> word;
+        if (word == "in" || word == "out") {
+            ev.kind = word == "in" ? SessionEvent::Kind::in : SessionEvent::Kind::out;
+            std::string hex, flags;
+            ls >> hex >> flags;
+            unsigned long v = 0;
+            try {
+                std::size_t used = 0;
+                v = std::stoul(hex, &used, 16);
+                if (used != hex.size() || hex.empty() || v > 0xFF) throw std::invalid_argument(hex);
+            } catch (const std::exception&) {
+                throw ConfigError(path, n, "bad byte '" + hex + "' (two hex digits)");
+            }
+            ev.byte = static_cast<std::uint8_t>(v);
+            for (char c : flags) {
+                if (c == 'P') ev.parity_error = true;
+                else if (c == 'F') ev.framing_error = true;
+                else throw ConfigError(path, n, "bad flags '" + flags + "' (P, F)");
+            }
+        } else if (word == "connect") {
+            ev.kind = SessionEvent::Kind::connect;
+        } else if (word == "disconnect") {
+            ev.kind = SessionEvent::Kind::disconnect;
+        } else if (word == "end") {
+            ev.kind = SessionEvent::Kind::end;
+        } else if (word == "listen") {
+            ev.kind = SessionEvent::Kind::listen;
+            ls >> ev.text;
+        } else {
+            throw ConfigError(path, n, "unknown event '" + word + "' (in, out, connect, disconnect, listen, end)");
+        }
+        log.events.push_back(ev);
+    }
+    return log;
+}
+
+// ---- replay host ----
+
+ReplayHost::ReplayHost(sc_core::sc_module_name name, const ReplayHostConfig& cfg) : sc_module(name), cfg_(cfg) {
+    SessionLog log = read_session_log(cfg_.file);
+    format_ = cfg_.format ? *cfg_.format : log.format ? *log.format : SerialFormat::rs232(9600);
+    format_.validate();
+    bool has_end = false;
+    for (const SessionEvent& e : log.events) {
+        if (e.kind == SessionEvent::Kind::in) in_.push_back(e);
+        if (e.kind == SessionEvent::Kind::out) out_.push_back(e);
+        if (e.kind == SessionEvent::Kind::end && !has_end) {
+            end_ = e.at;
+            has_end = true;
+        }
+        if (!has_end) end_ = e.at;
+    }
+    counters_.out_expected = out_.size();
+    if (!cfg_.record_path.empty()) rec_.open(cfg_.record_path, format_);
+    SC_HAS_PROCESS(ReplayHost);
+    SC_THREAD(run);
+}
+
+void ReplayHost::connect(SerialLine& line, SerialLine::Side side) {
+    line.attach(side, *this);
+    line_ = &line;
+    side_ = side;
+}
+
+void ReplayHost::end_of_elaboration() {
+    if (!line_) throw std::invalid_argument(std::string(name()) + ": not connected to a serial line");
+}
+
+void ReplayHost::run() {
+    sc_core::sc_time free_at = sc_core::SC_ZERO_TIME; // the transmitter is busy until then
+    for (const SessionEvent& e : in_) {
+        sc_core::sc_time at = e.at;
+        if (at < free_at) {
+            at = free_at;
+            ++counters_.bytes_late;
+        }
+        const sc_core::sc_time now = sc_core::sc_time_stamp();
+        if (at > now) wait(at - now);
+        line_->transmit(side_, SerialWord::encode(e.byte, format_));
+        rec_.in(sc_core::sc_time_stamp(), e.byte);
+        ++counters_.bytes_sent;
+        free_at = sc_core::sc_time_stamp() + format_.frame_time();
+    }
+    if (cfg_.end_at_log_end) {
+        const sc_core::sc_time now = sc_core::sc_time_stamp();
+        if (end_ > now) wait(end_ - now);
+        rec_.event(sc_core::sc_time_stamp(), SessionEvent::Kind::end);
+        sc_core::sc_pause();
+    }
+}
+
+void ReplayHost::rx_char(const SerialRx& c) {
+    const auto byte = static_cast<std::uint8_t>(c.data);
+    rec_.out(c.stop, byte, c.parity_error, c.framing_error);
+    const std::uint64_t k = counters_.bytes_received++;
+    const bool ok = k < out_.size() && out_[k].byte == byte && out_[k].parity_error == c.parity_error &&
+                    out_[k].framing_error == c.framing_error && out_[k].at == c.stop;
+    if (ok) {
+        ++counters_.out_matched;
+        return;
+    }
+    ++counters_.out_mismatched;
+    if (first_mismatch_.empty()) {
+        first_mismatch_ = "out #" + std::to_string(k) + ": expected " +
+                          (k < out_.size() ? describe_out(out_[k].byte, out_[k].parity_error, out_[k].framing_error,
+                                                          out_[k].at)
+                                           : std::string("nothing")) +
+                          ", got " + describe_out(byte, c.parity_error, c.framing_error, c.stop);
+    }
+}
+
+std::uint64_t ReplayHost::out_missing() const {
+    return counters_.bytes_received < out_.size() ? out_.size() - counters_.bytes_received : 0;
+}
+
+} // namespace rcsim
