@@ -96,7 +96,7 @@ static void to_dpram(int port)
 {
     unsigned char *b;
     unsigned a, have, n, i, f;
-    unsigned char s;
+    unsigned char s, g;
 
     if (chunk_out[port]) {
         /* The main CPU frees pflag before it ACKs the last chunk: if that ACK word got lost
@@ -136,13 +136,18 @@ static void to_dpram(int port)
     }
     a = area[port];
     b = rxbuf[port] + rx_fwd[port];
+    g = gen[port];
     for (i = 0; i < n; i++)
         dp_wr(a + i, b[i]);
-    dp_wr(PFLAG(port), EXT_USE);
-    rx_fwd[port] += n;
-    chunk_t[port] = ticks;
-    chunk_out[port] = 1;
-    mb_post(MB_CHUNK | port);
+    f = irq_off();
+    if (g == gen[port]) {               /* no port reset while we copied */
+        dp_wr(PFLAG(port), EXT_USE);
+        rx_fwd[port] += n;
+        chunk_t[port] = ticks;
+        chunk_out[port] = 1;
+        mb_post(MB_CHUNK | port);
+    }
+    irq_restore(f);
 }
 
 /* Step 1 timeouts: T1 for the first byte after our ACK, T2 between bytes. */

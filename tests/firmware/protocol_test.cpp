@@ -480,6 +480,31 @@ TEST(FirmwareProtocol, PortResetByMailboxWord) {
     EXPECT_EQ(b.host_take(2), std::string(1, EOT));
 }
 
+TEST(FirmwareProtocol, PortResetDuringAChunkWriteLeavesTheAreaFree) {
+    Booted b;
+    const std::string f = frame("PU", std::string(600, 'w'));
+    b.host_byte(0, ENQ);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 5));
+    b.host_take(0);
+    for (std::size_t i = 0; i < 340; ++i) {
+        b.host_byte(0, std::uint8_t(f[i]));
+        b.run_us(600);
+    }
+    // the main loop is now writing the first chunk (about 20 ms); the main CPU resets port 0
+    b.run_ms(3);
+    ASSERT_TRUE(b.posted.empty());
+    b.main_word(0x30);
+    b.run_ms(40);
+    EXPECT_TRUE(b.posted.empty()) << "no chunk word for a port that was reset meanwhile";
+    EXPECT_EQ(b.pflag(0), 0);
+    EXPECT_EQ(b.step(0), 0);
+    EXPECT_EQ(b.var8(fw::data::chunk_out), 0);
+    // and the port takes the next frame
+    b.host_frame(0, frame("EC", "OK"));
+    b.run_ms(2);
+    EXPECT_EQ(b.host_take(0), std::string(1, EOT));
+}
+
 TEST(FirmwareProtocol, PortResetByBreak) {
     Booted b;
     b.host_frame(1, frame("EC", "X").substr(0, 5));
