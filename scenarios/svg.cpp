@@ -1,0 +1,145 @@
+// rcsim — a tiny SVG writer. See svg.h.
+#include "scenarios/svg.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rcsim::svg {
+
+std::string num(double v, int decimals) {
+    if (!std::isfinite(v)) return "0";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", std::clamp(decimals, 0, 9), v);
+    std::string s = buf;
+    if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+    return s;
+}
+
+std::string esc(const std::string& s) {
+    std::string o;
+    o.reserve(s.size());
+    for (char c : s) {
+        switch (c) {
+        case '&': o += "&amp;"; break;
+        case '<': o += "&lt;"; break;
+        case '>': o += "&gt;"; break;
+        case '"': o += "&quot;"; break;
+        case '\'': o += "&#39;"; break;
+        default: o += c;
+        }
+    }
+    return o;
+}
+
+double nice_step(double span, int target) {
+    if (!(span > 0) || target < 1) return 1;
+    const double raw = span / target;
+    const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * mag >= raw * 0.999) return m * mag;
+    return 10 * mag;
+}
+
+std::vector<double> nice_ticks(double lo, double hi, int target) {
+    std::vector<double> t;
+    const double step = nice_step(hi - lo, target);
+    const double first = std::ceil(lo / step - 1e-9);
+    for (double k = first; k * step <= hi + step * 1e-9 && t.size() < 1000; k += 1) t.push_back(k * step);
+    return t;
+}
+
+int decimals_for(double step) {
+    if (step >= 1) return 0;
+    return std::min(9, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
+}
+
+double Scale::operator()(double v) const {
+    double a = lo, b = hi;
+    if (log) {
+        v = std::log10(std::max(v, lo));
+        a = std::log10(lo);
+        b = std::log10(hi);
+    }
+    if (b == a) return p0;
+    return p0 + (v - a) / (b - a) * (p1 - p0);
+}
+
+Doc::Doc(double width, double height, const std::string& aria_label) : w_(width), h_(height), label_(aria_label) {}
+
+void Doc::rect(double x, double y, double w, double h, const std::string& fill, const std::string& extra) {
+    body_ << "<rect x=\"" << num(x) << "\" y=\"" << num(y) << "\" width=\"" << num(std::max(w, 0.0))
+          << "\" height=\"" << num(std::max(h, 0.0)) << "\" fill=\"" << fill << "\"" << (extra.empty() ? "" : " ")
+          << extra << "/>\n";
+}
+
+void Doc::line(double x1, double y1, double x2, double y2, const std::string& stroke, double width,
+               const std::string& extra) {
+    body_ << "<line x1=\"" << num(x1) << "\" y1=\"" << num(y1) << "\" x2=\"" << num(x2) << "\" y2=\"" << num(y2)
+          << "\" stroke=\"" << stroke << "\" stroke-width=\"" << num(width) << "\"" << (extra.empty() ? "" : " ")
+          << extra << "/>\n";
+}
+
+void Doc::text(double x, double y, const std::string& s, const std::string& anchor, double size,
+               const std::string& extra) {
+    body_ << "<text x=\"" << num(x) << "\" y=\"" << num(y) << "\"";
+    if (anchor != "start") body_ << " text-anchor=\"" << anchor << "\"";
+    if (size != 12) body_ << " font-size=\"" << num(size) << "\"";
+    if (!extra.empty()) body_ << " " << extra;
+    body_ << ">" << esc(s) << "</text>\n";
+}
+
+void Doc::vtext(double x, double y, const std::string& s, double size) {
+    body_ << "<text transform=\"translate(" << num(x) << "," << num(y) << ") rotate(-90)\" text-anchor=\"middle\"";
+    if (size != 12) body_ << " font-size=\"" << num(size) << "\"";
+    body_ << ">" << esc(s) << "</text>\n";
+}
+
+void Doc::with_title(const std::string& element, const std::string& title) {
+    body_ << element << "><title>" << esc(title) << "</title></" << element.substr(1, element.find(' ') - 1)
+          << ">\n";
+}
+
+void Doc::y_axis(const Scale& s, double x0, double x1, const std::string& title, int target_ticks) {
+    std::vector<double> ticks;
+    int dec = 0;
+    if (s.log) {
+        for (double v = std::pow(10.0, std::ceil(std::log10(s.lo) - 1e-9)); v <= s.hi * (1 + 1e-9); v *= 10)
+            ticks.push_back(v);
+    } else {
+        ticks = nice_ticks(s.lo, s.hi, target_ticks);
+        dec = decimals_for(nice_step(s.hi - s.lo, target_ticks));
+    }
+    for (double v : ticks) {
+        const double y = s(v);
+        line(x0, y, x1, y, "#e3e3e3");
+        line(x0 - 4, y, x0, y, "#333");
+        text(x0 - 7, y + 4, num(v, dec), "end", 11);
+    }
+    line(x0, std::min(s.p0, s.p1), x0, std::max(s.p0, s.p1), "#333");
+    vtext(x0 - 44, (s.p0 + s.p1) / 2, title);
+}
+
+void Doc::x_axis(const Scale& s, double y, const std::string& title, int target_ticks) {
+    const std::vector<double> ticks = nice_ticks(s.lo, s.hi, target_ticks);
+    const int dec = decimals_for(nice_step(s.hi - s.lo, target_ticks));
+    for (double v : ticks) {
+        const double x = s(v);
+        line(x, y, x, y + 4, "#333");
+        text(x, y + 16, num(v, dec), "middle", 11);
+    }
+    line(std::min(s.p0, s.p1), y, std::max(s.p0, s.p1), y, "#333");
+    text((s.p0 + s.p1) / 2, y + 34, title, "middle");
+}
+
+std::string Doc::str() const {
+    std::ostringstream o;
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(w_, 0) << "\" height=\"" << num(h_, 0)
+      << "\" viewBox=\"0 0 " << num(w_, 0) << " " << num(h_, 0)
+      << "\" font-family=\"sans-serif\" font-size=\"12\" role=\"img\"";
+    if (!label_.empty()) o << " aria-label=\"" << esc(label_) << "\"";
+    o << ">\n" << body_.str() << "</svg>\n";
+    return o.str();
+}
+
+} // namespace rcsim::svg

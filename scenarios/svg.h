@@ -1,0 +1,63 @@
+// rcsim — a tiny SVG writer for the report pictures (plain C++, no libraries).
+//
+// Every number goes through `num` (fixed decimals, C locale, no "-0"), so the same picture is
+// always the same bytes. Text is XML-escaped. Axes: linear or log10, with "nice" tick values.
+#pragma once
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace rcsim::svg {
+
+/// Fixed-point formatting with `decimals` digits; "-0.00" becomes "0.00".
+std::string num(double v, int decimals = 1);
+/// Escapes &, <, >, " and ' for XML text and attribute values.
+std::string esc(const std::string& s);
+
+/// A step of 1, 2 or 5 x 10^k giving about `target` divisions of `span`.
+double nice_step(double span, int target);
+/// Tick values k*step inside [lo, hi] (with step = nice_step(hi - lo, target)).
+std::vector<double> nice_ticks(double lo, double hi, int target);
+/// Decimals needed to print multiples of `step` exactly enough (0 for step >= 1).
+int decimals_for(double step);
+
+/// A value axis mapped onto pixels [p0, p1] (p1 < p0 for a y axis growing upwards).
+struct Scale {
+    double lo = 0, hi = 1, p0 = 0, p1 = 1;
+    bool log = false; // log10; lo must then be > 0
+    double operator()(double v) const;
+};
+
+/// An SVG document built element by element.
+class Doc {
+public:
+    Doc(double width, double height, const std::string& aria_label = "");
+
+    void rect(double x, double y, double w, double h, const std::string& fill, const std::string& extra = "");
+    void line(double x1, double y1, double x2, double y2, const std::string& stroke, double width = 1,
+              const std::string& extra = "");
+    /// anchor: start | middle | end.
+    void text(double x, double y, const std::string& s, const std::string& anchor = "start", double size = 12,
+              const std::string& extra = "");
+    /// Vertical text (rotated -90 degrees), centred on (x, y): y-axis titles.
+    void vtext(double x, double y, const std::string& s, double size = 12);
+    /// An element with a hover tooltip (<title>), e.g. a bar: `element` without its closing "/>".
+    void with_title(const std::string& element, const std::string& title);
+    /// Raw SVG markup.
+    void raw(const std::string& s) { body_ << s; }
+
+    /// Left axis with ticks, grid lines across [x0, x1] and a rotated title.
+    void y_axis(const Scale& s, double x0, double x1, const std::string& title, int target_ticks = 5);
+    /// Bottom axis at pixel y with ticks and a title below.
+    void x_axis(const Scale& s, double y, const std::string& title, int target_ticks = 8);
+
+    std::string str() const;
+
+private:
+    double w_, h_;
+    std::string label_;
+    std::ostringstream body_;
+};
+
+} // namespace rcsim::svg

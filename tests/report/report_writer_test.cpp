@@ -1,0 +1,203 @@
+// The report writer on synthetic data: histogram bins, the timeline window, the CSV layout and the
+// sections and charts of report.html.
+#include "scenarios/report_html.h"
+#include "scenarios/svg.h"
+#include "tests/support/sc_test.h"
+
+#include <algorithm>
+#include <random>
+#include <sstream>
+#include <string>
+
+using namespace rcsim;
+using namespace rcsim::report;
+
+namespace {
+
+std::size_t count_of(const std::string& s, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = s.find(what); at != std::string::npos; at = s.find(what, at + what.size())) ++n;
+    return n;
+}
+
+InterruptRow make_row(unsigned level, double rise, double latency, double service, bool rx = false) {
+    InterruptRow r;
+    r.level = level;
+    r.source = source_name(level);
+    r.vector = 8 + level;
+    r.has_rise = true;
+    r.ir_rise_us = rise;
+    r.inta1_us = rise + 1;
+    r.inta2_us = rise + 2;
+    r.first_isr_us = rise + latency;
+    r.has_eoi = true;
+    r.eoi_us = r.first_isr_us + service - 5;
+    r.iret_done_us = r.first_isr_us + service;
+    r.rx = rx;
+    return r;
+}
+
+nlohmann::json summary(double mn, double mean, double mx, std::size_t n) {
+    return {{"count", n}, {"min", mn}, {"mean", mean}, {"p50", mean}, {"p99", mx}, {"max", mx}};
+}
+
+nlohmann::json synthetic_report(bool passed) {
+    nlohmann::json r;
+    r["scenario"] = "synthetic <test>";
+    r["seed"] = 3;
+    r["rom"] = "comm_fw.rom";
+    r["sim_time_s"] = 0.5;
+    r["wall_time_s"] = 0.0;
+    r["rtf"] = 0.0;
+    r["comm_cpu"] = {{"cycles", 4000000}, {"instructions", 500000}, {"clock_hz", 8000000}, {"quantum_us", 10}};
+    for (const char* n : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"})
+        r["interrupts"][n] = {{"count", 10}, {"latency_us", summary(3, 10, 40, 10)}, {"service_us", summary(20, 80, 150, 10)}};
+    r["table3"] = {{"rs232_isr_us", 95.2}, {"rs232_isr_max_us", 150.0}, {"dpram_byte_us", 40.1},
+                   {"dpram_bytes_measured", 1234}, {"paper_rs232_isr_us", 82.0}, {"paper_dpram_byte_us", 52.553},
+                   {"budget_us", 382.0}, {"margin_us", 382.0 - 95.2 - 40.1}};
+    for (int p = 0; p < 3; ++p)
+        r["ports"].push_back({{"host", "protocol"}, {"frames_sent", 12}, {"frames_delivered", 12}, {"frames_failed", 0},
+                              {"naks", 1}, {"retries", 1}, {"timeouts", 0}, {"overruns", p == 2 ? 1 : 0},
+                              {"parity_errors", 0}, {"framing_errors", 0}, {"break_detects", 0},
+                              {"rx_fifo_high_water", 2}, {"chars_received", 400}, {"chars_sent", 300},
+                              {"char_latency_us", summary(5, 60, 900, 400)}});
+    r["main_cpu"] = {{"cycle_jitter_us", summary(0, 3.5, 12, 500)}, {"irq_latency_us", summary(5, 5, 5, 40)},
+                     {"control_cycles", 500}, {"cycle_overruns", 0}};
+    r["dpram"] = {{"collisions", 0}};
+    r["checks"] = nlohmann::json::array();
+    r["checks"].push_back({{"name", "overruns"}, {"passed", passed}, {"value", passed ? 0 : 1}, {"limit", 0}});
+    r["checks"].push_back({{"name", "table3_margin_us"}, {"passed", true}, {"value", 246.7}, {"limit", 0}});
+    r["passed"] = passed;
+    return r;
+}
+
+std::vector<InterruptRow> synthetic_rows() {
+    std::vector<InterruptRow> rows;
+    // A steady background every 2 ms and a dense cluster at 50..52 ms.
+    for (int i = 0; i < 100; ++i) rows.push_back(make_row(static_cast<unsigned>(i % 4), 2000.0 * i, 5 + i % 7, 60 + i % 30, i % 2 == 0));
+    for (int i = 0; i < 30; ++i) rows.push_back(make_row(static_cast<unsigned>(i % 3), 50000.0 + 60.0 * i, 4, 50, true));
+    rows.back().depth = 1;
+    sort_rows(rows);
+    return rows;
+}
+
+} // namespace
+
+TEST(ReportHistogram, BinCountsSumToTheSampleCountAndHoldMinAndMax) {
+    std::mt19937_64 rng(42);
+    std::vector<std::vector<double>> sets = {{}, {7.5}, {3, 3, 3, 3}, {-2.5, 0, 2.5}, {0.001, 0.002, 1000}};
+    std::vector<double> big;
+    std::lognormal_distribution<double> d(3, 1);
+    for (int i = 0; i < 10000; ++i) big.push_back(d(rng));
+    sets.push_back(big);
+    for (const auto& v : sets) {
+        const Histogram h = make_histogram(v, 30);
+        EXPECT_EQ(h.total(), v.size());
+        if (v.empty()) continue;
+        const auto [mn, mx] = std::minmax_element(v.begin(), v.end());
+        EXPECT_LE(h.lo, *mn);
+        EXPECT_GT(h.hi(), *mx);
+        EXPECT_LE(h.counts.size(), 62u); // nice widths: at most about 2 x target bins
+        EXPECT_GT(h.counts.front(), 0u);
+        EXPECT_GT(h.counts.back(), 0u);
+    }
+}
+
+TEST(ReportTimeline, BusiestWindowIsTheDensestAndTheEarliestOnATie) {
+    const auto rows = synthetic_rows();
+    const TimeWindow w = busiest_window(rows, 20000);
+    // The cluster starts at 50 ms; a window starting at the background interrupt at 34 ms (or
+    // earlier, while it still reaches 50 ms) holds the cluster plus background: the earliest one wins.
+    EXPECT_GE(w.interrupts, 30u);
+    EXPECT_LE(w.start_us, 50000.0);
+    EXPECT_GT(w.end_us, 50000.0 + 60 * 29);
+    EXPECT_DOUBLE_EQ(w.end_us - w.start_us, 20000.0);
+    // Recount by brute force: no window starting at any interrupt holds more.
+    for (const auto& r : rows) {
+        std::size_t n = 0;
+        for (const auto& q : rows) n += q.start_us() >= r.start_us() && q.start_us() < r.start_us() + 20000;
+        EXPECT_LE(n, w.interrupts);
+        if (n == w.interrupts) EXPECT_GE(r.start_us(), w.start_us); // earliest on a tie
+    }
+    // Equal density everywhere: the first interrupt.
+    std::vector<InterruptRow> even;
+    for (int i = 0; i < 50; ++i) even.push_back(make_row(0, 1000.0 * i, 5, 50));
+    EXPECT_DOUBLE_EQ(busiest_window(even, 5000).start_us, 0.0);
+    EXPECT_EQ(busiest_window({}, 5000).interrupts, 0u);
+}
+
+TEST(ReportCsv, OneLinePerRowWithHeaderAndEmptyFieldsForMissingEvents) {
+    auto rows = synthetic_rows();
+    rows[3].has_rise = false;
+    rows[4].has_eoi = false;
+    std::ostringstream os;
+    write_interrupts_csv(rows, os);
+    std::istringstream in(os.str());
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line,
+              "source,level,vector,ir_rise_us,inta1_us,inta2_us,first_isr_us,eoi_us,iret_done_us,latency_us,"
+              "service_us,depth,rx,dpram_read_bytes,dpram_write_bytes,handler");
+    std::size_t n = 0;
+    while (std::getline(in, line)) {
+        EXPECT_EQ(count_of(line, ","), 15u) << line;
+        if (n == 3) EXPECT_NE(line.find(",,"), std::string::npos) << "no rise: empty ir_rise and latency: " << line;
+        ++n;
+    }
+    EXPECT_EQ(n, rows.size());
+}
+
+TEST(ReportHtml, HasEverySectionAndAnSvgPerChart) {
+    const auto rows = synthetic_rows();
+    HtmlOptions opt;
+    opt.trajectory_svg = "<?xml version=\"1.0\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\"><circle r=\"3\"/></svg>\n";
+    const std::string html = render_html(synthetic_report(false), rows, opt);
+    for (const char* id : {"header", "checks", "table3", "interrupts", "timeline", "ports", "main-cpu", "motion"})
+        EXPECT_NE(html.find(std::string(" id=\"") + id + "\""), std::string::npos) << "section " << id << " missing";
+    // Table 3, 5 sources x (latency, service), two timelines, character latency, the trajectory.
+    EXPECT_EQ(count_of(html, "<svg "), 1u + 10u + 2u + 1u + 1u);
+    EXPECT_EQ(count_of(html, "</svg>"), count_of(html, "<svg "));
+    EXPECT_NE(html.find("FAILED"), std::string::npos);
+    EXPECT_NE(html.find("synthetic &lt;test&gt;"), std::string::npos) << "names are escaped";
+    EXPECT_EQ(html.find("<?xml"), std::string::npos) << "the embedded SVG keeps no XML prolog";
+    EXPECT_NE(html.find("82.000"), std::string::npos);
+    EXPECT_NE(html.find("52.553"), std::string::npos);
+    EXPECT_NE(html.find("budget 382.0 us"), std::string::npos);
+    // Self-contained: no script, no external resource.
+    EXPECT_EQ(html.find("<script"), std::string::npos);
+    EXPECT_EQ(html.find("src="), std::string::npos);
+    EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+    EXPECT_EQ(html.find("url("), std::string::npos);
+    // Every chart has axis titles with units.
+    EXPECT_EQ(count_of(html, "latency: IR rise to first ISR instruction [us]"), 5u);
+    EXPECT_EQ(count_of(html, "service: first ISR instruction to IRET done [us]"), 5u);
+    EXPECT_NE(html.find("simulation time [ms]"), std::string::npos);
+    EXPECT_NE(html.find("time per received character [us]"), std::string::npos);
+    // Deterministic.
+    EXPECT_EQ(html, render_html(synthetic_report(false), rows, opt));
+    // Without a trajectory there is no motion section.
+    const std::string pass = render_html(synthetic_report(true), rows);
+    EXPECT_EQ(pass.find("id=\"motion\""), std::string::npos);
+    EXPECT_NE(pass.find("PASSED"), std::string::npos);
+}
+
+TEST(ReportHtml, EmptyRunStillRenders) {
+    nlohmann::json r = synthetic_report(true);
+    const std::string html = render_html(r, {});
+    EXPECT_NE(html.find("No interrupt completed"), std::string::npos);
+    EXPECT_NE(html.find("no samples"), std::string::npos);
+}
+
+TEST(ReportSvg, NumbersAreFixedAndTextIsEscaped) {
+    EXPECT_EQ(svg::num(-0.0001, 2), "0.00");
+    EXPECT_EQ(svg::num(1.005, 1), "1.0");
+    EXPECT_EQ(svg::num(12.4, 0), "12");
+    EXPECT_EQ(svg::esc("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    EXPECT_DOUBLE_EQ(svg::nice_step(100, 10), 10);
+    EXPECT_DOUBLE_EQ(svg::nice_step(7, 10), 1);
+    EXPECT_DOUBLE_EQ(svg::nice_step(0.3, 4), 0.1);
+    const auto t = svg::nice_ticks(0, 382, 5);
+    ASSERT_FALSE(t.empty());
+    EXPECT_DOUBLE_EQ(t.front(), 0);
+    EXPECT_DOUBLE_EQ(t.back(), 300);
+}
