@@ -41,6 +41,8 @@ void add_run_command(CLI::App& app) {
             code = run_scenario(load_scenario(args->scenario), opt, report);
             print_summary(report, std::cout);
             if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
+            if (!args->out.empty() && report.contains("interrupts"))
+                std::cout << "html:   " << args->out << "/report.html\n";
         } catch (const ConfigError& e) {
             std::cerr << "rcsim run: " << e.what() << "\n";
             code = 2;

@@ -3,6 +3,7 @@
 #include "models/config_error.h"
 #include "models/interrupt_probe.h"
 #include "models/stats.h"
+#include "scenarios/report_html.h"
 #include "main_cpu/motion/motion_controller.h"
 #include "main_cpu/motion/motion_scenario.h"
 
@@ -176,6 +177,14 @@ bool read_char_inside(const std::vector<sc_time>& reads, const sc_time& a, const
 }
 
 nlohmann::json samples_json(const Samples& s) { return to_json(s.summary()); }
+
+/// The probe's records for interrupts.csv and report.html, with the rs232_rx classification.
+std::vector<report::InterruptRow> interrupt_rows(const Bench& b) {
+    std::vector<report::InterruptRow> rows;
+    for (const auto& r : b.probe.records())
+        rows.push_back(report::row_of(r, r.level < kPorts && read_char_inside(b.char_reads[r.level], r.first_isr, r.iret_done)));
+    return rows;
+}
 
 struct Collected {
     nlohmann::json interrupts = nlohmann::json::object();
@@ -461,6 +470,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
 
     if (!opt.out_dir.empty()) {
         std::ofstream(std::filesystem::path(opt.out_dir) / "report.json") << report.dump(2) << "\n";
+        report::write_report_files(opt.out_dir, report, interrupt_rows(bench));
     }
     return passed ? 0 : 1;
 }
