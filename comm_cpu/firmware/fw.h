@@ -148,6 +148,7 @@
 #define MAX_RETRY     3
 #define DP_ACK_MS     1000            /* main CPU must consume a chunk within this */
 #define TXQ           8               /* frames queued per port (power of two) */
+#define AREA_STALE_MS 1000            /* RBT_USE without a chunk word this long: abandoned */
 #define MB_WAIT_MS    5               /* wait at most this for the main CPU to empty int2rbt */
 
 /* step[port] -- the paper's program steps */
@@ -206,10 +207,13 @@ extern unsigned tx_pos[NO_PORT];            /* bytes of the current frame given 
 extern unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
 extern unsigned char tx_try[NO_PORT];
 extern unsigned char fresh[NO_PORT];        /* port reset and untouched since */
+extern unsigned char rbt_seen[NO_PORT];     /* pflag[p] read RBT_USE since rbt_t ... */
+extern unsigned rbt_t[NO_PORT];             /* ... without a chunk word from the main CPU */
 /* statistics (read by tests and probes through the symbol map) */
 extern unsigned n_good[NO_PORT], n_nak[NO_PORT], n_busy[NO_PORT], n_gap[NO_PORT];
 extern unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PORT];
 extern unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
+extern unsigned n_stale[NO_PORT];
 
 /* isr.c */
 void rs232_isr(int port);

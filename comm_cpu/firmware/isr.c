@@ -347,6 +347,7 @@ void dp_event(unsigned char word)
     }
     switch (word & 0xF0) {
     case MB_CHUNK:
+        rbt_seen[port] = 0;
         take_chunk(port);
         break;
     case MB_ACK:

@@ -44,6 +44,9 @@ unsigned char fresh[NO_PORT];
 unsigned n_good[NO_PORT], n_nak[NO_PORT], n_busy[NO_PORT], n_gap[NO_PORT];
 unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PORT];
 unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
+unsigned n_stale[NO_PORT];
+unsigned char rbt_seen[NO_PORT];
+unsigned rbt_t[NO_PORT];
 
 /* comm -> main mailbox words wait here until int2rbt is free */
 #define MBQ 16
@@ -235,6 +238,36 @@ static void tx_watch(int port)
     irq_restore(f);
 }
 
+/* An area the main CPU claimed (RBT_USE) and then abandoned -- e.g. it aborted a frame on a port
+ * reset that crossed its claim -- would NAK the host forever.  After AREA_STALE_MS without a
+ * chunk word (and no chunk of ours waiting for ring space) free it and drop the partial frame. */
+static void area_watch(int port)
+{
+    unsigned f;
+
+    if (chunk_pending[port] || dp_rd(PFLAG(port)) != RBT_USE) {
+        rbt_seen[port] = 0;
+        return;
+    }
+    if (!rbt_seen[port]) {
+        rbt_seen[port] = 1;
+        rbt_t[port] = ticks;
+        return;
+    }
+    if (ticks - rbt_t[port] < AREA_STALE_MS)
+        return;
+    f = irq_off();
+    if (tx_wr[port] < tx_part[port])
+        tx_wr[port] += TXBUF_SIZE;
+    tx_wr[port] -= tx_part[port];
+    tx_used[port] -= tx_part[port];
+    tx_part[port] = 0;
+    dp_wr(PFLAG(port), P_FREE);
+    rbt_seen[port] = 0;
+    ++n_stale[port];
+    irq_restore(f);
+}
+
 /* ---- the main loop -------------------------------------------------------------------- */
 void main_loop(void)
 {
@@ -272,6 +305,7 @@ void main_loop(void)
             }
             if (chunk_pending[port])
                 take_chunk(port);
+            area_watch(port);
             if (chunk_out[port] && ticks - chunk_t[port] >= DP_ACK_MS)
                 port_reset(port, 1);    /* the main CPU never consumed the chunk */
         }

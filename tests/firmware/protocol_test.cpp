@@ -459,6 +459,29 @@ TEST(FirmwareProtocol, FullTransmitQueueHoldsTheChunkUnacknowledged) {
     EXPECT_EQ(out, want);
 }
 
+TEST(FirmwareProtocol, AbandonedMainCpuClaimIsFreedAfterASecond) {
+    Booted b;
+    // the main CPU writes the first chunk of a two-chunk frame and then gives it up
+    b.main_write_chunk(2, std::string(339, 'a'), true);
+    ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 60));
+    b.posted.clear();
+    EXPECT_EQ(b.pflag(2), 2);
+    b.run_ms(900);
+    EXPECT_EQ(b.pflag(2), 2) << "not before AREA_STALE_MS";
+    b.run_ms(200);
+    EXPECT_EQ(b.pflag(2), 0);
+    EXPECT_EQ(b.var16(fw::data::n_stale, 2), 1u);
+    EXPECT_EQ(b.var16(fw::data::tx_used, 2), 0u) << "the partial frame is dropped";
+    // the next frame goes out intact, without the abandoned bytes in front
+    const std::string f = frame("EC", "NEXT");
+    b.main_write_chunk(2, f, true);
+    ASSERT_TRUE(b.run_until([&] { return !b.uart[2].tx.empty(); }, 20));
+    ASSERT_EQ(b.host_take(2), std::string(1, ENQ));
+    b.host_send(2, std::string(1, ACK));
+    ASSERT_TRUE(b.run_until([&] { return b.step(2) == 13; }, 50));
+    EXPECT_EQ(b.host_take(2), f);
+}
+
 TEST(FirmwareProtocol, PortResetByMailboxWord) {
     Booted b;
     b.host_frame(2, frame("EC", "X").substr(0, 4)); // a frame in progress
