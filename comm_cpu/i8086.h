@@ -161,7 +161,20 @@ private:
     };
 
     void clk();
-    void clks(unsigned n) { while (n--) clk(); }
+    void clks(unsigned n) {
+        while (n) {
+            if (t_ == TState::Ti && !fetch_sched_ && !trace_) {
+                // Nothing can happen on an idle bus with no prefetch scheduled: skip ahead.
+                cycle_ += n;
+                last_qop_ = n >= 2 ? QueueOp::idle : qop_;
+                last_qbyte_ = qbyte_;
+                qop_ = QueueOp::idle;
+                return;
+            }
+            clk();
+            --n;
+        }
+    }
     void record_cycle();
     void bus_start(const BusOp& op, cycles_t t1);
     void bus_transfer();
