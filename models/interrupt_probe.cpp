@@ -45,7 +45,12 @@ void InterruptProbe::on_cycle(const BusRecord& r) {
         on_inta(r, t);
     } else if (!stack_.empty()) {
         Open& top = stack_.back();
-        if (top.entered || !on_entry_cycle(top, r, t)) on_handler_cycle(r, t);
+        // The entry's pushes may straddle the first handler fetch: the 8086 flushes the queue to the
+        // new CS:IP between pushing CS and pushing IP (FARCALL microcode), so the BIU can fetch at the
+        // handler before the return IP is written. Until all three pushes are seen, entry cycles
+        // are matched even after the handler was entered.
+        const bool entry_cycle = (!top.entered || top.pushes < 3) && on_entry_cycle(top, r, t);
+        if (!entry_cycle && top.entered) on_handler_cycle(r, t);
     }
     if (dpram_write && on_dpram_write) on_dpram_write(r, t);
 }
@@ -89,7 +94,7 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::
         ++o.pushes;
         return true;
     }
-    if (r.kind == Bus::code_fetch && o.ivt_reads == 2) {
+    if (r.kind == Bus::code_fetch && o.ivt_reads == 2 && !o.entered) {
         const std::uint32_t handler = ((std::uint32_t(o.new_cs) << 4) + o.new_ip) & 0xFFFFF;
         if (r.address == handler || r.address == (handler & ~1u)) {
             o.entered = true;
