@@ -347,7 +347,7 @@ void Cpu::execute(std::uint8_t op) {
         set_flag(flag::CF, adj);
         set_szp(reg8(0), false);
         set_reg8(0, reg8(0) & 0x0F);
-        clks(6);
+        clks(adj ? 6 : 7);
         break;
     }
 
@@ -480,7 +480,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x99:
         r_.r[DX] = (r_.r[AX] & 0x8000) ? 0xFFFF : 0;
-        clks(3);
+        clks((r_.r[AX] & 0x8000) ? 4 : 3);
         break;
     case 0x9A: {
         const std::uint16_t ip = imm16();
@@ -673,7 +673,7 @@ void Cpu::execute(std::uint8_t op) {
         const std::uint8_t prod = std::uint8_t(reg8(4) * base);
         const std::uint8_t r = std::uint8_t(alu(0, reg8(0), prod, false));
         r_.r[AX] = r;
-        clks(55);
+        clks(56 + popcount16(base)); // the multiply loop: one clock per one bit of the base
         break;
     }
     case 0xD6: // SALC
@@ -736,8 +736,8 @@ void Cpu::execute(std::uint8_t op) {
     case 0xEA: {
         const std::uint16_t ip = imm16();
         const std::uint16_t cs = imm16();
-        suspend_fetch();
-        clks(2);
+        susp();
+        clk();
         jump_far(cs, ip);
         clks(1);
         break;
