@@ -100,7 +100,7 @@ bool Cpu::divide(bool word, bool sign) {
             if (q > 127 || q < -127) fault = true;
             else r_.r[AX] = std::uint16_t(((r & 0xFF) << 8) | (q & 0xFF));
         }
-        clks(fault ? 10 : (sign ? 95 : 75));
+        clks(fault ? (sign ? 22 : 12) : (sign ? 95 : 75));
     } else {
         const std::uint16_t src = rm_read16_cached_;
         const std::uint32_t dividend = (std::uint32_t(r_.r[DX]) << 16) | r_.r[AX];
@@ -124,7 +124,7 @@ bool Cpu::divide(bool word, bool sign) {
                 r_.r[DX] = std::uint16_t(r);
             }
         }
-        clks(fault ? 10 : (sign ? 160 : 140));
+        clks(fault ? (sign ? 22 : 12) : (sign ? 160 : 140));
     }
     if (fault) interrupt(0);
     return !fault;
