@@ -452,7 +452,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x8D:
         r_.r[reg_] = ea_;
-        clks(mod_ == 0 ? 1 : 2); // without a displacement the EA routine returns a clock earlier
+        clks(ea_nodisp() && rm_ >= 4 ? 1 : 2); // [SI]/[DI]/[BX]: the EA routine returns a clock earlier
         break;
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086.
