@@ -341,3 +341,44 @@ TEST(SystemProtocol, PortResetByBreak) {
     EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 1u) << "the comm CPU told the main CPU (0x30)";
     expect_reset_outcome(b);
 }
+
+// 3b. The protocol host's own recovery from a NAKed frame on the real firmware: the frame is
+// delivered exactly once in the end, intact, and nothing of the bad copy reaches the main CPU.
+TEST(SystemProtocol, HostRecoversFromANakedFrameAndTheFrameArrivesOnce) {
+    Board b;
+    HostOn h("host0", b, 0);
+    Board::run_to(k_boot());
+    b.line(0).inject(SerialLine::b, 8, FaultKind::flip_data_bit, 3); // a data byte of the first copy
+    const Frame cmd{"EC", 0, "RETRIED AFTER NAK"};
+    h.host.send(cmd);
+    ASSERT_TRUE(Board::run_until([&] { return h.host.counters().responses_received >= 1; }, ms(800)))
+        << h.log.str() << b.transcript(0);
+    const auto& c = h.host.counters();
+    EXPECT_EQ(c.frames_delivered, 1u) << h.log.str();
+    EXPECT_EQ(c.frames_failed, 0u);
+    EXPECT_GE(c.naks, 1u);
+    ASSERT_EQ(b.ctl.main.received().size(), 1u);
+    EXPECT_EQ(b.ctl.main.received()[0].data, cmd.data);
+    EXPECT_TRUE(b.ctl.main.malformed().empty());
+    ASSERT_EQ(h.host.responses().size(), 1u);
+    EXPECT_EQ(h.host.responses()[0], cmd);
+}
+
+// 3c. SYSTEM.md §3: "a sender ... resends the whole frame after NAK". The protocol host does so
+// without a new ENQ; the receiving firmware should take that copy.
+TEST(SystemProtocol, FrameResentAfterNakWithoutEnqGetsEot) {
+    GTEST_SKIP() << "known issue (firmware/host disagree on SYSTEM.md section 3): after NAKing a frame the "
+                    "firmware goes to step 3 -> 0 and ignores every byte but ENQ, so the host's resend of the "
+                    "frame without ENQ is ignored; the host waits T1 (50 ms), backs off and starts over with ENQ "
+                    "(one wasted retry of the shared 3; see HostRecoversFromANakedFrameAndTheFrameArrivesOnce)";
+    Board b;
+    HostOn h("host0", b, 0);
+    Board::run_to(k_boot());
+    b.line(0).inject(SerialLine::b, 8, FaultKind::flip_data_bit, 3);
+    h.host.send(Frame{"EC", 0, "RETRIED AFTER NAK"});
+    ASSERT_TRUE(Board::run_until([&] { return h.host.counters().frames_delivered >= 1; }, ms(300))) << h.log.str();
+    EXPECT_EQ(h.host.counters().naks, 1u);
+    EXPECT_EQ(h.host.counters().retries, 1u) << h.log.str();
+    EXPECT_EQ(h.host.counters().timeouts, 0u) << h.log.str();
+    EXPECT_EQ(proto::escape(b.from_controller(0).substr(0, 3)), proto::escape(kAck + kNak + kEot)) << b.transcript(0);
+}

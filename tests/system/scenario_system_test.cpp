@@ -30,6 +30,14 @@ TEST(SystemScenario, ThreePortsSaturatedFor2sDeliverEveryFrameExactlyOnce) {
         sent += port["frames_sent"].get<std::uint64_t>();
     }
     EXPECT_GT(sent, 0u);
+    // The interrupt probe measured the run (from bus cycles): every source was seen.
+    for (const char* src : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
+        SCOPED_TRACE(src);
+        EXPECT_GT(report["interrupts"][src]["count"].get<std::uint64_t>(), 0u);
+        EXPECT_GT(report["interrupts"][src]["service_us"]["min"].get<double>(), 0.0);
+    }
+    EXPECT_GT(report["table3"]["rs232_isr_us"].get<double>(), 0.0);
+    EXPECT_GT(report["table3"]["dpram_byte_us"].get<double>(), 0.0);
     bool found = false;
     for (const auto& c : report["checks"]) {
         if (c["name"] == "frames_delivered_exactly_once") {
