@@ -220,7 +220,7 @@ void Cpu::string_op(std::uint8_t op) {
             return;
         }
         if (r_.r[CX] == 0) {
-            clks(op == 0xAA || op == 0xAB ? 1 : (op == 0xAC || op == 0xAD) ? 3 : scas ? 3 : 2);
+            clks(op == 0xAA || op == 0xAB ? 1 : (op == 0xAC || op == 0xAD) ? 3 : 2);
             return;
         }
         // Interruptible between elements: IP goes back to the last prefix, so only that
