@@ -152,7 +152,7 @@ void Cpu::string_op(std::uint8_t op) {
         }
         case 0xA6:
         case 0xA7: { // CMPS
-            clks(1);
+            clks(2);
             const std::uint16_t a = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
             clks(2);
             const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
@@ -198,10 +198,10 @@ void Cpu::string_op(std::uint8_t op) {
     // REP timings measured on the P80C86A-2: a 4-clock prologue (CX tested in the fifth), a
     // first-element set-up, a per-element loop overhead when the run continues and one clock
     // when it ends.
-    const bool lods_cmps = op == 0xAC || op == 0xAD || op == 0xA6 || op == 0xA7;
-    const bool scas = op == 0xAE || op == 0xAF;
-    const unsigned overhead = lods_cmps ? 3 : scas ? 2 : 1;
-    const unsigned setup = (op == 0xA6 || op == 0xA7) ? 4 : 3;
+    const bool lods = op == 0xAC || op == 0xAD;
+    const bool stos = op == 0xAA || op == 0xAB;
+    const unsigned overhead = lods ? 3 : stos ? 1 : 2; // per element when the run goes on
+    const unsigned setup = 3;                           // before the first element
     bool first = !rep_suspended_;
     if (first) clks(4);
     else clks(overhead); // resuming a parked run: the overhead of the element boundary
@@ -220,7 +220,7 @@ void Cpu::string_op(std::uint8_t op) {
             return;
         }
         if (r_.r[CX] == 0) {
-            clks(op == 0xAA || op == 0xAB ? 1 : (op == 0xAC || op == 0xAD) ? 3 : 2);
+            clks(stos ? 1 : lods ? 3 : 2);
             return;
         }
         // Interruptible between elements: IP goes back to the last prefix, so only that
