@@ -382,3 +382,79 @@ TEST(SystemProtocol, FrameResentAfterNakWithoutEnqGetsEot) {
     EXPECT_EQ(h.host.counters().timeouts, 0u) << h.log.str();
     EXPECT_EQ(proto::escape(b.from_controller(0).substr(0, 3)), proto::escape(kAck + kNak + kEot)) << b.transcript(0);
 }
+
+// 7b. The controller retries its own frame after a NAK to its ENQ, waiting 10 ms x attempt.
+TEST(SystemProtocol, ControllerRetriesAfterNakWithBackoff) {
+    Board b;
+    ProtocolHostConfig cfg;
+    cfg.nak_enqs = 2;
+    HostOn h("host0", b, 0, cfg);
+    Board::run_to(k_boot());
+    b.ctl.main.send(0, "MS", "RETRY ME");
+    ASSERT_TRUE(Board::run_until([&] { return h.host.counters().responses_received >= 1; }, ms(400)))
+        << h.log.str() << b.transcript(0);
+    EXPECT_EQ(h.host.responses()[0], (Frame{"MS", 0, "RETRY ME"}));
+    EXPECT_EQ(h.host.counters().enqs_received, 3u);
+    EXPECT_EQ(h.host.counters().naks_sent, 2u);
+    EXPECT_EQ(proto::escape(b.from_controller(0)), proto::escape(kEnq + kEnq + kEnq + frame("MS", "RETRY ME")))
+        << b.transcript(0);
+    // Retry n starts n x 10 ms after the NAK arrived (1 ms tick resolution, plus the main loop).
+    const auto& w = b.wire[0];
+    ASSERT_GE(w.size(), 5u);
+    ASSERT_EQ(w[1].byte, proto::NAK);
+    ASSERT_EQ(w[3].byte, proto::NAK);
+    const double wait1 = to_us(w[2].at - (w[1].at + k_char())) / 1000.0;
+    const double wait2 = to_us(w[4].at - (w[3].at + k_char())) / 1000.0;
+    EXPECT_GE(wait1, 9.0) << b.transcript(0);
+    EXPECT_LE(wait1, 12.0) << b.transcript(0);
+    EXPECT_GE(wait2, 19.0) << b.transcript(0);
+    EXPECT_LE(wait2, 22.0) << b.transcript(0);
+    EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 0u);
+}
+
+// 7c. After 3 retries (4 ENQs refused) the controller gives up, resets the port and tells the main
+// CPU (0x30); the port then serves the host normally.
+TEST(SystemProtocol, ControllerGivesUpAfterThreeRetriesAndReportsIt) {
+    Board b;
+    ProtocolHostConfig cfg;
+    cfg.nak_enqs = 4;
+    HostOn h("host0", b, 0, cfg);
+    Board::run_to(k_boot());
+    b.ctl.main.send(0, "MS", "NEVER TAKEN");
+    ASSERT_TRUE(Board::run_until([&] { return b.ctl.main.port_stats(0).resets_received >= 1; }, ms(300)))
+        << h.log.str() << b.transcript(0);
+    Board::run_to(sc_core::sc_time_stamp() + ms(60));
+    EXPECT_EQ(proto::escape(b.from_controller(0)), proto::escape(kEnq + kEnq + kEnq + kEnq)) << b.transcript(0);
+    EXPECT_EQ(h.host.counters().enqs_received, 4u);
+    EXPECT_TRUE(h.host.responses().empty());
+    EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 1u);
+    EXPECT_EQ(b.pflag(0), 0);
+    // the port works afterwards
+    h.host.send(Frame{"EC", 0, "STILL ALIVE"});
+    ASSERT_TRUE(Board::run_until([&] { return h.host.counters().responses_received >= 1; }, ms(300)))
+        << h.log.str() << b.transcript(0);
+    EXPECT_EQ(h.host.counters().frames_delivered, 1u);
+    EXPECT_EQ(h.host.responses()[0], (Frame{"EC", 0, "STILL ALIVE"}));
+}
+
+// 4c. After our ACK the first frame byte must come within T1 (50 ms): silence drops the transfer
+// without an answer and frees the area.
+TEST(SystemProtocol, SilenceAfterAckFreesThePortAfterT1) {
+    Board b;
+    RawHostConfig cfg;
+    add_raw(cfg, ms(30), kEnq);
+    add_raw(cfg, ms(100), kEnq);
+    add_raw(cfg, ms(104), frame("EC", "LATE"));
+    RawOn h("host0", b, 0, cfg);
+    Board::run_to(ms(60));
+    EXPECT_EQ(b.pflag(0), 1) << "still waiting within T1";
+    Board::run_to(ms(99));
+    EXPECT_EQ(b.pflag(0), 0) << "T1 expired: area freed";
+    EXPECT_EQ(proto::escape(b.from_controller(0)), proto::escape(kAck)) << "no NAK for silence\n" << b.transcript(0);
+    Board::run_to(ms(130));
+    unsigned enqs = 0;
+    EXPECT_EQ(proto::escape(strip_trailing_enqs(b.from_controller(0), enqs)), proto::escape(kAck + kAck + kEot))
+        << b.transcript(0);
+    ASSERT_EQ(b.ctl.main.received().size(), 1u);
+    EXPECT_EQ(b.ctl.main.received()[0].data, "LATE");
+}
