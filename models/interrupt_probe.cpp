@@ -28,11 +28,6 @@ void InterruptProbe::sample_lines() {
             rise_[level] = sc_core::sc_time_stamp();
             rise_pending_[level] = true;
         }
-        // A request whose line falls before it was acknowledged is withdrawn (the 8259A's edge
-        // latch is ANDed with the level): e.g. a character that arrives while its port's ISR is
-        // still draining the FIFO is read there, and its INT pulse never gets an INTA. Keeping
-        // that rise would charge the next interrupt of this level with the whole gap.
-        if (!now && last_level_[level]) rise_pending_[level] = false;
         // A request that goes away before its INTA is not served (the 8259A needs IR high until
         // the first INTA): the next interrupt of this level belongs to a later rise.
         if (!now) rise_pending_[level] = false;
