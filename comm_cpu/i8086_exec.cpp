@@ -662,10 +662,13 @@ void Cpu::execute(std::uint8_t op) {
             break;
         }
         const std::uint8_t al = reg8(0);
-        set_reg8(4, std::uint8_t(al / base));
+        const std::uint8_t q = std::uint8_t(al / base);
+        set_reg8(4, q);
         set_reg8(0, std::uint8_t(al % base));
         set_szp(reg8(0), false);
-        clks(77);
+        // The division loop (measured): one clock per one bit of the quotient, two more when
+        // the quotient is odd.
+        clks(74 + popcount16(q) + ((q & 1) ? 2 : 0));
         break;
     }
     case 0xD5: { // AAD: AL = AL + AH * imm, flags as the addition
