@@ -176,8 +176,8 @@ h3{font-size:15px;margin:18px 0 6px}
 .banner.pass{background:#1e7e34}.banner.fail{background:#c82333}
 .verdict{font-size:26px;font-weight:bold;letter-spacing:1px}
 table{border-collapse:collapse;margin:6px 0 10px}
-th,td{border:1px solid #ccc;padding:3px 8px;text-align:right;white-space:nowrap}
-th{background:#f2f2f2}
+th,td{border:1px solid #ccc;padding:3px 7px;text-align:right;white-space:nowrap}
+th{background:#f2f2f2;white-space:normal;vertical-align:bottom}
 td.l,th.l{text-align:left}
 tr.pass td.v{background:#e3f4e6}tr.fail td.v{background:#fbe0e0}
 td.bad{background:#fbe0e0;font-weight:bold}
@@ -218,7 +218,7 @@ std::string histogram_svg(const std::string& title, const std::vector<double>& v
            "start", 11, "fill=\"#444\"");
     svg::Scale sx{h.lo, h.hi(), L, W - R, false};
     svg::Scale sy{log ? 0.5 : 0.0, log ? maxc * 2.0 : std::max(1.0, maxc * 1.12), H - B, T, log};
-    d.y_axis(sy, L, W - R, log ? "interrupts per bin (log)" : "interrupts per bin", 5);
+    d.y_axis(sy, L, W - R, log ? "count (log scale)" : "count", 5);
     for (std::size_t i = 0; i < h.counts.size(); ++i) {
         if (!h.counts[i]) continue;
         const double a = h.lo + h.width * static_cast<double>(i), b = a + h.width;
@@ -248,7 +248,7 @@ std::string table3_svg(const json& t) {
     const double isr = jd(t, "rs232_isr_us"), dp = jd(t, "dpram_byte_us");
     const double pisr = jd(t, "paper_rs232_isr_us", 82), pdp = jd(t, "paper_dpram_byte_us", 52.553);
     const double budget = jd(t, "budget_us"), margin = jd(t, "margin_us");
-    const double W = 760, H = 360, L = 70, R = 190, T = 30, B = 64;
+    const double W = 760, H = 380, L = 70, R = 170, T = 24, B = 84;
     svg::Doc d(W, H, "Table 3: simulated vs paper");
     const double top = std::max({budget, isr + dp, pisr + pdp, 1.0}) * 1.12;
     svg::Scale sy{0, top, H - B, T, false};
@@ -269,19 +269,25 @@ std::string table3_svg(const json& t) {
     // Budget line and margin arrow (on the simulated "sum" bar).
     const double yb = sy(budget);
     d.line(L, yb, W - R, yb, "#c82333", 2, "stroke-dasharray=\"8 4\"");
-    d.text(W - R + 6, yb + 4, "budget " + num(budget, 1) + " us", "start", 12, "fill=\"#c82333\" font-weight=\"bold\"");
-    const double xs = L + gw * 2.5 - bw / 2 - 3, ys = sy(isr + dp);
+    const double xs = W - R - 10, ys = sy(isr + dp); // the margin arrow, right of the "sum" bars
+    d.line(L + gw * 2.5 - 3, ys, xs, ys, "#555", 1, "stroke-dasharray=\"2 2\"");
+    // Labels right of the plot: budget on its line, margin halfway, never on top of each other.
+    const double mid = (yb + ys) / 2;
+    const double yl_budget = margin >= 0 ? yb - 5 : yb + 15;
+    const double yl_margin = margin >= 0 ? std::max(mid + 4, yb + 19) : std::min(mid + 4, yb - 9);
+    d.text(W - R + 6, yl_budget, "budget " + num(budget, 1) + " us", "start", 12,
+           "fill=\"#c82333\" font-weight=\"bold\"");
     d.line(xs, yb, xs, ys, margin >= 0 ? "#1e7e34" : "#c82333", 1.5);
-    d.line(xs - 5, yb, xs + 5, yb, margin >= 0 ? "#1e7e34" : "#c82333", 1.5);
-    d.text(W - R + 6, (yb + ys) / 2 + 4, "margin " + num(margin, 1) + " us", "start", 12,
+    d.line(xs - 4, ys, xs + 4, ys, margin >= 0 ? "#1e7e34" : "#c82333", 1.5);
+    d.text(W - R + 6, yl_margin, "margin " + num(margin, 1) + " us", "start", 12,
            std::string("fill=\"") + (margin >= 0 ? "#1e7e34" : "#c82333") + "\" font-weight=\"bold\"");
-    d.line(xs, (yb + ys) / 2, W - R + 2, (yb + ys) / 2, margin >= 0 ? "#1e7e34" : "#c82333", 1,
-           "stroke-dasharray=\"2 2\"");
+    d.line(xs, mid, W - R + 2, yl_margin - 4, margin >= 0 ? "#1e7e34" : "#c82333", 1);
     // Legend.
-    d.rect(W - R + 8, T + 4, 14, 14, "#1f77b4");
-    d.text(W - R + 28, T + 16, "simulated (this run)");
-    d.rect(W - R + 8, T + 24, 14, 14, "#a8a8a8");
-    d.text(W - R + 28, T + 36, "paper (HP 8086 emulator)");
+    const double ly = H - B + 34;
+    d.rect(L, ly, 14, 14, "#1f77b4");
+    d.text(L + 20, ly + 12, "simulated (this run)");
+    d.rect(L + 180, ly, 14, 14, "#a8a8a8");
+    d.text(L + 200, ly + 12, "paper, Table 3 (HP 8086 emulator)");
     d.text(L, H - 14,
            "sum = RS-232 interrupt + DP-RAM byte: the processing each received character costs; margin = budget - sum",
            "start", 11, "fill=\"#555\"");
@@ -291,7 +297,7 @@ std::string table3_svg(const json& t) {
 /// Per-port character latency (stop bit to RXD read): min..max bar, mean and p99 ticks, limit.
 std::string char_latency_svg(const json& ports, double limit) {
     const std::size_t n = ports.size();
-    const double W = 760, L = 80, R = 150, T = 20, row = 34, B = 54;
+    const double W = 760, L = 80, R = 210, T = 24, row = 34, B = 54;
     const double H = T + row * static_cast<double>(n) + B;
     svg::Doc d(W, H, "character latency per port");
     double top = limit > 0 ? limit : 1;
@@ -312,7 +318,8 @@ std::string char_latency_svg(const json& ports, double limit) {
         d.line(sx(jd(c, "p99")), y - 11, sx(jd(c, "p99")), y + 11, "#d46b00", 2.5);
         d.line(sx(mx), y - 11, sx(mx), y + 11, "#c82333", 2.5);
         d.text(W - R + 8, y + 4,
-               "mean " + num(jd(c, "mean"), 0) + " / p99 " + num(jd(c, "p99"), 0) + " / max " + num(mx, 0), "start",
+               "mean " + num(jd(c, "mean"), 0) + " / p99 " + num(jd(c, "p99"), 0) + " / max " + num(mx, 0) + " us",
+               "start",
                11);
     }
     const double yb = T + row * static_cast<double>(n);
@@ -332,7 +339,8 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, double t0, doubl
                          const std::string& aria) {
     unsigned levels = 4;
     for (const auto& r : rows) levels = std::max(levels, r.level + 1);
-    const double W = 1160, L = 118, R = 14, T = 62, row = 46, B = 52;
+    const double W = 1160, L = 118, R = 14, row = 46, B = 52;
+    const double T = 62 + (mark ? 58 : 0); // room above the rows for the marked interrupt's labels
     const double H = T + row * levels + B;
     svg::Doc d(W, H, aria);
     svg::Scale sx{(t0 - origin_us) / unit_us, (t1 - origin_us) / unit_us, L, W - R, false};
@@ -391,28 +399,36 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, double t0, doubl
         if (r.has_eoi && r.eoi_us >= t0 && r.eoi_us <= t1) d.line(X(r.eoi_us), mid - 13, X(r.eoi_us), mid + 13, "#d00000", 2);
     }
     if (mark) {
-        // Name the events of the marked interrupt, logic-analyser style.
-        const double mid = T + row * mark->level + row / 2;
-        struct Ev { const char* name; double t; bool on; };
+        // Name the events of the marked interrupt, logic-analyser style: labels in lanes above the
+        // rows (the lowest lane where a label fits), each with a leader line down to its event.
+        const double bar_top = T + row * mark->level + row / 2 - 10;
+        struct Ev { std::string name; double t; bool on; };
         const Ev evs[] = {{"IR rise", mark->ir_rise_us, mark->has_rise},
-                          {"INTA", mark->inta1_us, true},
+                          {"INTA 1", mark->inta1_us, true},
+                          {"INTA 2", mark->inta2_us, true},
                           {"first ISR", mark->first_isr_us, true},
                           {"EOI", mark->eoi_us, mark->has_eoi},
                           {"IRET done", mark->iret_done_us, true}};
-        double last_x = -1e9;
-        int lane = 0;
+        std::vector<double> lane_end(5, -1e9);
         for (const Ev& e : evs) {
-            if (!e.on || e.t < t0 || e.t > t1) continue;
-            const double x = X(e.t);
-            lane = (x - last_x < 70) ? 1 - lane : 0;
-            last_x = x;
-            const double ty = mid - 16 - 11 * lane;
-            d.line(x, ty + 2, x, mid - 10, "#333", 0.8, "stroke-dasharray=\"2 2\"");
-            d.text(x, ty, e.name, "middle", 10, "fill=\"#000\"");
+            if (!e.on) continue;
+            std::string text = e.name;
+            if (e.t < t0) text = "<- " + e.name + " " + num(t0 - e.t, 1) + " us earlier";
+            if (e.t > t1) text = e.name + " " + num(e.t - t1, 1) + " us later ->";
+            const double x = X(e.t), w = 6.2 * static_cast<double>(text.size()) + 8;
+            const std::string anchor = e.t < t0 ? "start" : e.t > t1 ? "end" : "middle";
+            const double a = anchor == "start" ? x : anchor == "end" ? x - w : x - w / 2;
+            std::size_t lane = 0;
+            while (lane + 1 < lane_end.size() && lane_end[lane] > a) ++lane;
+            lane_end[lane] = a + w;
+            const double ty = T - 8 - 11.0 * static_cast<double>(lane);
+            d.line(x, ty + 2, x, bar_top, "#555", 0.8, "stroke-dasharray=\"2 2\"");
+            d.text(x, ty, text, anchor, 10, "fill=\"#000\"");
         }
         if (mark->has_rise)
-            d.text(X(mark->ir_rise_us), mid + 24, "latency " + num(mark->latency_us(), 1) + " us", "start", 11,
-                   "fill=\"#c82333\" font-weight=\"bold\"");
+            d.text(L + 4, bar_top + 34, "latency " + num(mark->latency_us(), 1) + " us, service " +
+                                            num(mark->service_us(), 1) + " us",
+                   "start", 11, "fill=\"#c82333\" font-weight=\"bold\"");
     }
     d.x_axis(sx, T + row * levels, xlabel, 10);
     return d.str();
@@ -519,11 +535,19 @@ void section_timeline(std::ostream& o, const std::vector<InterruptRow>& rows, co
     for (const auto& r : rows)
         if (r.has_rise && (!worst || r.latency_us() > worst->latency_us())) worst = &r;
     if (!worst) worst = &rows.front();
-    const double need = (worst->iret_done_us - worst->start_us()) * 1.25;
-    const double zoom = std::max(opt.zoom_us, need + 0.2 * opt.zoom_us);
-    const double z0 = std::max(0.0, worst->start_us() - 0.2 * std::min(opt.zoom_us, zoom));
-    o << "<h3>Zoom on the longest latency: IR" << worst->level << " " << esc(worst->source) << " at "
-      << num(worst->start_us() / 1000, 3) << " ms, latency "
+    // The zoom shows the whole interrupt when its wait fits, else its entry and service with the
+    // IR rise named at the left edge.
+    double zoom = opt.zoom_us, z0 = 0;
+    if (worst->inta1_us - worst->start_us() <= 0.6 * zoom) {
+        zoom = std::max(zoom, (worst->iret_done_us - worst->start_us()) / 0.8);
+        z0 = worst->start_us() - 0.1 * zoom;
+    } else {
+        zoom = std::max(zoom, (worst->iret_done_us - worst->inta1_us) / 0.6);
+        z0 = worst->inta1_us - 0.3 * zoom;
+    }
+    z0 = std::max(0.0, z0);
+    o << "<h3>Zoom on the longest latency: IR" << worst->level << " " << esc(worst->source) << " entered at "
+      << num(worst->inta1_us / 1000, 3) << " ms, latency "
       << (worst->has_rise ? num(worst->latency_us(), 1) : std::string("-")) << " us, service "
       << num(worst->service_us(), 1) << " us</h3>\n<div class=\"chart\">"
       << timeline_svg(rows, z0, z0 + zoom, z0, 1, "time after " + num(z0 / 1000, 3) + " ms [us]", worst,

@@ -117,7 +117,9 @@ TEST(ReportTimeline, BusiestWindowIsTheDensestAndTheEarliestOnATie) {
         std::size_t n = 0;
         for (const auto& q : rows) n += q.start_us() >= r.start_us() && q.start_us() < r.start_us() + 20000;
         EXPECT_LE(n, w.interrupts);
-        if (n == w.interrupts) EXPECT_GE(r.start_us(), w.start_us); // earliest on a tie
+        if (n == w.interrupts) {
+            EXPECT_GE(r.start_us(), w.start_us); // earliest on a tie
+        }
     }
     // Equal density everywhere: the first interrupt.
     std::vector<InterruptRow> even;
@@ -141,7 +143,9 @@ TEST(ReportCsv, OneLinePerRowWithHeaderAndEmptyFieldsForMissingEvents) {
     std::size_t n = 0;
     while (std::getline(in, line)) {
         EXPECT_EQ(count_of(line, ","), 15u) << line;
-        if (n == 3) EXPECT_NE(line.find(",,"), std::string::npos) << "no rise: empty ir_rise and latency: " << line;
+        if (n == 3) {
+            EXPECT_NE(line.find(",,"), std::string::npos) << "no rise: empty ir_rise and latency: " << line;
+        }
         ++n;
     }
     EXPECT_EQ(n, rows.size());
