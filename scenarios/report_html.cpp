@@ -334,9 +334,9 @@ std::string char_latency_svg(const json& ports, double limit) {
 /// The logic-analyser picture of [t0, t1]: one row per IR level, a thin bar from IR rise to the
 /// first ISR instruction (waiting), a thick bar from there to IRET done (in service), ticks at
 /// the INTA cycles and at the EOI. The x axis is (t - origin_us) / unit_us.
-std::string timeline_svg(const std::vector<InterruptRow>& rows, double t0, double t1, double origin_us,
-                         double unit_us, const std::string& xlabel, const InterruptRow* mark,
-                         const std::string& aria) {
+std::string timeline_svg(const std::vector<InterruptRow>& rows, const std::vector<bool>& nested, double t0,
+                         double t1, double origin_us, double unit_us, const std::string& xlabel,
+                         const InterruptRow* mark, const std::string& aria) {
     unsigned levels = 4;
     for (const auto& r : rows) levels = std::max(levels, r.level + 1);
     const double W = 1160, L = 118, R = 14, row = 46, B = 52;
@@ -374,7 +374,8 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, double t0, doubl
         d.text(L - 8, mid + 12, source_name(lv), "end", 11, "fill=\"#555\"");
     }
     const double min_w = 1.0;
-    for (const auto& r : rows) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const InterruptRow& r = rows[i];
         if (r.iret_done_us < t0 || r.start_us() > t1) continue;
         const double mid = T + row * r.level + row / 2;
         const std::string c = colour_of(r.level);
@@ -382,9 +383,9 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, double t0, doubl
         if (r.has_rise) d.rect(xs, mid - 3, std::max(xi - xs, 0.0), 6, c, "fill-opacity=\"0.35\"");
         const bool strong = r.level >= 3 || r.rx;
         std::string extra = strong ? "" : " fill-opacity=\"0.4\"";
-        if (r.depth > 0) extra += " stroke=\"#000\" stroke-width=\"1.5\"";
+        if (nested[i]) extra += " stroke=\"#000\" stroke-width=\"1.5\"";
         std::string tip = "IR" + std::to_string(r.level) + " " + r.source + ", vector 0x" + hex(r.vector, 2) +
-                          (r.rx ? ", RX" : "") + (r.depth ? ", nested depth " + std::to_string(r.depth) : "") +
+                          (r.rx ? ", RX" : "") + (nested[i] ? ", nested" : "") + ", probe depth " + std::to_string(r.depth) +
                           "\nIR rise " + (r.has_rise ? num(r.ir_rise_us, 3) + " us" : "-") + "\nINTA1 " +
                           num(r.inta1_us, 3) + " us, INTA2 " + num(r.inta2_us, 3) + " us\nfirst ISR " +
                           num(r.first_isr_us, 3) + " us\nEOI " + (r.has_eoi ? num(r.eoi_us, 3) + " us" : "-") +
@@ -525,11 +526,19 @@ void section_timeline(std::ostream& o, const std::vector<InterruptRow>& rows, co
         return;
     }
     const TimeWindow w = busiest_window(rows, opt.window_us);
+    // Nested: entered while an earlier interrupt's handler was still running (it returns after
+    // this one), from the times alone. Rows are in entry order.
+    std::vector<bool> nested(rows.size(), false);
+    double open_until = -1;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        nested[i] = open_until > rows[i].iret_done_us;
+        open_until = std::max(open_until, rows[i].iret_done_us);
+    }
     o << "<h3>Busiest " << num(opt.window_us / 1000, 0) << " ms: " << num(w.start_us / 1000, 3) << " .. "
       << num(w.end_us / 1000, 3) << " ms (" << w.interrupts << " interrupts start in it)</h3>\n"
       << "<p class=\"note\">The window of the run in which the most interrupts start (the earliest such window on "
          "a tie). Hover over a bar for its times.</p>\n<div class=\"chart\">"
-      << timeline_svg(rows, w.start_us, w.end_us, 0, 1000, "simulation time [ms]", nullptr, "busiest window")
+      << timeline_svg(rows, nested, w.start_us, w.end_us, 0, 1000, "simulation time [ms]", nullptr, "busiest window")
       << "</div>\n";
     const InterruptRow* worst = nullptr;
     for (const auto& r : rows)
@@ -538,9 +547,10 @@ void section_timeline(std::ostream& o, const std::vector<InterruptRow>& rows, co
     // The zoom shows the whole interrupt when its wait fits, else its entry and service with the
     // IR rise named at the left edge.
     double zoom = opt.zoom_us, z0 = 0;
-    if (worst->inta1_us - worst->start_us() <= 0.6 * zoom) {
-        zoom = std::max(zoom, (worst->iret_done_us - worst->start_us()) / 0.8);
-        z0 = worst->start_us() - 0.1 * zoom;
+    const double whole = (worst->iret_done_us - worst->start_us()) / 0.85;
+    if (whole <= 2.5 * zoom) {
+        zoom = std::max(zoom, whole);
+        z0 = worst->start_us() - 0.05 * zoom;
     } else {
         zoom = std::max(zoom, (worst->iret_done_us - worst->inta1_us) / 0.6);
         z0 = worst->inta1_us - 0.3 * zoom;
@@ -550,7 +560,7 @@ void section_timeline(std::ostream& o, const std::vector<InterruptRow>& rows, co
       << num(worst->inta1_us / 1000, 3) << " ms, latency "
       << (worst->has_rise ? num(worst->latency_us(), 1) : std::string("-")) << " us, service "
       << num(worst->service_us(), 1) << " us</h3>\n<div class=\"chart\">"
-      << timeline_svg(rows, z0, z0 + zoom, z0, 1, "time after " + num(z0 / 1000, 3) + " ms [us]", worst,
+      << timeline_svg(rows, nested, z0, z0 + zoom, z0, 1, "time after " + num(z0 / 1000, 3) + " ms [us]", worst,
                       "zoom on the longest latency")
       << "</div></section>\n";
 }
@@ -621,7 +631,9 @@ void section_main_cpu(std::ostream& o, const json& r) {
 // ---------------------------------------------------------------------------------------------
 // the page
 
-std::string render_html(const json& r, const std::vector<InterruptRow>& rows, const HtmlOptions& opt) {
+std::string render_html(const json& r, const std::vector<InterruptRow>& unsorted, const HtmlOptions& opt) {
+    std::vector<InterruptRow> rows = unsorted;
+    sort_rows(rows);
     std::ostringstream o;
     const std::string name = js(r, "scenario", "?");
     const bool passed = r.value("passed", false);
