@@ -181,6 +181,7 @@ static void rx_drop(int port)
         dp_wr(PFLAG(port), P_FREE);
         rx_len[port] = 0;
         rx_fwd[port] = 0;
+        rx_bad[port] = 0;       /* the dropped frame's line errors must not refuse the next ENQ */
         step[port] = ST_IDLE;
     }
     irq_restore(f);

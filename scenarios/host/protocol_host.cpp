@@ -224,7 +224,9 @@ void ProtocolHost::do_command(const Frame& f) {
                 busy_ = false;
                 return;
             }
-            if (r == Reply::timeout) need_enq = true; // the receiver may have dropped: start over
+            // After a NAK or a timeout the receiver has dropped the frame and is idle again, so
+            // the retry is a new transfer: ENQ, then the whole frame (docs/serial.md).
+            need_enq = true;
         }
         if (attempt == cfg_.timing.max_retries) {
             ++counters_.frames_failed;

@@ -149,17 +149,18 @@ TEST(ProtocolHost, NakOnEnqThenRetryAfterBackoff) {
     EXPECT_EQ(c.frames_delivered, 1u);
 }
 
-TEST(ProtocolHost, NakOnFrameResendsTheFrameWithoutEnq) {
+TEST(ProtocolHost, NakOnFrameRetriesWithEnqThenTheWholeFrame) {
     Bench b(no_wait());
     b.fake.replies[ETX] = {"\x15"};
     b.host.send(k_cmd);
     sc_core::sc_start(ms(300));
-    EXPECT_EQ(b.fake.bytes(), "\x05" + encode(k_cmd) + encode(k_cmd));
+    EXPECT_EQ(b.fake.bytes(), "\x05" + encode(k_cmd) + "\x05" + encode(k_cmd));
     const auto etx = b.fake.times_of(ETX);
-    const auto soh = b.fake.times_of(SOH);
-    ASSERT_EQ(soh.size(), 2u);
-    EXPECT_EQ(soh[1], etx[0] + ms(1) + k_char + ms(10) + k_char);
+    const auto enqs = b.fake.times_of(ENQ);
+    ASSERT_EQ(enqs.size(), 2u);
+    EXPECT_EQ(enqs[1], etx[0] + ms(1) + k_char + ms(10) + k_char); // NAK, 10 ms x attempt 1, the ENQ
     EXPECT_EQ(b.host.counters().naks, 1u);
+    EXPECT_EQ(b.host.counters().retries, 1u);
     EXPECT_EQ(b.host.counters().frames_delivered, 1u);
 }
 

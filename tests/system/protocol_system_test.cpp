@@ -364,13 +364,9 @@ TEST(SystemProtocol, HostRecoversFromANakedFrameAndTheFrameArrivesOnce) {
     EXPECT_EQ(h.host.responses()[0], cmd);
 }
 
-// 3c. SYSTEM.md §3: "a sender ... resends the whole frame after NAK". The protocol host does so
-// without a new ENQ; the receiving firmware should take that copy.
-TEST(SystemProtocol, FrameResentAfterNakWithoutEnqGetsEot) {
-    GTEST_SKIP() << "known issue (firmware/host disagree on SYSTEM.md section 3): after NAKing a frame the "
-                    "firmware goes to step 3 -> 0 and ignores every byte but ENQ, so the host's resend of the "
-                    "frame without ENQ is ignored; the host waits T1 (50 ms), backs off and starts over with ENQ "
-                    "(one wasted retry of the shared 3; see HostRecoversFromANakedFrameAndTheFrameArrivesOnce)";
+// 3c. SYSTEM.md §3: "a sender ... resends the whole frame after NAK". After its NAK the receiver
+// is idle again, so the retry is a new transfer: ENQ, ACK, the whole frame, EOT (docs/serial.md).
+TEST(SystemProtocol, FrameRetriedAfterNakStartsWithEnqAndGetsEot) {
     Board b;
     HostOn h("host0", b, 0);
     Board::run_to(k_boot());
@@ -380,7 +376,9 @@ TEST(SystemProtocol, FrameResentAfterNakWithoutEnqGetsEot) {
     EXPECT_EQ(h.host.counters().naks, 1u);
     EXPECT_EQ(h.host.counters().retries, 1u) << h.log.str();
     EXPECT_EQ(h.host.counters().timeouts, 0u) << h.log.str();
-    EXPECT_EQ(proto::escape(b.from_controller(0).substr(0, 3)), proto::escape(kAck + kNak + kEot)) << b.transcript(0);
+    // ACK, NAK (the corrupted frame), then ACK to the retry's ENQ and EOT for the whole frame.
+    EXPECT_EQ(proto::escape(b.from_controller(0).substr(0, 4)), proto::escape(kAck + kNak + kAck + kEot))
+        << b.transcript(0);
 }
 
 // 7b. The controller retries its own frame after a NAK to its ENQ, waiting 10 ms x attempt.
