@@ -73,10 +73,23 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
         }
         return;
     }
+    // A handler whose IRET has already popped its return address is finished even though the
+    // interrupted code never ran again: the CPU took the next pending interrupt at the boundary
+    // right after the IRET (the new entry pushes the same return address). Its IRET completed
+    // at that boundary, the T1 of this INTA.
+    while (!stack_.empty() && stack_.back().entered && stack_.back().popped) close_top(t);
     Open o;
     o.rec.inta1 = t;
     o.rec.depth = static_cast<unsigned>(stack_.size());
     stack_.push_back(o);
+}
+
+void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
+    Open& o = stack_.back();
+    o.rec.iret_done = iret_done;
+    o.rec.done = true;
+    done_.push_back(o.rec);
+    stack_.pop_back();
 }
 
 bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::sc_time& t) {
@@ -87,12 +100,26 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::
         ++o.ivt_reads;
         return true;
     }
-    if (r.kind == Bus::mem_write && o.ivt_reads == 2 && r.width == 2 && o.pushes < 3) {
-        // Pushes in order FLAGS, CS, IP.
-        if (o.pushes == 1) o.ret_cs = r.data;
+    if (r.kind == Bus::mem_write && o.ivt_reads == 2 && o.pushes < 3) {
+        // Pushes in order FLAGS, CS, IP. With an odd SP each word is two byte cycles, low byte
+        // first at the word's address (the firmware's C code can leave SP odd).
+        std::uint16_t word = r.data;
+        std::uint32_t at = r.address;
+        if (r.width == 1) {
+            if (!o.half_pending) {
+                o.half_pending = true;
+                o.half_address = r.address;
+                o.half_low = static_cast<std::uint8_t>(r.data);
+                return true;
+            }
+            o.half_pending = false;
+            at = o.half_address;
+            word = static_cast<std::uint16_t>((r.data & 0xFF) << 8 | o.half_low);
+        }
+        if (o.pushes == 1) o.ret_cs = word;
         if (o.pushes == 2) {
-            o.ret_ip = r.data;
-            o.ip_slot = r.address;
+            o.ret_ip = word;
+            o.ip_slot = at;
         }
         ++o.pushes;
         return true;
@@ -123,19 +150,14 @@ void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time
         break;
     case Bus::mem_read:
         if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_reads += r.width;
-        if (r.address == o.ip_slot && r.width == 2) o.popped = true;
+        if (r.address == o.ip_slot && o.pushes == 3) o.popped = true; // IRET pops the return IP
         break;
     case Bus::mem_write:
         if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_writes += r.width;
         break;
     case Bus::code_fetch: {
         const std::uint32_t ret = ((std::uint32_t(o.ret_cs) << 4) + o.ret_ip) & 0xFFFFF;
-        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) {
-            o.rec.iret_done = t;
-            o.rec.done = true;
-            done_.push_back(o.rec);
-            stack_.pop_back();
-        }
+        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) close_top(t);
         break;
     }
     default:

@@ -7,7 +7,8 @@
 //              fetch at the handler address read from the vector table
 //   eoi        T1 of the I/O write of an EOI command (OCW2 with EOI=1) to the 8259A
 //   iret_done  the interrupted code resumes: T1 of the first code fetch at the return address
-//              that the entry pushed, after the handler popped it (IRET)
+//              that the entry pushed, after the handler popped it (IRET); or, when the CPU goes
+//              from the IRET straight into the next pending interrupt, T1 of that INTA
 // latency = first_isr - ir_rise; service = iret_done - first_isr. Nested interrupts are tracked
 // with a stack. The handler address and return address come from the entry's own bus cycles
 // (vector-table reads and the pushes of CS and IP).
@@ -79,6 +80,9 @@ private:
         unsigned ivt_reads = 0;
         std::uint16_t new_ip = 0, new_cs = 0;
         unsigned pushes = 0;
+        bool half_pending = false;          // low byte of a word pushed at an odd address
+        std::uint32_t half_address = 0;
+        std::uint8_t half_low = 0;
         std::uint32_t ip_slot = 0;          // stack address where the return IP was pushed
         std::uint16_t ret_ip = 0, ret_cs = 0;
         bool entered = false;               // first handler fetch seen
@@ -93,6 +97,7 @@ private:
     void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);
     bool on_entry_cycle(Open& o, const i8086::BusRecord& r, const sc_core::sc_time& t);
     void on_handler_cycle(const i8086::BusRecord& r, const sc_core::sc_time& t);
+    void close_top(const sc_core::sc_time& iret_done);
 };
 
 } // namespace rcsim

@@ -60,6 +60,21 @@ TEST(InterruptProbe, RecordsFollowTheAcknowledgeSequenceAndNameTheRealHandlers) 
         EXPECT_GE(r.inta2 - r.inta1, ns(500));
         EXPECT_DOUBLE_EQ(r.latency_us(), to_us(r.first_isr - r.ir_rise));
     }
+    // Nesting is proper: an interrupt taken inside a handler (the DP-RAM handler runs with IF=1)
+    // lies within that handler's time. An entry the probe failed to close would instead stay
+    // open and make later interrupts look nested in it, ending after them.
+    const auto& recs = b.probe.records();
+    for (const InterruptRecord& r : recs) {
+        if (r.depth == 0) continue;
+        bool inside = false;
+        for (const InterruptRecord& p : recs)
+            inside = inside || (p.depth == r.depth - 1 && p.first_isr < r.inta1 && r.iret_done < p.iret_done);
+        EXPECT_TRUE(inside) << "level " << r.level << " at " << r.inta1 << " depth " << r.depth;
+    }
+    // Every acknowledged interrupt was recorded (but those still running at the end).
+    std::uint64_t acks = 0;
+    for (unsigned level = 0; level < 8; ++level) acks += b.ctl.comm.pic.acks(level);
+    EXPECT_LE(acks - b.probe.records().size(), 2u);
     EXPECT_GT(per_level[0], 300u); // the 1 ms tick on 82510 #0
     EXPECT_GT(per_level[1], 0u);   // port 1 receiving and sending
     EXPECT_GT(per_level[3], 0u);   // the main CPU's response chunks and ACK words
