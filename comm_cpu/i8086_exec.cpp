@@ -78,14 +78,95 @@ void Cpu::grp_muldiv(unsigned op, bool word) {
     }
 }
 
+// Clocks of the division microcode for |dividend| / |divisor| (n = 8 or 16 bits), following
+// the published 8086 microcode (CORD restoring-division co-routine, PREIDIV/NEGATE/POSTIDIV for
+// IDIV). The set-up before CORD, the overflow test in CORD, then per quotient bit a fixed 4
+// clocks plus a branch whose length depends on whether the bit shifted out of the partial
+// remainder was set (3), or the trial subtraction succeeded (4) or failed (3); the loop's last
+// iteration leaves one clock earlier (except after a failed trial), then 4 clocks to return.
+// `fault` tells whether the microcode takes the divide error, and where: `early` = in CORD.
+namespace {
+struct DivTiming {
+    unsigned clocks;
+    bool fault;
+    bool early;                      // the error is found by CORD's first trial subtraction
+    bool flagged;                    // a trial subtraction set the flags (micro-op F) ...
+    std::uint32_t flag_a, flag_b;    // ... with these operands (the last one)
+};
+DivTiming div_microcode(std::uint32_t hi, std::uint32_t lo, std::uint32_t divisor, unsigned n, bool sign,
+                        bool neg_dividend, bool neg_divisor) {
+    const std::uint32_t mask = (1u << n) - 1, top = 1u << (n - 1);
+    unsigned c = 3; // dividend halves and divisor into the temporaries
+    if (sign) {
+        c += 3;                                   // PREIDIV: test the dividend's sign
+        c += neg_dividend ? 5 : 1;                // negate the dividend, or jump over it
+        c += 3 + (neg_divisor ? 2 : 3);           // NEGATE tail: the divisor's sign
+    }
+    c += 2;   // call CORD
+    c += 3;   // CORD: trial subtraction of the high half
+    DivTiming t{0, false, false, false, 0, 0};
+    if (hi >= divisor) return {c + 1, true, true, false, hi, divisor}; // quotient does not fit
+    std::uint32_t a = hi & mask, q = lo & mask;
+    bool carry = true; // borrow of the first trial
+    for (unsigned i = n; i-- > 0;) {
+        const bool last = i == 0;
+        const bool qout = q & top;
+        q = ((q << 1) | (carry ? 1 : 0)) & mask;
+        const bool aout = a & top;
+        a = ((a << 1) | (qout ? 1 : 0)) & mask;
+        c += 4;
+        if (aout) {
+            a = (a - divisor) & mask;
+            carry = false;
+            c += 3 + (last ? 2 : 1);
+            continue;
+        }
+        t.flagged = true; // this trial subtraction sets the flags
+        t.flag_a = a;
+        t.flag_b = divisor;
+        if (a >= divisor) {
+            a -= divisor;
+            carry = false;
+            c += 2 + 2 + (last ? 2 : 1);
+        } else {
+            carry = true;
+            c += 2 + 1 + (last ? 0 : 1);
+        }
+    }
+    q = ((q << 1) | (carry ? 1 : 0)) & mask; // the quotient, complemented
+    const bool final_carry = q & top;        // quotient (magnitude) below 2^(n-1)
+    c += 4;                                  // CORD return
+    c += 2;                                  // complement the quotient, test for IDIV
+    if (sign) {
+        c += 2;
+        if (!final_carry) { // POSTIDIV: quotient out of range
+            t.clocks = c + 1;
+            t.fault = true;
+            return t;
+        }
+        c += 3 + 1 + 2 + 1 + 2; // signs of remainder and quotient, return
+    }
+    t.clocks = c;
+    return t;
+}
+} // namespace
+
 // DIV/IDIV; returns false when a divide error (type 0) was taken. The 8086 pushes the address
 // of the next instruction and, for IDIV, refuses the most negative quotient.
 bool Cpu::divide(bool word, bool sign) {
     const bool negate = rep_ != 0;
     bool fault = false;
+    DivTiming t{};
     if (!word) {
         const std::uint8_t src = rm_read8_cached_;
         const std::uint16_t dividend = r_.r[AX];
+        if (!sign) {
+            t = div_microcode(dividend >> 8, dividend & 0xFF, src, 8, false, false, false);
+        } else {
+            const std::uint16_t m = (dividend & 0x8000) ? std::uint16_t(-dividend) : dividend;
+            const std::uint8_t d = (src & 0x80) ? std::uint8_t(-src) : src;
+            t = div_microcode(m >> 8, m & 0xFF, d, 8, true, dividend & 0x8000, src & 0x80);
+        }
         if (src == 0) {
             fault = true;
         } else if (!sign) {
@@ -100,10 +181,16 @@ bool Cpu::divide(bool word, bool sign) {
             if (q > 127 || q < -127) fault = true;
             else r_.r[AX] = std::uint16_t(((r & 0xFF) << 8) | (q & 0xFF));
         }
-        clks(fault ? (sign ? 22 : 12) : (sign ? 95 : 75));
     } else {
         const std::uint16_t src = rm_read16_cached_;
         const std::uint32_t dividend = (std::uint32_t(r_.r[DX]) << 16) | r_.r[AX];
+        if (!sign) {
+            t = div_microcode(dividend >> 16, dividend & 0xFFFF, src, 16, false, false, false);
+        } else {
+            const std::uint32_t m = (dividend & 0x80000000u) ? std::uint32_t(0u - dividend) : dividend;
+            const std::uint16_t d = (src & 0x8000) ? std::uint16_t(-src) : src;
+            t = div_microcode(m >> 16, m & 0xFFFF, d, 16, true, dividend & 0x80000000u, src & 0x8000);
+        }
         if (src == 0) {
             fault = true;
         } else if (!sign) {
@@ -124,9 +211,16 @@ bool Cpu::divide(bool word, bool sign) {
                 r_.r[DX] = std::uint16_t(r);
             }
         }
-        clks(fault ? (sign ? 22 : 12) : (sign ? 160 : 140));
     }
-    if (fault) interrupt(0);
+    // Around the microcode: one clock to take a memory operand into the ALU temporary, one
+    // more before the results are written back, three to reach the type-0 entry on an error.
+    clks(t.clocks + (mod_ != 3 ? 1 : 0) + (t.fault ? 3 : 1));
+    if (fault) {
+        // The FLAGS image pushed by the error holds what the last flag-setting subtraction
+        // of the microcode left (the first trial for an early error).
+        if (t.early || t.flagged) alu(5, std::uint16_t(t.flag_a), std::uint16_t(t.flag_b), word);
+        interrupt(0);
+    }
     return !fault;
 }
 
