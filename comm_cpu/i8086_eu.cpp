@@ -120,9 +120,10 @@ void Cpu::decode_modrm() {
 
 // EA clocks as measured on the P80C86A-2 (clocks after the ModR/M read until the EU asks for
 // the operand): [disp16] reads its displacement one clock after the ModR/M byte; a base or
-// index register takes 3 clocks before a displacement (4 without), [BX+SI]/[BP+DI] 5 and
-// [BX+DI]/[BP+SI] 6 (one more each without a displacement); after a displacement byte, 3
-// clocks (2 after the high byte of a 16-bit displacement).
+// index register takes 3 clocks before a displacement (3 in all without one: [SI]/[DI]/[BX]),
+// [BX+SI]/[BP+DI] 5 and [BX+DI]/[BP+SI] 6 (one more each without a displacement); after a
+// displacement byte, 3 clocks (2 after the high byte of a 16-bit displacement). The same EA
+// clocks hold for every instruction form (read, write, read-modify-write, LEA).
 void Cpu::calc_ea() {
     static constexpr std::uint8_t pre[8] = {5, 6, 6, 5, 3, 3, 3, 3};
     std::uint16_t ea = 0;
@@ -142,7 +143,7 @@ void Cpu::calc_ea() {
         case 6: ea = r_.r[BP]; ea_seg_ = SS; break;
         case 7: ea = r_.r[BX]; ea_seg_ = DS; break;
         }
-        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 4, 3, 3, 3, 3}; // no displacement
+        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 4, 2, 2, 2, 2}; // no displacement
         clks(mod_ == 0 ? pre0[rm_] : pre[rm_]);
         if (mod_ == 1) {
             ea = std::uint16_t(ea + std::int8_t(imm8()));

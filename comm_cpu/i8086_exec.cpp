@@ -525,11 +525,11 @@ void Cpu::execute(std::uint8_t op) {
         break;
     }
     case 0x88:
-        if (mod_ != 3) clks(ea_nodisp() && rm_ >= 4 ? 3 : 4);
+        if (mod_ != 3) clks(4);
         rm_write8(reg8(reg_));
         break;
     case 0x89:
-        if (mod_ != 3) clks(ea_nodisp() && rm_ >= 4 ? 3 : 4);
+        if (mod_ != 3) clks(4);
         rm_write16(r_.r[reg_]);
         break;
     case 0x8A:
@@ -546,7 +546,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0x8D:
         r_.r[reg_] = ea_;
-        clks(ea_nodisp() && rm_ >= 4 ? 1 : 2); // [SI]/[DI]/[BX]: the EA routine returns a clock earlier
+        clks(2);
         break;
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086.
