@@ -4,6 +4,7 @@
 #include "models/config_error.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -53,6 +54,8 @@ void CommBoard::connect_dpram(Idt7130& dpram, IrqLine& int_l) {
 }
 
 void CommBoard::load_rom(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw ConfigError(path, 0, "is a directory, not a ROM image");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw ConfigError(path, 0, "cannot open ROM image");
     std::vector<std::uint8_t> image((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

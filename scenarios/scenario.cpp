@@ -2,6 +2,7 @@
 
 #include "scenarios/yaml_map.h"
 
+#include <cmath>
 #include <filesystem>
 
 namespace rcsim {
@@ -23,7 +24,9 @@ SerialFormat format_value(YamlMap& m, const std::string& key) {
     try {
         return SerialFormat::parse(text);
     } catch (const std::exception& e) {
-        m.fail(m.child(key), "bad serial format '" + text + "': " + e.what());
+        // parse() names the text itself; validate()'s messages do not.
+        const std::string why = e.what();
+        m.fail(m.child(key), why.find(text) != std::string::npos ? why : "bad serial format '" + text + "': " + why);
     }
 }
 
@@ -50,15 +53,16 @@ void read_traffic(YamlMap& m, HostTraffic& t, std::uint64_t seed) {
             m.fail(tokens, "'" + m.context() + "tokens' must map tokens to weights, e.g. {EC: 1, ST: 1}");
         t.tokens.clear();
         for (const auto& kv : tokens) {
-            const auto token = kv.first.as<std::string>();
+            if (!kv.first.IsScalar()) m.fail(kv.first, "a token must be two characters, not '" + YAML::Dump(kv.first) + "'");
+            const auto token = kv.first.Scalar();
             double weight = 0;
             try {
                 weight = kv.second.as<double>();
             } catch (const YAML::Exception&) {
                 m.fail(kv.second, "bad weight for token '" + token + "'");
             }
-            if (token.size() != 2 || weight <= 0)
-                m.fail(kv.first, "token '" + token + "' must be two characters with a weight > 0");
+            if (token.size() != 2 || !(weight > 0) || !std::isfinite(weight))
+                m.fail(kv.first, "token '" + token + "' must be two characters with a finite weight > 0");
             t.tokens.emplace_back(token, weight);
         }
     }
@@ -149,6 +153,9 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
         m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw, tcp, replay or none)");
     }
     if (m.has("log")) {
+        if (p.host != PortScenario::Host::protocol)
+            m.fail(m.child("log"), "'" + ctx + "log' is the protocol host's transaction log; this port's host is '" +
+                                       host + "'");
         std::filesystem::path log = m.get<std::string>("log", "");
         p.log_path = log.is_absolute() ? log.string() : (dir / log).string();
     }
@@ -224,6 +231,8 @@ Scenario load_scenario(const std::string& path) {
     Scenario s;
     s.file = path;
     s.root = load_yaml_file(path);
+    if (!s.root.IsDefined() || s.root.IsNull())
+        throw ConfigError(path, 0, "the scenario file is empty (write {} for a run with every default)");
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     YamlMap top(s.root, path, "");
     s.name = top.get<std::string>("name", std::filesystem::path(path).stem().string());

@@ -1,5 +1,6 @@
 #include "scenarios/yaml_map.h"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -7,8 +8,11 @@ namespace rcsim {
 
 YamlMap::YamlMap(YAML::Node node, std::string file, std::string context)
     : node_(node), file_(std::move(file)), context_(std::move(context)) {
-    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
-        fail(node_, "'" + (context_.empty() ? std::string("top level") : context_) + "' must be a mapping");
+    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
+        // context_ is "board." or "ports[0].": name the key without its trailing dot.
+        const std::string what = context_.empty() ? std::string("top level") : context_.substr(0, context_.size() - 1);
+        fail(node_, "'" + what + "' must be a mapping");
+    }
 }
 
 bool YamlMap::has(const std::string& key) const {
@@ -36,7 +40,10 @@ double YamlMap::number(const std::string& key, double fallback, double lo, doubl
 void YamlMap::finish() const {
     if (!node_.IsMap()) return;
     for (const auto& kv : node_) {
-        const auto key = kv.first.as<std::string>();
+        if (!kv.first.IsScalar())
+            fail(kv.first, "a key in '" + (context_.empty() ? std::string("top level") : context_) +
+                               "' must be a plain name, not '" + YAML::Dump(kv.first) + "'");
+        const auto key = kv.first.Scalar();
         if (!used_.count(key)) fail(kv.first, "unknown key '" + context_ + key + "'");
     }
 }
@@ -46,12 +53,16 @@ void YamlMap::fail(const YAML::Node& at, const std::string& message) const {
 }
 
 YAML::Node load_yaml_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw ConfigError(path, 0, "is a directory, not a scenario file");
     std::ifstream in(path);
     if (!in) throw ConfigError(path, 0, "cannot open scenario file");
     try {
         return YAML::Load(in);
     } catch (const YAML::ParserException& e) {
         throw ConfigError(path, e.mark.line + 1, "YAML syntax error: " + e.msg);
+    } catch (const std::ios_base::failure& e) {
+        throw ConfigError(path, 0, std::string("cannot read scenario file: ") + e.what());
     }
 }
 
