@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <string>
 
 namespace rcsim {
 void add_cputest_command(CLI::App& app);
@@ -14,6 +15,21 @@ void add_bench_system(CLI::App& bench);
 void add_bench_serial(CLI::App& bench);
 void add_bench_motion(CLI::App& bench);
 }
+
+namespace {
+/// CLI11 answers "A subcommand is required" to `rcsim frobnicate`: name the word it did not know.
+/// Returns "" when argv[i..] starts with a known command (or an option, or `app` has no commands).
+std::string unknown_command(const CLI::App& app, int argc, char* argv[], int i) {
+    const auto subs = app.get_subcommands([](const CLI::App*) { return true; });
+    if (i >= argc || argv[i][0] == '-' || subs.empty()) return "";
+    std::string names;
+    for (const CLI::App* sub : subs) {
+        if (sub->get_name() == argv[i]) return unknown_command(*sub, argc, argv, i + 1);
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    return "unknown command '" + std::string(argv[i]) + "' (" + names + ")";
+}
+} // namespace
 
 #ifndef RCSIM_VERSION
 #define RCSIM_VERSION "0.1.0"
@@ -46,6 +62,11 @@ int sc_main(int argc, char* argv[]) {
     } catch (const CLI::RuntimeError& e) {
         return e.get_exit_code(); // a subcommand's own exit code (0 pass, 1 fail, 2 bad input)
     } catch (const CLI::ParseError& e) {
+        const std::string unknown = unknown_command(app, argc, argv, 1);
+        if (!unknown.empty()) {
+            std::cerr << "rcsim: " << unknown << "\n";
+            return 2;
+        }
         return app.exit(e) == 0 ? 0 : 2;
     } catch (const std::exception& e) {
         // Bad input must end in one clear message, never an abort.

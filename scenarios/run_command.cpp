@@ -6,15 +6,27 @@
 
 #include <systemc>
 
+#include <charconv>
 #include <iostream>
 
 namespace rcsim {
 
+namespace {
+/// --seed: a decimal number 0 .. 2^64-1, all of it (CLI11 would wrap "-5" and saturate an overflow).
+std::uint64_t parse_seed(const std::string& text) {
+    std::uint64_t v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end)
+        throw ConfigError("--seed '" + text + "' is not a number 0 .. 18446744073709551615");
+    return v;
+}
+} // namespace
+
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd;
-        std::uint64_t seed = 0;
+        std::string scenario, out, rom, vcd, seed;
         bool reproducible = false;
         bool verbose = false;
     };
@@ -29,7 +41,6 @@ void add_run_command(CLI::App& app) {
     cmd->callback([args, seed, rom] {
         RunOptions opt;
         opt.out_dir = args->out;
-        if (*seed) opt.seed = args->seed;
         if (*rom) opt.rom = args->rom;
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
@@ -37,6 +48,7 @@ void add_run_command(CLI::App& app) {
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         try {
+            if (*seed) opt.seed = parse_seed(args->seed);
             nlohmann::json report;
             code = run_scenario(load_scenario(args->scenario), opt, report);
             print_summary(report, std::cout);

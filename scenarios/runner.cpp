@@ -310,6 +310,34 @@ std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, un
     return bad;
 }
 
+/// Creates --out DIR before the run, so that a bad path fails at once and not after the simulation.
+void prepare_out_dir(const std::string& dir) {
+    if (dir.empty()) return;
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+        throw ConfigError("--out '" + dir + "': cannot create the output directory" + (ec ? ": " + ec.message() : ""));
+}
+
+/// Writes DIR/report.json; a failed write is an error, not a silently missing report.
+void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report) {
+    const std::filesystem::path file = dir / "report.json";
+    std::ofstream out(file);
+    out << report.dump(2) << "\n";
+    out.flush();
+    if (!out) throw ConfigError(file.string(), 0, "cannot write the report");
+}
+
+/// SystemC appends ".vcd" to the name it is given: --vcd x.vcd writes x.vcd (not x.vcd.vcd), --vcd x
+/// writes x.vcd. A file that cannot be written is bad input, not a SystemC error.
+sc_core::sc_trace_file* open_vcd(const std::string& path) {
+    const std::string ext = ".vcd";
+    const bool has_ext = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+    const std::string stem = has_ext ? path.substr(0, path.size() - ext.size()) : path;
+    if (!std::ofstream(stem + ext)) throw ConfigError(stem + ext, 0, "cannot write the VCD file");
+    return sc_core::sc_create_vcd_trace_file(stem.c_str());
+}
+
 double default_budget_us(const Scenario& s) {
     // One character time at the slowest active port, shared by the three ports (SYSTEM.md §4).
     double char_us = to_us(SerialFormat::rs232(9600).frame_time());
@@ -327,7 +355,11 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     nlohmann::json motion_report;
     const int rc = run_motion_scenario(s.root, s.file, out, s.seed, motion_report);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    if (rc == 2) throw ConfigError(s.file, 0, motion_report.value("error", std::string("bad motion section")));
+    if (rc == 2) {
+        // The error names the file and line already (main_cpu/motion/motion_scenario.h).
+        const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
+        throw ConfigError(m.value("error", s.file + ": bad motion section"));
+    }
     const double sim_s = sc_core::sc_time_stamp().to_seconds();
     report = nlohmann::json::object();
     report["scenario"] = s.name;
@@ -348,23 +380,23 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     report["checks"] = nlohmann::json::array();
     for (const auto& c : m.value("checks", nlohmann::json::array())) report["checks"].push_back(c);
     report["passed"] = rc == 0;
-    if (!opt.out_dir.empty()) std::ofstream(out / "report.json") << report.dump(2) << "\n";
+    if (!opt.out_dir.empty()) write_report_json(out, report);
     return rc;
 }
 
 int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.seed) s.seed = *opt.seed;
+    prepare_out_dir(opt.out_dir);
     if (s.has_motion) return run_motion_only(s, opt, report);
     for (unsigned p = 0; p < kPorts; ++p) s.ports[p].protocol.traffic.seed = s.seed * 1000 + p;
     std::string rom = opt.rom ? *opt.rom : s.rom;
     if (rom.empty()) rom = RCSIM_COMM_FW_ROM;
-    if (!opt.out_dir.empty()) std::filesystem::create_directories(opt.out_dir);
 
     Bench bench("bench", s);
     bench.ctl.comm.load_rom(rom);
     sc_core::sc_trace_file* vcd = nullptr;
     if (!opt.vcd.empty()) {
-        vcd = sc_core::sc_create_vcd_trace_file(opt.vcd.c_str());
+        vcd = open_vcd(opt.vcd);
         for (unsigned p = 0; p < kPorts; ++p)
             sc_core::sc_trace(vcd, bench.ctl.comm.uart_int[p], "ir" + std::to_string(p));
         sc_core::sc_trace(vcd, bench.ctl.int_l, "ir3_int_l");
@@ -469,7 +501,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["passed"] = passed;
 
     if (!opt.out_dir.empty()) {
-        std::ofstream(std::filesystem::path(opt.out_dir) / "report.json") << report.dump(2) << "\n";
+        write_report_json(opt.out_dir, report);
         report::write_report_files(opt.out_dir, report, interrupt_rows(bench));
     }
     return passed ? 0 : 1;

@@ -57,7 +57,8 @@ public:
     void finish() const {
         if (!n_) return;
         for (auto it = n_.begin(); it != n_.end(); ++it) {
-            const std::string k = it->first.as<std::string>();
+            if (!it->first.IsScalar()) fail(it->first, what_ + ": a key must be a plain name, not '" + YAML::Dump(it->first) + "'");
+            const std::string k = it->first.Scalar();
             if (!used_.count(k)) fail(it->first, what_ + ": unknown key '" + k + "'");
         }
     }
@@ -104,7 +105,10 @@ TimedCommand parse_command(const YAML::Node& n, const std::string& file) {
     } else if (f.has("inject_fault")) {
         const unsigned axis = static_cast<unsigned>(f.num("inject_fault", std::nullopt, 0, 3));
         const auto code = static_cast<std::uint16_t>(f.num("code", 0x7500, 0, 0xFFFF));
-        const bool clear = f.str("clear_after", std::string("no")) == "yes";
+        const std::string clear_after = f.str("clear_after", std::string("no"));
+        if (clear_after != "yes" && clear_after != "no")
+            f.fail(f.raw("clear_after"), "clear_after must be 'yes' or 'no', got '" + clear_after + "'");
+        const bool clear = clear_after == "yes";
         c.run = [axis, code, clear](MotionController& mc, nlohmann::json& log) {
             mc.drive(axis).inject_fault(code);
             if (clear) mc.drive(axis).clear_fault_cause();
@@ -318,11 +322,9 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
         m.finish();
     } catch (const ConfigError& e) {
         rep["error"] = e.what();
-        std::cerr << "rcsim: " << e.what() << "\n";
         return 2;
     } catch (const YAML::Exception& e) {
         rep["error"] = file + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg;
-        std::cerr << "rcsim: " << rep["error"].get<std::string>() << "\n";
         return 2;
     }
 
@@ -362,7 +364,6 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
         rep["trajectory_svg"] = (out_dir / "trajectory.svg").string();
     } catch (const std::exception& e) {
         rep["error"] = e.what();
-        std::cerr << "rcsim: " << e.what() << "\n";
         return 2;
     }
     return ok ? 0 : 1;

@@ -3,7 +3,7 @@
 // trajectory.csv / trajectory.svg into out_dir and fills report["motion"].
 //
 // Returns 0 on success, 1 when a check fails, 2 for bad input (the error, naming file and line,
-// is in report["motion"]["error"] and on stderr). Elaborates modules and calls sc_start: call it
+// is in report["motion"]["error"]; the caller prints it, once). Elaborates modules and calls sc_start: call it
 // once per process, before any other simulation has started.
 #pragma once
 
