@@ -1,0 +1,230 @@
+#!/usr/bin/env bash
+# Bad input through the rcsim executable: every case must end with the documented exit code and
+# one message naming the file and line or the offending value — never a crash, an abort, a hang
+# or a run that silently ignores what it was given (docs/scenarios.md "Exit codes").
+#
+# Usage: bad_input.sh RCSIM SOURCE_DIR
+set -u
+RCSIM=${1:?usage: bad_input.sh RCSIM SOURCE_DIR}
+SRC=${2:?usage: bad_input.sh RCSIM SOURCE_DIR}
+RCSIM=$(realpath "$RCSIM")
+SRC=$(realpath "$SRC")
+export SC_COPYRIGHT_MESSAGE=DISABLE
+W=$(mktemp -d "${TMPDIR:-/tmp}/rcsim_bad_input.XXXXXX")
+trap 'rm -rf "$W"' EXIT
+cd "$W" || exit 1
+
+failures=0
+cases=0
+
+# expect RC SUBSTRING -- ARGS...: runs rcsim ARGS, checks the exit code, that stderr holds
+# SUBSTRING, that stderr is one line (CLI11's "Run with --help" hint aside) and that nothing
+# died of a signal or a sanitizer report.
+expect() {
+    local want_rc=$1 want_msg=$2
+    shift 3
+    cases=$((cases + 1))
+    timeout 60 "$RCSIM" "$@" > out.txt 2> err.txt
+    local rc=$?
+    local lines
+    lines=$(grep -cv -e '^Run with --help for more information\.$' -e '^$' err.txt)
+    local why=""
+    if [ "$rc" -ne "$want_rc" ]; then why="exit $rc, expected $want_rc"; fi
+    if ! grep -qF -- "$want_msg" err.txt; then why="$why; stderr does not contain '$want_msg'"; fi
+    if [ "$want_rc" -eq 2 ] && [ "$lines" -ne 1 ]; then why="$why; $lines lines on stderr, expected 1"; fi
+    if grep -qE 'AddressSanitizer|runtime error:|terminate called|Aborted' err.txt; then why="$why; crash report"; fi
+    if [ -n "$why" ]; then
+        failures=$((failures + 1))
+        echo "FAIL: rcsim $*: ${why#; }"
+        sed 's/^/    stderr: /' err.txt | head -5
+    fi
+}
+
+# A scenario file from its text (printf escapes).
+scen() { printf "$2" > "$1"; }
+
+# --- scenario files -------------------------------------------------------------------------
+scen syntax.yaml 'name: x\nports: [ {host: protocol\n'
+expect 2 "syntax.yaml:3: YAML syntax error" -- run syntax.yaml
+scen wrongtype.yaml 'duration_s: abc\n'
+expect 2 "wrongtype.yaml:1: bad value for 'duration_s': 'abc'" -- run wrongtype.yaml
+scen neg.yaml 'duration_s: -1\n'
+expect 2 "neg.yaml:1: 'duration_s' = -1 is out of range" -- run neg.yaml
+scen nan.yaml 'duration_s: .nan\n'
+expect 2 "nan.yaml:1: 'duration_s' = nan is out of range" -- run nan.yaml
+scen huge.yaml 'duration_s: 1e300\n'
+expect 2 "huge.yaml:1: 'duration_s' = 1e+300 is out of range" -- run huge.yaml
+scen inf.yaml 'duration_s: .inf\n'
+expect 2 "inf.yaml:1: 'duration_s' = inf is out of range" -- run inf.yaml
+scen tiny.yaml 'duration_s: 1e-300\n'
+expect 2 "tiny.yaml:1: 'duration_s' must be 0 or >= 1e-6" -- run tiny.yaml
+scen dur0.yaml 'duration_s: 0\n'
+expect 2 "dur0.yaml:1: 'duration_s: 0'" -- run dur0.yaml
+scen empty.yaml ''
+expect 2 "empty.yaml: the scenario file is empty" -- run empty.yaml
+scen comments.yaml '# nothing but a comment\n'
+expect 2 "comments.yaml: the scenario file is empty" -- run comments.yaml
+mkdir -p dir.yaml
+expect 2 "dir.yaml: is a directory" -- run dir.yaml
+expect 2 "missing.yaml: cannot open scenario file" -- run missing.yaml
+scen list.yaml '[1, 2]\n'
+expect 2 "list.yaml:1: 'top level' must be a mapping" -- run list.yaml
+scen mapkey.yaml '{[a]: 1}\n'
+expect 2 "mapkey.yaml:1: a key in 'top level' must be a plain name" -- run mapkey.yaml
+scen seedneg.yaml 'seed: -1\n'
+expect 2 "seedneg.yaml:1: bad value for 'seed': '-1'" -- run seedneg.yaml
+scen boardint.yaml 'board: 5\n'
+expect 2 "boardint.yaml:1: 'board' must be a mapping" -- run boardint.yaml
+scen cpuhz.yaml 'board: {cpu_hz: 1e300}\n'
+expect 2 "cpuhz.yaml:1: 'board.cpu_hz' = 1e+300 is out of range" -- run cpuhz.yaml
+scen grade.yaml 'board: {dpram_speed_grade_ns: 30}\n'
+expect 2 "grade.yaml:1: 'board.dpram_speed_grade_ns' must be" -- run grade.yaml
+scen quantum.yaml 'board: {quantum_us: 0}\n'
+expect 2 "quantum.yaml:1: 'board.quantum_us' must be > 0" -- run quantum.yaml
+scen cycle.yaml 'main_cpu: {cycle_time_us: 5000, cycle_period_us: 1000}\n'
+expect 2 "cycle.yaml:1: main_cpu: cycle_time" -- run cycle.yaml
+
+# Unknown keys at every level.
+scen unk_top.yaml 'bogus: 1\n'
+expect 2 "unk_top.yaml:1: unknown key 'bogus'" -- run unk_top.yaml
+scen unk_board.yaml 'board:\n  bogus: 1\n'
+expect 2 "unk_board.yaml:2: unknown key 'board.bogus'" -- run unk_board.yaml
+scen unk_ws.yaml 'board:\n  wait_states: {ram: 0, bogus: 1}\n'
+expect 2 "unk_ws.yaml:2: unknown key 'board.wait_states.bogus'" -- run unk_ws.yaml
+scen unk_main.yaml 'main_cpu:\n  bogus: 1\n'
+expect 2 "unk_main.yaml:2: unknown key 'main_cpu.bogus'" -- run unk_main.yaml
+scen unk_checks.yaml 'checks:\n  bogus: 1\n'
+expect 2 "unk_checks.yaml:2: unknown key 'checks.bogus'" -- run unk_checks.yaml
+scen unk_port.yaml 'ports:\n  - host: protocol\n    bogus: 1\n'
+expect 2 "unk_port.yaml:3: unknown key 'ports[0].bogus'" -- run unk_port.yaml
+scen unk_fault.yaml 'ports:\n  - host: protocol\n    faults:\n      - {kind: drop, index: 1, bogus: 2}\n'
+expect 2 "unk_fault.yaml:4: unknown key 'ports[0].faults[0].bogus'" -- run unk_fault.yaml
+scen unk_send.yaml 'ports:\n  - host: raw\n    send: [{at_ms: 1, bytes: "a", bogus: 1}]\n'
+expect 2 "unk_send.yaml:3: unknown key 'ports[0].send[0].bogus'" -- run unk_send.yaml
+scen traffic_none.yaml 'ports:\n  - host: none\n    traffic: saturate\n'
+expect 2 "traffic_none.yaml:3: unknown key 'ports[0].traffic'" -- run traffic_none.yaml
+scen log_none.yaml 'ports:\n  - host: none\n    log: x.log\n'
+expect 2 "log_none.yaml:3: 'ports[0].log' is the protocol host's transaction log" -- run log_none.yaml
+
+# Ports, serial formats, raw bytes, faults, tokens.
+scen ports4.yaml 'ports: [{host: none}, {host: none}, {host: none}, {host: none}]\n'
+expect 2 "ports4.yaml:1: 'ports' must be a list of at most 3 ports" -- run ports4.yaml
+scen portelem.yaml 'ports:\n  - 5\n'
+expect 2 "portelem.yaml:2: 'ports[0]' must be a mapping" -- run portelem.yaml
+scen host.yaml 'ports:\n  - host: modem\n'
+expect 2 "host.yaml:2: unknown host 'modem'" -- run host.yaml
+scen fmt.yaml 'ports:\n  - host: protocol\n    format: "9600,9X1"\n'
+expect 2 "fmt.yaml:3: bad serial format '9600,9X1'" -- run fmt.yaml
+scen fmt0.yaml 'ports:\n  - host: protocol\n    format: "0,8E1"\n'
+expect 2 "fmt0.yaml:3: bad serial format '0,8E1'" -- run fmt0.yaml
+scen fmtbig.yaml 'ports:\n  - host: protocol\n    format: "99999999999,8E1"\n'
+expect 2 "fmtbig.yaml:3: bad serial format '99999999999,8E1'" -- run fmtbig.yaml
+scen fmtstop.yaml 'ports:\n  - host: raw\n    format: "9600,8N3"\n'
+expect 2 "fmtstop.yaml:3: bad serial format '9600,8N3'" -- run fmtstop.yaml
+scen esc.yaml 'ports:\n  - host: raw\n    send:\n      - {at_ms: 1, bytes: "\\\\xZZ"}\n'
+expect 2 "esc.yaml:4: bad escape '\\xZZ'" -- run esc.yaml
+scen esc2.yaml 'ports:\n  - host: raw\n    send: [{at_ms: 1, bytes: "abc\\\\"}]\n'
+expect 2 "esc2.yaml:3: bad escape '\\' at offset 3" -- run esc2.yaml
+scen esc3.yaml 'ports:\n  - host: raw\n    send: [{at_ms: 1, bytes: "\\\\q"}]\n'
+expect 2 "esc3.yaml:3: bad escape '\\q'" -- run esc3.yaml
+scen send.yaml 'ports:\n  - host: raw\n    send: {at_ms: 1}\n'
+expect 2 "send.yaml:3: 'ports[0].send' must be a list" -- run send.yaml
+scen fault.yaml 'ports:\n  - host: protocol\n    faults:\n      - {kind: zap, index: 1}\n'
+expect 2 "fault.yaml:4: unknown fault kind 'zap'" -- run fault.yaml
+scen faultfrom.yaml 'ports:\n  - host: protocol\n    faults: [{kind: drop, from: both}]\n'
+expect 2 "faultfrom.yaml:3: 'from' must be host or controller, not 'both'" -- run faultfrom.yaml
+scen faultkind.yaml 'ports:\n  - host: protocol\n    faults: [{index: 3}]\n'
+expect 2 "faultkind.yaml:3: missing required key 'ports[0].faults[0].kind'" -- run faultkind.yaml
+scen tokneg.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {EC: -1}\n'
+expect 2 "tokneg.yaml:4: token 'EC' must be two characters with a finite weight > 0" -- run tokneg.yaml
+scen tokinf.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {EC: .inf, ST: 1}\n'
+expect 2 "tokinf.yaml:4: token 'EC' must be two characters with a finite weight > 0" -- run tokinf.yaml
+scen toknan.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {EC: .nan}\n'
+expect 2 "toknan.yaml:4: token 'EC' must be two characters with a finite weight > 0" -- run toknan.yaml
+scen tokstr.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {EC: abc}\n'
+expect 2 "tokstr.yaml:4: bad weight for token 'EC'" -- run tokstr.yaml
+scen toklen.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {ECX: 1}\n'
+expect 2 "toklen.yaml:4: token 'ECX' must be two characters" -- run toklen.yaml
+scen tokkey.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {[a]: 1}\n'
+expect 2 "tokkey.yaml:4: a token must be two characters" -- run tokkey.yaml
+scen tokempty.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {}\n'
+expect 2 "tokempty.yaml:4: 'ports[0].tokens' must map tokens to weights" -- run tokempty.yaml
+scen traffic.yaml 'ports:\n  - host: protocol\n    traffic: warp\n'
+expect 2 "traffic.yaml:3: unknown traffic pattern 'warp'" -- run traffic.yaml
+scen rate.yaml 'ports:\n  - host: protocol\n    traffic: fixed\n    rate_hz: 0\n'
+expect 2 "rate.yaml:4: 'ports[0].rate_hz' = 0 is out of range" -- run rate.yaml
+scen listen.yaml 'ports:\n  - host: tcp\n    listen: "127.0.0.1:99999"\n'
+expect 2 "listen.yaml:3: bad 'listen': port 99999 out of range" -- run listen.yaml
+scen replay.yaml 'ports:\n  - host: replay\n    file: nope.log\n'
+expect 2 "nope.log: cannot open the session log" -- run replay.yaml
+printf 'garbage line\n' > garbage.log
+scen replay2.yaml 'ports:\n  - host: replay\n    file: garbage.log\n'
+expect 2 "garbage.log:1: expected" -- run replay2.yaml
+touch a_file
+scen record.yaml 'ports:\n  - host: raw\n    record: a_file/x.bin\n'
+expect 2 "a_file/x.bin: cannot open the record file for writing" -- run record.yaml
+
+# --- ROM images -----------------------------------------------------------------------------
+scen ok.yaml '{duration_s: 0.001}\n'
+: > empty.rom
+head -c 65535 /dev/zero > short.rom
+head -c 65537 /dev/zero > long.rom
+mkdir -p romdir
+expect 2 "missing.rom: cannot open ROM image" -- run ok.yaml --rom missing.rom
+expect 2 "empty.rom: ROM image is 0 bytes" -- run ok.yaml --rom empty.rom
+expect 2 "short.rom: ROM image is 65535 bytes" -- run ok.yaml --rom short.rom
+expect 2 "long.rom: ROM image is 65537 bytes" -- run ok.yaml --rom long.rom
+expect 2 "romdir: is a directory, not a ROM image" -- run ok.yaml --rom romdir
+scen romkey.yaml 'rom: nothere.rom\nduration_s: 0.001\n'
+expect 2 "nothere.rom: cannot open ROM image" -- run romkey.yaml
+
+# --- command line ---------------------------------------------------------------------------
+expect 2 "unknown command 'frobnicate'" -- frobnicate
+expect 2 "unknown command 'frob'" -- bench frob
+expect 2 "A subcommand is required" --
+expect 2 "scenario is required" -- run
+expect 2 "--bogus" -- run ok.yaml --bogus
+expect 2 "--seed 'abc' is not a number" -- run ok.yaml --seed abc
+expect 2 "--seed '-5' is not a number" -- run ok.yaml --seed -5
+expect 2 "--seed '99999999999999999999999' is not a number" -- run ok.yaml --seed 99999999999999999999999
+expect 2 "--out 'a_file': cannot create the output directory" -- run ok.yaml --out a_file
+expect 2 "--out 'a_file/sub': cannot create the output directory" -- run ok.yaml --out a_file/sub
+expect 2 "a_file/x.vcd: cannot write the VCD file" -- run ok.yaml --vcd a_file/x.vcd
+expect 2 "--level: Value 7 not in range" -- cputest --level 7 .
+expect 2 "PATH is required" -- cputest
+
+# --- cputest inputs -------------------------------------------------------------------------
+printf '{"x":' | gzip > partial.json.gz
+head -c 20 partial.json.gz > trunc.json.gz
+echo 'not json' | gzip > nonjson.json.gz
+echo '[{"name": "x"}]' | gzip > shape.json.gz
+expect 2 "trunc.json.gz: read error" -- cputest --level 1 trunc.json.gz
+expect 2 "nonjson.json.gz: malformed or truncated JSON" -- cputest --level 1 nonjson.json.gz
+expect 2 "shape.json.gz: test 0: missing" -- cputest --level 1 shape.json.gz
+expect 2 "none.json.gz: no such file" -- cputest --level 1 none.json.gz
+
+# --- the motion section ---------------------------------------------------------------------
+scen m_unk.yaml 'motion:\n  duration_s: 0.01\n  bogus: 1\n'
+expect 2 "m_unk.yaml:3: motion: unknown key 'bogus'" -- run m_unk.yaml
+scen m_dur.yaml 'motion:\n  control_cycle_ms: 1\n'
+expect 2 "m_dur.yaml:2: motion: missing key 'duration_s'" -- run m_dur.yaml
+scen m_fb.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_Fly, axis: 0}\n'
+expect 2 "m_fb.yaml:4: unknown function block 'MC_Fly'" -- run m_fb.yaml
+scen m_axis.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_Power, axis: 9}\n'
+expect 2 "m_axis.yaml:4: motion.commands[]: 'axis' = 9 is outside" -- run m_axis.yaml
+scen m_map.yaml 'motion: 5\n'
+expect 2 "m_map.yaml:1: motion must be a mapping" -- run m_map.yaml
+scen m_nan.yaml 'motion:\n  duration_s: .nan\n'
+expect 2 "m_nan.yaml:2: motion: 'duration_s' = .nan is outside" -- run m_nan.yaml
+scen m_pos.yaml 'motion:\n  duration_s: 0.01\n  checks: {final_positions: [a]}\n'
+expect 2 "m_pos.yaml:3: final_positions: 'a' is not an integer" -- run m_pos.yaml
+scen m_key.yaml 'motion:\n  duration_s: 0.01\n  {[a]: 1}: 2\n'
+expect 2 "m_key.yaml:3: motion: a key must be a plain name" -- run m_key.yaml
+scen m_clear.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, inject_fault: 0, clear_after: maybe}\n'
+expect 2 "m_clear.yaml:4: clear_after must be 'yes' or 'no', got 'maybe'" -- run m_clear.yaml
+scen m_ports.yaml 'motion:\n  duration_s: 0.01\nports: []\n'
+expect 2 "m_ports.yaml:2: a 'motion' section runs the motion side alone" -- run m_ports.yaml
+expect 2 "--out 'a_file': cannot create the output directory" -- run "$SRC/scenarios/xy_plotter_circle.yaml" --out a_file
+
+echo "$cases bad-input cases, $failures failed"
+[ "$failures" -eq 0 ]
