@@ -5,7 +5,8 @@
 // - a bus cycle is T1 T2 T3 [Tw...] T4; data moves at the end of T3 or the last Tw;
 // - the BIU prefetches a word whenever two queue bytes are free; the decision to run the next
 //   prefetch back-to-back is taken in T2 of the current cycle;
-// - from an idle bus the BIU needs three clocks to begin a cycle the EU or the queue asked for;
+// - from an idle bus the BIU needs three clocks to begin a cycle the EU or the queue asked for
+//   (four for the EU when a prefetch set-up has begun and its T1 is still two clocks away);
 //   an EU request that finds a prefetch in progress starts three clocks after that T4;
 // - a queue read is reported on the QS lines in the following clock.
 #include "comm_cpu/i8086.h"
@@ -222,7 +223,9 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
         // prefetch on the bus runs to its T4: a request seen by its T2 decision follows T4
         // directly, a later one starts three clocks after T4.
         if (t_ == TState::Ti) {
-            clks(3);
+            // A prefetch the BIU has already begun to set up (its T1 still two clocks away)
+            // costs the EU one more clock; one about to start (T1 next clock) simply waits.
+            clks(fetch_sched_ && fetch_delay_ >= 2 ? 4 : 3);
         } else {
             const bool early = t_ == TState::T1 || t_ == TState::T2;
             while (t_ != TState::T4) clk();
