@@ -74,15 +74,7 @@ ProtocolHost::ProtocolHost(sc_core::sc_module_name name, const ProtocolHostConfi
     SC_THREAD(generate);
 }
 
-void ProtocolHost::connect(SerialLine& line, SerialLine::Side side) {
-    line.attach(side, *this);
-    line_ = &line;
-    side_ = side;
-}
-
-void ProtocolHost::end_of_elaboration() {
-    if (!line_) throw std::invalid_argument(std::string(name()) + ": not connected to a serial line");
-}
+void ProtocolHost::end_of_elaboration() { require_connected(name()); }
 
 void ProtocolHost::send(const Frame& f) {
     encode(f); // reject a bad frame here, where the caller can see it

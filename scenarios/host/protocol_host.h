@@ -20,6 +20,7 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "scenarios/host/host_line.h"
 #include "models/stats.h"
 #include "scenarios/host/frame_codec.h"
 
@@ -72,7 +73,7 @@ struct ProtocolHostConfig {
     void validate() const;
 };
 
-class ProtocolHost : public sc_core::sc_module, public SerialEndpoint {
+class ProtocolHost : public sc_core::sc_module, public HostLineEnd {
 public:
     struct Counters {
         std::uint64_t frames_sent = 0;      // commands started
@@ -96,7 +97,6 @@ public:
 
     ProtocolHost(sc_core::sc_module_name name, const ProtocolHostConfig& cfg = {});
 
-    void connect(SerialLine& line, SerialLine::Side side);
     /// Queues a command; it is sent when the host is free. Throws on a frame encode() rejects.
     void send(const proto::Frame& f);
 
@@ -131,8 +131,6 @@ private:
     enum class Reply { positive, nak, timeout };
 
     ProtocolHostConfig cfg_;
-    SerialLine* line_ = nullptr;
-    SerialLine::Side side_ = SerialLine::a;
     std::deque<RxByte> rx_;
     sc_core::sc_event rx_ev_, cmd_ev_;
     std::deque<proto::Frame> commands_;

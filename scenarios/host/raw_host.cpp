@@ -29,15 +29,7 @@ RawHost::RawHost(sc_core::sc_module_name name, const RawHostConfig& cfg) : sc_mo
     SC_THREAD(run);
 }
 
-void RawHost::connect(SerialLine& line, SerialLine::Side side) {
-    line.attach(side, *this);
-    line_ = &line;
-    side_ = side;
-}
-
-void RawHost::end_of_elaboration() {
-    if (!line_) throw std::invalid_argument(std::string(name()) + ": not connected to a serial line");
-}
+void RawHost::end_of_elaboration() { require_connected(name()); }
 
 void RawHost::run() {
     for (const auto& s : cfg_.sends) {

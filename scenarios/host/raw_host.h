@@ -8,6 +8,7 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "scenarios/host/host_line.h"
 
 #include <systemc>
 
@@ -32,7 +33,7 @@ struct RawHostConfig {
     void add(const sc_core::sc_time& at, const std::string& escaped);
 };
 
-class RawHost : public sc_core::sc_module, public SerialEndpoint {
+class RawHost : public sc_core::sc_module, public HostLineEnd {
 public:
     struct Received {
         sc_core::sc_time at; // end of the first stop bit
@@ -43,8 +44,6 @@ public:
 
     /// Throws rcsim::ConfigError naming a file that cannot be opened.
     RawHost(sc_core::sc_module_name name, const RawHostConfig& cfg);
-
-    void connect(SerialLine& line, SerialLine::Side side);
 
     const std::vector<Received>& received() const { return received_; }
     /// The received bytes as a string.
@@ -58,8 +57,6 @@ public:
 
 private:
     RawHostConfig cfg_;
-    SerialLine* line_ = nullptr;
-    SerialLine::Side side_ = SerialLine::a;
     std::vector<Received> received_;
     std::vector<std::pair<sc_core::sc_time, bool>> breaks_;
     std::uint64_t sent_ = 0;

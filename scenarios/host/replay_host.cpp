@@ -158,15 +158,7 @@ ReplayHost::ReplayHost(sc_core::sc_module_name name, const ReplayHostConfig& cfg
     SC_THREAD(run);
 }
 
-void ReplayHost::connect(SerialLine& line, SerialLine::Side side) {
-    line.attach(side, *this);
-    line_ = &line;
-    side_ = side;
-}
-
-void ReplayHost::end_of_elaboration() {
-    if (!line_) throw std::invalid_argument(std::string(name()) + ": not connected to a serial line");
-}
+void ReplayHost::end_of_elaboration() { require_connected(name()); }
 
 void ReplayHost::run() {
     sc_core::sc_time free_at = sc_core::SC_ZERO_TIME; // the transmitter is busy until then

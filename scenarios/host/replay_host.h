@@ -23,6 +23,7 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "scenarios/host/host_line.h"
 
 #include <systemc>
 
@@ -74,7 +75,7 @@ struct ReplayHostConfig {
     std::string record_path;             // "" = none; re-record this run in the same format
 };
 
-class ReplayHost : public sc_core::sc_module, public SerialEndpoint {
+class ReplayHost : public sc_core::sc_module, public HostLineEnd {
 public:
     struct Counters {
         std::uint64_t bytes_sent = 0;       // `in` bytes put on the line
@@ -87,8 +88,6 @@ public:
 
     /// Throws rcsim::ConfigError for an unreadable or malformed log.
     ReplayHost(sc_core::sc_module_name name, const ReplayHostConfig& cfg);
-
-    void connect(SerialLine& line, SerialLine::Side side);
 
     const Counters& counters() const { return counters_; }
     /// Recorded `out` bytes never received (counted at the call).
@@ -108,8 +107,6 @@ private:
     SerialFormat format_;
     std::vector<SessionEvent> in_, out_;
     sc_core::sc_time end_;
-    SerialLine* line_ = nullptr;
-    SerialLine::Side side_ = SerialLine::b;
     Counters counters_;
     std::string first_mismatch_;
     SessionLogWriter rec_;

@@ -79,12 +79,6 @@ TcpHost::~TcpHost() {
     if (attached_) inbox_.async_detach_suspending();
 }
 
-void TcpHost::connect(SerialLine& line, SerialLine::Side side) {
-    line.attach(side, *this);
-    line_ = &line;
-    side_ = side;
-}
-
 std::string TcpHost::endpoint() const {
     const bool v6 = cfg_.address.find(':') != std::string::npos;
     return (v6 ? "[" + cfg_.address + "]" : cfg_.address) + ":" + std::to_string(port_);
@@ -100,9 +94,7 @@ TcpHost::Counters TcpHost::counters() const {
     return counters_;
 }
 
-void TcpHost::end_of_elaboration() {
-    if (!line_) throw std::invalid_argument(std::string(name()) + ": not connected to a serial line");
-}
+void TcpHost::end_of_elaboration() { require_connected(name()); }
 
 void TcpHost::start_of_simulation() {
     // Active from the start: while listening, the kernel must wait for a client rather than

@@ -28,6 +28,7 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "scenarios/host/host_line.h"
 #include "scenarios/host/replay_host.h"
 
 #include <boost/asio.hpp>
@@ -60,7 +61,7 @@ struct TcpHostConfig {
     void set_listen(const std::string& text);
 };
 
-class TcpHost : public sc_core::sc_module, public SerialEndpoint {
+class TcpHost : public sc_core::sc_module, public HostLineEnd {
 public:
     struct Counters {
         std::uint64_t bytes_in = 0;        // received from clients
@@ -79,8 +80,6 @@ public:
     /// io thread. Throws rcsim::ConfigError when it cannot listen or write the record/port file.
     TcpHost(sc_core::sc_module_name name, const TcpHostConfig& cfg);
     ~TcpHost() override;
-
-    void connect(SerialLine& line, SerialLine::Side side);
 
     unsigned short port() const { return port_; }
     std::string endpoint() const; // "127.0.0.1:5510"
@@ -114,8 +113,6 @@ private:
 
     TcpHostConfig cfg_;
     Inbox inbox_;
-    SerialLine* line_ = nullptr;
-    SerialLine::Side side_ = SerialLine::b;
     SessionLogWriter rec_;
     bool attached_ = false;
     bool ended_ = false;
