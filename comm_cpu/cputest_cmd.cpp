@@ -30,6 +30,12 @@ int run_cputest(const CputestOptions& o) {
     Metadata meta;
     try {
         files = collect(o.paths);
+        // An empty or wrong folder must not pass as "0 passed, 0 failed".
+        if (files.empty()) {
+            std::string where;
+            for (const auto& p : o.paths) where += (where.empty() ? "" : ", ") + p;
+            throw InputError(where + ": no SingleStepTests files (*.json, *.json.gz) found");
+        }
         std::string mpath = o.metadata;
         if (mpath.empty() && !o.paths.empty()) {
             namespace fs = std::filesystem;

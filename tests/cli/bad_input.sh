@@ -202,6 +202,8 @@ expect 2 "trunc.json.gz: read error" -- cputest --level 1 trunc.json.gz
 expect 2 "nonjson.json.gz: malformed or truncated JSON" -- cputest --level 1 nonjson.json.gz
 expect 2 "shape.json.gz: test 0: missing" -- cputest --level 1 shape.json.gz
 expect 2 "none.json.gz: no such file" -- cputest --level 1 none.json.gz
+mkdir -p emptydir
+expect 2 "emptydir: no SingleStepTests files" -- cputest --level 1 emptydir
 
 # --- the motion section ---------------------------------------------------------------------
 scen m_unk.yaml 'motion:\n  duration_s: 0.01\n  bogus: 1\n'
