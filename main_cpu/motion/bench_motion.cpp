@@ -44,6 +44,8 @@ void register_bench_motion(CLI::App& bench) {
     auto seconds = std::make_shared<double>(60.0);
     cmd->add_option("--seconds", *seconds, "simulated seconds")->check(CLI::Range(0.001, 36000.0));
     cmd->callback([seconds] {
+        // The kernel's "Simulation stopped by user" note would interleave with the figures.
+        sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         MotionController mc("motion");
         BenchDriver drv("bench_driver", mc, static_cast<std::uint64_t>(*seconds * 1000));
         const auto t0 = std::chrono::steady_clock::now(); // wall clock for the report only
