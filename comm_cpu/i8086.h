@@ -239,6 +239,8 @@ private:
     // control transfer
     void jump_near(std::uint16_t ip);
     void jump_far(std::uint16_t cs, std::uint16_t ip);
+    void call_near(std::uint16_t ip);
+    void call_far(std::uint16_t cs, std::uint16_t ip);
     void interrupt(std::uint8_t vector, bool hardware_inta = false);
     void string_op(std::uint8_t op);
     bool check_interrupts();

@@ -295,6 +295,23 @@ void Cpu::jump_far(std::uint16_t cs, std::uint16_t ip) {
     flush_queue();
 }
 
+// The NEARCALL microcode tail: jump (the flush is reported in the next clock), three clocks,
+// push the return IP.
+void Cpu::call_near(std::uint16_t ip) {
+    const std::uint16_t ret = r_.ip;
+    jump_near(ip);
+    clks(3);
+    push(ret, true);
+}
+
+// The FARCALL tail shared by CALL far and interrupt entry: push CS, three clocks, NEARCALL.
+void Cpu::call_far(std::uint16_t cs, std::uint16_t ip) {
+    push(r_.s[CS]);
+    clks(3);
+    r_.s[CS] = cs;
+    call_near(ip);
+}
+
 // Interrupt entry (INT n, exceptions, NMI, INTR): for INTR two INTA cycles fetch the type;
 // then read the vector, push FLAGS, clear IF/TF, push CS, push IP, continue at the handler.
 void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
@@ -323,14 +340,7 @@ void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
     set_flag(flag::TF, false);
     push(old_flags);
     clks(4);
-    push(r_.s[CS]);
-    clks(3);
-    const std::uint16_t ret = r_.ip;
-    r_.s[CS] = new_cs;
-    r_.ip = new_ip;
-    flush_queue();
-    clks(3);
-    push(ret, true);
+    call_far(new_cs, new_ip);
     halted_ = false;
 }
 

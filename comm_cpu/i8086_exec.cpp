@@ -582,14 +582,7 @@ void Cpu::execute(std::uint8_t op) {
         clk();
         susp();
         clks(2);
-        push(r_.s[CS]);
-        clks(3);
-        const std::uint16_t ret = r_.ip;
-        r_.s[CS] = cs;
-        r_.ip = ip;
-        flush_queue();
-        clks(3);
-        push(ret, true);
+        call_far(cs, ip);
         break;
     }
     case 0x9B: // WAIT: TEST# is held active on this board, so it falls through
@@ -931,11 +924,7 @@ void Cpu::execute(std::uint8_t op) {
                 susp();
             }
             clks(3);
-            const std::uint16_t ret = r_.ip;
-            r_.ip = t;
-            flush_queue();
-            clks(3);
-            push(ret, true);
+            call_near(t);
             break;
         }
         case 3: { // CALL far m
@@ -944,14 +933,7 @@ void Cpu::execute(std::uint8_t op) {
             const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
             suspend_fetch();
             clks(4);
-            push(r_.s[CS]);
-            clks(3);
-            const std::uint16_t ret = r_.ip;
-            r_.s[CS] = cs;
-            r_.ip = ip;
-            flush_queue();
-            clks(3);
-            push(ret, true);
+            call_far(cs, ip);
             break;
         }
         case 4: { // JMP near r/m
