@@ -349,25 +349,27 @@ double default_budget_us(const Scenario& s) {
 } // namespace
 
 /// A scenario with a `motion:` section: the motion side alone (main_cpu/motion, docs/motion.md).
+/// What every report starts with. wall_time_s and rtf are the only host-dependent fields;
+/// `reproducible` writes 0 for both.
+nlohmann::json run_header(const Scenario& s, const RunOptions& opt, double wall) {
+    const double sim_s = sc_core::sc_time_stamp().to_seconds();
+    return {{"scenario", s.name},
+            {"seed", s.seed},
+            {"sim_time_s", sim_s},
+            {"wall_time_s", opt.reproducible ? 0.0 : wall},
+            {"rtf", opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall}};
+}
+
 int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
     const std::filesystem::path out = opt.out_dir.empty() ? std::filesystem::path(".") : std::filesystem::path(opt.out_dir);
     const auto wall0 = std::chrono::steady_clock::now();
     nlohmann::json motion_report;
     const int rc = run_motion_scenario(s.root, s.file, out, s.seed, motion_report);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    if (rc == 2) {
-        // The error names the file and line already (main_cpu/motion/motion_scenario.h).
-        const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
-        throw ConfigError(m.value("error", s.file + ": bad motion section"));
-    }
-    const double sim_s = sc_core::sc_time_stamp().to_seconds();
-    report = nlohmann::json::object();
-    report["scenario"] = s.name;
-    report["seed"] = s.seed;
-    report["sim_time_s"] = sim_s;
-    report["wall_time_s"] = opt.reproducible ? 0.0 : wall;
-    report["rtf"] = opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall;
     const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
+    // The error names the file and line already (main_cpu/motion/motion_scenario.h).
+    if (rc == 2) throw ConfigError(m.value("error", s.file + ": bad motion section"));
+    report = run_header(s, opt, wall);
     if (opt.reproducible) {
         // Output paths depend on where the run was started: keep the file names only.
         nlohmann::json clean = m;
@@ -411,14 +413,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
 
-    const double sim_s = sc_core::sc_time_stamp().to_seconds();
-    report = nlohmann::json::object();
-    report["scenario"] = s.name;
-    report["seed"] = s.seed;
+    report = run_header(s, opt, wall);
     report["rom"] = std::filesystem::path(rom).filename().string();
-    report["sim_time_s"] = sim_s;
-    report["wall_time_s"] = opt.reproducible ? 0.0 : wall;
-    report["rtf"] = opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall;
     report["comm_cpu"] = {{"cycles", bench.ctl.comm.cpu.cycles()},
                           {"instructions", bench.ctl.comm.cpu.instructions()},
                           {"clock_hz", s.board.comm.cpu_hz},
