@@ -6,7 +6,7 @@
 // Without one, motion tokens answer BCH 04 with a note saying why.
 #pragma once
 
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 #include "main_cpu/motion_interface.h"
 
 #include <cstdint>

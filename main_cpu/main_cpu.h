@@ -13,7 +13,7 @@
 
 #include "main_cpu/dispatcher.h"
 #include "main_cpu/dpram_layout.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 #include "main_cpu/motion_interface.h"
 #include "main_cpu/processor.h"
 #include "models/bus.h"

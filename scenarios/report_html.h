@@ -11,7 +11,7 @@
 // two --reproducible runs of the same scenario, seed and ROM give byte-identical files.
 #pragma once
 
-#include "models/interrupt_probe.h"
+#include "scenarios/interrupt_probe.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 #include "scenarios/runner.h"
 
 #include "models/config_error.h"
-#include "models/interrupt_probe.h"
+#include "scenarios/interrupt_probe.h"
 #include "models/stats.h"
 #include "scenarios/report_html.h"
 #include "main_cpu/motion/motion_controller.h"

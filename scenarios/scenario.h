@@ -2,7 +2,7 @@
 // The schema is documented in docs/scenarios.md; every error names the file and line.
 #pragma once
 
-#include "models/controller.h"
+#include "scenarios/controller.h"
 #include "scenarios/host/protocol_host.h"
 #include "scenarios/host/raw_host.h"
 #include "scenarios/host/replay_host.h"

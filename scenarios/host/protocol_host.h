@@ -22,7 +22,7 @@
 #include "models/serial_line.h"
 #include "scenarios/host/host_line.h"
 #include "models/stats.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 
 #include <systemc>
 

@@ -2,7 +2,7 @@
 #include "scenarios/host/raw_host.h"
 
 #include "models/config_error.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 
 #include "models/clock.h"
 #include "models/config_error.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 
 #include <sstream>
 #include <stdexcept>

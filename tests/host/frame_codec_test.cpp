@@ -1,5 +1,5 @@
 // Tests of the frame encoder/decoder and the escape syntax.
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "main_cpu/dpram_layout.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 #include "models/bus.h"
 
 #include <gtest/gtest.h>

@@ -4,9 +4,9 @@
 #pragma once
 
 #include "comm_fw_symbols.h"
-#include "models/controller.h"
+#include "scenarios/controller.h"
 #include "models/serial_line.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 #include "scenarios/host/protocol_host.h"
 #include "scenarios/host/raw_host.h"
 

@@ -3,9 +3,9 @@
 // to the same bytes at the same simulated times. Every wait is bounded.
 #include "models/clock.h"
 #include "models/config_error.h"
-#include "models/controller.h"
+#include "scenarios/controller.h"
 #include "models/serial_line.h"
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 #include "scenarios/host/tcp_host.h"
 #include "scenarios/runner.h"
 #include "scenarios/scenario.h"

@@ -5,7 +5,7 @@
 
 #include "dpram/idt7130.h"
 #include "main_cpu/main_cpu.h"
-#include "models/comm_board.h"
+#include "comm_cpu/comm_board.h"
 
 namespace rcsim {
 

@@ -1,4 +1,4 @@
-#include "models/controller.h"
+#include "scenarios/controller.h"
 
 namespace rcsim {
 

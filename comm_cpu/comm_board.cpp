@@ -1,4 +1,4 @@
-#include "models/comm_board.h"
+#include "comm_cpu/comm_board.h"
 
 #include "dpram/idt7130.h"
 #include "models/config_error.h"

@@ -1,5 +1,5 @@
 // rcsim — the serial frame of SYSTEM.md §3 (see frame_codec.h).
-#include "scenarios/host/frame_codec.h"
+#include "models/frame_codec.h"
 
 #include <cctype>
 #include <stdexcept>

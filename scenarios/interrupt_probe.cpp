@@ -1,4 +1,4 @@
-#include "models/interrupt_probe.h"
+#include "scenarios/interrupt_probe.h"
 
 #include "comm_cpu/cpu8086.h"
 

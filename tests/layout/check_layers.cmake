@@ -1,0 +1,87 @@
+# The include rules of the tree (docs/architecture.md, "Layers"): every directory may include its
+# own headers and those of the floors below it, never a floor above or beside it.
+#
+#   scenarios/  the top: assembles, measures, reports          -> everything
+#   comm_cpu/   the communication board                        -> comm_cpu pic8259 uart82510 dpram models
+#   main_cpu/   the main board                                 -> main_cpu camc_qi models
+#   pic8259/ dpram/ uart82510/ camc_qi/   one chip model each  -> itself, models
+#   models/     the ground floor                               -> models
+#
+# The 8086 core (comm_cpu/i8086*, comm_cpu/sst*) is plain C++: it includes no SystemC or TLM header
+# and, of the tree, only models/memory.h.
+#
+# Usage: cmake -DROOT=<source tree> -P check_layers.cmake. Prints every offending file:line and
+# fails; prints "layers: N files, 0 violations" otherwise.
+cmake_minimum_required(VERSION 3.25)
+if(NOT ROOT)
+  message(FATAL_ERROR "usage: cmake -DROOT=<source tree> -P check_layers.cmake")
+endif()
+
+set(allowed_models    models)
+set(allowed_pic8259   pic8259 models)
+set(allowed_dpram     dpram models)
+set(allowed_uart82510 uart82510 models)
+set(allowed_camc_qi   camc_qi models)
+set(allowed_comm_cpu  comm_cpu pic8259 uart82510 dpram models)
+set(allowed_main_cpu  main_cpu camc_qi models)
+set(layers models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu)
+set(tree_dirs models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu scenarios tests)
+
+set(violations 0)
+set(files_seen 0)
+
+# check_file(FILE LAYER): every `#include "dir/..."` of the tree must name an allowed dir.
+function(check_file file layer)
+  file(RELATIVE_PATH rel "${ROOT}" "${file}")
+  file(STRINGS "${file}" all_lines)
+  set(n 0)
+  set(bad ${violations})
+  set(core FALSE)
+  if(layer STREQUAL "comm_cpu" AND rel MATCHES "^comm_cpu/(i8086|sst)[^/]*$")
+    set(core TRUE)
+  endif()
+  foreach(line IN LISTS all_lines)
+    math(EXPR n "${n} + 1")
+    if(NOT line MATCHES "^[ \t]*#[ \t]*include[ \t]*([<\"])([^>\"]+)[>\"]")
+      continue()
+    endif()
+    set(quote "${CMAKE_MATCH_1}") # each MATCHES below resets CMAKE_MATCH_n
+    set(header "${CMAKE_MATCH_2}")
+    if(core AND (header MATCHES "^(systemc|tlm)" OR (quote STREQUAL "\"" AND
+        NOT header MATCHES "^comm_cpu/(i8086|sst)" AND NOT header STREQUAL "models/memory.h")))
+      message("${rel}:${n}: the plain C++ 8086 core includes ${header}")
+      math(EXPR bad "${bad} + 1")
+      continue()
+    endif()
+    if(NOT quote STREQUAL "\"" OR NOT header MATCHES "^([A-Za-z0-9_]+)/")
+      continue()
+    endif()
+    set(dir "${CMAKE_MATCH_1}")
+    if(NOT dir IN_LIST tree_dirs)
+      continue() # a generated header of the build tree (comm_cpu/firmware/... is caught above)
+    endif()
+    if(NOT dir IN_LIST allowed_${layer})
+      message("${rel}:${n}: ${layer}/ includes ${header} (${dir}/ is not below ${layer}/)")
+      math(EXPR bad "${bad} + 1")
+    endif()
+  endforeach()
+  set(violations ${bad} PARENT_SCOPE)
+endfunction()
+
+foreach(layer IN LISTS layers)
+  file(GLOB_RECURSE sources LIST_DIRECTORIES false
+    "${ROOT}/${layer}/*.h" "${ROOT}/${layer}/*.hpp" "${ROOT}/${layer}/*.cpp" "${ROOT}/${layer}/*.c")
+  list(SORT sources)
+  foreach(f IN LISTS sources)
+    math(EXPR files_seen "${files_seen} + 1")
+    check_file("${f}" ${layer})
+  endforeach()
+endforeach()
+
+if(files_seen EQUAL 0)
+  message(FATAL_ERROR "layers: no source files under ${ROOT}: nothing was checked")
+endif()
+if(violations GREATER 0)
+  message(FATAL_ERROR "layers: ${violations} include(s) break the layer rules (docs/architecture.md)")
+endif()
+message("layers: ${files_seen} files, 0 violations")
