@@ -1,9 +1,9 @@
 // rcsim — CAMC-QI 4-axis pulse/interpolation motion chip (Ajinextek/Samsung CAMC family).
 //
 // Documentation source: no datasheet is public; the register/command codes follow the QICOMMAND
-// map of Ajinextek's AXL headers (AXHD.h/AXHS.h/AXM.h) as summarised in reference/motion.md
-// §1.2-1.5; bit layouts the headers leave open (DCFG, UCFG1) are our decisions, listed in
-// camc_qi/README.md. Algorithms: interpolation.h; speed profiles: profile.h.
+// map of Ajinextek's AXL headers (AXHD.h/AXHS.h/AXM.h, camc_qi/README.md "Sources"); bit layouts
+// the headers leave open (DCFG, UCFG1) are our decisions, listed in camc_qi/README.md.
+// Algorithms: interpolation.h; speed profiles: profile.h.
 //
 // Host interface: one 16-byte window per axis (DATA 32-bit, COMMAND 8-bit, quick status words);
 // a command code with bit 7 set writes DATA into a register, bit 7 clear copies a register into

@@ -1,8 +1,9 @@
 // rcsim — CAMC-QI interpolation: linear (long-axis DDA) and circular (octant method).
 //
-// Sources: reference/motion.md §1.6 (NOVA MCX514 §3.1/3.2 accuracy and end-point rule, PCL6045B
-// octant table and step-count rule) and the seed paper 000_d6277446811a8cba (octants 0..7, short
-// axis X in 1,2,5,6 and Y in 0,3,4,7; total pulses = sum of the short-axis lengths; eqs. 1-10).
+// Sources (camc_qi/README.md "Sources"): NOVA MCX514 manual §3.1/3.2 (accuracy and end-point rule),
+// PCL6045B manual (octant table and step-count rule) and the motion-controller paper, P2 of
+// docs/system.md §1 (octants 0..7, short axis X in 1,2,5,6 and Y in 0,3,4,7; total pulses = sum of
+// the short-axis lengths; eqs. 1-10).
 //
 // Both interpolators are plain C++ (no SystemC): the chip model asks "where is the path after k
 // interpolation steps" and never schedules an event per pulse.

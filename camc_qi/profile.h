@@ -1,8 +1,8 @@
 // rcsim — CAMC-QI speed profiles: trapezoid and S-curve, preset and continuous drives.
 //
-// Source: reference/motion.md §1.5/§1.6 (STD start speed, OBJ object speed, RATE1/RATE2
-// accel/decel, SW1/SW2 S-curve sections; AXL profile modes 0-4, jerk given as percent of the
-// accel phase spent in jerk ramps).
+// Source: Ajinextek's AXL API (AXM.h) and the chip-class profile rules listed in camc_qi/README.md
+// "Sources" (STD start speed, OBJ object speed, RATE1/RATE2 accel/decel, SW1/SW2 S-curve sections;
+// AXL profile modes 0-4, jerk given as percent of the accel phase spent in jerk ramps).
 //
 // A profile is a list of constant-jerk segments, so the step count at any time is a closed-form
 // cubic: the chip evaluates it when asked and never schedules an event per pulse. Times are

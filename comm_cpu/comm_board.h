@@ -1,5 +1,5 @@
 // rcsim — the communication board: 8086-2, 64 KB ROM, 64 KB RAM, three 82510s, one 8259A, and the
-// left port of the IDT7130 (SYSTEM.md §1; the paper's Table 1).
+// left port of the IDT7130 (docs/system.md §2.1; the paper's Table 1).
 //
 // Memory map (defaults, all configurable): RAM 00000-0FFFF, DP-RAM D0000-D03FF, ROM F0000-FFFFF.
 // I/O map: 82510 #n register r at 0x80 + 0x10n + 2r; 8259A at 0xC0 (A0=0) and 0xC2 (A0=1).

@@ -1,7 +1,7 @@
 // rcsim — Intel 8086-2 CPU as a SystemC module around the plain C++ core (i8086.h).
 //
-// Documentation: Intel 8086 data sheet (231455); time-decoupling recipe: shared/reference/
-// virtual-platforms.md §10 and docs/architecture.md "Time model".
+// Documentation: Intel 8086 data sheet (231455); time-decoupling rules: docs/architecture.md
+// "Time model".
 //
 // The core runs ahead of kernel time in an SC_THREAD. RAM/ROM regions are reached by direct
 // pointer (map_memory); I/O, memory outside the map (the DP-RAM) and INTA go through TLM after

@@ -3,7 +3,7 @@
 // Documentation: Intel 8086 16-bit HMOS Microprocessor data sheet (231455), iAPX 86/88 User's
 // Manual (1981) for instruction semantics and clock counts; the BIU timing rules (queue
 // policy, EU/prefetch bus arbitration delays) follow the behaviour captured from a real
-// P80C86A-2 in the SingleStepTests 8086 suite and the facts in shared/reference/chips.md §4.
+// P80C86A-2 in the SingleStepTests 8086 suite and the published facts in docs/cpu8086.md.
 //
 // Structure (docs/cpu8086.md):
 // - The core is stepped one CLK at a time (clk()). Each clock advances the bus interface unit

@@ -1,6 +1,6 @@
 // rcsim — SingleStepTests 8086 runner (hardware-captured test vectors).
 //
-// Format: SingleStepTests/8086 v1 README (shared/sst8086/UPSTREAM_README.md): one JSON array
+// Format: the v1 README of the SingleStepTests/8086 repository on GitHub: one JSON array
 // per opcode (optionally gzip-compressed), each test with initial/final registers, RAM, the
 // prefetched queue and the per-cycle bus trace; metadata.json gives each opcode's status and
 // the mask of flags left undefined.

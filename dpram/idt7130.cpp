@@ -43,7 +43,7 @@ Idt7130::Idt7130(sc_core::sc_module_name name, unsigned speed_grade_ns)
     dont_initialize();
 }
 
-// BUSY timing assumed per grade ([U] in chips.md §2.4): the IDT70121/7016 family figures,
+// BUSY timing assumed per grade (unconfirmed, see dpram/README.md): the IDT70121/7016 figures,
 // tAPS 5 ns; tBAA/tBDA 20 ns up to the 35 ns grade, 30 ns at 55 ns, 50 ns at 100 ns; tBDD 30-60 ns;
 // tWH 15-20 ns. The 20 ns grade (PLCC/TQFP only) is given the 25 ns grade's figures.
 Idt7130::BusyTiming Idt7130::grade_timing(unsigned speed_grade_ns) {

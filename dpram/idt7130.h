@@ -2,7 +2,7 @@
 //
 // Source: IDT7130/7140 data sheet (DSC-2689) functional description and truth tables, with BUSY
 // timing figures from the same IDT family (IDT70121, IDT7016) because the 7130's own AC table was
-// not available — see reference/chips.md §2 and dpram/README.md for the assumptions.
+// not available — see dpram/README.md for the sources and the assumptions.
 //
 //   left  (TLM target) <-- communication CPU, 8086-2 @ 8 MHz   INT_L --> 8259A IR3
 //   right (TLM target) <-- main CPU                            INT_R --> main CPU

@@ -10,7 +10,7 @@ namespace {
 
 Outcome refuse(std::uint8_t code, std::string note) { return Outcome{code, "", std::move(note)}; }
 
-/// Splits on ',' (SYSTEM.md §3: fields separated by commas); "" gives one empty field.
+/// Splits on ',' (docs/system.md §5.3: fields separated by commas); "" gives one empty field.
 std::vector<std::string> split(const std::string& s) {
     std::vector<std::string> out(1);
     for (char c : s) {

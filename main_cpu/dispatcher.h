@@ -1,4 +1,4 @@
-// rcsim — the main CPU's token dispatcher: SYSTEM.md §5, one response per command.
+// rcsim — the main CPU's token dispatcher: docs/system.md §7, one response per command.
 //
 // Plain C++ (no kernel): the MainCpu module charges the processing time and moves the frames; this
 // class only decides. It keeps the controller's application state — a parameter table, stored
@@ -15,7 +15,7 @@
 
 namespace rcsim {
 
-/// BCH status codes of SYSTEM.md §5.
+/// BCH status codes of docs/system.md §7.1.
 namespace bch {
 constexpr std::uint8_t ok = 0x00;
 constexpr std::uint8_t unknown_token = 0x01;

@@ -1,4 +1,4 @@
-// rcsim — the DP-RAM layout and mailbox words of SYSTEM.md §2, as the main CPU uses them.
+// rcsim — the DP-RAM layout and mailbox words of docs/system.md §4, as the main CPU uses them.
 //
 //   p*340 + 0 .. p*340 + 338   data[p]   chunk of frame bytes for port p (p = 0, 1, 2)
 //   p*340 + 339                pflag[p]  0 free, 1 EXT_USE (comm CPU), 2 RBT_USE (main CPU)

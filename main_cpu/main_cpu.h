@@ -2,7 +2,7 @@
 //
 // The main board's processor as the communication board sees it through the IDT7130's right
 // port: an INT_R handler that takes mailbox words, a DP-RAM driver doing byte accesses (stretched
-// by BUSY wait states), frame reassembly from 339-byte chunks, a token dispatcher (SYSTEM.md §5)
+// by BUSY wait states), frame reassembly from 339-byte chunks, a token dispatcher (docs/system.md §7)
 // whose responses go back through the DP-RAM chunk by chunk, and a periodic control cycle that
 // calls the motion layer and whose start jitter is measured.
 //
@@ -53,7 +53,7 @@ struct MainCpuConfig {
     void validate() const;
 };
 
-/// Counters of one port (SYSTEM.md port p = DP-RAM area p).
+/// Counters of one port (port p = DP-RAM area p, docs/system.md §4.1).
 struct MainCpuPortStats {
     std::uint64_t frames_received = 0; // valid frames reassembled and dispatched
     std::uint64_t bytes_received = 0;  // bytes of those frames, SOH..ETX

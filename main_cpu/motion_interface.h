@@ -1,6 +1,6 @@
 // rcsim — the seam between the main CPU's token dispatcher and the motion layer.
 //
-// The dispatcher (main_cpu/) hands every motion token of SYSTEM.md §5 (SV HM RS MA MR ML MC ES)
+// The dispatcher (main_cpu/) hands every motion token of docs/system.md §7.2 (SV HM RS MA MR ML MC ES)
 // to a MotionInterface and sends back its reply as the response frame. The motion layer
 // (main_cpu/motion/: PLCopen function blocks over the CAMC-QI chip and CiA402 drives) implements
 // it; a dispatcher built without one answers BCH 04 ("not allowed in the current state").
@@ -14,7 +14,7 @@
 
 namespace rcsim {
 
-/// The response to one command: BCH status (SYSTEM.md §5: 00 ok, 01 unknown token, 02 bad data,
+/// The response to one command: BCH status (docs/system.md §7.1: 00 ok, 01 unknown token, 02 bad data,
 /// 03 busy, 04 not allowed in the current state, 05 axis error) and response data.
 struct MotionReply {
     std::uint8_t bch = 0;

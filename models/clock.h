@@ -1,7 +1,7 @@
 // rcsim — clock and time helpers.
 //
 // Integer cycle accounting for a configurable clock, with precomputed sc_time constants:
-// building an sc_time from a double is slow and drifts (virtual-platforms.md §10.4 #6).
+// building an sc_time from a double is slow and its rounding drifts (docs/architecture.md "Time model").
 // The kernel resolution is SystemC's default 1 ps, so 8 MHz (125 ns) and 18.432 MHz
 // derived character times stay integral or are rounded in exactly one documented place.
 #pragma once

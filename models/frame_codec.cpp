@@ -1,4 +1,4 @@
-// rcsim — the serial frame of SYSTEM.md §3 (see frame_codec.h).
+// rcsim — the serial frame of docs/system.md §5.3 (see frame_codec.h).
 #include "models/frame_codec.h"
 
 #include <cctype>

@@ -1,4 +1,4 @@
-// rcsim — the serial frame of SYSTEM.md §3, encoder and incremental decoder. Plain C++ (no
+// rcsim — the serial frame of docs/system.md §5.3, encoder and incremental decoder. Plain C++ (no
 // SystemC), so the hosts, the main CPU model and tools can share one definition.
 //
 //     SOH T1 T2 STX B1 B2 data... C1 C2 ETX

@@ -5,7 +5,7 @@
 // optional parity bit (odd, even, mark or space) and 1, 1.5 or 2 STOP bits (MARK). BREAK is the
 // line held at SPACE for longer than a character.
 //
-// Cost model (virtual-platforms.md §9: events, not ticks): one kernel event per character and
+// Cost model (events, not ticks: docs/architecture.md "Time model"): one kernel event per character and
 // direction. A transmitted character carries its bit-level shape (`SerialWord`: the level of
 // each bit cell and the transmitter's bit time); the line samples that shape with the
 // *receiver's* bit time and format when the character is delivered, so a receiver set to another

@@ -1,7 +1,7 @@
 // rcsim — Intel 8259A Programmable Interrupt Controller (single chip, 8086 mode).
 //
-// Source: Intel 8259A/8259A-2 data sheet (programming model, priority cell, 8086 INTA sequence),
-// as collected in reference/chips.md §3 with its list of behaviours other models get wrong (§3.5).
+// Source: Intel 8259A/8259A-2 data sheet (programming model, priority cell, 8086 INTA sequence);
+// the sources and the behaviours other models get wrong are listed in pic8259/README.md.
 //
 //             +---------+
 //   CS/A0 --->|  bus    |  two registers: A0=0 ICW1/OCW2/OCW3, IRR/ISR/poll; A0=1 ICW2-4/OCW1, IMR

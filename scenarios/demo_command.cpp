@@ -32,17 +32,18 @@ void add_demo_command(CLI::App& app);
 
 namespace {
 
-// 8086-2 figures used by the scripted comm CPU, in clocks of 125 ns (reference/chips.md §4).
+// 8086-2 figures used by the scripted comm CPU, in clocks of 125 ns (docs/cpu8086.md "Published
+// timing facts").
 constexpr cycles_t kIoInstruction = 9;   // OUT/IN DX: 8 clocks + the board's 1 I/O wait state
 constexpr cycles_t kToFirstInta = 2;     // INTR seen in HLT -> T1 of INTA #1 (assumed)
 constexpr cycles_t kInterInta = 6;       // T1 of INTA #1 -> T1 of INTA #2: 4-clock cycle + 2 idle (assumed)
-constexpr cycles_t kInterruptEntry = 61; // INTR seen -> first handler instruction (commonly quoted, [U])
+constexpr cycles_t kInterruptEntry = 61; // INTR seen -> first handler instruction (quoted, unconfirmed)
 constexpr cycles_t kHandlerBody = 120;   // what a short receive handler does between device read and EOI
 constexpr cycles_t kIret = 32;
 
 constexpr std::uint8_t kVectorBase = 0x20;
 constexpr std::uint8_t kRotateOnEoi = 0xA0;
-constexpr unsigned kPflag0 = 339;        // pflag[0] in the DP-RAM layout (SYSTEM.md §2)
+constexpr unsigned kPflag0 = 339;        // pflag[0] in the DP-RAM layout (docs/system.md §4.1)
 constexpr unsigned kServices = 5;
 
 /// Simulated time as microseconds with nanosecond digits, from integer picoseconds.

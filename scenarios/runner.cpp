@@ -339,7 +339,7 @@ sc_core::sc_trace_file* open_vcd(const std::string& path) {
 }
 
 double default_budget_us(const Scenario& s) {
-    // One character time at the slowest active port, shared by the three ports (SYSTEM.md §4).
+    // One character time at the slowest active port, shared by the three ports (docs/system.md §9.2).
     double char_us = to_us(SerialFormat::rs232(9600).frame_time());
     for (const auto& p : s.ports)
         if (p.host != PortScenario::Host::none) char_us = std::min(char_us, to_us(p.format().frame_time()));

@@ -1,10 +1,10 @@
 // rcsim — Intel 82510 Asynchronous Serial Controller (ASC).
 //
-// Sources: no 82510 data sheet text is public; the facts and their confidence tags are collected
-// in ../shared/reference/chips.md §1 (Intel's i960 QT960 driver, the VxWorks i82510.h register
-// map, the Sharp LH75400 "82510-compatible" UART2 bitfields, FAS/SAS and Solaris asy drivers).
-// Every choice made where those are uncertain ([U]) is listed on the doc page uart82510/README.md,
-// and the cheap ones are Config values.
+// Sources: no 82510 data sheet text is public; the facts come from Intel's i960 QT960 driver, the
+// VxWorks i82510.h register map, the Sharp LH75400 "82510-compatible" UART2 bitfields, FAS/SAS and
+// Solaris asy drivers, listed with their confidence tags on the doc page uart82510/README.md.
+// Every choice made where those are uncertain ([U]) is listed there too, and the cheap ones are
+// Config values.
 //
 // The part: four banks of eight registers (bank select written at offset 2 of every bank; GIR
 // read there), 4-byte TX and RX FIFOs with thresholds, two baud-rate generators BRGA/BRGB that

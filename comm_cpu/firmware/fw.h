@@ -9,7 +9,7 @@
 #ifndef RCSIM_FW_H
 #define RCSIM_FW_H
 
-/* ---- board (SYSTEM.md section 1) ---------------------------------------------------- */
+/* ---- board (docs/system.md section 2, section 3) ------------------------------------ */
 #define NO_PORT       3
 #define DATA_SEG      0x0040          /* physical 0x00400, right above the vector table */
 #define STACK_TOP     0x0C00          /* DS offset: the stack grows down from phys 0x01000 */
@@ -114,7 +114,7 @@
 #define TICK_PORT     0
 #define TICK_DIV      9216            /* 1 ms at 9.216 MHz (= 18.432 MHz / 2, the BRG clock) */
 
-/* ---- DP-RAM (SYSTEM.md section 2), left port at D000:0000 ----------------------------- */
+/* ---- DP-RAM (docs/system.md section 4), left port at D000:0000 ------------------------ */
 #define DP_SEG        0xD000
 #define CHUNK         339
 #define AREA          340
@@ -128,7 +128,7 @@
 #define MB_ACK        0x20            /* chunk consumed */
 #define MB_RESET      0x30            /* reset port p */
 
-/* ---- protocol (SYSTEM.md section 3) --------------------------------------------------- */
+/* ---- protocol (docs/system.md section 5, section 6) ----------------------------------- */
 #define SOH 0x01
 #define STX 0x02
 #define ETX 0x03

@@ -27,7 +27,7 @@ Cia402Drive::Cia402Drive(const Config& c) : cfg_(c), init_left_(c.init_time_s) {
 std::uint16_t Cia402Drive::statusword() const {
     // Bit patterns of the decoding table (mask 0x4F/0x6F); bit 9 remote is always set, bit 5
     // (quick stop, active low) is set except in Quick stop active, Not ready and the fault states,
-    // bit 4 (voltage enabled) with the power stage on. Gives the seed's 0x221/0x233/0x237.
+    // bit 4 (voltage enabled) with the power stage on. Gives P3's 0x221/0x233/0x237.
     std::uint16_t s = sw::remote;
     switch (state_) {
     case Cia402State::not_ready_to_switch_on: break;
@@ -72,7 +72,7 @@ void Cia402Drive::set_controlword(std::uint16_t v) {
     const bool reset_edge = (v & cw::fault_reset) && !(cw_ & cw::fault_reset);
     const bool new_sp_edge = (v & cw::new_set_point) && !(cw_ & cw::new_set_point);
     cw_ = v;
-    // Commands by their masks (reference/motion.md §3.1); bit 7 is in every mask, so a
+    // Commands by their masks (docs/motion.md "Sources"); bit 7 is in every mask, so a
     // controlword holding a fault reset is no other command.
     const bool shutdown = (v & 0x87) == 0x06;
     const bool switch_on = (v & 0x8F) == 0x07;

@@ -1,5 +1,5 @@
-// rcsim — CiA 402 servo drive model (IEC 61800-7-201 device profile as summarised in
-// reference/motion.md §3 and the seed 003_1acd23c51711676e: controlword 0x6040, statusword
+// rcsim — CiA 402 servo drive model (IEC 61800-7-201 device profile, docs/motion.md "CiA402
+// drive" and "Sources", and the CiA402 article P3 of docs/system.md §1: controlword 0x6040, statusword
 // 0x6041, eight states, transitions 0-16, modes 0x6060/0x6061).
 //
 // Plain C++ (no SystemC): the controller writes the controlword and objects and calls update()

@@ -1,6 +1,6 @@
 // rcsim — the main CPU's motion layer as one module: CAMC-QI chip (TLM target, reached through
 // this module's initiator socket by the paper's C library), four CiA402 drives, PLCopen blocks
-// per axis, the SYSTEM.md §5 motion tokens, and a trajectory recorder.
+// per axis, the motion tokens of docs/system.md §7.2, and a trajectory recorder.
 //
 // Wiring per axis: chip PULSE/DIR -> drive pulse input (mode -1); drive actual position ->
 // chip encoder counter (A/B); drive ALM -> chip ALARM input; chip SVON/ALMRST -> drive.

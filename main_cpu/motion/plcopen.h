@@ -1,6 +1,6 @@
 // rcsim — PLCopen Motion Control function blocks (Part 1 v2.0 single-axis state diagram and
-// interface rules, reference/motion.md §2; the seed paper's Table 2) over the paper's C motion
-// library (qi_api.h) and a CiA402 drive per axis.
+// interface rules, docs/motion.md; Table 2 of the paper P2, docs/system.md §1) over the paper's
+// C motion library (qi_api.h) and a CiA402 drive per axis.
 //
 // Every block is called once per control cycle (call()); motion blocks hand a Job to the axis,
 // which starts it on the chip and reports Active/Done/Aborted/Error back. The interpolating
@@ -130,7 +130,7 @@ public:
     bool Status = false, Valid = false, Error = false;
     std::uint16_t ErrorID = 0;
     int timeout_cycles = 100;
-    /// (controlword written, statusword seen) per call, for the seed's 0x06/0x07/0x0F sequence.
+    /// (controlword written, statusword seen) per call, for P3's 0x06/0x07/0x0F sequence.
     std::vector<std::pair<std::uint16_t, std::uint16_t>> history;
     void call();
 

@@ -1,4 +1,4 @@
-// rcsim — the seed paper's C motion library over CAMC-QI registers. See qi_api.h.
+// rcsim — the motion-controller paper's C motion library over CAMC-QI registers. See qi_api.h.
 #include "main_cpu/motion/qi_api.h"
 
 #include <cmath>

@@ -1,6 +1,7 @@
-// rcsim — the seed paper's C motion library on the CAMC-QI (its Table 1: SignalSetHomeLevel,
-// SignalSetLimit, SignalServoOn, SignalServoAlarmReset, MovePos, LineMove) plus the circle-centre
-// move of its MC_CircleCenterMove, the stops and the status reads the function blocks need.
+// rcsim — the C motion library of the motion-controller paper (P2, docs/system.md §1) on the
+// CAMC-QI (its Table 1: SignalSetHomeLevel, SignalSetLimit, SignalServoOn, SignalServoAlarmReset,
+// MovePos, LineMove) plus the circle-centre move of its MC_CircleCenterMove, the stops and the
+// status reads the function blocks need.
 //
 // Every call is a sequence of CAMC-QI register accesses (write DATA, write COMMAND) through a
 // QiBus; return values are AXL codes (0 = success). Names follow the paper (AXL style).

@@ -322,7 +322,7 @@ Frame ProtocolHost::make_command() {
         pick -= weight;
     }
     std::size_t n = t.random_size ? static_cast<std::size_t>(next_random() % (t.data_size + 1)) : t.data_size;
-    if (f.token == "ST" || f.token == "HT") n = 0; // SYSTEM.md §5: these commands take no data
+    if (f.token == "ST" || f.token == "HT") n = 0; // docs/system.md §7.2: no data
     f.data.resize(n);
     for (auto& c : f.data) c = static_cast<char>(0x20 + next_random() % 95); // printable ASCII
     return f;

@@ -1,4 +1,4 @@
-// rcsim — the simulated external system: the host side of the serial protocol of SYSTEM.md §3,
+// rcsim — the simulated external system: the host side of the serial protocol of docs/system.md §5,
 // written from the specification alone (it knows nothing of the comm CPU firmware).
 //
 // Sending a command:   ENQ -> (ACK | NAK | T1 timeout)
@@ -35,7 +35,7 @@
 
 namespace rcsim {
 
-/// The protocol's timers and retry rule (SYSTEM.md §3 defaults).
+/// The protocol's timers and retry rule (docs/system.md §6.1 defaults).
 struct ProtocolTiming {
     sc_core::sc_time t1{50, sc_core::SC_MS};      // ENQ -> ACK/NAK, ETX -> EOT/NAK
     sc_core::sc_time t2{20, sc_core::SC_MS};      // longest gap between two bytes of a frame

@@ -5,8 +5,8 @@
 // every byte the controller sent back with the time of its stop bit. `host: replay` feeds such a
 // log back at exactly the same simulated times, with no socket and no wall clock, and compares
 // what the controller answers with what it answered in the recorded session. A bug seen
-// interactively thereby becomes a deterministic regression scenario (virtual-platforms.md §10.4
-// item 12, §11 "Record and replay").
+// interactively thereby becomes a deterministic regression scenario (docs/serial.md "Record and
+// replay"; why wall time stays out of the model: docs/architecture.md "Time model").
 //
 // The log is text, one event a line, times in picoseconds (exact):
 //

@@ -2,7 +2,7 @@
 //
 // `TcpHost` is the far end of one RS-232C line whose bytes come from, and go to, a TCP client on
 // the host machine (a terminal, nc, a Python script speaking ENQ/ACK/SOH..ETX). Design
-// (virtual-platforms.md §10.4 items 8-12, §11):
+// (docs/serial.md "Connecting your own tools"; kernel rules: docs/architecture.md "Time model"):
 //
 //   * An Asio io_context on its own OS thread listens, accepts one client at a time (the next
 //     one after a disconnect) and reads. Received bytes go into a mutex-protected queue, and

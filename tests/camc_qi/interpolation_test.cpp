@@ -92,7 +92,8 @@ TEST(LinearInterpolation, LargeDistancesSampledAndPaperPlotterLine) {
         EXPECT_EQ(path.position(0, path.steps()), delta[0]);
         EXPECT_EQ(path.position(1, path.steps()), delta[1]);
     }
-    // motion.md §4: (0,0)->(100,60) mm at 80 p/mm = (8000, 4800): 8000 steps, Y emits 4800.
+    // A belt plotter at 80 pulses/mm (3200 microsteps a turn, 40 mm a turn): (0,0)->(100,60) mm =
+    // (8000, 4800) pulses: 8000 steps (the long axis), Y emits 4800.
     const std::int64_t d[2] = {8000, 4800};
     LinearPath line(d, 2);
     EXPECT_EQ(line.steps(), 8000u);
@@ -233,7 +234,8 @@ TEST(CircularInterpolation, PaperAndChipFigures) {
     }
     EXPECT_EQ(px, 4000);
     EXPECT_EQ(py, 4000);
-    // Quarter arc R=4000: sqrt(2)*4000 = 5657 steps (motion.md §4), each axis 4000 pulses.
+    // Quarter arc R=4000: each 45-degree octant takes R*sin(45) = R/sqrt(2) steps of its short axis,
+    // two octants sqrt(2)*4000 = 5657 steps (camc_qi/README.md), each axis 4000 pulses.
     const std::uint64_t q = circle_step_count({4000, 0}, {0, 4000}, ArcDirection::ccw);
     EXPECT_NEAR(static_cast<double>(q), std::sqrt(2.0) * 4000, 1.0);
     // The plotter circle: R=5000.

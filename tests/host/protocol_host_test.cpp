@@ -1,4 +1,4 @@
-// The protocol host against a scripted fake controller, on every path of SYSTEM.md §3:
+// The protocol host against a scripted fake controller, on every path of docs/system.md §5 and §6:
 // ACK, NAK then retry, timeout then retry, give-up, bad checksum -> NAK, T2 gap -> drop,
 // ENQ collision; and its traffic generators.
 #define SC_INCLUDE_DYNAMIC_PROCESSES

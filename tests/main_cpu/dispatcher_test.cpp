@@ -1,4 +1,4 @@
-// Tests of the token dispatcher (SYSTEM.md §5), without a kernel.
+// Tests of the token dispatcher (docs/system.md §7), without a kernel.
 #include "main_cpu/dispatcher.h"
 
 #include <gtest/gtest.h>

@@ -517,7 +517,8 @@ TEST(MainCpu, MailboxGapSpacesInt2extWords) {
     EXPECT_EQ(b.cpu.port_stats(1).frames_sent, 1u);
 }
 
-// SYSTEM.md's single int2ext byte: a word the comm CPU has not read is overwritten by the next.
+// docs/system.md §4.3: int2ext is a single byte, so a word the comm CPU has not read is
+// overwritten by the next.
 // This documents the hazard that mailbox_gap and mailbox_handshake exist for.
 TEST(MainCpu, WithoutHandshakeAnUnreadInt2extWordIsOverwritten) {
     MainCpuConfig c;

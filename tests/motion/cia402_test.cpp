@@ -77,7 +77,7 @@ TEST(Cia402, PowerOnSelfTestAndIndy7Statuswords) {
     EXPECT_EQ(d.state(), S::switch_on_disabled);
     EXPECT_EQ(d.last_transition(), 1);
     EXPECT_EQ(d.statusword() & 0x4F, 0x40);
-    // The seed's Neuromeka Indy7 sequence.
+    // P3's Neuromeka Indy7 sequence (docs/system.md §8).
     d.set_controlword(0x06);
     EXPECT_EQ(d.statusword(), 0x221);
     d.set_controlword(0x07);

@@ -1,5 +1,5 @@
 // 8259A behaviour tests: the INTA sequence, triggering, every OCW2 command, OCW3, ICW1 side
-// effects, and the nine known-tricky behaviours of reference/chips.md §3.5 (marked "tricky n").
+// effects, and the nine known-tricky behaviours of pic8259/README.md (marked "tricky n").
 #include "tests/pic8259/pic_bench.h"
 #include "tests/support/sc_test.h"
 

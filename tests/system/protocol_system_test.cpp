@@ -1,7 +1,7 @@
-// System tests of SYSTEM.md §2-3 with the real firmware ROM on the simulated communication board,
-// the IDT7130, the behavioural main CPU and simulated external hosts (scenarios/host): every
-// assertion is about what is observable on the RS-232C line (a wire tap on each SerialLine), what
-// the hosts counted, and what the main CPU received or sent.
+// System tests of docs/system.md §4 to §6 with the real firmware ROM on the simulated
+// communication board, the IDT7130, the behavioural main CPU and simulated external hosts
+// (scenarios/host): every assertion is about what is observable on the RS-232C line (a wire tap
+// on each SerialLine), what the hosts counted, and what the main CPU received or sent.
 #include "tests/system/system_bench.h"
 #include "tests/support/sc_test.h"
 
@@ -364,7 +364,7 @@ TEST(SystemProtocol, HostRecoversFromANakedFrameAndTheFrameArrivesOnce) {
     EXPECT_EQ(h.host.responses()[0], cmd);
 }
 
-// 3c. SYSTEM.md §3: "a sender ... resends the whole frame after NAK". After its NAK the receiver
+// 3c. docs/system.md §6.2: a sender resends the whole frame after NAK. After its NAK the receiver
 // is idle again, so the retry is a new transfer: ENQ, ACK, the whole frame, EOT (docs/serial.md).
 TEST(SystemProtocol, FrameRetriedAfterNakStartsWithEnqAndGetsEot) {
     Board b;

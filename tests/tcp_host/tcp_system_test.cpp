@@ -34,7 +34,7 @@ struct Exchange {
     std::string decode_error = "not received";
 };
 
-/// The host side of SYSTEM.md §3 by hand, as a user's script would do it: ENQ, ACK?, frame,
+/// The host side of docs/system.md §5 by hand, as a user's script would do it: ENQ, ACK?, frame,
 /// EOT?; then the controller's ENQ, our ACK, its response frame, our EOT.
 Exchange ec_exchange(unsigned short port, const std::string& data) {
     Exchange x;
