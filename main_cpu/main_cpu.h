@@ -12,7 +12,7 @@
 #pragma once
 
 #include "main_cpu/dispatcher.h"
-#include "main_cpu/dpram_layout.h"
+#include "models/dpram_layout.h"
 #include "models/frame_codec.h"
 #include "main_cpu/motion_interface.h"
 #include "main_cpu/processor.h"

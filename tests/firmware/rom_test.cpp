@@ -1,4 +1,5 @@
 // The communication firmware ROM image: size, reset vector, data image, symbol map/JSON/header.
+#include "models/dpram_layout.h"
 #include "comm_fw_symbols.h"
 #include "tests/support/sc_test.h"
 
@@ -61,8 +62,9 @@ TEST(FirmwareRom, InitialisedDataFollowsTheCode) {
     EXPECT_EQ(word(r, fw::rom_offset_of(fw::data::tick_div)), 9216);   // 1 ms
     EXPECT_LE(fw::data::tick_div + 2, fw::data_end);
     const std::uint32_t ar = fw::code_bytes + (fw::data::area - fw::data_segment * 16u);
-    EXPECT_EQ(word(r, ar + 2), 340);
-    EXPECT_EQ(word(r, ar + 4), 680);
+    // The firmware's area table agrees with the layout the main CPU uses (models/dpram_layout.h).
+    EXPECT_EQ(word(r, ar + 2), rcsim::dpram_layout::data_addr(1));
+    EXPECT_EQ(word(r, ar + 4), rcsim::dpram_layout::data_addr(2));
 }
 
 TEST(FirmwareRom, MapNamesTheIsrsAndTheMainLoop) {

@@ -3,7 +3,7 @@
 // way the firmware does: chunks, pflag, mailbox words.
 #pragma once
 
-#include "main_cpu/dpram_layout.h"
+#include "models/dpram_layout.h"
 #include "models/frame_codec.h"
 #include "models/bus.h"
 

@@ -1,0 +1,132 @@
+#include "scenarios/bench.h"
+
+#include "models/config_error.h"
+#include "models/dpram_layout.h"
+
+#include <algorithm>
+#include <iostream>
+#include <string>
+
+namespace rcsim {
+
+namespace {
+
+using sc_core::sc_time;
+constexpr unsigned kDpramDataBytes = dpram_layout::ports * dpram_layout::area_size; // data[p] and pflag[p]
+
+FaultKind fault_kind(const std::string& k) {
+    if (k == "flip_data_bit") return FaultKind::flip_data_bit;
+    if (k == "flip_cell") return FaultKind::flip_cell;
+    if (k == "drop") return FaultKind::drop;
+    return FaultKind::corrupt_stop;
+}
+
+} // namespace
+
+Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
+    : sc_module(name), ctl("controller", s.board), lines("line", kPorts),
+      probe("probe", ctl.comm.cpu,
+            {&ctl.comm.uart_int[0], &ctl.comm.uart_int[1], &ctl.comm.uart_int[2], &ctl.int_l},
+            s.board.comm.pic_io_base, s.board.comm.dpram_base, kDpramDataBytes),
+      scenario_(s) {
+    for (unsigned p = 0; p < kPorts; ++p) {
+        ctl.comm.uart[p].connect(lines[p], SerialLine::a);
+        attach_host(p, s.ports[p]);
+        ctl.comm.uart[p].on_char_read = [this, p](const Uart82510::CharTiming& c) {
+            char_reads[p].push_back(c.read);
+            char_latency_us[p].add(to_us(c.read - c.stop));
+        };
+    }
+    if (s.main_motion) {
+        motion = std::make_unique<motion::MotionController>("motion");
+        ctl.set_motion(motion.get());
+    }
+    probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
+    bool any_tcp = false;
+    for (const auto& h : tcp) any_tcp = any_tcp || h;
+    const double rtf = s.realtime >= 0 ? s.realtime : any_tcp ? 1.0 : 0.0;
+    if (rtf > 0) pacer = std::make_unique<RealtimePacer>("pacer", rtf);
+    SC_THREAD(inject_breaks);
+}
+
+const char* Bench::host_kind(unsigned p) const {
+    return protocol[p] ? "protocol" : raw[p] ? "raw" : tcp[p] ? "tcp" : replay[p] ? "replay" : "none";
+}
+
+void Bench::attach_host(unsigned p, const PortScenario& ps) {
+    const std::string n = "host" + std::to_string(p);
+    if (ps.host == PortScenario::Host::protocol) {
+        protocol[p] = std::make_unique<ProtocolHost>(n.c_str(), ps.protocol);
+        protocol[p]->connect(lines[p], SerialLine::b);
+        if (!ps.log_path.empty()) {
+            logs_[p].open(ps.log_path);
+            if (!logs_[p]) throw ConfigError(ps.log_path, 0, "cannot write the host log");
+            protocol[p]->log_to(&logs_[p]);
+        }
+    } else if (ps.host == PortScenario::Host::raw) {
+        raw[p] = std::make_unique<RawHost>(n.c_str(), ps.raw);
+        raw[p]->connect(lines[p], SerialLine::b);
+    } else if (ps.host == PortScenario::Host::tcp) {
+        tcp[p] = std::make_unique<TcpHost>(n.c_str(), ps.tcp);
+        tcp[p]->connect(lines[p], SerialLine::b);
+        std::cout << "port " << p << ": tcp host listening on " << tcp[p]->endpoint() << std::endl;
+    } else if (ps.host == PortScenario::Host::replay) {
+        replay[p] = std::make_unique<ReplayHost>(n.c_str(), ps.replay);
+        replay[p]->connect(lines[p], SerialLine::b);
+    }
+    if (ps.noise_per_bit > 0) lines[p].set_noise(ps.noise_per_bit, scenario_.seed * 7919 + p);
+    for (const LineFault& f : ps.faults) {
+        if (f.kind == "break") continue;
+        const auto from = f.from == LineFault::From::host ? SerialLine::b : SerialLine::a;
+        lines[p].inject(from, f.index, fault_kind(f.kind), f.bit);
+    }
+}
+
+void Bench::inject_breaks() {
+    struct Brk { sc_time at, duration; unsigned port; SerialLine::Side from; };
+    std::vector<Brk> breaks;
+    for (unsigned p = 0; p < kPorts; ++p)
+        for (const LineFault& f : scenario_.ports[p].faults)
+            if (f.kind == "break")
+                breaks.push_back({f.at, f.duration, p,
+                                  f.from == LineFault::From::host ? SerialLine::b : SerialLine::a});
+    std::stable_sort(breaks.begin(), breaks.end(), [](const Brk& a, const Brk& b) { return a.at < b.at; });
+    for (const Brk& b : breaks) {
+        if (b.at > sc_core::sc_time_stamp()) wait(b.at - sc_core::sc_time_stamp());
+        lines[b.port].insert_break(b.from, b.duration);
+    }
+}
+
+// DP-RAM forwarding: data bytes written into data[p], closed by the 0x1p word in int2rbt.
+void Bench::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
+    namespace L = dpram_layout;
+    const std::uint32_t off = r.address - scenario_.board.comm.dpram_base;
+    if (off < kDpramDataBytes && off % L::area_size != L::chunk_size) {
+        const unsigned port = off / L::area_size;
+        if (open_chunk_[port] < 0) {
+            open_chunk_[port] = static_cast<int>(chunks.size());
+            chunks.push_back({port, t, t, 0, 0});
+        }
+        DpramChunk& ch = chunks[open_chunk_[port]];
+        ch.last = t;
+        ++ch.writes;
+        ch.bytes += r.width;
+    } else if (off == L::int2rbt && L::word_kind(r.data & 0xFF) == L::kind_chunk && L::word_port(r.data & 0xFF) < kPorts) {
+        open_chunk_[L::word_port(r.data & 0xFF)] = -1;
+    }
+}
+
+void Bench::drain(double drain_s) {
+    for (auto& h : protocol)
+        if (h) h->stop_traffic();
+    const sc_time step = us(10000);
+    const sc_time end = sc_core::sc_time_stamp() + ps(static_cast<std::uint64_t>(drain_s * 1e12 + 0.5));
+    auto busy = [this] {
+        for (auto& h : protocol)
+            if (h && !h->idle()) return true;
+        return false;
+    };
+    while (busy() && sc_core::sc_time_stamp() < end) sc_core::sc_start(std::min(step, end - sc_core::sc_time_stamp()));
+}
+
+} // namespace rcsim

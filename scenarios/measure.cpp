@@ -1,0 +1,143 @@
+#include "scenarios/measure.h"
+
+#include <algorithm>
+
+namespace rcsim {
+
+namespace {
+
+using sc_core::sc_time;
+constexpr unsigned kPorts = Bench::kPorts;
+
+/// Interrupt handler time that falls inside [a, b] (the part of a chunk copy spent in ISRs).
+double isr_time_inside_us(const InterruptProbe& probe, const sc_time& a, const sc_time& b) {
+    double sum = 0;
+    for (const auto& r : probe.records()) {
+        if (r.depth != 0) continue; // nested time is already inside its parent
+        const sc_time lo = std::max(a, r.inta1), hi = std::min(b, r.iret_done);
+        if (hi > lo) sum += to_us(hi - lo);
+    }
+    return sum;
+}
+
+bool read_char_inside(const std::vector<sc_time>& reads, const sc_time& a, const sc_time& b) {
+    auto it = std::lower_bound(reads.begin(), reads.end(), a);
+    return it != reads.end() && *it <= b;
+}
+
+} // namespace
+
+nlohmann::json samples_json(const Samples& s) { return to_json(s.summary()); }
+
+std::vector<report::InterruptRow> interrupt_rows(const Bench& b) {
+    std::vector<report::InterruptRow> rows;
+    for (const auto& r : b.probe.records())
+        rows.push_back(report::row_of(r, r.level < kPorts && read_char_inside(b.char_reads[r.level], r.first_isr, r.iret_done)));
+    return rows;
+}
+
+InterruptFigures measure_interrupts(const Bench& b) {
+    InterruptFigures c;
+    static const char* names[] = {"rs232_0", "rs232_1", "rs232_2", "dpram"};
+    for (unsigned level = 0; level < 4; ++level) {
+        nlohmann::json j;
+        j["count"] = b.probe.of_level(level).size();
+        j["latency_us"] = samples_json(b.probe.latency_us(level));
+        j["service_us"] = samples_json(b.probe.service_us(level));
+        c.interrupts[names[level]] = j;
+    }
+    // RS-232 interrupts that took at least one character out of the RX FIFO (the paper's
+    // "RS-232 interrupt"; the others are the firmware's timer tick and transmit interrupts).
+    for (unsigned p = 0; p < kPorts; ++p)
+        for (const auto* r : b.probe.of_level(p))
+            if (read_char_inside(b.char_reads[p], r->first_isr, r->iret_done)) {
+                c.rs232_rx_service.add(r->service_us());
+                if (r->has_rise) c.rs232_rx_latency.add(r->latency_us());
+            }
+    c.interrupts["rs232_rx"] = {{"count", c.rs232_rx_service.count()},
+                                {"latency_us", samples_json(c.rs232_rx_latency)},
+                                {"service_us", samples_json(c.rs232_rx_service)}};
+    // Per byte: the span of a chunk's data writes over the writes it holds (n writes, n-1 gaps),
+    // less the interrupt handlers that ran inside it.
+    double time_us = 0;
+    std::uint64_t gaps = 0;
+    for (const DpramChunk& ch : b.chunks) {
+        if (ch.writes < 2) continue;
+        time_us += to_us(ch.last - ch.first) - isr_time_inside_us(b.probe, ch.first, ch.last);
+        gaps += ch.writes - 1;
+        c.dpram_bytes += ch.bytes;
+    }
+    c.dpram_byte_us = gaps ? time_us / static_cast<double>(gaps) : 0;
+    return c;
+}
+
+double default_budget_us(const Scenario& s) {
+    // One character time at the slowest active port, shared by the three ports (docs/system.md §9).
+    double char_us = to_us(SerialFormat::rs232(9600).frame_time());
+    for (const auto& p : s.ports)
+        if (p.host != PortScenario::Host::none) char_us = std::min(char_us, to_us(p.format().frame_time()));
+    return char_us / kPorts;
+}
+
+nlohmann::json port_json(const Bench& b, unsigned p) {
+    const auto& u = b.ctl.comm.uart[p].stats();
+    nlohmann::json j;
+    j["host"] = b.host_kind(p);
+    std::uint64_t sent = 0, delivered = 0, failed = 0, naks = 0, retries = 0;
+    if (const auto& h = b.protocol[p]) {
+        const auto& c = h->counters();
+        sent = c.frames_sent, delivered = c.frames_delivered, failed = c.frames_failed;
+        naks = c.naks, retries = c.retries;
+        j["responses_received"] = c.responses_received;
+        j["timeouts"] = c.timeouts;
+        j["collisions"] = c.collisions;
+        j["delivery_us"] = samples_json(h->delivery_us());
+        j["response_us"] = samples_json(h->response_us());
+    }
+    if (const auto& h = b.raw[p]) {
+        j["bytes_sent"] = h->bytes_sent();
+        j["bytes_received"] = h->received().size();
+    }
+    if (const auto& h = b.tcp[p]) {
+        const auto c = h->counters();
+        j["tcp"] = {{"listen", h->endpoint()},   {"connections", c.connections}, {"bytes_in", c.bytes_in},
+                    {"bytes_sent", c.bytes_sent}, {"bytes_received", c.bytes_received}, {"bytes_out", c.bytes_out},
+                    {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped}};
+    }
+    if (const auto& h = b.replay[p]) {
+        const auto& c = h->counters();
+        j["replay"] = {{"bytes_sent", c.bytes_sent},         {"bytes_late", c.bytes_late},
+                       {"bytes_received", c.bytes_received}, {"out_expected", c.out_expected},
+                       {"out_matched", c.out_matched},       {"out_mismatched", c.out_mismatched},
+                       {"out_missing", h->out_missing()},   {"first_mismatch", h->first_mismatch()}};
+    }
+    j["frames_sent"] = sent;
+    j["frames_delivered"] = delivered;
+    j["frames_failed"] = failed;
+    j["naks"] = naks;
+    j["retries"] = retries;
+    j["overruns"] = u.overruns;
+    j["parity_errors"] = u.parity_errors;
+    j["framing_errors"] = u.framing_errors;
+    j["break_detects"] = u.break_detects;
+    j["rx_fifo_high_water"] = u.rx_fifo_high_water;
+    j["chars_received"] = u.chars_received;
+    j["chars_sent"] = u.chars_sent;
+    j["char_latency_us"] = samples_json(b.char_latency_us[p]);
+    j["main_cpu_frames_received"] = b.ctl.main.port_stats(p).frames_received;
+    j["main_cpu_frames_sent"] = b.ctl.main.port_stats(p).frames_sent;
+    return j;
+}
+
+std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, unsigned port) {
+    std::vector<const FrameRecord*> got;
+    for (const auto& r : main.received())
+        if (r.port == port) got.push_back(&r);
+    const auto& sent = host.delivered();
+    std::uint64_t bad = sent.size() > got.size() ? sent.size() - got.size() : got.size() - sent.size();
+    for (std::size_t i = 0; i < std::min(sent.size(), got.size()); ++i)
+        if (sent[i].token != got[i]->token || sent[i].bch != got[i]->bch || sent[i].data != got[i]->data) ++bad;
+    return bad;
+}
+
+} // namespace rcsim

@@ -1,0 +1,33 @@
+#include "scenarios/output.h"
+
+#include "models/config_error.h"
+
+#include <fstream>
+
+namespace rcsim {
+
+void prepare_out_dir(const std::string& dir) {
+    if (dir.empty()) return;
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+        throw ConfigError("--out '" + dir + "': cannot create the output directory" + (ec ? ": " + ec.message() : ""));
+}
+
+void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report) {
+    const std::filesystem::path file = dir / "report.json";
+    std::ofstream out(file);
+    out << report.dump(2) << "\n";
+    out.flush();
+    if (!out) throw ConfigError(file.string(), 0, "cannot write the report");
+}
+
+sc_core::sc_trace_file* open_vcd(const std::string& path) {
+    const std::string ext = ".vcd";
+    const bool has_ext = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+    const std::string stem = has_ext ? path.substr(0, path.size() - ext.size()) : path;
+    if (!std::ofstream(stem + ext)) throw ConfigError(stem + ext, 0, "cannot write the VCD file");
+    return sc_core::sc_create_vcd_trace_file(stem.c_str());
+}
+
+} // namespace rcsim

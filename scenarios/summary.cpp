@@ -1,0 +1,83 @@
+// rcsim — the printed summary of a report (what `rcsim run` shows on the terminal).
+#include "scenarios/runner.h"
+
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace rcsim {
+
+namespace {
+void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
+    const auto& m = r["motion"];
+    os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
+       << r["sim_time_s"].get<double>() << " s";
+    if (r["wall_time_s"].get<double>() > 0)
+        os << " in " << r["wall_time_s"].get<double>() << " s wall (" << r["rtf"].get<double>() << "x real time)";
+    os << "\nmotion state " << m.value("state", std::string("?"));
+    if (m.contains("final_cmd_pulses")) os << ", final command " << m["final_cmd_pulses"].dump();
+    if (m.contains("final_act_pulses")) os << ", final actual " << m["final_act_pulses"].dump();
+    if (m.contains("max_following_error_pulses"))
+        os << "\nmax following error " << m["max_following_error_pulses"].get<double>() << " pulses";
+    os << "\n\nchecks\n";
+    for (const auto& c : r["checks"]) os << "  " << c.dump() << "\n";
+    if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
+}
+} // namespace
+
+void print_summary(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("interrupts")) return print_motion_summary(r, os);
+    auto f = [](double v, int prec = 1) {
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(prec) << v;
+        return s.str();
+    };
+    os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
+       << f(r["sim_time_s"].get<double>(), 3) << " s";
+    if (r["wall_time_s"].get<double>() > 0)
+        os << " in " << f(r["wall_time_s"].get<double>(), 3) << " s wall (" << f(r["rtf"].get<double>(), 1)
+           << "x real time)";
+    os << "\n\ninterrupts (us)      count   latency mean/p99/max        service mean/p99/max\n";
+    for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
+        const auto& i = r["interrupts"][name];
+        const auto& l = i["latency_us"];
+        const auto& s = i["service_us"];
+        os << "  " << std::left << std::setw(16) << name << std::right << std::setw(8) << i["count"].get<std::uint64_t>()
+           << std::setw(10) << f(l["mean"]) << std::setw(9) << f(l["p99"]) << std::setw(9) << f(l["max"])
+           << std::setw(12) << f(s["mean"]) << std::setw(9) << f(s["p99"]) << std::setw(9) << f(s["max"]) << "\n";
+    }
+    const auto& t = r["table3"];
+    os << "\nTable 3               simulated      paper\n"
+       << "  RS-232 interrupt  " << std::setw(10) << f(t["rs232_isr_us"], 3) << " us" << std::setw(10)
+       << f(t["paper_rs232_isr_us"], 3) << " us   (max " << f(t["rs232_isr_max_us"], 3) << " us)\n"
+       << "  DP-RAM (1 byte)   " << std::setw(10) << f(t["dpram_byte_us"], 3) << " us" << std::setw(10)
+       << f(t["paper_dpram_byte_us"], 3) << " us\n"
+       << "  sum               " << std::setw(10)
+       << f(t["rs232_isr_us"].get<double>() + t["dpram_byte_us"].get<double>(), 3) << " us" << std::setw(10)
+       << f(t["paper_rs232_isr_us"].get<double>() + t["paper_dpram_byte_us"].get<double>(), 3) << " us\n"
+       << "  budget " << f(t["budget_us"], 3) << " us, margin " << f(t["margin_us"], 3) << " us\n";
+    os << "\nport  sent  delivered  failed  naks  retries  overruns  parity  framing  fifo-hw  char-latency max us\n";
+    for (std::size_t p = 0; p < r["ports"].size(); ++p) {
+        const auto& j = r["ports"][p];
+        os << "  " << p << std::setw(7) << j["frames_sent"].get<std::uint64_t>() << std::setw(11)
+           << j["frames_delivered"].get<std::uint64_t>() << std::setw(8) << j["frames_failed"].get<std::uint64_t>()
+           << std::setw(6) << j["naks"].get<std::uint64_t>() << std::setw(9) << j["retries"].get<std::uint64_t>()
+           << std::setw(10) << j["overruns"].get<std::uint64_t>() << std::setw(8)
+           << j["parity_errors"].get<std::uint64_t>() << std::setw(9) << j["framing_errors"].get<std::uint64_t>()
+           << std::setw(9) << j["rx_fifo_high_water"].get<unsigned>() << std::setw(12)
+           << f(j["char_latency_us"]["max"]) << "\n";
+    }
+    if (r.contains("main_cpu") && r["main_cpu"].contains("cycle_jitter_us")) {
+        const auto& j = r["main_cpu"]["cycle_jitter_us"];
+        os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
+    }
+    os << "\nchecks\n";
+    for (const auto& c : r["checks"])
+        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(32)
+           << c["name"].get<std::string>() << std::right << " value " << f(c["value"], 3) << "  limit "
+           << f(c["limit"], 3) << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
+}
+
+} // namespace rcsim
