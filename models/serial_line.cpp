@@ -35,6 +35,22 @@ bool sample_cells(const SerialFormat& rx, Level level, SerialRx& out) {
     out.framing_error = !level(next);
     return true;
 }
+
+/// Which transmitter cell of `w` receiver sample k falls in. Sample k is (2k+1)/2 receiver bits
+/// = (2k+1) rx.num / (2 rx.den) s after the START edge; that is in transmitter cell
+/// floor(time / (tx.num / tx.den)), computed exactly.
+class CellUnderSample {
+public:
+    CellUnderSample(const SerialWord& w, const SerialFormat& rx) {
+        const std::uint64_t g1 = std::gcd(rx.bit.num, w.bit.num), g2 = std::gcd(rx.bit.den, w.bit.den);
+        mul_ = (rx.bit.num / g1) * (w.bit.den / g2);
+        div_ = 2 * (rx.bit.den / g2) * (w.bit.num / g1);
+    }
+    std::uint64_t operator()(unsigned k) const { return (2 * k + 1) * mul_ / div_; }
+
+private:
+    std::uint64_t mul_ = 1, div_ = 1;
+};
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -170,16 +186,17 @@ SerialWord SerialWord::encode(std::uint16_t data, const SerialFormat& f, int par
 // Sampling
 
 bool sample_word(const SerialWord& w, const SerialFormat& rx, SerialRx& out) {
-    // rx cell k is sampled at (2k+1)/2 receiver bits = (2k+1) rx.num / (2 rx.den) s after the
-    // START edge; that falls in transmitter cell floor(time / (tx.num / tx.den)).
-    const std::uint64_t g1 = std::gcd(rx.bit.num, w.bit.num), g2 = std::gcd(rx.bit.den, w.bit.den);
-    const std::uint64_t mul = (rx.bit.num / g1) * (w.bit.den / g2);
-    const std::uint64_t div = 2 * (rx.bit.den / g2) * (w.bit.num / g1);
-    return sample_cells(rx, [&](unsigned k) { return cell_level(w, (2 * k + 1) * mul / div); }, out);
+    const CellUnderSample cell(w, rx);
+    return sample_cells(rx, [&](unsigned k) { return cell_level(w, cell(k)); }, out);
+}
+
+bool sample_levels(const SerialFormat& rx, const std::function<bool(const sc_core::sc_time&)>& level,
+                   SerialRx& out) {
+    return sample_cells(rx, [&](unsigned k) { return level(rx.bit.span(2 * k + 1)); }, out);
 }
 
 bool sample_space(const sc_core::sc_time& space, const SerialFormat& rx, SerialRx& out) {
-    return sample_cells(rx, [&](unsigned k) { return rx.bit.span(2 * k + 1) >= space; }, out);
+    return sample_levels(rx, [&](const sc_core::sc_time& t) { return t >= space; }, out);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -223,39 +240,70 @@ std::uint64_t SerialLine::transmit(Side from, SerialWord w) {
         for (unsigned i = 0; i < w.ncells; ++i) *trace_ << (((w.cells >> i) & 1) ? '1' : '0');
         *trace_ << " @" << w.bit.bps() << "bps" << (dropped ? " dropped" : "") << '\n';
     }
-    SerialEndpoint* rx = ends_[other(from)];
-    if (dropped || !rx) return index;
-    Pending p{Pending::character, {}, now, w, rx->rx_format(), 0};
-    p.due = now + p.rx.receive_time();
-    schedule(from, p);
+    if (dropped || !ends_[other(from)]) return index;
+    forget_past(from);
+    // The wire is already at SPACE under a BREAK: this START is no edge, the receiver never
+    // starts on it (its cells can still show in a short BREAK's character, deliver_break_check).
+    const bool edge = d.break_level == 0;
+    d.wire.push_back(OnWire{now, w, edge});
+    if (edge) schedule_char(from, d.wire.back());
+    else ++d.stats.swallowed;
     return index;
+}
+
+void SerialLine::schedule_char(Side from, const OnWire& c) {
+    Pending p{Pending::character, {}, c.start, c.word, ends_[other(from)]->rx_format(), 0};
+    p.due = c.start + p.rx.receive_time();
+    schedule(from, p);
 }
 
 void SerialLine::set_break(Side from, bool active) {
     Direction& d = dir_[from];
     const sc_core::sc_time now = sc_core::sc_time_stamp();
+    SerialEndpoint* rx = ends_[other(from)];
     if (active) {
         if (d.break_level++ > 0) return;
         ++d.break_gen;
         ++d.stats.breaks;
-        d.break_start = now;
         d.break_detected = false;
+        d.holds.push_back(Hold{now, sc_core::sc_max_time()});
         if (trace_) *trace_ << now << ' ' << (from == a ? "a>b" : "b>a") << " BREAK on\n";
-        if (SerialEndpoint* rx = ends_[other(from)]) {
-            Pending p{Pending::break_check, {}, now, {}, rx->rx_format(), d.break_gen};
-            p.due = now + p.rx.receive_time();
-            schedule(from, p);
+        if (!rx) return;
+        // A START sent at this same instant falls with the BREAK: one edge, the BREAK's (the
+        // order of two calls at one time must not matter).
+        for (auto it = d.queue.begin(); it != d.queue.end();) {
+            if (it->kind != Pending::character || it->start != now) {
+                ++it;
+                continue;
+            }
+            it = d.queue.erase(it);
+            for (OnWire& c : d.wire)
+                if (c.start == now) c.edge = false;
+            ++d.stats.swallowed;
         }
+        Pending p{Pending::break_check, {}, now, {}, rx->rx_format(), d.break_gen};
+        p.due = now + p.rx.receive_time();
+        // Inside a character the fall is no START edge: that character's samples read it.
+        p.edge = !receiver_busy(from, now);
+        schedule(from, p);
         return;
     }
     if (d.break_level == 0 || --d.break_level > 0) return;
-    d.break_end = now;
+    d.holds.back().end = now;
     if (trace_) *trace_ << now << ' ' << (from == a ? "a>b" : "b>a") << " BREAK off\n";
+    if (!rx) return;
     if (d.break_detected) {
         d.break_detected = false;
-        if (SerialEndpoint* rx = ends_[other(from)]) rx->rx_break(false);
+        rx->rx_break(false);
     }
     // Not yet detected: the pending break_check turns the short SPACE into a character.
+    // A START sent at this same instant rises out of the BREAK: it is an edge after all.
+    for (OnWire& c : d.wire) {
+        if (c.start != now || c.edge) continue;
+        c.edge = true;
+        --d.stats.swallowed;
+        schedule_char(from, c);
+    }
 }
 
 void SerialLine::insert_break(Side from, const sc_core::sc_time& duration) {
@@ -337,34 +385,46 @@ void SerialLine::deliver(Side from) {
         case Pending::break_release: set_break(from, false); break;
         }
     }
+    forget_past(from);
     if (!d.queue.empty()) d.wake.notify(d.queue.front().due - now);
 }
 
 void SerialLine::deliver_char(Side from, const Pending& p) {
     Direction& d = dir_[from];
+    // Each sample reads the character's cell, or SPACE where a BREAK held the wire then.
+    const CellUnderSample cell(p.word, p.rx);
+    bool cut = false;
+    const auto level = [&](unsigned k) {
+        if (!cell_level(p.word, cell(k))) return false;
+        if (!held(from, p.start + p.rx.bit.span(2 * k + 1))) return true;
+        cut = true;
+        return false;
+    };
     SerialRx rx;
-    if (!sample_word(p.word, p.rx, rx)) {
+    if (!sample_cells(p.rx, level, rx)) {
         ++d.stats.glitches;
         return;
     }
     rx.start = p.start;
     rx.stop = p.due;
     ++d.stats.delivered;
+    if (cut) ++d.stats.cut;
     ends_[other(from)]->rx_char(rx);
 }
 
 void SerialLine::deliver_break_check(Side from, const Pending& p) {
     Direction& d = dir_[from];
-    if (p.gen != d.break_gen) return; // superseded by a later break
     SerialEndpoint* rx = ends_[other(from)];
-    if (d.break_level > 0) {
+    if (p.gen == d.break_gen && d.break_level > 0) { // at SPACE for a whole receiver frame
         d.break_detected = true;
         rx->rx_break(true);
         return;
     }
-    // Released before a whole receiver frame went by: the receiver saw a short SPACE.
+    // Released before a whole receiver frame went by. If its fall was a START edge, the receiver
+    // read a character from the wire: SPACE while held, the transmitter's cells otherwise.
+    if (!p.edge) return;
     SerialRx c;
-    if (!sample_space(d.break_end - d.break_start, p.rx, c)) {
+    if (!sample_levels(p.rx, [&](const sc_core::sc_time& t) { return wire_level(from, p.start + t); }, c)) {
         ++d.stats.glitches;
         return;
     }
@@ -372,6 +432,46 @@ void SerialLine::deliver_break_check(Side from, const Pending& p) {
     c.stop = p.due;
     ++d.stats.delivered;
     rx->rx_char(c);
+}
+
+bool SerialLine::held(Side from, const sc_core::sc_time& t) const {
+    for (const Hold& h : dir_[from].holds)
+        if (h.start <= t && t < h.end) return true;
+    return false;
+}
+
+bool SerialLine::wire_level(Side from, const sc_core::sc_time& t) const {
+    if (held(from, t)) return false;
+    for (const OnWire& c : dir_[from].wire) {
+        if (t < c.start) continue;
+        // The cell under t, past the first STOP bit MARK (as cell_level).
+        for (unsigned i = 0; i < c.word.ncells; ++i)
+            if (t < c.start + c.word.bit.span(2 * (i + 1u))) {
+                if (!((c.word.cells >> i) & 1)) return false;
+                break;
+            }
+    }
+    return true;
+}
+
+bool SerialLine::receiver_busy(Side from, const sc_core::sc_time& t) const {
+    // Between a START edge and its stop-bit sample the receiver is inside a character.
+    for (const Pending& p : dir_[from].queue) {
+        if (p.kind == Pending::break_release || (p.kind == Pending::break_check && !p.edge)) continue;
+        if (p.start < t && t <= p.start + p.rx.bit.span(2 * p.rx.cells() + 1)) return true;
+    }
+    return false;
+}
+
+void SerialLine::forget_past(Side from) {
+    // No pending sample is earlier than the earliest pending START (or now): older BREAKs and
+    // characters can no longer be read.
+    Direction& d = dir_[from];
+    sc_core::sc_time horizon = sc_core::sc_time_stamp();
+    for (const Pending& p : d.queue)
+        if (p.kind != Pending::break_release && p.start < horizon) horizon = p.start;
+    while (!d.holds.empty() && d.holds.front().end <= horizon) d.holds.pop_front();
+    while (!d.wire.empty() && d.wire.front().start + d.wire.front().word.frame <= horizon) d.wire.pop_front();
 }
 
 } // namespace rcsim

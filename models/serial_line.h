@@ -5,6 +5,10 @@
 // optional parity bit (odd, even, mark or space) and 1, 1.5 or 2 STOP bits (MARK). BREAK is the
 // line held at SPACE for longer than a character.
 //
+// Each direction is its own wire (TXD of one side to RXD of the other): its level is the
+// transmitter's cells AND NOT "a BREAK from that side is held". A BREAK from side a therefore
+// forces the a->b characters under it to SPACE and leaves b->a alone (rules in docs/serial.md).
+//
 // Cost model (events, not ticks: docs/architecture.md "Time model"): one kernel event per character and
 // direction. A transmitted character carries its bit-level shape (`SerialWord`: the level of
 // each bit cell and the transmitter's bit time); the line samples that shape with the
@@ -19,7 +23,9 @@
 //     first STOP sampled as SPACE: framing error;
 //   * the character is delivered when the receiver's first stop bit ends
 //     (start + (1 + data + parity + 1) receiver bit times), one character per transmitted start
-//     bit (the receiver resynchronises on every transmitted START edge).
+//     bit (the receiver resynchronises on every transmitted START edge);
+//   * a sample taken while a BREAK holds the wire reads SPACE; a START edge that falls while the
+//     wire is held is no edge at all, so that character is swallowed by the BREAK.
 //
 // Time: a bit lasts an exact fraction of a second (`BitTime`); a span of bit cells is converted
 // to picoseconds with round-to-nearest in BitTime::span(), the only rounding on the serial path.
@@ -140,6 +146,8 @@ public:
         std::uint64_t faults = 0;       // characters altered by fault injection (not drops)
         std::uint64_t noise_flips = 0;  // cells inverted by random noise
         std::uint64_t breaks = 0;       // breaks started from this side
+        std::uint64_t swallowed = 0;    // START edge while this side's BREAK held the wire: no character
+        std::uint64_t cut = 0;          // delivered with samples a BREAK forced to SPACE
     };
 
     /// One transmitted character, for trace observers.
@@ -189,6 +197,17 @@ private:
         SerialWord word;
         SerialFormat rx;     // the receiver's format at the START edge
         std::uint64_t gen;   // break generation, for break_check
+        bool edge = true;    // break_check: the BREAK's fall was a START edge to the receiver
+    };
+    /// A BREAK interval [start, end); end is sc_max_time() while it is held.
+    struct Hold {
+        sc_core::sc_time start, end;
+    };
+    /// A transmitted character kept while a BREAK character's samples may still read it.
+    struct OnWire {
+        sc_core::sc_time start;
+        SerialWord word;
+        bool edge; // its START was an edge (not swallowed): it has a Pending character
     };
     struct Direction {
         std::deque<Pending> queue; // ordered by due
@@ -197,9 +216,9 @@ private:
         std::multimap<std::uint64_t, std::pair<FaultKind, unsigned>> faults;
         unsigned break_level = 0;     // nested holds: transmitter bit + injected breaks
         std::uint64_t break_gen = 0;  // incremented when the line goes to SPACE
-        sc_core::sc_time break_start;
-        sc_core::sc_time break_end;   // valid when break_level == 0
         bool break_detected = false;  // receiver was told rx_break(true) for this break
+        std::deque<Hold> holds;       // BREAKs a pending sample may still fall in, oldest first
+        std::deque<OnWire> wire;      // characters a pending BREAK character may still read
         Stats stats;
     };
 
@@ -215,7 +234,11 @@ private:
     void deliver(Side from);
     void deliver_char(Side from, const Pending& p);
     void deliver_break_check(Side from, const Pending& p);
-    void release_break(Side from);
+    void schedule_char(Side from, const OnWire& c);
+    bool held(Side from, const sc_core::sc_time& t) const;
+    bool wire_level(Side from, const sc_core::sc_time& t) const;
+    bool receiver_busy(Side from, const sc_core::sc_time& t) const;
+    void forget_past(Side from);
     void apply_faults(Side from, std::uint64_t index, SerialWord& w, bool& dropped);
     double next_uniform();
 };
@@ -225,5 +248,9 @@ private:
 bool sample_word(const SerialWord& w, const SerialFormat& rx, SerialRx& out);
 /// Samples a SPACE of `space` length followed by MARK with receiver format `rx`.
 bool sample_space(const sc_core::sc_time& space, const SerialFormat& rx, SerialRx& out);
+/// Samples a character whose START edge is at offset 0 from the line level `level(t)` at each of
+/// the receiver's sample times t (offsets from the edge).
+bool sample_levels(const SerialFormat& rx, const std::function<bool(const sc_core::sc_time&)>& level,
+                   SerialRx& out);
 
 } // namespace rcsim

@@ -7,6 +7,7 @@
 #include "tests/support/sc_test.h"
 
 #include <functional>
+#include <memory>
 #include <sstream>
 
 using namespace rcsim;
@@ -378,4 +379,245 @@ TEST(SerialLine, TraceShowsEveryCell) {
     ASSERT_EQ(seen.size(), 1u);
     EXPECT_EQ(seen[0].start, us(5));
     EXPECT_FALSE(seen[0].dropped);
+}
+
+// ---- BREAK against characters ------------------------------------------------------------
+// A BREAK from a side holds that side's wire at SPACE: a receiver sample taken while it is held
+// reads 0, a START edge while it is held is no edge. Format 10 kbps 8E1: cells of 100 us, START
+// [0,100), data bit n [100(n+1), 100(n+2)), parity [900,1000), STOP [1000,1100) us after the
+// edge; the receiver samples their centres (50, 150, ..., 950, 1050 us) and has the character at
+// 1100 us. Each case runs once in each direction (from a to b, and from b to a).
+
+namespace {
+/// A 10 kbps 8E1 line with characters and BREAKs sent from `from` at given times.
+struct BreakRun {
+    SerialFormat f = fmt(BitTime::baud(10'000));
+    SerialLine line;
+    Recorder ea{f}, eb{f};
+    SerialLine::Side from;
+    BreakRun(const char* name, SerialLine::Side s) : line(name), from(s) {
+        line.attach(SerialLine::a, ea);
+        line.attach(SerialLine::b, eb);
+    }
+    Recorder& receiver() { return from == SerialLine::a ? eb : ea; }
+    Recorder& sender() { return from == SerialLine::a ? ea : eb; }
+    void send_at(const sc_time& t, std::uint8_t byte) {
+        at(t, [this, byte] { line.transmit(from, SerialWord::encode(byte, f)); });
+    }
+    void break_at(const sc_time& t, const sc_time& duration) {
+        at(t, [this, duration] { line.insert_break(from, duration); });
+    }
+};
+
+std::vector<std::unique_ptr<BreakRun>> both_directions() {
+    std::vector<std::unique_ptr<BreakRun>> runs;
+    runs.push_back(std::make_unique<BreakRun>("a_to_b", SerialLine::a));
+    runs.push_back(std::make_unique<BreakRun>("b_to_a", SerialLine::b));
+    return runs;
+}
+} // namespace
+
+TEST(SerialLineBreak, EndingBeforeAStartBitLeavesTheCharacterIntact) {
+    // BREAK [0, 1500) us: detected one frame after its fall (1100 us), ended at 1500 us. The
+    // 0xA5 sent at 1600 us starts from MARK, none of its samples falls in the BREAK: intact at
+    // 1600 + 1100 us.
+    auto runs = both_directions();
+    for (auto& r : runs) {
+        r->break_at(us(0), us(1500));
+        r->send_at(us(1600), 0xA5);
+    }
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        ASSERT_EQ(rx.breaks.size(), 2u);
+        EXPECT_EQ(rx.breaks[0], std::make_pair(us(1100), true));
+        EXPECT_EQ(rx.breaks[1], std::make_pair(us(1500), false));
+        ASSERT_EQ(rx.chars.size(), 1u);
+        EXPECT_EQ(rx.chars[0].data, 0xA5);
+        EXPECT_FALSE(rx.chars[0].parity_error || rx.chars[0].framing_error);
+        EXPECT_EQ(rx.chars[0].stop, us(2700));
+        EXPECT_EQ(r->line.stats(r->from).cut, 0u);
+    }
+}
+
+TEST(SerialLineBreak, StartingMidCharacterZeroesTheRemainingBits) {
+    // 0xFF at 0 (START 0, data 11111111, even parity 0, STOP 1), BREAK from 420 us to 5000 us.
+    // Samples at 450 us and later read SPACE: data bits 3..7, parity, STOP. Received: data
+    // 0b00000111 = 0x07; its even parity bit would be 1 (three ones), read 0: parity error;
+    // STOP read 0: framing error. The BREAK is detected one frame after its fall (1520 us).
+    auto runs = both_directions();
+    for (auto& r : runs) {
+        r->send_at(us(0), 0xFF);
+        r->break_at(us(420), us(4580));
+    }
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        ASSERT_EQ(rx.chars.size(), 1u);
+        EXPECT_EQ(rx.chars[0].data, 0x07);
+        EXPECT_TRUE(rx.chars[0].parity_error);
+        EXPECT_TRUE(rx.chars[0].framing_error);
+        EXPECT_EQ(rx.chars[0].stop, us(1100));
+        ASSERT_EQ(rx.breaks.size(), 2u);
+        EXPECT_EQ(rx.breaks[0], std::make_pair(us(1520), true));
+        EXPECT_EQ(rx.breaks[1], std::make_pair(us(5000), false));
+        EXPECT_EQ(r->line.stats(r->from).cut, 1u);
+    }
+}
+
+TEST(SerialLineBreak, StartingAfterTheStopSampleLeavesTheCharacterIntact) {
+    // The STOP bit is sampled at 1050 us. A BREAK falling 1 ps later: every sample read the
+    // character, 0xFF arrives intact at 1100 us; the BREAK's fall is a START edge to the now idle
+    // receiver and is detected one frame later. A BREAK falling at 1050 us exactly: the STOP
+    // sample reads SPACE, a framing error (data and parity were read before: 0xFF, parity good).
+    auto runs = both_directions();
+    const sc_time after = us(1050) + ps(1);
+    for (auto& r : runs) {
+        r->send_at(us(0), 0xFF);
+        r->break_at(after, us(3000));
+    }
+    BreakRun on_sample("on_stop_sample", SerialLine::a);
+    on_sample.send_at(us(0), 0xFF);
+    on_sample.break_at(us(1050), us(3000));
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        ASSERT_EQ(rx.chars.size(), 1u);
+        EXPECT_EQ(rx.chars[0].data, 0xFF);
+        EXPECT_FALSE(rx.chars[0].parity_error || rx.chars[0].framing_error);
+        ASSERT_EQ(rx.breaks.size(), 2u);
+        EXPECT_EQ(rx.breaks[0], std::make_pair(after + us(1100), true));
+    }
+    ASSERT_EQ(on_sample.eb.chars.size(), 1u);
+    EXPECT_EQ(on_sample.eb.chars[0].data, 0xFF);
+    EXPECT_FALSE(on_sample.eb.chars[0].parity_error);
+    EXPECT_TRUE(on_sample.eb.chars[0].framing_error);
+}
+
+TEST(SerialLineBreak, CoveringAWholeCharacterSwallowsIt) {
+    // BREAK [0, 5000) us; 0x5A sent at 1000 us: its START finds the wire already at SPACE, so
+    // there is no edge and no character of its own. The receiver sees one all-zero character
+    // with its STOP at SPACE, i.e. the BREAK: detected at 1100 us, ended at 5000 us.
+    auto runs = both_directions();
+    for (auto& r : runs) {
+        r->break_at(us(0), us(5000));
+        r->send_at(us(1000), 0x5A);
+    }
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        EXPECT_TRUE(rx.chars.empty());
+        ASSERT_EQ(rx.breaks.size(), 2u);
+        EXPECT_EQ(rx.breaks[0], std::make_pair(us(1100), true));
+        EXPECT_EQ(rx.breaks[1], std::make_pair(us(5000), false));
+        EXPECT_EQ(r->line.stats(r->from).chars, 1u);
+        EXPECT_EQ(r->line.stats(r->from).swallowed, 1u);
+        EXPECT_EQ(r->line.stats(r->from).delivered, 0u);
+    }
+}
+
+TEST(SerialLineBreak, ShortBreakReadsTheCharacterUnderIt) {
+    // BREAK [0, 300) us, 0x00 sent at 200 us (inside it: swallowed). The receiver starts on the
+    // BREAK's fall at 0 and samples the wire: SPACE until 300 us, then the 0x00's cells (offset
+    // from 200 us): samples 350..850 us read its data cells 1..6 (0), parity at 950 its data
+    // bit 6 (0), STOP at 1050 its data bit 7 (0). Received: 0x00, parity good, framing error.
+    auto runs = both_directions();
+    for (auto& r : runs) {
+        r->break_at(us(0), us(300));
+        r->send_at(us(200), 0x00);
+    }
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        EXPECT_TRUE(rx.breaks.empty());
+        ASSERT_EQ(rx.chars.size(), 1u);
+        EXPECT_EQ(rx.chars[0].data, 0x00);
+        EXPECT_FALSE(rx.chars[0].parity_error);
+        EXPECT_TRUE(rx.chars[0].framing_error);
+        EXPECT_EQ(rx.chars[0].stop, us(1100));
+        EXPECT_EQ(r->line.stats(r->from).swallowed, 1u);
+    }
+}
+
+TEST(SerialLineBreak, ShortBreakInsideACharacterIsNoCharacterOfItsOwn) {
+    // 0xFF at 0, BREAK [420, 700) us. Its fall comes while the receiver is inside the 0xFF, so it
+    // is no START edge. Samples at 450, 550, 650 us (data bits 3, 4, 5) read SPACE; the others
+    // read the character: data 0b11000111 = 0xC7 (five ones: even parity 1, read 0 at 950 us:
+    // parity error), STOP good. Nothing else arrives.
+    auto runs = both_directions();
+    for (auto& r : runs) {
+        r->send_at(us(0), 0xFF);
+        r->break_at(us(420), us(280));
+    }
+    sc_core::sc_start();
+    for (auto& r : runs) {
+        SCOPED_TRACE(r->line.name());
+        const Recorder& rx = r->receiver();
+        EXPECT_TRUE(rx.breaks.empty());
+        ASSERT_EQ(rx.chars.size(), 1u);
+        EXPECT_EQ(rx.chars[0].data, 0xC7);
+        EXPECT_TRUE(rx.chars[0].parity_error);
+        EXPECT_FALSE(rx.chars[0].framing_error);
+    }
+}
+
+TEST(SerialLineBreak, StartAtTheReleaseIsAnEdgeAndAtTheFallIsNotWhateverTheCallOrder) {
+    // A START sent at the instant a BREAK is released rises out of it: received intact. One sent
+    // at the instant a BREAK falls falls with it: swallowed, the BREAK is detected. Both hold for
+    // either order of the two calls at that instant.
+    const SerialFormat f = fmt(BitTime::baud(10'000));
+    const SerialWord w = SerialWord::encode(0x3C, f);
+    BreakRun rel1("release_then_send", SerialLine::a), rel2("send_then_release", SerialLine::a);
+    BreakRun fall1("fall_then_send", SerialLine::a), fall2("send_then_fall", SerialLine::a);
+    at(us(0), [&] {
+        rel1.line.set_break(SerialLine::a, true);
+        rel2.line.set_break(SerialLine::a, true);
+        fall1.line.set_break(SerialLine::a, true);
+        fall1.line.transmit(SerialLine::a, w);
+        fall2.line.transmit(SerialLine::a, w);
+        fall2.line.set_break(SerialLine::a, true);
+    });
+    at(us(2000), [&] {
+        rel1.line.set_break(SerialLine::a, false);
+        rel1.line.transmit(SerialLine::a, w);
+        rel2.line.transmit(SerialLine::a, w);
+        rel2.line.set_break(SerialLine::a, false);
+        fall1.line.set_break(SerialLine::a, false);
+        fall2.line.set_break(SerialLine::a, false);
+    });
+    sc_core::sc_start();
+    for (BreakRun* r : {&rel1, &rel2}) {
+        SCOPED_TRACE(r->line.name());
+        ASSERT_EQ(r->eb.chars.size(), 1u);
+        EXPECT_EQ(r->eb.chars[0].data, 0x3C);
+        EXPECT_FALSE(r->eb.chars[0].parity_error || r->eb.chars[0].framing_error);
+        EXPECT_EQ(r->eb.chars[0].stop, us(3100));
+        EXPECT_EQ(r->line.stats(SerialLine::a).swallowed, 0u);
+    }
+    for (BreakRun* r : {&fall1, &fall2}) {
+        SCOPED_TRACE(r->line.name());
+        EXPECT_TRUE(r->eb.chars.empty());
+        ASSERT_EQ(r->eb.breaks.size(), 2u);
+        EXPECT_EQ(r->eb.breaks[0], std::make_pair(us(1100), true));
+        EXPECT_EQ(r->line.stats(SerialLine::a).swallowed, 1u);
+    }
+}
+
+TEST(SerialLineBreak, ABreakLeavesTheOtherDirectionAlone) {
+    // Separate wires: a BREAK from a holds a->b only; 0x96 from b during it arrives intact.
+    BreakRun r("other_direction", SerialLine::a);
+    r.break_at(us(0), us(5000));
+    at(us(1000), [&] { r.line.transmit(SerialLine::b, SerialWord::encode(0x96, r.f)); });
+    sc_core::sc_start();
+    ASSERT_EQ(r.ea.chars.size(), 1u);
+    EXPECT_EQ(r.ea.chars[0].data, 0x96);
+    EXPECT_FALSE(r.ea.chars[0].parity_error || r.ea.chars[0].framing_error);
+    EXPECT_EQ(r.ea.chars[0].stop, us(2100));
+    EXPECT_EQ(r.eb.breaks.size(), 2u);
+    EXPECT_TRUE(r.ea.breaks.empty());
 }

@@ -920,3 +920,153 @@ TEST(Uart82510Interrupts, ModemDeltasAndMieGating) {
         EXPECT_EQ(b.cpu.rd(GIR), 0x21);
     });
 }
+
+// ---- the 82510 receiving while the host holds a BREAK ---------------------------------------
+// The host sends 9600 8E1 (bit = 1/9600 s, the 82510's 18.432 MHz / 1920 exactly). The 82510
+// samples cell k at (k + 1/2) bits after the START edge: START 0.5, data bit n at n + 1.5, parity
+// 9.5, STOP 10.5 bits; a sample taken while the BREAK holds the line reads SPACE. Datasheet
+// facts (uart82510/README.md): STOP read as SPACE is a framing error (RXF.RFE, RST.FE); the line
+// at SPACE for one frame is a break detect (RST.BKD, one 0x00 with RXF.BKF | RXF.RFE); its end
+// is RST.BKT.
+
+namespace {
+const BitTime k_bit = BitTime::baud(9600);
+
+/// A Bench with a 4-character RX FIFO and the host's characters and BREAKs at given times.
+struct BreakBench : Bench {
+    struct Entry {
+        std::uint8_t rxf, data;
+    };
+    std::vector<Entry> fifo;
+    std::uint8_t rst = 0; // RST latched before the FIFO was drained
+
+    void program() {
+        cpu.setup_9600_8e1();
+        cpu.bank(2);
+        cpu.wr(IMD, 0x00);
+        cpu.bank(1);
+    }
+    void host_sends_at(const sc_time& t, std::uint8_t byte) {
+        sc_core::sc_spawn([this, t, byte] {
+            sc_core::wait(t - sc_core::sc_time_stamp());
+            line.transmit(SerialLine::b, SerialWord::encode(byte, host.fmt));
+        });
+    }
+    void host_breaks_at(const sc_time& t, const sc_time& duration) {
+        sc_core::sc_spawn([this, t, duration] {
+            sc_core::wait(t - sc_core::sc_time_stamp());
+            line.insert_break(SerialLine::b, duration);
+        });
+    }
+    /// At `t`: reads RST once, then every FIFO entry (RXF, then RXD pops it).
+    void drain_at(const sc_time& t) {
+        sc_core::wait(t - sc_core::sc_time_stamp());
+        rst = cpu.rd(RST);
+        for (unsigned level = (cpu.rd(FLR) >> 4) & 7; level; --level) {
+            const std::uint8_t f = cpu.rd(RXF);
+            fifo.push_back({f, cpu.rd(RXD)});
+        }
+    }
+};
+} // namespace
+
+TEST(Uart82510Break, BreakEndingBeforeTheStartBitLeavesTheCharacterIntact) {
+    // BREAK [0, 2 frames): detected at one frame, ended at two. 'A' sent 1 bit after the end.
+    BreakBench b;
+    run([&] {
+        b.program();
+        b.host_breaks_at(sc_core::SC_ZERO_TIME, k_char * 2.0);
+        b.host_sends_at(k_char * 2.0 + k_bit.span(2), 'A');
+        b.drain_at(k_char * 3.0 + k_bit.span(2) + us(1));
+    });
+    EXPECT_EQ(b.rst & (RST_BKD | RST_BKT | RST_FE | RST_PE), RST_BKD | RST_BKT);
+    ASSERT_EQ(b.fifo.size(), 2u);
+    EXPECT_EQ(b.fifo[0].rxf, RXF_BKF | RXF_RFE);
+    EXPECT_EQ(b.fifo[0].data, 0x00);
+    EXPECT_EQ(b.fifo[1].rxf, RXF_ROK);
+    EXPECT_EQ(b.fifo[1].data, 'A');
+}
+
+TEST(Uart82510Break, BreakStartingMidCharacterIsAFramingError) {
+    // 0xFF, BREAK from 4 bits (the start of data bit 3's cell) for 5 frames. Samples from 4.5
+    // bits on read SPACE: data bits 3..7, parity, STOP. RXD = 0x07; even parity of three ones
+    // is 1, read 0: RXF.RPE; STOP 0: RXF.RFE. Then the break detect one frame after the fall.
+    BreakBench b;
+    const sc_time fall = k_bit.span(8);
+    run([&] {
+        b.program();
+        b.host_sends_at(sc_core::SC_ZERO_TIME, 0xFF);
+        b.host_breaks_at(fall, k_char * 5.0);
+        b.drain_at(fall + k_char + us(1));
+    });
+    EXPECT_EQ(b.rst & (RST_BKD | RST_FE | RST_PE), RST_BKD | RST_FE | RST_PE);
+    ASSERT_EQ(b.fifo.size(), 2u);
+    EXPECT_EQ(b.fifo[0].rxf, RXF_RFE | RXF_RPE);
+    EXPECT_EQ(b.fifo[0].data, 0x07);
+    EXPECT_EQ(b.fifo[1].rxf, RXF_BKF | RXF_RFE);
+    EXPECT_EQ(b.fifo[1].data, 0x00);
+    EXPECT_EQ(b.uart.stats().framing_errors, 1u);
+    EXPECT_EQ(b.uart.stats().parity_errors, 1u);
+}
+
+TEST(Uart82510Break, BreakStartingAfterTheStopSampleLeavesTheCharacterIntact) {
+    // 0xFF, BREAK falling 1 ps after the STOP sample (10.5 bits): the character is intact, the
+    // fall is a new START edge, detected as a break one frame later.
+    BreakBench b;
+    const sc_time fall = k_bit.span(21) + ps(1);
+    run([&] {
+        b.program();
+        b.host_sends_at(sc_core::SC_ZERO_TIME, 0xFF);
+        b.host_breaks_at(fall, k_char * 5.0);
+        b.drain_at(fall + k_char + us(1));
+    });
+    EXPECT_EQ(b.rst & (RST_BKD | RST_FE | RST_PE), RST_BKD);
+    ASSERT_EQ(b.fifo.size(), 2u);
+    EXPECT_EQ(b.fifo[0].rxf, RXF_ROK);
+    EXPECT_EQ(b.fifo[0].data, 0xFF);
+    EXPECT_EQ(b.fifo[1].rxf, RXF_BKF | RXF_RFE);
+    EXPECT_EQ(b.fifo[1].data, 0x00);
+}
+
+TEST(Uart82510Break, BreakCoveringACharacterIsOneBreakCharacter) {
+    // BREAK [0, 5 frames); 'Z' sent at 1 frame + 1 bit, inside it: its START is no edge. The FIFO
+    // gets the one 0x00 with RXF.BKF | RXF.RFE of the break detect, and nothing of the 'Z'.
+    BreakBench b;
+    run([&] {
+        b.program();
+        b.host_breaks_at(sc_core::SC_ZERO_TIME, k_char * 5.0);
+        b.host_sends_at(k_char + k_bit.span(2), 'Z');
+        b.drain_at(k_char * 6.0);
+    });
+    EXPECT_EQ(b.rst & (RST_BKD | RST_BKT | RST_FE | RST_PE), RST_BKD | RST_BKT);
+    ASSERT_EQ(b.fifo.size(), 1u);
+    EXPECT_EQ(b.fifo[0].rxf, RXF_BKF | RXF_RFE);
+    EXPECT_EQ(b.fifo[0].data, 0x00);
+    EXPECT_EQ(b.uart.stats().chars_received, 1u);
+    EXPECT_EQ(b.line.stats(SerialLine::b).swallowed, 1u);
+}
+
+TEST(Uart82510Break, SetBreakMidCharacterCutsTheCharacterOnTheWire) {
+    // LCR.SBK puts TXD at SPACE at once (README: "line to SPACE at once"), even with a character
+    // in the shifter. 0xFF written at 0, SBK set at 4 bits: the host samples data bits 3..7,
+    // parity and STOP as SPACE: 0x07 with parity and framing errors at one frame, the break one
+    // frame after the fall, its end when SBK is cleared.
+    Bench b;
+    const sc_time fall = k_bit.span(8);
+    run([&] {
+        b.cpu.setup_9600_8e1();
+        b.cpu.wr(TXD, 0xFF);
+        sc_core::wait(fall);
+        b.cpu.wr(LCR, 0x1B | LCR_SBK);
+        sc_core::wait(k_char * 3.0);
+        b.cpu.wr(LCR, 0x1B);
+    });
+    ASSERT_EQ(b.host.got.size(), 1u);
+    EXPECT_EQ(b.host.got[0].data, 0x07);
+    EXPECT_TRUE(b.host.got[0].parity_error);
+    EXPECT_TRUE(b.host.got[0].framing_error);
+    EXPECT_EQ(b.host.got[0].stop, k_char);
+    ASSERT_EQ(b.host.breaks.size(), 2u);
+    EXPECT_EQ(b.host.breaks[0], std::make_pair(fall + k_char, true));
+    EXPECT_EQ(b.host.breaks[1], std::make_pair(fall + k_char * 3.0, false));
+}
