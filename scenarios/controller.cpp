@@ -1,6 +1,12 @@
 #include "scenarios/controller.h"
 
+#include "models/dpram_layout.h"
+
 namespace rcsim {
+
+// The layout both boards use puts its mailboxes where the IDT7130 has them.
+static_assert(dpram_layout::int2ext == Idt7130::kMailboxLeft, "int2ext is the left port's mailbox (INT_L)");
+static_assert(dpram_layout::int2rbt == Idt7130::kMailboxRight, "int2rbt is the right port's mailbox (INT_R)");
 
 Controller::Controller(sc_core::sc_module_name name, const ControllerConfig& cfg)
     : sc_module(name), comm("comm", cfg.comm), dpram("dpram", cfg.dpram_speed_grade_ns),

@@ -11,6 +11,7 @@
 #include "dpram/idt7130.h"
 #include "models/bus.h"
 #include "models/clock.h"
+#include "models/dpram_layout.h"
 #include "models/irq.h"
 #include "pic8259/pic8259.h"
 
@@ -43,7 +44,7 @@ constexpr cycles_t kIret = 32;
 
 constexpr std::uint8_t kVectorBase = 0x20;
 constexpr std::uint8_t kRotateOnEoi = 0xA0;
-constexpr unsigned kPflag0 = 339;        // pflag[0] in the DP-RAM layout (docs/system.md §4.1)
+constexpr unsigned kPflag0 = dpram_layout::pflag_addr(0); // docs/system.md §4.1
 constexpr unsigned kServices = 5;
 
 /// Simulated time as microseconds with nanosecond digits, from integer picoseconds.

@@ -1,6 +1,6 @@
 // The communication firmware ROM image: size, reset vector, data image, symbol map/JSON/header.
-#include "models/dpram_layout.h"
 #include "comm_fw_symbols.h"
+#include "models/dpram_layout.h"
 #include "tests/support/sc_test.h"
 
 #include <nlohmann/json.hpp>
