@@ -55,6 +55,7 @@ public:
 
     /// The name of the host kind on port p ("protocol", "raw", "tcp", "replay", "none").
     const char* host_kind(unsigned p) const;
+    const Scenario& scenario() const { return scenario_; }
 
     /// The drain phase: the hosts start no new command; the run goes on in 10 ms steps until every
     /// host is idle (its last command answered) or `drain_s` has passed, so that frames in flight

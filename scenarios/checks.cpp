@@ -2,39 +2,89 @@
 
 #include "scenarios/measure.h"
 
+#include <algorithm>
+
 namespace rcsim {
 
-nlohmann::json to_json(const Check& c) {
-    return {{"name", c.name}, {"passed", c.passed}, {"value", c.value}, {"limit", c.limit}};
+namespace {
+
+Check judge(std::string name, const Figure& f, double limit, bool holds) {
+    Check c{std::move(name), Check::Status::not_measured, f, limit};
+    if (f.value) c.status = holds ? Check::Status::passed : Check::Status::failed;
+    return c;
 }
 
-double char_latency_limit_us(const Bench& b, const Scenario& s) {
+} // namespace
+
+Check Check::at_most(std::string name, const Figure& f, double limit) {
+    return judge(std::move(name), f, limit, f.value && *f.value <= limit);
+}
+
+Check Check::at_least(std::string name, const Figure& f, double limit) {
+    return judge(std::move(name), f, limit, f.value && *f.value >= limit);
+}
+
+const char* status_name(Check::Status s) {
+    switch (s) {
+    case Check::Status::passed: return "passed";
+    case Check::Status::failed: return "failed";
+    case Check::Status::not_measured: return "not measured";
+    }
+    return "?";
+}
+
+nlohmann::json to_json(const Check& c) {
+    nlohmann::json j = {{"name", c.name},
+                        {"passed", c.passed()},
+                        {"status", status_name(c.status)},
+                        {"value", c.figure.value ? nlohmann::json(*c.figure.value) : nlohmann::json(nullptr)},
+                        {"limit", c.limit}};
+    if (!c.figure.value) j["reason"] = c.figure.reason;
+    return j;
+}
+
+double char_latency_limit_us(const Bench& b, const Scenario& s, unsigned p) {
     if (s.checks.max_char_latency_us >= 0) return s.checks.max_char_latency_us;
-    const unsigned fifo_depth = b.ctl.comm.uart[0].config().fifo_depth;
-    return fifo_depth * default_budget_us(s) * Bench::kPorts;
+    return b.ctl.comm.uart[p].config().fifo_depth * controller_char_us(b, p);
+}
+
+const std::vector<std::string>& communication_check_names() {
+    static const std::vector<std::string> names = {
+        "overruns", "frames_failed", "frames_delivered_exactly_once", "main_cpu_malformed_frames",
+        "frames_delivered", "char_latency_max_us", "table3_margin_us", "table3_worst_margin_us",
+        "replay_port0_matches_record", "replay_port1_matches_record", "replay_port2_matches_record"};
+    return names;
 }
 
 std::vector<Check> communication_checks(const Bench& b, const Scenario& s, const CheckFigures& f) {
     const CheckLimits& L = s.checks;
-    auto at_most = [](const std::string& name, std::uint64_t v, std::uint64_t limit) {
-        return Check{name, v <= limit, double(v), double(limit)};
-    };
+    auto count = [](std::uint64_t v) { return Figure::of(double(v)); };
+    // With no explicit limit, every port whose host generates commands must deliver at least one.
+    const double min_delivered = L.min_frames_delivered ? double(*L.min_frames_delivered) : double(f.traffic_ports);
     std::vector<Check> checks;
-    checks.push_back(at_most("overruns", f.overruns, L.max_overruns));
-    checks.push_back(at_most("frames_failed", f.frames_failed, L.max_frames_failed));
-    checks.push_back(at_most("frames_delivered_exactly_once", f.frame_mismatches, L.max_frame_mismatches));
-    checks.push_back(at_most("main_cpu_malformed_frames", f.malformed, 0));
-    checks.push_back({"frames_delivered", f.frames_delivered >= L.min_frames_delivered, double(f.frames_delivered),
-                      double(L.min_frames_delivered)});
-    checks.push_back({"char_latency_max_us", f.char_latency_max_us <= f.char_latency_limit_us,
-                      f.char_latency_max_us, f.char_latency_limit_us});
-    checks.push_back({"table3_margin_us", f.table3_margin_us >= L.min_margin_us, f.table3_margin_us, L.min_margin_us});
+    checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
+    checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
+    checks.push_back(Check::at_most("frames_delivered_exactly_once", count(f.frame_mismatches),
+                                    double(L.max_frame_mismatches)));
+    checks.push_back(Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0));
+    checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
+    if (!L.off.count("char_latency_max_us"))
+        for (unsigned p = 0; p < Bench::kPorts; ++p)
+            if (s.ports[p].host != PortScenario::Host::none)
+                checks.push_back(Check::at_most("port" + std::to_string(p) + "_char_latency_max_us",
+                                                f.char_latency_max_us[p], char_latency_limit_us(b, s, p)));
+    checks.push_back(Check::at_least("table3_margin_us", f.table3_margin_us, L.min_margin_us));
+    if (L.min_worst_margin_us)
+        checks.push_back(Check::at_least("table3_worst_margin_us", f.table3_worst_margin_us, *L.min_worst_margin_us));
     for (unsigned p = 0; p < Bench::kPorts; ++p)
         if (const auto& h = b.replay[p]) {
             // The replayed session must draw the recorded answers: same bytes at the same times.
             const std::uint64_t bad = h->counters().out_mismatched + h->out_missing();
-            checks.push_back(at_most("replay_port" + std::to_string(p) + "_matches_record", bad, 0));
+            checks.push_back(Check::at_most("replay_port" + std::to_string(p) + "_matches_record", count(bad), 0));
         }
+    checks.erase(std::remove_if(checks.begin(), checks.end(),
+                                [&L](const Check& c) { return L.off.count(c.name) != 0; }),
+                 checks.end());
     return checks;
 }
 

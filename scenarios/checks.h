@@ -1,5 +1,11 @@
 // rcsim — the pass/fail checks of a communication run (docs/scenarios.md "Checks"): one place
 // where each check is named, given its figure and its limit, and judged.
+//
+// A check judges a measured figure. A figure with no samples behind it (no RS-232 receive
+// interrupt, no DP-RAM chunk, no character) is "not measured": its value is null in report.json
+// and the check FAILS with the reason, because a run that measured nothing proves nothing. A
+// scenario may switch a check off by name (`checks: {NAME: off}`); switched-off checks are listed in
+// report.json "checks_off" and judge nothing.
 #pragma once
 
 #include "scenarios/bench.h"
@@ -7,35 +13,59 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace rcsim {
 
-/// One verdict as report.json shows it: {"name", "passed", "value", "limit"}.
+/// A figure as the checks see it: a value, or the reason there is none.
+struct Figure {
+    std::optional<double> value;
+    std::string reason; // why it is not measured (value empty)
+
+    static Figure of(double v) { return {v, {}}; }
+    static Figure none(std::string why) { return {std::nullopt, std::move(why)}; }
+};
+
+/// One verdict as report.json shows it:
+/// {"name", "passed", "status": "passed"|"failed"|"not measured", "value" (null when not
+/// measured), "limit", "reason" (not measured only)}.
 struct Check {
+    enum class Status { passed, failed, not_measured };
     std::string name;
-    bool passed = false;
-    double value = 0;
+    Status status = Status::failed;
+    Figure figure;
     double limit = 0;
+
+    bool passed() const { return status == Status::passed; }
+    static Check at_most(std::string name, const Figure& f, double limit);
+    static Check at_least(std::string name, const Figure& f, double limit);
 };
 
 nlohmann::json to_json(const Check& c);
+const char* status_name(Check::Status s);
 
 /// The figures the communication checks judge, gathered from the bench and the report.
 struct CheckFigures {
     std::uint64_t overruns = 0, frames_failed = 0, frames_delivered = 0, frame_mismatches = 0;
-    std::uint64_t malformed = 0;   // frames the main CPU could not decode
-    double char_latency_max_us = 0; // over all ports
-    double char_latency_limit_us = 0;
-    double table3_margin_us = 0;
+    std::uint64_t malformed = 0; // frames the main CPU could not decode
+    std::uint64_t traffic_ports = 0; // ports whose host generates commands by itself
+    std::array<Figure, Bench::kPorts> char_latency_max_us; // per port; only ports with a host
+    Figure table3_margin_us, table3_worst_margin_us;
 };
 
-/// The character-latency limit: a character may wait in the RX FIFO; it is lost only when its read
-/// comes later than the FIFO can hold the characters behind it (fifo_depth character times).
-double char_latency_limit_us(const Bench& b, const Scenario& s);
+/// Port p's character-latency limit: a character may wait in the RX FIFO; it is lost only when
+/// its read comes later than the FIFO can hold the characters behind it (fifo_depth of the
+/// port's own character times, as its 82510 is programmed), unless the scenario sets one.
+double char_latency_limit_us(const Bench& b, const Scenario& s, unsigned p);
 
-/// Every communication check, in report order.
+/// The names of the checks a scenario may switch off (docs/scenarios.md "Checks"); a replay port's
+/// `replay_port<n>_matches_record` is named by its port.
+const std::vector<std::string>& communication_check_names();
+
+/// Every communication check that is not switched off, in report order.
 std::vector<Check> communication_checks(const Bench& b, const Scenario& s, const CheckFigures& f);
 
 } // namespace rcsim

@@ -67,22 +67,30 @@ InterruptFigures measure_interrupts(const Bench& b) {
         gaps += ch.writes - 1;
         c.dpram_bytes += ch.bytes;
     }
-    c.dpram_byte_us = gaps ? time_us / static_cast<double>(gaps) : 0;
+    if (gaps) c.dpram_byte_us = time_us / static_cast<double>(gaps);
     return c;
 }
 
-double default_budget_us(const Scenario& s) {
-    // One character time at the slowest active port, shared by the three ports (docs/system.md §9).
-    double char_us = to_us(SerialFormat::rs232(9600).frame_time());
-    for (const auto& p : s.ports)
-        if (p.host != PortScenario::Host::none) char_us = std::min(char_us, to_us(p.format().frame_time()));
-    return char_us / kPorts;
+double controller_char_us(const Bench& b, unsigned p) {
+    return to_us(b.ctl.comm.uart[p].rx_format().frame_time());
 }
 
+double budget_us(const Bench& b, const Scenario& s) {
+    if (s.budget_us > 0) return s.budget_us;
+    bool any_active = false;
+    for (const auto& p : s.ports) any_active = any_active || p.host != PortScenario::Host::none;
+    double rate = 0; // characters per us, all active ports together
+    for (unsigned p = 0; p < kPorts; ++p)
+        if (!any_active || s.ports[p].host != PortScenario::Host::none) rate += 1.0 / controller_char_us(b, p);
+    return 1.0 / rate;
+}
 nlohmann::json port_json(const Bench& b, unsigned p) {
     const auto& u = b.ctl.comm.uart[p].stats();
     nlohmann::json j;
     j["host"] = b.host_kind(p);
+    j["controller_format"] = b.ctl.comm.uart[p].rx_format().describe();
+    if (b.scenario().ports[p].host != PortScenario::Host::none)
+        j["host_format"] = b.scenario().ports[p].format().describe();
     std::uint64_t sent = 0, delivered = 0, failed = 0, naks = 0, retries = 0;
     if (const auto& h = b.protocol[p]) {
         const auto& c = h->counters();

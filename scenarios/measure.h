@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace rcsim {
@@ -21,14 +22,20 @@ constexpr double kPaperDpramByteUs = 52.553;
 struct InterruptFigures {
     nlohmann::json interrupts = nlohmann::json::object(); // report.json "interrupts"
     Samples rs232_rx_service, rs232_rx_latency;
-    double dpram_byte_us = 0;
+    std::optional<double> dpram_byte_us; // none: no chunk of two or more writes
     std::uint64_t dpram_bytes = 0;
 };
 
 InterruptFigures measure_interrupts(const Bench& b);
 
-/// The Table 3 character budget when the scenario names none (docs/system.md §9).
-double default_budget_us(const Scenario& s);
+/// One character time (START through STOP) of port p as its 82510 is programmed.
+double controller_char_us(const Bench& b, unsigned p);
+
+/// The Table 3 budget: the scenario's `budget_us`, else the mean character arrival period of all
+/// active ports together, 1 / sum(1 / t_char_p) (= t_char / 3 for three equal ports), each t_char
+/// from the format the port's 82510 is programmed with (docs/system.md §9). A port is active when
+/// a host is attached; with none, all three count.
+double budget_us(const Bench& b, const Scenario& s);
 
 /// report.json "ports[p]": the host's counters, the 82510's, the main CPU's.
 nlohmann::json port_json(const Bench& b, unsigned p);

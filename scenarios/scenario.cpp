@@ -1,5 +1,7 @@
 #include "scenarios/scenario.h"
 
+#include "scenarios/checks.h"
+
 #include "scenarios/yaml_map.h"
 
 #include <cmath>
@@ -212,7 +214,16 @@ void read_checks(YamlMap m, CheckLimits& c) {
     c.max_frame_mismatches = static_cast<std::uint64_t>(m.number("max_frame_mismatches", 0, 0, 1e15));
     c.max_char_latency_us = m.number("max_char_latency_us", -1, -1, 1e9);
     c.min_margin_us = m.number("min_margin_us", 0, -1e9, 1e9);
-    c.min_frames_delivered = static_cast<std::uint64_t>(m.number("min_frames_delivered", 0, 0, 1e15));
+    if (m.has("min_worst_margin_us")) c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);
+    if (m.has("min_frames_delivered"))
+        c.min_frames_delivered = static_cast<std::uint64_t>(m.number("min_frames_delivered", 0, 0, 1e15));
+    // `NAME: off` switches a check off; any other value for a check's name is an error.
+    for (const std::string& name : communication_check_names()) {
+        if (!m.has(name)) continue;
+        if (m.get<std::string>(name, "") != "off")
+            m.fail(m.child(name), "checks." + name + ": the only value a check name takes is 'off'");
+        c.off.insert(name);
+    }
     m.finish();
 }
 

@@ -28,10 +28,15 @@ void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
 
 void print_summary(const nlohmann::json& r, std::ostream& os) {
     if (!r.contains("interrupts")) return print_motion_summary(r, os);
-    auto f = [](double v, int prec = 1) {
+    // A figure that was not measured is null in the report: printed as "-".
+    auto f = [](const nlohmann::json& v, int prec = 1) {
+        if (!v.is_number()) return std::string("-");
         std::ostringstream s;
-        s << std::fixed << std::setprecision(prec) << v;
+        s << std::fixed << std::setprecision(prec) << v.get<double>();
         return s.str();
+    };
+    auto sum = [](const nlohmann::json& a, const nlohmann::json& b) {
+        return a.is_number() && b.is_number() ? nlohmann::json(a.get<double>() + b.get<double>()) : nlohmann::json();
     };
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
        << f(r["sim_time_s"].get<double>(), 3) << " s";
@@ -54,9 +59,12 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
        << "  DP-RAM (1 byte)   " << std::setw(10) << f(t["dpram_byte_us"], 3) << " us" << std::setw(10)
        << f(t["paper_dpram_byte_us"], 3) << " us\n"
        << "  sum               " << std::setw(10)
-       << f(t["rs232_isr_us"].get<double>() + t["dpram_byte_us"].get<double>(), 3) << " us" << std::setw(10)
-       << f(t["paper_rs232_isr_us"].get<double>() + t["paper_dpram_byte_us"].get<double>(), 3) << " us\n"
-       << "  budget " << f(t["budget_us"], 3) << " us, margin " << f(t["margin_us"], 3) << " us\n";
+       << f(sum(t["rs232_isr_us"], t["dpram_byte_us"]), 3) << " us" << std::setw(10)
+       << f(sum(t["paper_rs232_isr_us"], t["paper_dpram_byte_us"]), 3) << " us\n"
+       << "  budget " << f(t["budget_us"], 3) << " us, margin " << f(t["margin_us"], 3) << " us (worst case "
+       << f(t["worst_margin_us"], 3) << " us)\n";
+    if (t.contains("not_measured"))
+        for (const auto& [k, why] : t["not_measured"].items()) os << "  not measured: " << k << ": " << why.get<std::string>() << "\n";
     os << "\nport  sent  delivered  failed  naks  retries  overruns  parity  framing  fifo-hw  char-latency max us\n";
     for (std::size_t p = 0; p < r["ports"].size(); ++p) {
         const auto& j = r["ports"][p];
@@ -72,11 +80,18 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         const auto& j = r["main_cpu"]["cycle_jitter_us"];
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
     }
+    for (const auto& w : r.value("warnings", nlohmann::json::array())) os << "\nwarning: " << w.get<std::string>() << "\n";
     os << "\nchecks\n";
-    for (const auto& c : r["checks"])
+    for (const auto& c : r["checks"]) {
+        const bool unmeasured = c.value("status", "") == "not measured";
         os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(32)
            << c["name"].get<std::string>() << std::right << " value " << f(c["value"], 3) << "  limit "
-           << f(c["limit"], 3) << "\n";
+           << f(c["limit"], 3);
+        if (unmeasured) os << "  NOT MEASURED: " << c.value("reason", "");
+        os << "\n";
+    }
+    for (const auto& name : r.value("checks_off", nlohmann::json::array()))
+        os << "  off   " << name.get<std::string>() << "\n";
     os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
 }
 
