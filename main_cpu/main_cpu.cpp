@@ -148,9 +148,9 @@ void MainCpu::handle_word(std::uint8_t word) {
     ++mailbox_words_;
     const unsigned p = word_port(word);
     const std::uint8_t kind = word_kind(word);
-    if (p >= ports || kind < kind_chunk || kind > kind_reset) {
+    if (p >= ports || kind < kind_chunk || kind > kind_gave_up_sent) {
         ++unknown_words_;
-        log("ignored mailbox word 0x" + proto::hex2(word) + " (not 0x1p/0x2p/0x3p with p 0..2)");
+        log("ignored mailbox word 0x" + proto::hex2(word) + " (not 0x1p..0x5p with p 0..2)");
         return;
     }
     Port& port = ports_[p];
@@ -164,6 +164,12 @@ void MainCpu::handle_word(std::uint8_t word) {
             ++port.stats.unexpected_acks;
             log(port_text(p) + ": ACK word while no chunk of ours was outstanding");
         }
+    } else if (kind == kind_gave_up || kind == kind_gave_up_sent) {
+        // One response dropped by the comm CPU; nothing of ours is in flight because of it.
+        ++port.stats.responses_dropped;
+        if (kind == kind_gave_up_sent) ++port.stats.responses_dropped_sent;
+        log(port_text(p) + ": the comm CPU gave up on a response " +
+            (kind == kind_gave_up_sent ? "that reached the line without EOT" : "that never reached the host"));
     } else {
         ++port.stats.resets_received;
         drop_partial(p);
@@ -417,7 +423,9 @@ nlohmann::json MainCpu::report() const {
                               {"partial_dropped", s.partial_dropped},
                               {"tx_aborted", s.tx_aborted},
                               {"ack_timeouts", s.ack_timeouts},
-                              {"unexpected_acks", s.unexpected_acks}});
+                              {"unexpected_acks", s.unexpected_acks},
+                              {"responses_dropped", s.responses_dropped},
+                              {"responses_dropped_sent", s.responses_dropped_sent}});
     }
     return {{"cycle_jitter_us", to_json(cycle_jitter_us_.summary())},
             {"irq_latency_us", to_json(irq_latency_us_.summary())},

@@ -68,6 +68,10 @@ struct MainCpuPortStats {
     std::uint64_t tx_aborted = 0;      // outgoing frames abandoned because of a reset
     std::uint64_t ack_timeouts = 0;    // outgoing frames abandoned because no ACK came
     std::uint64_t unexpected_acks = 0; // ACK words while no chunk of ours was outstanding
+    // Response frames the comm CPU gave up on after its retries (0x4p + 0x5p words), one each;
+    // of those, the ones that had left whole at least once (0x5p: the host may have them).
+    std::uint64_t responses_dropped = 0;
+    std::uint64_t responses_dropped_sent = 0;
 };
 
 /// A frame as the main CPU received (valid, dispatched) or sent it.

@@ -7,7 +7,8 @@
 //   0x3FE                      int2ext   main CPU -> comm CPU mailbox (raises INT_L)
 //   0x3FF                      int2rbt   comm CPU -> main CPU mailbox (raises INT_R)
 //
-// Mailbox word: low nibble = port, high nibble = kind (1 new chunk, 2 chunk consumed, 3 reset).
+// Mailbox word: low nibble = port, high nibble = kind (1 new chunk, 2 chunk consumed, 3 reset;
+// comm CPU -> main CPU only: 4 a response given up unsent, 5 given up after it left whole).
 #pragma once
 
 #include <cstdint>
@@ -27,6 +28,11 @@ constexpr std::uint8_t pflag_rbt_use = 2;
 constexpr std::uint8_t kind_chunk = 0x1;
 constexpr std::uint8_t kind_ack = 0x2;
 constexpr std::uint8_t kind_reset = 0x3;
+// The comm CPU gave up on the oldest response frame of the port after its retries and dropped it
+// (only that one: the port is not reset). 0x4p: it never left whole, the host cannot have it;
+// 0x5p: it left whole at least once but no EOT came, the host may have it.
+constexpr std::uint8_t kind_gave_up = 0x4;
+constexpr std::uint8_t kind_gave_up_sent = 0x5;
 
 constexpr std::uint16_t data_addr(unsigned port) { return static_cast<std::uint16_t>(port * area_size); }
 constexpr std::uint16_t pflag_addr(unsigned port) {

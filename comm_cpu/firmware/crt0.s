@@ -37,6 +37,8 @@ EOI_ROT   = 0xA0
 .globl _dp_rd
 .globl _dp_wr
 .globl _irq_off
+.globl _mul_div_up
+.globl _uart_ger
 .globl _irq_restore
 .globl _irq_on
 
@@ -205,6 +207,25 @@ _outb:
 	out	dx,al
 	ret
 
+! void uart_ger(unsigned base, unsigned char ger): GER of the 82510 at I/O `base' -- bank 0,
+! GER (offset 1), back to bank 1 -- in one place and without three outb calls (the Tx FIFO and
+! Tx machine interrupts are switched on and off for every frame).  Call with IF = 0.
+_uart_ger:
+	mov	bx,sp
+	mov	dx,2[bx]
+	add	dx,#4
+	xor	al,al
+	out	dx,al
+	dec	dx
+	dec	dx
+	mov	al,4[bx]
+	out	dx,al
+	inc	dx
+	inc	dx
+	mov	al,#0x20
+	out	dx,al
+	ret
+
 ! ---- DP-RAM (left port, D000:0000..03FF) -----------------------------------------------------
 ! unsigned char dp_rd(unsigned offset)
 _dp_rd:
@@ -226,6 +247,30 @@ _dp_wr:
 	mov	es,dx
 	seg	es
 	mov	[bx],al
+	ret
+
+! ---- arithmetic ----------------------------------------------------------------------------
+! unsigned mul_div_up(unsigned a, unsigned b, unsigned c): ceil(a * b / c) with the 8086's
+! 32-bit MUL and DIV (bcc's long arithmetic needs its library, which is not linked).  0xFFFF
+! when the quotient does not fit in 16 bits or c = 0, so DIV never traps.  a * b + c - 1 stays
+! below 2^32 (at most 0xFFFE0001 + 0xFFFE).
+_mul_div_up:
+	mov	bx,sp
+	mov	ax,2[bx]
+	mov	cx,4[bx]
+	mul	cx
+	mov	cx,6[bx]
+	jcxz	mdu_big
+	add	ax,cx
+	adc	dx,#0
+	sub	ax,#1
+	sbb	dx,#0
+	cmp	dx,cx
+	jae	mdu_big
+	div	cx
+	ret
+mdu_big:
+	mov	ax,#0xFFFF
 	ret
 
 ! ---- interrupt flag ------------------------------------------------------------------------

@@ -82,8 +82,10 @@
 #define GER_RXF       0x01            /* Rx FIFO (data available) */
 #define GER_RXM       0x04            /* Rx machine (errors, break) */
 #define GER_TXF       0x02            /* Tx FIFO at or below its threshold (0: empty) */
+#define GER_TXM       0x10            /* Tx machine: transmitter idle (FIFO empty, last stop bit sent) */
 #define GER_TIMER     0x20
-#define GER_ON(p)     ((p) == TICK_PORT ? (GER_RXF | GER_RXM | GER_TIMER) : (GER_RXF | GER_RXM))
+#define GER_RX        (GER_RXF | GER_RXM)
+#define GER_ON(p)     ((p) == TICK_PORT ? (GER_RX | GER_TIMER) : GER_RX)
 #define GIR_NONE      0x01            /* IP is active low: 1 = nothing pending */
 #define GIR_VEC       0x0E
 #define GIR_TIMER     0x0A
@@ -101,8 +103,13 @@
 #define TCM_START     0x0E            /* TX enable + flush TX FIFO + flush TX machine */
 #define ICM_RESET     0x10            /* software reset (leaves bank 0 selected) */
 #define ICM_STC       0x04            /* status clear */
+#define ICM_INTA      0x08            /* interrupt acknowledge: INT falls, re-rises if still pending */
 #define FLR_TFL       0x07            /* TX FIFO level 0..4 */
+#define FLR_RFL       0x70            /* RX FIFO level 0..4 */
+#define FLR_RFL_SHIFT 4
 #define TXFIFO_DEPTH  4
+#define RXFIFO_DEPTH  4
+#define ISR_VISITS    5               /* sources handled per RS-232 interrupt, at most */
 #define CLCF_BRGA16   0x50            /* RX and TX clocks from BRGA, 16x */
 #define BACF_BRG      0x04            /* BRGA is a baud-rate generator */
 #define BBCF_TIMER    0x00            /* BRGB is a timer, system clock */
@@ -127,6 +134,8 @@
 #define MB_CHUNK      0x10            /* new chunk in data[p] */
 #define MB_ACK        0x20            /* chunk consumed */
 #define MB_RESET      0x30            /* reset port p */
+#define MB_GAVE_UP    0x40            /* response given up, never left whole: the host has not got it */
+#define MB_GAVE_UP_TX 0x50            /* response given up after it left whole at least once, no EOT */
 
 /* ---- protocol (docs/system.md section 5, section 6) ----------------------------------- */
 #define SOH 0x01
@@ -150,6 +159,7 @@
 #define TXQ           8               /* frames queued per port (power of two) */
 #define AREA_STALE_MS 1000            /* RBT_USE without a chunk word this long: abandoned */
 #define MB_WAIT_MS    5               /* wait at most this for the main CPU to empty int2rbt */
+#define QUENCH_MS     10              /* a port that overran: its receiver interrupts stay off this long */
 
 /* step[port] -- the paper's program steps */
 #define ST_IDLE       0
@@ -169,8 +179,10 @@
 /* ---- assembly helpers (crt0.s) -------------------------------------------------------- */
 unsigned char inb(unsigned port);
 void outb(unsigned port, unsigned char value);
+void uart_ger(unsigned base, unsigned char ger);   /* BANK 0, GER, BANK 1; IF = 0 */
 unsigned char dp_rd(unsigned offset);
 void dp_wr(unsigned offset, unsigned char value);
+unsigned mul_div_up(unsigned a, unsigned b, unsigned c);   /* ceil(a * b / c), 0xFFFF if larger */
 unsigned irq_off(void);               /* CLI, returns the previous FLAGS */
 void irq_restore(unsigned flags);
 void irq_on(void);
@@ -206,6 +218,12 @@ extern unsigned char chunk_pending[NO_PORT];/* a chunk from the main CPU waits f
 extern unsigned tx_pos[NO_PORT];            /* bytes of the current frame given to the 82510 */
 extern unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
 extern unsigned char tx_try[NO_PORT];
+extern unsigned char tx_whole[NO_PORT];     /* the frame being sent left whole at least once */
+extern unsigned char txe_wait[NO_PORT];     /* a timer starts when the transmitter is idle */
+extern unsigned t1_lim[NO_PORT];            /* T1 + one character, in ticks (see main()) */
+extern unsigned char reset_due[NO_PORT];    /* port reset deferred until the EOT'd frame is out */
+extern unsigned char quenched[NO_PORT];     /* receiver interrupts off after an overrun ... */
+extern unsigned quench_t[NO_PORT];          /* ... since this tick */
 extern unsigned char fresh[NO_PORT];        /* port reset and untouched since */
 extern unsigned char rbt_seen[NO_PORT];     /* pflag[p] read RBT_USE since rbt_t ... */
 extern unsigned rbt_t[NO_PORT];             /* ... without a chunk word from the main CPU */
@@ -213,7 +231,7 @@ extern unsigned rbt_t[NO_PORT];             /* ... without a chunk word from the
 extern unsigned n_good[NO_PORT], n_nak[NO_PORT], n_busy[NO_PORT], n_gap[NO_PORT];
 extern unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PORT];
 extern unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
-extern unsigned n_stale[NO_PORT];
+extern unsigned n_stale[NO_PORT], n_quench[NO_PORT], n_deferred[NO_PORT];
 
 /* isr.c */
 void rs232_isr(int port);
@@ -223,10 +241,12 @@ void rx_char(int port, unsigned char c);
 void dp_event(unsigned char word);
 void take_chunk(int port);
 void tx_retry(int port);
+void ger_update(int port);
 /* hw.c */
 void pic_init(void);
 void uart_init(int port);
 void port_reset(int port, int notify);
+void port_reinit(int port, int notify);
 /* main.c */
 void main_loop(void);
 void mb_post(unsigned char word);

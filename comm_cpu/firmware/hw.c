@@ -72,16 +72,36 @@ void uart_init(int port)
 }
 
 /*
- * Port reset (mailbox word 0x3p from the main CPU, BREAK on the line, or a dead main CPU):
- * re-initialise the 82510 channel, drop both buffers and the state, free pflag[p].
+ * GER of one 82510 (bank 0, from bank 1 and back), from the port's state: the receiver's
+ * sources unless it is quenched, the tick on TICK_PORT, the Tx FIFO while a frame goes out
+ * (step 12), the Tx machine while a timer waits for the transmitter to be idle.  IF = 0.
+ */
+void ger_update(int port)
+{
+    unsigned g = port == TICK_PORT ? GER_TIMER : 0;  /* words: a byte local makes SP odd */
+
+    if (!quenched[port])
+        g |= GER_RX;
+    if (step[port] == ST_SEND)
+        g |= GER_TXF;
+    if (txe_wait[port])
+        g |= GER_TXM;
+    uart_ger(UART_BASE(port), g);
+}
+
+/*
+ * Port reset: re-initialise the 82510 channel, drop both buffers and the state, free pflag[p].
  * `notify' also tells the main CPU with a 0x3p word in int2rbt.
  */
-void port_reset(int port, int notify)
+void port_reinit(int port, int notify)
 {
     unsigned f = irq_off();
 
-    uart_init(port);
     step[port] = ST_IDLE;
+    quenched[port] = 0;
+    txe_wait[port] = 0;
+    reset_due[port] = 0;
+    uart_init(port);
     rx_len[port] = 0;
     rx_fwd[port] = 0;
     rx_bad[port] = 0;
@@ -93,11 +113,32 @@ void port_reset(int port, int notify)
     tx_used[port] = 0;
     tx_part[port] = 0;
     tx_try[port] = 0;
+    tx_whole[port] = 0;
     ++gen[port];
     dp_wr(PFLAG(port), P_FREE);
     if (notify)
         mb_post(MB_RESET | port);
     fresh[port] = 1;
     ++n_reset[port];
+    irq_restore(f);
+}
+
+/*
+ * A port reset is asked for (mailbox word 0x3p from the main CPU, BREAK on the line).  A frame
+ * we have answered with EOT (step 2, being handed to the main CPU) is a promise of delivery: the
+ * reset then waits until its last chunk has been consumed (to_dpram calls port_reinit); the
+ * port answers ENQ with NAK meanwhile.  Any IF.
+ */
+void port_reset(int port, int notify)
+{
+    unsigned f = irq_off();
+
+    if (step[port] == ST_DONE) {
+        if (!reset_due[port])
+            ++n_deferred[port];
+        reset_due[port] |= notify ? 3 : 1;
+    } else {
+        port_reinit(port, notify);
+    }
     irq_restore(f);
 }

@@ -37,6 +37,8 @@ static int accept_enq(int port)
         rx_t[port] = ticks;
         fresh[port] = 0;
         step[port] = ST_RECV;
+        txe_wait[port] = 1;             /* T1 for the first byte starts when the ACK has left */
+        ger_update(port);
         return 1;
     }
     send(port, NAK);
@@ -74,22 +76,13 @@ static void rx_end(int port)
     }
 }
 
-/* GER of one 82510 (bank 0), from bank 1 and back. */
-static void set_ger(int port, unsigned char ger)
-{
-    unsigned b = UART_BASE(port);
-
-    outb(b + U_BANK, BANK_NAS);
-    outb(b + U_GER, ger);
-    outb(b + U_BANK, BANK_WORK);
-}
-
 /*
  * Step 12 (the paper's send_data_to_port), interrupt driven: fill the 4-byte TX FIFO from the
  * frame being sent; the Tx FIFO interrupt (enabled while sending, threshold 0 = empty) asks for
  * the next bytes while the last one is still in the shifter, so the frame leaves without gaps
  * even while the main loop or a DP-RAM copy is busy.  When the last byte (ETX) is in the FIFO
- * the interrupt is switched off and T1 starts for the EOT.  IF = 0.
+ * the interrupt is switched off; T1 for the EOT starts when ETX has left the line (tx_idle).
+ * IF = 0.
  */
 void tx_fill(int port)
 {
@@ -107,14 +100,37 @@ void tx_fill(int port)
         outb(b + U_TXD, d[i]);
     }
     if (tx_pos[port] >= len) {
-        set_ger(port, GER_ON(port));
-        tx_t[port] = ticks;
         step[port] = ST_WAIT_EOT;
+        txe_wait[port] = 1;
+        ger_update(port);
     }
 }
 
-/* EOT for the frame being sent: drop it from the ring; the next queued frame follows. */
-static void tx_done(int port)
+/*
+ * Tx machine interrupt: the transmitter is idle, the last character we wrote has left the line
+ * (its stop bit is over).  The timer for the answer to it starts now, as the host's does
+ * (docs/serial.md "Protocol timers"): T1 for the ACK to our ENQ, for the EOT to our ETX, for the
+ * first frame byte after our ACK.  IF = 0.
+ */
+static void tx_idle(int port)
+{
+    unsigned s = step[port];
+
+    if (txe_wait[port]) {
+        txe_wait[port] = 0;
+        if (s == ST_WAIT_ACK || s == ST_WAIT_EOT)
+            tx_t[port] = ticks;
+        if (s == ST_WAIT_EOT)
+            tx_whole[port] = 1;
+        if (s == ST_RECV && rx_len[port] == 0)
+            rx_t[port] = ticks;
+    }
+    ger_update(port);
+}
+
+/* The frame being sent is done with (EOT, or given up): drop it from the ring; the next queued
+ * frame follows. */
+static void tx_next(int port)
 {
     unsigned len = txq_len[port][txq_head[port]];
     unsigned rd = tx_rd[port] + len;
@@ -126,17 +142,22 @@ static void tx_done(int port)
     txq_head[port] = (txq_head[port] + 1) & (TXQ - 1);
     --tx_have[port];
     tx_try[port] = 0;
+    tx_whole[port] = 0;
     step[port] = ST_IDLE;
-    ++n_sent[port];
 }
 
-/* NAK or timeout while sending: back off 10 ms x attempt and start again with ENQ, at most
- * MAX_RETRY times; then give up: reset the port and tell the main CPU (0x3p).  IF = 0. */
+/*
+ * NAK or timeout while sending: back off 10 ms x attempt and start again with ENQ, at most
+ * MAX_RETRY times; then give up on this frame only: it is dropped, the main CPU is told which
+ * way (0x4p: it never left whole, the host cannot have it; 0x5p: it left whole at least once
+ * but no EOT came, the host may have it), and the next queued frame follows.  IF = 0.
+ */
 void tx_retry(int port)
 {
     if (++tx_try[port] > MAX_RETRY) {
         ++n_fail[port];
-        port_reset(port, 1);
+        mb_post((tx_whole[port] ? MB_GAVE_UP_TX : MB_GAVE_UP) | port);
+        tx_next(port);
         return;
     }
     tx_wait[port] = RETRY_MS * tx_try[port];
@@ -171,7 +192,7 @@ void rx_char(int port, unsigned char c)
             if (c == ACK) {
                 tx_pos[port] = 0;
                 step[port] = ST_SEND;
-                set_ger(port, GER_ON(port) | GER_TXF);
+                ger_update(port);
                 tx_fill(port);
             } else if (c == NAK) {
                 tx_retry(port);
@@ -181,8 +202,10 @@ void rx_char(int port, unsigned char c)
     case ST_WAIT_EOT:
         if (line_err)
             rx_bad[port] = 0;
-        else if (c == EOT)
-            tx_done(port);
+        else if (c == EOT) {
+            tx_next(port);
+            ++n_sent[port];
+        }
         else if (c == NAK)
             tx_retry(port);
         break;
@@ -211,6 +234,21 @@ static void line_break(int port)
         outb(UART_BASE(port) + U_RCM, RCM_START);
 }
 
+/*
+ * An overrun: characters come faster than we take them (a 9600-bps port never overruns, test
+ * ThreePortsAtOnceKeepEveryByte), so the line is flooding us.  Its receiver interrupts stay off
+ * for QUENCH_MS (the main loop turns them on again) so that the other ports and the main loop
+ * keep their time; what arrives meanwhile is lost, as it would be anyway.
+ */
+static void quench(int port)
+{
+    quenched[port] = 1;
+    quench_t[port] = ticks;
+    ++n_quench[port];
+    ger_update(port);
+    outb(UART_BASE(port) + U_RCM, RCM_START);
+}
+
 /* Rx machine status: BREAK resets the port, an error spoils the frame being received. */
 static void line_status(int port, unsigned char st)
 {
@@ -219,26 +257,36 @@ static void line_status(int port, unsigned char st)
     } else if (st & (RST_OE | RST_PE | RST_FE)) {
         rx_bad[port] |= BAD_LINE;
         ++n_lerr[port];
+        if (st & RST_OE)
+            quench(port);
     }
 }
 
-/* IR0..IR2.  Works in bank 1; if the interrupted code had another bank selected, that bank is
- * restored on the way out.  Loops until GIR shows nothing pending, so the INT pin falls and the
- * edge-triggered 8259A sees the next request. */
+/*
+ * IR0..IR2.  Works in bank 1; if the interrupted code had another bank selected, that bank is
+ * restored on the way out.  Handles the pending sources until GIR shows none, so that INT falls
+ * and the edge-triggered 8259A sees the next request -- but at most ISR_VISITS of them (each
+ * received character is one) per interrupt.  Whatever is still pending then is left for the
+ * next interrupt, which ICM.INTA requests (INT falls and rises again: a fresh edge) and which
+ * the rotating priority serves after the other ports: a port that receives faster than we can
+ * read cannot hold the others off (docs/firmware.md "Interrupts").  GIR is read before every
+ * character, so an error status (Rx machine, latched when its character arrived, ranks above
+ * the Rx FIFO) is seen before the character.
+ */
 void rs232_isr(int port)
 {
     unsigned b = UART_BASE(port);
-    unsigned char bank, gir, c;
-    unsigned k;
-    int n;
+    unsigned gir, bank, c, k, n;
 
     gir = inb(b + U_GIR);               /* the pending source and the current bank */
     bank = gir & BANK_MASK;
     if (bank != BANK_WORK)
         outb(b + U_BANK, BANK_WORK);
-    for (n = 32; n; --n) {
-        if (gir & GIR_NONE)
+    for (n = ISR_VISITS; !(gir & GIR_NONE); --n) {
+        if (!n) {
+            outb(b + U_ICM, ICM_INTA);  /* the rest in the next interrupt */
             break;
+        }
         gir &= GIR_VEC;
         if (gir == GIR_RXF) {
             c = inb(b + U_RXD);
@@ -278,7 +326,9 @@ void rs232_isr(int port)
             if (step[port] == ST_SEND)
                 tx_fill(port);
             else
-                set_ger(port, GER_ON(port));   /* nothing to send (port reset, retry) */
+                ger_update(port);       /* nothing to send (port reset, retry) */
+        } else if (gir == GIR_TXM) {
+            tx_idle(port);
         } else {
             inb(b + U_GSR);
             inb(b + U_MSR);

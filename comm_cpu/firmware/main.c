@@ -38,13 +38,16 @@ unsigned txq_len[NO_PORT][TXQ];
 unsigned tx_rd[NO_PORT], tx_wr[NO_PORT], tx_used[NO_PORT], tx_part[NO_PORT];
 unsigned tx_pos[NO_PORT];
 unsigned tx_t[NO_PORT], tx_wait[NO_PORT];
-unsigned char tx_try[NO_PORT];
+unsigned char tx_try[NO_PORT], tx_whole[NO_PORT], txe_wait[NO_PORT];
+unsigned t1_lim[NO_PORT];
+unsigned char reset_due[NO_PORT], quenched[NO_PORT];
+unsigned quench_t[NO_PORT];
 unsigned char fresh[NO_PORT];
 
 unsigned n_good[NO_PORT], n_nak[NO_PORT], n_busy[NO_PORT], n_gap[NO_PORT];
 unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PORT];
 unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
-unsigned n_stale[NO_PORT];
+unsigned n_stale[NO_PORT], n_quench[NO_PORT], n_deferred[NO_PORT];
 unsigned char rbt_seen[NO_PORT];
 unsigned rbt_t[NO_PORT];
 
@@ -128,6 +131,8 @@ static void to_dpram(int port)
                 if (dp_rd(PFLAG(port)) == EXT_USE)
                     dp_wr(PFLAG(port), P_FREE);
                 step[port] = ST_IDLE;
+                if (reset_due[port])    /* a reset waited for the frame (port_reset) */
+                    port_reinit(port, reset_due[port] & 2);
             }
             irq_restore(f);
             return;
@@ -153,13 +158,15 @@ static void to_dpram(int port)
     irq_restore(f);
 }
 
-/* Step 1 timeouts: T1 for the first byte after our ACK, T2 between bytes. */
+/* Step 1 timeouts: T1 for the first byte after our ACK has left the line (t1_lim), T2 between
+ * bytes (read to read, i.e. stop bit to stop bit). */
 static void rx_watch(int port)
 {
     unsigned f = irq_off();
+    unsigned t = ticks - rx_t[port];
 
     if (step[port] == ST_RECV &&
-        ticks - rx_t[port] > (rx_len[port] ? T2_MS : T1_MS)) {
+        (rx_len[port] ? t > T2_MS : !txe_wait[port] && t > t1_lim[port])) {
         step[port] = ST_DROP;
         ++n_gap[port];
     }
@@ -211,9 +218,10 @@ static void send_enq(int port)
     f = irq_off();
     if (step[port] == ST_SEND_ENQ) {
         outb(UART_BASE(port) + U_TXD, ENQ);
-        tx_t[port] = ticks;
         fresh[port] = 0;
         step[port] = ST_WAIT_ACK;
+        txe_wait[port] = 1;             /* T1 starts when the ENQ has left the line */
+        ger_update(port);
     }
     irq_restore(f);
 }
@@ -228,14 +236,36 @@ static void send_data(int port)
     irq_restore(f);
 }
 
-/* Steps 11 and 13: T1 without ACK / EOT -> retry. */
+/* Steps 11 and 13: T1 without ACK / EOT -> retry.  T1 runs from the moment our ENQ or ETX
+ * has left the line (tx_idle) to the START bit of the answer, which we have one character later:
+ * t1_lim = T1 + one character.  "> t1_lim" ticks is more than t1_lim ms whatever the phase of the
+ * tick. */
 static void tx_watch(int port)
 {
     unsigned f = irq_off();
 
-    if ((step[port] == ST_WAIT_ACK || step[port] == ST_WAIT_EOT) &&
-        ticks - tx_t[port] >= T1_MS)
+    if ((step[port] == ST_WAIT_ACK || step[port] == ST_WAIT_EOT) && !txe_wait[port] &&
+        ticks - tx_t[port] > t1_lim[port])
         tx_retry(port);
+    irq_restore(f);
+}
+
+/* A port quenched after an overrun (isr.c quench): after QUENCH_MS its receiver interrupts come
+ * back, with the RX FIFO and the overrun that piled up meanwhile dropped. */
+static void quench_watch(int port)
+{
+    unsigned b = UART_BASE(port);
+    unsigned f;
+
+    if (ticks - quench_t[port] < QUENCH_MS)
+        return;
+    f = irq_off();
+    if (quenched[port]) {
+        outb(b + U_RCM, RCM_START);
+        inb(b + U_RST);
+        quenched[port] = 0;
+        ger_update(port);
+    }
     irq_restore(f);
 }
 
@@ -307,11 +337,27 @@ void main_loop(void)
             if (chunk_pending[port])
                 take_chunk(port);
             area_watch(port);
+            if (quenched[port])
+                quench_watch(port);
             if (chunk_out[port] && ticks - chunk_t[port] >= DP_ACK_MS)
-                port_reset(port, 1);    /* the main CPU never consumed the chunk */
+                port_reinit(port, 1);   /* the main CPU never consumed the chunk: now */
         }
         mb_pump();
     }
+}
+
+/*
+ * T1 + one character of port p's format, in ticks: T1 ends at the START bit of the answer
+ * (docs/serial.md "Protocol timers") and the 82510 has the character at the end of its first
+ * stop bit.  One bit is 32 x div / f, one tick 2 x tick_div / f, so a character of `bits' bits
+ * is bits x 16 x div / tick_div ticks (rounded up; the crystal cancels out).
+ */
+static unsigned t1_ticks(int port)
+{
+    unsigned char lcr = port_lcr[port];
+    unsigned bits = 1 + 5 + (lcr & 0x03) + ((lcr & 0x08) ? 1 : 0) + ((lcr & 0x04) ? 2 : 1);
+
+    return T1_MS + mul_div_up(bits * 16, port_div[port], tick_div);
 }
 
 int main(void)
@@ -320,6 +366,7 @@ int main(void)
 
     pic_init();
     for (port = 0; port < NO_PORT; port++) {
+        t1_lim[port] = t1_ticks(port);
         uart_init(port);
         dp_wr(PFLAG(port), P_FREE);
     }

@@ -155,8 +155,15 @@ void ProtocolHost::run() {
     }
 }
 
+// Called when the ENQ or ETX has left the line (send_bytes returns at the end of its last stop
+// bit): T1 runs from here to the START bit of the answer, which a receiver has one character
+// later (docs/serial.md "Protocol timers"; the firmware counts it the same way).
+sc_core::sc_time ProtocolHost::t1_deadline() const {
+    return sc_core::sc_time_stamp() + cfg_.timing.t1 + cfg_.format.receive_time();
+}
+
 ProtocolHost::Reply ProtocolHost::await_reply(std::uint8_t positive, const char* what) {
-    const sc_core::sc_time deadline = sc_core::sc_time_stamp() + cfg_.timing.t1;
+    const sc_core::sc_time deadline = t1_deadline();
     for (;;) {
         RxByte b{};
         const sc_core::sc_time now = sc_core::sc_time_stamp();
@@ -247,7 +254,7 @@ void ProtocolHost::serve_controller() {
     send_bytes(std::string(1, static_cast<char>(ACK)));
     decoder_.reset();
     // The frame must start within T1 of the ACK; a repeated ENQ (our ACK was lost) is answered.
-    const sc_core::sc_time deadline = sc_core::sc_time_stamp() + cfg_.timing.t1;
+    const sc_core::sc_time deadline = t1_deadline();
     RxByte b{};
     for (;;) {
         const sc_core::sc_time now = sc_core::sc_time_stamp();

@@ -37,7 +37,8 @@ namespace rcsim {
 
 /// The protocol's timers and retry rule (docs/system.md §6.1 defaults).
 struct ProtocolTiming {
-    sc_core::sc_time t1{50, sc_core::SC_MS};      // ENQ -> ACK/NAK, ETX -> EOT/NAK
+    sc_core::sc_time t1{50, sc_core::SC_MS};      // ENQ -> ACK/NAK, ETX -> EOT/NAK, ACK -> SOH
+                                                  // (end of the stop bit to the answer's START)
     sc_core::sc_time t2{20, sc_core::SC_MS};      // longest gap between two bytes of a frame
     sc_core::sc_time backoff{10, sc_core::SC_MS}; // pause before retry n: n x backoff
     unsigned max_retries = 3;
@@ -154,6 +155,7 @@ private:
     void generate();
     void do_command(const proto::Frame& f);
     void serve_controller();
+    sc_core::sc_time t1_deadline() const;
     Reply await_reply(std::uint8_t positive, const char* what);
     bool wait_byte(const sc_core::sc_time& timeout, RxByte& out);
     void send_bytes(const std::string& bytes);

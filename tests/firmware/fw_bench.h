@@ -2,8 +2,10 @@
 // (rcsim_cpu8086_core, no SystemC) with small behavioural fakes of the board:
 //
 // - Uart: an 82510 channel as far as the firmware uses it (docs/firmware.md "82510 register
-//   contract"): banks, GIR priorities (timer > Rx machine > Rx FIFO), RX FIFO with per-character
-//   error flags, RST error/BREAK bits cleared by reading, TXD capture, periodic BRGB timer.
+//   contract"): banks, GIR priorities (timer > Tx machine > Rx machine > Rx FIFO > Tx FIFO), RX
+//   FIFO with per-character error flags and its level in FLR, RST error/BREAK bits cleared by
+//   reading, TXD capture, the transmitter-idle source, ICM.INTA (INT falls and rises again: a
+//   fresh edge while a source is pending), periodic BRGB timer.
 //   It exists to test the firmware's logic against that contract; the real model is uart82510/.
 // - Pic: an 8259A in single, edge-triggered 8086 mode with rotate-on-non-specific-EOI.
 // - DP-RAM left port at D0000 with the IDT7130 mailbox rules; the test plays the main CPU.
@@ -62,6 +64,7 @@ struct Uart {
     bool dlab() const { return lcr & 0x80; }
     std::uint8_t vector() const {
         if (timer_expired && (ger & 0x20) && (tmie & 0x02)) return 0x0A;
+        if ((ger & 0x10) && tx_idle()) return 0x08;
         if (rst && (ger & 0x04)) return 0x06;
         if (!rx.empty() && (ger & 0x01)) return 0x04;
         if ((ger & 0x02) && tx_fifo.size() <= (fmd & 3u)) return 0x02;
@@ -79,6 +82,10 @@ struct Uart {
         }
     }
     bool irq() const { return !(vector() & 1); }
+    /// Transmitter idle: FIFO empty and the last stop bit sent (always, when instantaneous).
+    bool tx_idle() const { return tx_fifo.empty() && !tx_busy; }
+    bool inta_pulse = false; // ICM.INTA written: INT low for a moment
+    unsigned intas = 0;
 
     std::size_t rx_high = 0; // RX FIFO high-water mark (a real 82510 holds 4)
     void receive(std::uint8_t c, std::uint8_t err = 0) {
@@ -119,7 +126,7 @@ struct Uart {
                 timer_expired = false;
                 return v;
             }
-            if (r == 4) return std::uint8_t(tx_fifo.size()); // FLR: TX level in bits 2:0
+            if (r == 4) return std::uint8_t(tx_fifo.size() | (std::min<std::size_t>(rx.size(), 4) << 4)); // FLR
             if (r == 5) {         // RST: read clears
                 const std::uint8_t v = std::uint8_t(rst | (rx.empty() ? 0 : 1));
                 rst = 0;
@@ -162,6 +169,10 @@ struct Uart {
                 ++rx_flushes;
             }
             if (r == 7 && (v & 0x10)) soft_reset();
+            if (r == 7 && (v & 0x08)) {
+                inta_pulse = true;
+                ++intas;
+            }
             break;
         case 0x40:
             if (r == 1) fmd = v;
@@ -452,7 +463,13 @@ private:
     std::uint8_t inta_vector_ = 0;
 
     void update_lines() {
-        for (int i = 0; i < 3; ++i) pic.line(i, uart[i].irq());
+        for (int i = 0; i < 3; ++i) {
+            if (uart[i].inta_pulse) {
+                pic.line(i, false);
+                uart[i].inta_pulse = false;
+            }
+            pic.line(i, uart[i].irq());
+        }
         pic.line(3, int_l);
         cpu.set_intr(pic.intr());
     }

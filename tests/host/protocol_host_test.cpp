@@ -171,9 +171,48 @@ TEST(ProtocolHost, TimeoutThenRetry) {
     sc_core::sc_start(ms(300));
     const auto enqs = b.fake.times_of(ENQ);
     ASSERT_EQ(enqs.size(), 2u);
-    EXPECT_EQ(enqs[1], enqs[0] + ms(50) + ms(10) + k_char); // T1, back-off, the ENQ itself
+    // T1 runs from the end of the ENQ to the START bit of an answer, which would be complete one
+    // character later: the host gives up then, backs off and sends the ENQ (one more character).
+    EXPECT_EQ(enqs[1], enqs[0] + ms(50) + k_char + ms(10) + k_char);
     EXPECT_EQ(b.host.counters().timeouts, 1u);
     EXPECT_EQ(b.host.counters().frames_delivered, 1u);
+}
+
+// docs/serial.md "Protocol timers": T1 runs from the end of the ENQ's (ETX's) stop bit to the
+// START bit of the answer. The fake answers `delay` after the end of the trigger, so its START
+// comes exactly then: 49.9 ms is within T1 for both the ACK and the EOT ...
+TEST(ProtocolHost, AnswersStartingWithinT1AreTaken) {
+    Bench b(no_wait());
+    b.fake.delay = us(49'900);
+    b.host.send(k_cmd);
+    sc_core::sc_start(ms(400));
+    EXPECT_EQ(b.host.counters().timeouts, 0u);
+    EXPECT_EQ(b.host.counters().frames_delivered, 1u);
+    EXPECT_EQ(b.fake.bytes(), "\x05" + encode(k_cmd)) << "no retry";
+}
+
+// ... 50.1 ms is not: for the ACK ...
+TEST(ProtocolHost, AckStartingAfterT1IsATimeout) {
+    Bench b(no_wait());
+    b.fake.delay = us(50'100);
+    b.host.send(k_cmd);
+    sc_core::sc_start(ms(120));
+    EXPECT_GE(b.host.counters().timeouts, 1u);
+    EXPECT_EQ(b.host.log()[2].text, "no ACK/NAK within T1");
+}
+
+// ... nor for the EOT (the ACK comes after the default 1 ms).
+TEST(ProtocolHost, EotStartingAfterT1IsATimeout) {
+    Bench b(no_wait());
+    b.host.send(k_cmd);
+    sc_core::sc_start(ms(5)); // ENQ, ACK; the frame is going out
+    b.fake.delay = us(50'100);
+    sc_core::sc_start(ms(120));
+    EXPECT_GE(b.host.counters().timeouts, 1u);
+    bool eot_timeout = false;
+    for (const auto& e : b.host.log()) eot_timeout = eot_timeout || e.text == "no EOT/NAK within T1";
+    EXPECT_TRUE(eot_timeout);
+    EXPECT_EQ(b.host.counters().frames_delivered, 0u);
 }
 
 TEST(ProtocolHost, FrameTimeoutStartsOverWithEnq) {
@@ -192,7 +231,7 @@ TEST(ProtocolHost, GivesUpAfterThreeRetries) {
     sc_core::sc_start(ms(1000));
     const auto enqs = b.fake.times_of(ENQ);
     ASSERT_EQ(enqs.size(), 4u);
-    for (unsigned i = 1; i < 4; ++i) EXPECT_EQ(enqs[i], enqs[i - 1] + ms(50) + ms(10 * i) + k_char) << i;
+    for (unsigned i = 1; i < 4; ++i) EXPECT_EQ(enqs[i], enqs[i - 1] + ms(50) + k_char + ms(10 * i) + k_char) << i;
     const auto& c = b.host.counters();
     EXPECT_EQ(c.frames_failed, 1u);
     EXPECT_EQ(c.retries, 3u);

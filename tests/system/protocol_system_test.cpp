@@ -410,8 +410,9 @@ TEST(SystemProtocol, ControllerRetriesAfterNakWithBackoff) {
     EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 0u);
 }
 
-// 7c. After 3 retries (4 ENQs refused) the controller gives up, resets the port and tells the main
-// CPU (0x30); the port then serves the host normally.
+// 7c. After 3 retries (4 ENQs refused) the controller gives up on that frame and tells the main
+// CPU (0x40: given up, it never left whole); the port is not reset, and then serves the host
+// normally.
 TEST(SystemProtocol, ControllerGivesUpAfterThreeRetriesAndReportsIt) {
     Board b;
     ProtocolHostConfig cfg;
@@ -419,13 +420,15 @@ TEST(SystemProtocol, ControllerGivesUpAfterThreeRetriesAndReportsIt) {
     HostOn h("host0", b, 0, cfg);
     Board::run_to(k_boot());
     b.ctl.main.send(0, "MS", "NEVER TAKEN");
-    ASSERT_TRUE(Board::run_until([&] { return b.ctl.main.port_stats(0).resets_received >= 1; }, ms(300)))
+    ASSERT_TRUE(Board::run_until([&] { return b.ctl.main.port_stats(0).responses_dropped >= 1; }, ms(300)))
         << h.log.str() << b.transcript(0);
     Board::run_to(sc_core::sc_time_stamp() + ms(60));
     EXPECT_EQ(proto::escape(b.from_controller(0)), proto::escape(kEnq + kEnq + kEnq + kEnq)) << b.transcript(0);
     EXPECT_EQ(h.host.counters().enqs_received, 4u);
     EXPECT_TRUE(h.host.responses().empty());
-    EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 1u);
+    EXPECT_EQ(b.ctl.main.port_stats(0).responses_dropped, 1u);
+    EXPECT_EQ(b.ctl.main.port_stats(0).responses_dropped_sent, 0u) << "no ENQ was ever ACKed";
+    EXPECT_EQ(b.ctl.main.port_stats(0).resets_received, 0u) << "a give-up is not a port reset";
     EXPECT_EQ(b.pflag(0), 0);
     // the port works afterwards
     h.host.send(Frame{"EC", 0, "STILL ALIVE"});
