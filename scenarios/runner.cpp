@@ -5,7 +5,8 @@
 #include "models/stats.h"
 #include "scenarios/report_html.h"
 #include "main_cpu/motion/motion_controller.h"
-#include "main_cpu/motion/motion_scenario.h"
+#include "scenarios/motion_scenario.h"
+#include "scenarios/trajectory_report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -461,8 +462,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
                             {"samples", bench.motion->recorder().samples().size()}};
         if (!opt.out_dir.empty()) {
             const std::filesystem::path out = opt.out_dir;
-            bench.motion->recorder().write_csv(out / "trajectory.csv");
-            bench.motion->recorder().write_svg(out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
+            write_trajectory_csv(bench.motion->recorder(), out / "trajectory.csv");
+            write_trajectory_svg(bench.motion->recorder(), out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
         }
     }
 
