@@ -8,7 +8,8 @@
 #include "scenarios/measure.h"
 #include "scenarios/output.h"
 #include "scenarios/report_html.h"
-#include "main_cpu/motion/motion_scenario.h"
+#include "scenarios/motion_scenario.h"
+#include "scenarios/trajectory_report.h"
 #include "models/config_error.h"
 
 #include <chrono>
@@ -43,7 +44,7 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     const int rc = run_motion_scenario(s.root, s.file, out, s.seed, motion_report);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
-    // The error names the file and line already (main_cpu/motion/motion_scenario.h).
+    // The error names the file and line already (scenarios/motion_scenario.h).
     if (rc == 2) throw ConfigError(m.value("error", s.file + ": bad motion section"));
     report = run_header(s, opt, wall);
     if (opt.reproducible) {
@@ -148,8 +149,8 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
                             {"samples", bench.motion->recorder().samples().size()}};
         if (!opt.out_dir.empty()) {
             const std::filesystem::path out = opt.out_dir;
-            bench.motion->recorder().write_csv(out / "trajectory.csv");
-            bench.motion->recorder().write_svg(out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
+            write_trajectory_csv(bench.motion->recorder(), out / "trajectory.csv");
+            write_trajectory_svg(bench.motion->recorder(), out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
         }
     }
 }

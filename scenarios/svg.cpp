@@ -1,4 +1,4 @@
-// rcsim — a tiny SVG writer. See svg.h.
+// rcsim — the chart module. See svg.h.
 #include "scenarios/svg.h"
 
 #include <algorithm>
@@ -98,6 +98,46 @@ void Doc::vtext(double x, double y, const std::string& s, double size) {
 void Doc::with_title(const std::string& element, const std::string& title) {
     body_ << element << "><title>" << esc(title) << "</title></" << element.substr(1, element.find(' ') - 1)
           << ">\n";
+}
+
+void Doc::polyline(const std::vector<Point>& points, const std::string& stroke, double width,
+                   const std::string& extra) {
+    body_ << "<polyline fill=\"none\" stroke=\"" << stroke << "\" stroke-width=\"" << num(width) << "\"";
+    if (!extra.empty()) body_ << " " << extra;
+    body_ << " points=\"";
+    for (std::size_t i = 0; i < points.size(); ++i)
+        body_ << (i ? " " : "") << num(points[i].x) << ',' << num(points[i].y);
+    body_ << "\"/>\n";
+}
+
+void Doc::marker(double x, double y, Marker shape, const std::string& colour, double size) {
+    const double h = size / 2;
+    switch (shape) {
+    case Marker::circle:
+        body_ << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << num(h) << "\" fill=\"" << colour
+              << "\"/>\n";
+        break;
+    case Marker::square: rect(x - h, y - h, size, size, colour); break;
+    case Marker::cross:
+        line(x - h, y - h, x + h, y + h, colour, 1.5);
+        line(x - h, y + h, x + h, y - h, colour, 1.5);
+        break;
+    }
+}
+
+void Doc::title(const std::string& s, double y, double size) { text(w_ / 2, y, s, "middle", size); }
+
+void Doc::frame(double x, double y, double w, double h, const std::string& stroke) {
+    rect(x, y, w, h, "none", "stroke=\"" + stroke + "\"");
+}
+
+void Doc::legend(double x, double y, const std::vector<LegendEntry>& entries, double row) {
+    for (const LegendEntry& e : entries) {
+        if (e.box) rect(x + 8, y - 7, 14, 14, e.colour);
+        else line(x, y, x + 30, y, e.colour, 2, e.dash.empty() ? "" : "stroke-dasharray=\"" + e.dash + "\"");
+        text(x + 36, y + 4, e.label);
+        y += row;
+    }
 }
 
 void Doc::y_axis(const Scale& s, double x0, double x1, const std::string& title, int target_ticks) {

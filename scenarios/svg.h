@@ -1,7 +1,9 @@
-// rcsim — a tiny SVG writer for the report pictures (plain C++, no libraries).
+// rcsim — the one chart module: a tiny SVG writer for every picture rcsim draws (report.html's
+// charts, trajectory.svg). Plain C++, no libraries.
 //
 // Every number goes through `num` (fixed decimals, C locale, no "-0"), so the same picture is
-// always the same bytes. Text is XML-escaped. Axes: linear or log10, with "nice" tick values.
+// always the same bytes. Text is XML-escaped. Axes: linear or log10, with "nice" tick values;
+// a chart is a Doc with a title, axes, polylines, markers and a legend.
 #pragma once
 
 #include <sstream>
@@ -29,6 +31,19 @@ struct Scale {
     double operator()(double v) const;
 };
 
+struct Point {
+    double x = 0, y = 0; // pixels
+};
+
+enum class Marker { circle, square, cross };
+
+/// One row of a legend: a line sample (solid, or dashed with `dash` = "4 3") or a filled box.
+struct LegendEntry {
+    std::string label, colour;
+    std::string dash = "";
+    bool box = false;
+};
+
 /// An SVG document built element by element.
 class Doc {
 public:
@@ -44,6 +59,17 @@ public:
     void vtext(double x, double y, const std::string& s, double size = 12);
     /// An element with a hover tooltip (<title>), e.g. a bar: `element` without its closing "/>".
     void with_title(const std::string& element, const std::string& title);
+    /// An open line through `points`, numbers with one decimal (a tenth of a pixel).
+    void polyline(const std::vector<Point>& points, const std::string& stroke, double width = 1.5,
+                  const std::string& extra = "");
+    /// A marker of `size` pixels centred on (x, y); a cross is drawn with `colour` as its stroke.
+    void marker(double x, double y, Marker shape, const std::string& colour, double size = 6);
+    /// The chart's title: centred across the document, baseline at y.
+    void title(const std::string& s, double y = 30, double size = 16);
+    /// The outline of a plot area.
+    void frame(double x, double y, double w, double h, const std::string& stroke = "#333");
+    /// A legend whose first row's sample starts at (x, y), one row every `row` pixels downwards.
+    void legend(double x, double y, const std::vector<LegendEntry>& entries, double row = 18);
     /// Raw SVG markup.
     void raw(const std::string& s) { body_ << s; }
 

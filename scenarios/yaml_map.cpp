@@ -8,11 +8,12 @@ namespace rcsim {
 
 YamlMap::YamlMap(YAML::Node node, std::string file, std::string context)
     : node_(node), file_(std::move(file)), context_(std::move(context)) {
-    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
-        // context_ is "board." or "ports[0].": name the key without its trailing dot.
-        const std::string what = context_.empty() ? std::string("top level") : context_.substr(0, context_.size() - 1);
-        fail(node_, "'" + what + "' must be a mapping");
-    }
+    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) fail(node_, "'" + name() + "' must be a mapping");
+}
+
+std::string YamlMap::name() const {
+    // context_ is "board." or "ports[0].": the key without its trailing dot.
+    return context_.empty() ? std::string("top level") : context_.substr(0, context_.size() - 1);
 }
 
 bool YamlMap::has(const std::string& key) const {
@@ -37,12 +38,53 @@ double YamlMap::number(const std::string& key, double fallback, double lo, doubl
     return v;
 }
 
+double YamlMap::require_number(const std::string& key, double lo, double hi) {
+    if (!has(key)) fail("missing required key '" + context_ + key + "'");
+    return number(key, 0, lo, hi);
+}
+
+std::string YamlMap::choice(const std::string& key, const std::string& fallback,
+                            std::initializer_list<const char*> allowed) {
+    const std::string v = get<std::string>(key, fallback);
+    for (const char* a : allowed)
+        if (v == a) return v;
+    // "'a' or 'b'", "'a', 'b' or 'c'"
+    std::string names;
+    std::size_t i = 0;
+    for (const char* a : allowed) {
+        if (i++) names += i == allowed.size() ? " or " : ", ";
+        names += std::string("'") + a + "'";
+    }
+    fail(child(key), "'" + context_ + key + "' must be " + names + ", got '" + v + "'");
+}
+
+YAML::Node YamlMap::sequence(const std::string& key, std::size_t max_items, const char* of) {
+    if (!has(key)) {
+        child(key);
+        return YAML::Node(YAML::NodeType::Undefined);
+    }
+    YAML::Node seq = child(key);
+    if (!seq.IsSequence() || seq.size() > max_items) {
+        std::string what = "'" + context_ + key + "' must be a list of ";
+        if (max_items != std::numeric_limits<std::size_t>::max()) what += "at most " + std::to_string(max_items) + " ";
+        fail(seq, what + of);
+    }
+    return seq;
+}
+
+std::vector<YamlMap> YamlMap::maps(const std::string& key, std::size_t max_items) {
+    std::vector<YamlMap> out;
+    const YAML::Node seq = sequence(key, max_items, "mappings");
+    for (std::size_t i = 0; i < seq.size(); ++i)
+        out.emplace_back(seq[i], file_, context_ + key + "[" + std::to_string(i) + "].");
+    return out;
+}
+
 void YamlMap::finish() const {
     if (!node_.IsMap()) return;
     for (const auto& kv : node_) {
         if (!kv.first.IsScalar())
-            fail(kv.first, "a key in '" + (context_.empty() ? std::string("top level") : context_) +
-                               "' must be a plain name, not '" + YAML::Dump(kv.first) + "'");
+            fail(kv.first, "a key in '" + name() + "' must be a plain name, not '" + YAML::Dump(kv.first) + "'");
         const auto key = kv.first.Scalar();
         if (!used_.count(key)) fail(kv.first, "unknown key '" + context_ + key + "'");
     }

@@ -1,13 +1,18 @@
-// rcsim — typed, line-numbered access to one YAML mapping of a scenario file.
+// rcsim — typed, line-numbered access to one YAML mapping of a configuration file: the one strict
+// reader of every file rcsim reads (the scenario, its `motion:` section, ...).
 //
 // Every read names the file and line of the offending value on error, and finish() rejects keys
 // nobody read (a misspelt key must not be silently ignored — VCML fails on unused properties too).
+// Keys are named by their full path in messages: `motion.commands[2].axis`.
 #pragma once
 
 #include "models/config_error.h"
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
+#include <initializer_list>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,6 +31,18 @@ public:
     template <typename T> T require(const std::string& key);
     /// A numeric value checked against [lo, hi].
     double number(const std::string& key, double fallback, double lo, double hi);
+    /// A required numeric value checked against [lo, hi].
+    double require_number(const std::string& key, double lo, double hi);
+    /// A string that must be one of `allowed` (`fallback` when absent).
+    std::string choice(const std::string& key, const std::string& fallback,
+                       std::initializer_list<const char*> allowed);
+    /// A list of scalars converted to T, at most `max_items` long; empty when absent.
+    template <typename T>
+    std::vector<T> list(const std::string& key, std::size_t max_items = std::numeric_limits<std::size_t>::max());
+    /// A list of mappings (`key[i].` in messages), at most `max_items` long; empty when absent.
+    /// Each element must be finish()ed by its reader.
+    std::vector<YamlMap> maps(const std::string& key,
+                              std::size_t max_items = std::numeric_limits<std::size_t>::max());
     /// The raw child node (marked as read); an undefined node when absent.
     YAML::Node child(const std::string& key);
     /// A nested mapping.
@@ -38,9 +55,14 @@ public:
     [[noreturn]] void fail(const std::string& message) const { fail(node_, message); }
     const std::string& file() const { return file_; }
     const std::string& context() const { return context_; }
+    /// This mapping's key path for messages: "motion.checks", "ports[0]", or "top level".
+    std::string name() const;
     static int line_of(const YAML::Node& n) { return n.Mark().is_null() ? 0 : n.Mark().line + 1; }
 
 private:
+    /// The child `key`, which must be a sequence of at most `max_items` (undefined when absent).
+    YAML::Node sequence(const std::string& key, std::size_t max_items, const char* of);
+
     YAML::Node node_;
     std::string file_;
     std::string context_;
@@ -60,6 +82,21 @@ template <typename T> T YamlMap::require(const std::string& key) {
     } catch (const YAML::Exception&) {
         fail(v, "bad value for '" + context_ + key + "': '" + YAML::Dump(v) + "'");
     }
+}
+
+template <typename T> std::vector<T> YamlMap::list(const std::string& key, std::size_t max_items) {
+    std::vector<T> out;
+    const YAML::Node seq = sequence(key, max_items, "values");
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+        const YAML::Node v = seq[i];
+        try {
+            if (!v.IsScalar()) throw YAML::BadConversion(v.Mark());
+            out.push_back(v.as<T>());
+        } catch (const YAML::Exception&) {
+            fail(v, "bad value for '" + context_ + key + "[" + std::to_string(i) + "]': '" + YAML::Dump(v) + "'");
+        }
+    }
+    return out;
 }
 
 /// Loads a YAML file; a syntax error becomes a ConfigError naming file and line.

@@ -1,30 +1,22 @@
-// rcsim — trajectory recording and pictures: trajectory.csv (t_s,axis,cmd_pulses,act_pulses,
-// one row per axis per sample) and trajectory.svg (X-Y plot of commanded and actual paths).
+// rcsim — the trajectory recorder: commanded and actual positions of every axis at each control
+// cycle. The files drawn from it (trajectory.csv, trajectory.svg) are written by the top floor
+// (scenarios/trajectory_report.h).
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
-#include <string>
 #include <vector>
 
 namespace rcsim::motion {
 
 struct TrajectorySample {
     double t_s = 0;
-    std::vector<std::int64_t> cmd, act;
+    std::vector<std::int64_t> cmd, act; // CAMC-QI CNT1 (command) and CNT2 (drive 0x6064), pulses
 };
 
 class TrajectoryRecorder {
 public:
     void add(double t_s, std::vector<std::int64_t> cmd, std::vector<std::int64_t> act);
     const std::vector<TrajectorySample>& samples() const { return samples_; }
-    bool moved() const;
-
-    /// Throws std::runtime_error naming the file when it cannot be written.
-    void write_csv(const std::filesystem::path& file) const;
-    /// X-Y plot of axis `ax` against axis `ay`.
-    void write_svg(const std::filesystem::path& file, unsigned ax = 0, unsigned ay = 1,
-                   const std::string& title = "X-Y trajectory") const;
 
 private:
     std::vector<TrajectorySample> samples_;

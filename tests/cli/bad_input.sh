@@ -207,23 +207,23 @@ expect 2 "emptydir: no SingleStepTests files" -- cputest --level 1 emptydir
 
 # --- the motion section ---------------------------------------------------------------------
 scen m_unk.yaml 'motion:\n  duration_s: 0.01\n  bogus: 1\n'
-expect 2 "m_unk.yaml:3: motion: unknown key 'bogus'" -- run m_unk.yaml
+expect 2 "m_unk.yaml:3: unknown key 'motion.bogus'" -- run m_unk.yaml
 scen m_dur.yaml 'motion:\n  control_cycle_ms: 1\n'
-expect 2 "m_dur.yaml:2: motion: missing key 'duration_s'" -- run m_dur.yaml
+expect 2 "m_dur.yaml:2: missing required key 'motion.duration_s'" -- run m_dur.yaml
 scen m_fb.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_Fly, axis: 0}\n'
 expect 2 "m_fb.yaml:4: unknown function block 'MC_Fly'" -- run m_fb.yaml
 scen m_axis.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_Power, axis: 9}\n'
-expect 2 "m_axis.yaml:4: motion.commands[]: 'axis' = 9 is outside" -- run m_axis.yaml
+expect 2 "m_axis.yaml:4: 'motion.commands[0].axis' = 9 is out of range [0, 3]" -- run m_axis.yaml
 scen m_map.yaml 'motion: 5\n'
-expect 2 "m_map.yaml:1: motion must be a mapping" -- run m_map.yaml
+expect 2 "m_map.yaml:1: 'motion' must be a mapping" -- run m_map.yaml
 scen m_nan.yaml 'motion:\n  duration_s: .nan\n'
-expect 2 "m_nan.yaml:2: motion: 'duration_s' = .nan is outside" -- run m_nan.yaml
+expect 2 "m_nan.yaml:2: 'motion.duration_s' = nan is out of range" -- run m_nan.yaml
 scen m_pos.yaml 'motion:\n  duration_s: 0.01\n  checks: {final_positions: [a]}\n'
-expect 2 "m_pos.yaml:3: final_positions: 'a' is not an integer" -- run m_pos.yaml
+expect 2 "m_pos.yaml:3: bad value for 'motion.checks.final_positions[0]': 'a'" -- run m_pos.yaml
 scen m_key.yaml 'motion:\n  duration_s: 0.01\n  {[a]: 1}: 2\n'
-expect 2 "m_key.yaml:3: motion: a key must be a plain name" -- run m_key.yaml
+expect 2 "m_key.yaml:3: a key in 'motion' must be a plain name" -- run m_key.yaml
 scen m_clear.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, inject_fault: 0, clear_after: maybe}\n'
-expect 2 "m_clear.yaml:4: clear_after must be 'yes' or 'no', got 'maybe'" -- run m_clear.yaml
+expect 2 "m_clear.yaml:4: 'motion.commands[0].clear_after' must be 'yes' or 'no', got 'maybe'" -- run m_clear.yaml
 scen m_ports.yaml 'motion:\n  duration_s: 0.01\nports: []\n'
 expect 2 "m_ports.yaml:2: a 'motion' section runs the motion side alone" -- run m_ports.yaml
 expect 2 "--out 'a_file': cannot create the output directory" -- run "$SRC/scenarios/xy_plotter_circle.yaml" --out a_file

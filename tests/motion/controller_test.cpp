@@ -1,9 +1,5 @@
-// The motion controller's token interface and the X-Y plotter circle scenario end to end.
-#include "main_cpu/motion/motion_scenario.h"
+// The motion controller's token interface (the scenario runner is tested in tests/scenarios).
 #include "tests/motion/motion_bench.h"
-
-#include <fstream>
-#include <sstream>
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -50,59 +46,6 @@ TEST(MotionController, ConsecutiveTokensOnOneBlockEachMove) {
             EXPECT_EQ(b.mc.chip().command_position(0), target);
         }
     });
-}
-
-TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
-    const std::string file = std::string(RCSIM_SOURCE_DIR) + "/scenarios/xy_plotter_circle.yaml";
-    const YAML::Node root = YAML::LoadFile(file);
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_circle_test";
-    std::filesystem::remove_all(out);
-    nlohmann::json report;
-    ASSERT_EQ(run_motion_scenario(root, file, out, 1, report), 0) << report.dump(2);
-    const auto& m = report["motion"];
-    EXPECT_EQ(m["state"], "STANDSTILL");
-    EXPECT_EQ(m["final_cmd_pulses"][0], 0);
-    EXPECT_EQ(m["final_cmd_pulses"][1], 0);
-    EXPECT_LE(m["checks"][2]["max_radial_error_cmd"].get<double>(), 1.0);
-    EXPECT_TRUE(m["checks"][2]["closes"].get<bool>());
-    EXPECT_GT(m["checks"][2]["angle_span_rad"].get<double>(), 6.0); // went all the way round
-    std::ifstream csv(out / "trajectory.csv");
-    std::string header;
-    std::getline(csv, header);
-    EXPECT_EQ(header, "t_s,axis,cmd_pulses,act_pulses");
-    std::size_t rows = 0;
-    for (std::string line; std::getline(csv, line);) ++rows;
-    EXPECT_EQ(rows, 4 * m["samples"].get<std::size_t>());
-    std::ifstream svg(out / "trajectory.svg");
-    std::stringstream ss;
-    ss << svg.rdbuf();
-    EXPECT_NE(ss.str().find("<polyline"), std::string::npos);
-    EXPECT_NE(ss.str().find("axis 0 position"), std::string::npos);
-    EXPECT_NE(ss.str().find("commanded"), std::string::npos);
-}
-
-TEST(MotionScenario, BadInputNamesFileAndLine) {
-    const YAML::Node root = YAML::Load("motion:\n  duration_s: 1\n  commands:\n    - {at_ms: 5, fb: MC_Fly}\n");
-    nlohmann::json report;
-    EXPECT_EQ(run_motion_scenario(root, "bad.yaml", std::filesystem::temp_directory_path(), 0, report), 2);
-    const std::string e = report["motion"]["error"];
-    EXPECT_NE(e.find("bad.yaml:4"), std::string::npos) << e;
-    EXPECT_NE(e.find("MC_Fly"), std::string::npos) << e;
-    nlohmann::json r2;
-    EXPECT_EQ(run_motion_scenario(YAML::Load("motion:\n  duration_s: 1\n  control_cycle_ms: -3\n"), "b2.yaml",
-                                  std::filesystem::temp_directory_path(), 0, r2),
-              2);
-    EXPECT_NE(r2["motion"]["error"].get<std::string>().find("-3"), std::string::npos);
-}
-
-TEST(MotionScenario, FailingCheckReturnsOne) {
-    const YAML::Node root = YAML::Load(
-        "motion:\n  duration_s: 0.3\n  commands:\n    - {at_ms: 0, token: SV, data: '1'}\n"
-        "    - {at_ms: 10, token: MA, data: '0,1000,20000,200000,200000'}\n"
-        "  checks:\n    final_positions: [999]\n");
-    nlohmann::json report;
-    EXPECT_EQ(run_motion_scenario(root, "c.yaml", std::filesystem::temp_directory_path() / "rcsim_fail", 0, report), 1);
-    EXPECT_EQ(report["motion"]["final_cmd_pulses"][0], 1000);
 }
 
 } // namespace

@@ -66,7 +66,60 @@ TEST(YamlMap, SyntaxErrorNamesLine) {
     EXPECT_NE(message_of([] { load_yaml_file("/nonexistent/x.yaml"); }).find("cannot open"), std::string::npos);
 }
 
+TEST(YamlMap, NonScalarKeyIsNamedByItsMappingsPath) {
+    YamlMap top(YAML::Load("motion:\n  a: 1\n  {[x]: 1}: 2\n"), "s.yaml", "");
+    YamlMap m = top.map("motion");
+    m.get<int>("a", 0);
+    EXPECT_EQ(message_of([&] { m.finish(); }), "s.yaml:3: a key in 'motion' must be a plain name, not '{[x]: 1}'");
+}
+
 TEST(YamlMap, NonMappingIsRejected) {
     EXPECT_NE(message_of([] { YamlMap m(YAML::Load("[1, 2]"), "s.yaml", "ports."); }).find("mapping"),
               std::string::npos);
+}
+
+TEST(YamlMap, RequireNumberNamesTheMissingKeyAtItsMapping) {
+    YamlMap top(YAML::Load("motion:\n  control_cycle_ms: 1\n"), "s.yaml", "");
+    YamlMap m = top.map("motion");
+    EXPECT_DOUBLE_EQ(m.require_number("control_cycle_ms", 0, 10), 1.0);
+    EXPECT_EQ(message_of([&] { m.require_number("duration_s", 0, 10); }),
+              "s.yaml:2: missing required key 'motion.duration_s'");
+    YamlMap r(YAML::Load("a: 1\nb: 11\n"), "s.yaml", "");
+    EXPECT_EQ(message_of([&] { r.require_number("b", 0, 10); }), "s.yaml:2: 'b' = 11 is out of range [0, 10]");
+}
+
+TEST(YamlMap, ChoiceAcceptsOnlyTheNamedValues) {
+    YamlMap m(YAML::Load("dir: cw\nmode: up\nside: top\n"), "s.yaml", "move.");
+    EXPECT_EQ(m.choice("dir", "ccw", {"cw", "ccw"}), "cw");
+    EXPECT_EQ(m.choice("absent", "ccw", {"cw", "ccw"}), "ccw");
+    EXPECT_EQ(message_of([&] { m.choice("mode", "a", {"a", "b"}); }),
+              "s.yaml:2: 'move.mode' must be 'a' or 'b', got 'up'");
+    EXPECT_EQ(message_of([&] { m.choice("side", "left", {"left", "right", "bottom"}); }),
+              "s.yaml:3: 'move.side' must be 'left', 'right' or 'bottom', got 'top'");
+    m.finish(); // every key was read by choice()
+}
+
+TEST(YamlMap, ListReadsScalarsAndNamesTheBadElement) {
+    YamlMap m(YAML::Load("p: [3, -4]\nq:\n  - 1\n  - x\nr: 5\ns: [1, 2, 3]\nt: [[1]]\n"), "s.yaml", "c.");
+    EXPECT_EQ(m.list<long>("p"), (std::vector<long>{3, -4}));
+    EXPECT_TRUE(m.list<long>("absent").empty());
+    EXPECT_EQ(message_of([&] { m.list<long>("q"); }), "s.yaml:4: bad value for 'c.q[1]': 'x'");
+    EXPECT_EQ(message_of([&] { m.list<long>("r"); }), "s.yaml:5: 'c.r' must be a list of values");
+    EXPECT_EQ(message_of([&] { m.list<long>("s", 2); }), "s.yaml:6: 'c.s' must be a list of at most 2 values");
+    EXPECT_EQ(message_of([&] { m.list<std::string>("t"); }), "s.yaml:7: bad value for 'c.t[0]': '[1]'");
+    m.finish();
+}
+
+TEST(YamlMap, MapsNameEachElementByIndex) {
+    YamlMap m(YAML::Load("cmds:\n  - {a: 1}\n  - {a: 2, b: 3}\nbad: [1]\nlong: [{}, {}]\n"), "s.yaml", "");
+    std::vector<YamlMap> cmds = m.maps("cmds");
+    ASSERT_EQ(cmds.size(), 2u);
+    EXPECT_EQ(cmds[0].get<int>("a", 0), 1);
+    cmds[0].finish();
+    EXPECT_EQ(cmds[1].get<int>("a", 0), 2);
+    EXPECT_EQ(message_of([&] { cmds[1].finish(); }), "s.yaml:3: unknown key 'cmds[1].b'");
+    EXPECT_EQ(message_of([&] { m.maps("bad"); }), "s.yaml:4: 'bad[0]' must be a mapping");
+    EXPECT_EQ(message_of([&] { m.maps("long", 1); }), "s.yaml:5: 'long' must be a list of at most 1 mappings");
+    EXPECT_TRUE(m.maps("absent").empty());
+    m.finish();
 }

@@ -1,0 +1,23 @@
+// rcsim — runs the `motion:` section of a scenario file (schema in docs/motion.md): reads it with
+// the strict reader (scenarios/yaml_map.h), builds the motion layer in SystemC, drives the control
+// cycle, executes the timed commands, writes trajectory.csv / trajectory.svg into out_dir
+// (scenarios/trajectory_report.h) and fills report["motion"].
+//
+// Returns 0 on success, 1 when a check fails, 2 for bad input (the error, naming file and line,
+// is in report["motion"]["error"]; the caller prints it, once). Elaborates modules and calls
+// sc_start: call it once per process, before any other simulation has started.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace rcsim {
+
+int run_motion_scenario(const YAML::Node& root, const std::string& scenario_file,
+                        const std::filesystem::path& out_dir, std::uint64_t seed, nlohmann::json& report);
+
+} // namespace rcsim
