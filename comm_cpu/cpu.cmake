@@ -3,6 +3,7 @@ add_library(rcsim_cpu8086_core STATIC
   ${CMAKE_CURRENT_LIST_DIR}/i8086_biu.cpp
   ${CMAKE_CURRENT_LIST_DIR}/i8086_eu.cpp
   ${CMAKE_CURRENT_LIST_DIR}/i8086_exec.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/i8086_muldiv.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sst.cpp
   ${CMAKE_SOURCE_DIR}/models/memory.cpp
 )

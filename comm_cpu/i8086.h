@@ -233,8 +233,10 @@ private:
     void set_flag(std::uint16_t f, bool on) { r_.flags = on ? (r_.flags | f) : (r_.flags & ~f); }
     bool get_flag(std::uint16_t f) const { return r_.flags & f; }
     bool condition(unsigned cc) const;
-    void grp_muldiv(unsigned op, bool word);
+    void multiply(bool word, bool sign);
     bool divide(bool word, bool sign);
+    void aam(std::uint8_t base);
+    void aad(std::uint8_t base);
 
     // control transfer
     void jump_near(std::uint16_t ip);
@@ -288,8 +290,6 @@ private:
     int ea_seg_ = DS;
     int seg_override_ = -1;
     unsigned rep_ = 0;              // 0, 0xF2 or 0xF3
-    std::uint8_t rm_read8_cached_ = 0;   // divisor, read before the division microcode runs
-    std::uint16_t rm_read16_cached_ = 0;
     bool lock_ = false;
     std::uint16_t instr_ip_ = 0;    // IP of the first prefix of the current instruction
 

@@ -5,225 +5,7 @@
 // are already decoded (step()) when execute() runs; each case spends the remaining clocks.
 #include "comm_cpu/i8086.h"
 
-#include <cstdlib>
-
 namespace rcsim::i8086 {
-namespace {
-unsigned popcount16(std::uint16_t v) {
-    unsigned n = 0;
-    for (; v; v &= std::uint16_t(v - 1)) ++n;
-    return n;
-}
-// IMUL clocks beyond the base (measured): one per one bit of |multiplicand|, one more when
-// both operands are negative, 11 when only the multiplier (r/m) is negative, 14 when only the
-// accumulator is.
-unsigned imul_extra(bool neg_a, bool neg_s, std::uint16_t abs_a) {
-    return popcount16(abs_a) + (neg_a ? (neg_s ? 1 : 14) : (neg_s ? 11 : 0));
-}
-} // namespace
-
-// MUL/IMUL (F6/F7 /4 and /5).
-void Cpu::grp_muldiv(unsigned op, bool word) {
-    const bool negate = rep_ != 0; // a REP prefix negates the product / quotient (microcode quirk)
-    if (!word) {
-        const std::uint8_t src = rm_read8();
-        const std::uint8_t al = reg8(0);
-        {
-            std::uint16_t prod;
-            bool high;
-            if (op == 4) {
-                prod = std::uint16_t(al * src);
-                // The multiply loop takes a clock more for every one bit of AL (measured).
-                clks(67 + popcount16(al) + (mod_ != 3 ? 1 : 0));
-                high = prod >> 8;
-            } else {
-                int p = int(std::int8_t(al)) * int(std::int8_t(src));
-                if (negate) p = -p;
-                prod = std::uint16_t(p);
-                clks(77 + imul_extra(al & 0x80, src & 0x80, std::uint16_t(std::abs(int(std::int8_t(al))))) +
-                     (mod_ != 3 ? 1 : 0));
-                high = std::int16_t(prod) != std::int8_t(prod & 0xFF);
-            }
-            r_.r[AX] = prod;
-            set_flag(flag::CF, high);
-            set_flag(flag::OF, high);
-            set_szp(prod >> 8, false);
-            set_flag(flag::ZF, (prod & 0xFF) == 0 && (prod >> 8) == 0);
-        }
-    } else {
-        const std::uint16_t src = rm_read16();
-        const std::uint16_t ax = r_.r[AX];
-        {
-            std::uint32_t prod;
-            bool high;
-            if (op == 4) {
-                prod = std::uint32_t(ax) * src;
-                clks(115 + popcount16(ax) + (mod_ != 3 ? 1 : 0));
-                high = prod >> 16;
-            } else {
-                std::int64_t p = std::int64_t(std::int16_t(ax)) * std::int16_t(src);
-                if (negate) p = -p;
-                prod = std::uint32_t(p);
-                clks(125 + imul_extra(ax & 0x8000, src & 0x8000, std::uint16_t(std::abs(int(std::int16_t(ax))))) +
-                     (mod_ != 3 ? 1 : 0));
-                high = std::int32_t(prod) != std::int16_t(prod & 0xFFFF);
-            }
-            r_.r[AX] = std::uint16_t(prod);
-            r_.r[DX] = std::uint16_t(prod >> 16);
-            set_flag(flag::CF, high);
-            set_flag(flag::OF, high);
-            set_szp(std::uint16_t(prod >> 16), true);
-            set_flag(flag::ZF, prod == 0);
-        }
-    }
-}
-
-// Clocks of the division microcode for |dividend| / |divisor| (n = 8 or 16 bits), following
-// the published 8086 microcode (CORD restoring-division co-routine, PREIDIV/NEGATE/POSTIDIV for
-// IDIV). The set-up before CORD, the overflow test in CORD, then per quotient bit a fixed 4
-// clocks plus a branch whose length depends on whether the bit shifted out of the partial
-// remainder was set (3), or the trial subtraction succeeded (4) or failed (3); the loop's last
-// iteration leaves one clock earlier (except after a failed trial), then 4 clocks to return.
-// `fault` tells whether the microcode takes the divide error, and where: `early` = in CORD.
-namespace {
-struct DivTiming {
-    unsigned clocks;
-    bool fault;
-    bool early;                      // the error is found by CORD's first trial subtraction
-    bool flagged;                    // a trial subtraction set the flags (micro-op F) ...
-    std::uint32_t flag_a, flag_b;    // ... with these operands (the last one)
-};
-DivTiming div_microcode(std::uint32_t hi, std::uint32_t lo, std::uint32_t divisor, unsigned n, bool sign,
-                        bool neg_dividend, bool neg_divisor) {
-    const std::uint32_t mask = (1u << n) - 1, top = 1u << (n - 1);
-    unsigned c = 3; // dividend halves and divisor into the temporaries
-    if (sign) {
-        c += 3;                                   // PREIDIV: test the dividend's sign
-        c += neg_dividend ? 5 : 1;                // negate the dividend, or jump over it
-        c += 3 + (neg_divisor ? 2 : 3);           // NEGATE tail: the divisor's sign
-    }
-    c += 2;   // call CORD
-    c += 3;   // CORD: trial subtraction of the high half
-    DivTiming t{0, false, false, false, 0, 0};
-    if (hi >= divisor) return {c + 1, true, true, false, hi, divisor}; // quotient does not fit
-    std::uint32_t a = hi & mask, q = lo & mask;
-    bool carry = true; // borrow of the first trial
-    for (unsigned i = n; i-- > 0;) {
-        const bool last = i == 0;
-        const bool qout = q & top;
-        q = ((q << 1) | (carry ? 1 : 0)) & mask;
-        const bool aout = a & top;
-        a = ((a << 1) | (qout ? 1 : 0)) & mask;
-        c += 4;
-        if (aout) {
-            a = (a - divisor) & mask;
-            carry = false;
-            c += 3 + (last ? 2 : 1);
-            continue;
-        }
-        t.flagged = true; // this trial subtraction sets the flags
-        t.flag_a = a;
-        t.flag_b = divisor;
-        if (a >= divisor) {
-            a -= divisor;
-            carry = false;
-            c += 2 + 2 + (last ? 2 : 1);
-        } else {
-            carry = true;
-            c += 2 + 1 + (last ? 0 : 1);
-        }
-    }
-    q = ((q << 1) | (carry ? 1 : 0)) & mask; // the quotient, complemented
-    const bool final_carry = q & top;        // quotient (magnitude) below 2^(n-1)
-    c += 4;                                  // CORD return
-    c += 2;                                  // complement the quotient, test for IDIV
-    if (sign) {
-        c += 2;
-        if (!final_carry) { // POSTIDIV: quotient out of range
-            t.clocks = c + 1;
-            t.fault = true;
-            return t;
-        }
-        c += 3 + 1 + 2 + 1 + 2; // signs of remainder and quotient, return
-    }
-    t.clocks = c;
-    return t;
-}
-} // namespace
-
-// DIV/IDIV; returns false when a divide error (type 0) was taken. The 8086 pushes the address
-// of the next instruction and, for IDIV, refuses the most negative quotient.
-bool Cpu::divide(bool word, bool sign) {
-    const bool negate = rep_ != 0;
-    bool fault = false;
-    DivTiming t{};
-    if (!word) {
-        const std::uint8_t src = rm_read8_cached_;
-        const std::uint16_t dividend = r_.r[AX];
-        if (!sign) {
-            t = div_microcode(dividend >> 8, dividend & 0xFF, src, 8, false, false, false);
-        } else {
-            const std::uint16_t m = (dividend & 0x8000) ? std::uint16_t(-dividend) : dividend;
-            const std::uint8_t d = (src & 0x80) ? std::uint8_t(-src) : src;
-            t = div_microcode(m >> 8, m & 0xFF, d, 8, true, dividend & 0x8000, src & 0x80);
-        }
-        if (src == 0) {
-            fault = true;
-        } else if (!sign) {
-            const unsigned q = dividend / src, r = dividend % src;
-            if (q > 0xFF) fault = true;
-            else r_.r[AX] = std::uint16_t((r << 8) | q);
-        } else {
-            const int a = std::int16_t(dividend), b = std::int8_t(src);
-            int q = a / b;
-            const int r = a % b;
-            if (negate) q = -q;
-            if (q > 127 || q < -127) fault = true;
-            else r_.r[AX] = std::uint16_t(((r & 0xFF) << 8) | (q & 0xFF));
-        }
-    } else {
-        const std::uint16_t src = rm_read16_cached_;
-        const std::uint32_t dividend = (std::uint32_t(r_.r[DX]) << 16) | r_.r[AX];
-        if (!sign) {
-            t = div_microcode(dividend >> 16, dividend & 0xFFFF, src, 16, false, false, false);
-        } else {
-            const std::uint32_t m = (dividend & 0x80000000u) ? std::uint32_t(0u - dividend) : dividend;
-            const std::uint16_t d = (src & 0x8000) ? std::uint16_t(-src) : src;
-            t = div_microcode(m >> 16, m & 0xFFFF, d, 16, true, dividend & 0x80000000u, src & 0x8000);
-        }
-        if (src == 0) {
-            fault = true;
-        } else if (!sign) {
-            const std::uint32_t q = dividend / src, r = dividend % src;
-            if (q > 0xFFFF) fault = true;
-            else {
-                r_.r[AX] = std::uint16_t(q);
-                r_.r[DX] = std::uint16_t(r);
-            }
-        } else {
-            const std::int64_t a = std::int32_t(dividend), b = std::int16_t(src);
-            std::int64_t q = a / b;
-            const std::int64_t r = a % b;
-            if (negate) q = -q;
-            if (q > 32767 || q < -32767) fault = true;
-            else {
-                r_.r[AX] = std::uint16_t(q);
-                r_.r[DX] = std::uint16_t(r);
-            }
-        }
-    }
-    // Around the microcode: one clock to take a memory operand into the ALU temporary, one
-    // more before the results are written back, three to reach the type-0 entry on an error.
-    clks(t.clocks + (mod_ != 3 ? 1 : 0) + (t.fault ? 3 : 1));
-    if (fault) {
-        // The FLAGS image pushed by the error holds what the last flag-setting subtraction
-        // of the microcode left (the first trial for an early error).
-        if (t.early || t.flagged) alu(5, std::uint16_t(t.flag_a), std::uint16_t(t.flag_b), word);
-        interrupt(0);
-    }
-    return !fault;
-}
-
 // One string element; returns false when a REPE/REPNE compare ends the run.
 void Cpu::string_op(std::uint8_t op) {
     const bool word = op & 1;
@@ -741,31 +523,8 @@ void Cpu::execute(std::uint8_t op) {
         }
         break;
     }
-    case 0xD4: { // AAM
-        const std::uint8_t base = imm8();
-        if (base == 0) {
-            clks(2);
-            interrupt(0);
-            break;
-        }
-        const std::uint8_t al = reg8(0);
-        const std::uint8_t q = std::uint8_t(al / base);
-        set_reg8(4, q);
-        set_reg8(0, std::uint8_t(al % base));
-        set_szp(reg8(0), false);
-        // The division loop (measured): one clock per one bit of the quotient, two more when
-        // the quotient is odd.
-        clks(74 + popcount16(q) + ((q & 1) ? 2 : 0));
-        break;
-    }
-    case 0xD5: { // AAD: AL = AL + AH * imm, flags as the addition
-        const std::uint8_t base = imm8();
-        const std::uint8_t prod = std::uint8_t(reg8(4) * base);
-        const std::uint8_t r = std::uint8_t(alu(0, reg8(0), prod, false));
-        r_.r[AX] = r;
-        clks(56 + popcount16(base)); // the multiply loop: one clock per one bit of the base
-        break;
-    }
+    case 0xD4: aam(imm8()); break;
+    case 0xD5: aad(imm8()); break;
     case 0xD6: // SALC
         set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00);
         clks(1);
@@ -882,13 +641,8 @@ void Cpu::execute(std::uint8_t op) {
             else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 1 : 4); rm_write16(alu(5, 0, a, true)); }
             break;
         default:
-            if (reg_ >= 6) {
-                if (word) rm_read16_cached_ = rm_read16();
-                else rm_read8_cached_ = rm_read8();
-                divide(word, reg_ == 7);
-            } else {
-                grp_muldiv(reg_, word);
-            }
+            if (reg_ >= 6) divide(word, reg_ == 7);
+            else multiply(word, reg_ == 5);
             break;
         }
         break;
@@ -929,7 +683,7 @@ void Cpu::execute(std::uint8_t op) {
         }
         case 3: { // CALL far m
             const std::uint16_t ip = read16(ea_seg_, ea_);
-            clks(4);
+            clks(3);
             const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
             suspend_fetch();
             clks(4);
@@ -951,9 +705,9 @@ void Cpu::execute(std::uint8_t op) {
         }
         case 5: { // JMP far m
             const std::uint16_t ip = read16(ea_seg_, ea_);
-            clks(4);
+            clks(3);
+            susp();
             const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
-            suspend_fetch();
             jump_far(cs, ip);
             clks(1);
             break;

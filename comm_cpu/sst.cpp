@@ -203,14 +203,39 @@ std::string row(bool ale, std::uint32_t addr, const std::string& status, const s
 
 } // namespace
 
+unsigned Runner::Harness::bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                                     cycles_t) {
+    const std::uint32_t a1 = (address + 1) & (kRamSize - 1);
+    switch (kind) {
+    case Bus::code_fetch: {
+        auto next = [&](std::uint32_t a) -> std::uint8_t {
+            if (code_left == 0) return kFill;
+            --code_left;
+            return ram[a];
+        };
+        const std::uint8_t lo = next(address);
+        data = width == 2 ? std::uint16_t(lo | (next(a1) << 8)) : lo;
+        break;
+    }
+    case Bus::mem_read:
+        data = width == 2 ? std::uint16_t(ram[address] | (ram[a1] << 8)) : ram[address];
+        break;
+    case Bus::mem_write:
+        ram[address] = std::uint8_t(data);
+        if (width == 2) ram[a1] = std::uint8_t(data >> 8);
+        break;
+    default: // no I/O or INTA device in the suite: the bus floats
+        if (kind != Bus::io_write) data = 0xFFFF;
+        break;
+    }
+    return 0;
+}
+
 Runner::Runner() : ram_(new std::uint8_t[kRamSize]) {
     std::memset(ram_.get(), kFill, kRamSize);
-    MemRegion r;
-    r.name = "sst-ram";
-    r.base = 0;
-    r.size = kRamSize;
-    r.data = ram_.get();
-    cpu_.map_memory(r);
+    // No direct memory map: every bus cycle goes through the harness model.
+    harness_.ram = ram_.get();
+    cpu_.set_bus_handler(&harness_);
     cpu_.set_bus_hook(
         [](void* ctx, const BusRecord& rec) {
             if (rec.kind == Bus::mem_write) {
@@ -284,6 +309,10 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
         parse_regs(fin["regs"], file, where + ".final.regs", t.fin, t.fin_present, false);
         parse_ram(ini["ram"], file, where + ".initial.ram", t.ram_in);
         parse_ram(fin["ram"], file, where + ".final.ram", t.ram_out);
+        if (j.contains("bytes")) {
+            if (!j["bytes"].is_array()) fail(file, where + ".bytes is not an array");
+            t.code_bytes = j["bytes"].size();
+        }
         if (ini.contains("queue")) {
             if (!ini["queue"].is_array() || ini["queue"].size() > 6)
                 fail(file, where + ".initial.queue is not an array of at most 6 bytes");
@@ -312,6 +341,7 @@ void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, 
         ram[a] = v;
         touched_.push_back(a);
     }
+    harness_.code_left = t.code_bytes > t.queue.size() ? t.code_bytes - t.queue.size() : 0;
     cpu_.load_state(t.init, t.queue.data(), static_cast<unsigned>(t.queue.size()));
     cpu_.set_cycle_trace(nullptr);
     cpu_.start(); // the first byte is read in the clock before the trace begins

@@ -70,6 +70,7 @@ struct Test {
     Registers init;
     std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
     std::vector<std::uint8_t> queue;
+    std::size_t code_bytes = ~std::size_t(0); // length of "bytes": the harness then feeds NOPs
     std::uint16_t fin[14] = {}; // final registers (8 general, 4 segment, ip, flags) ...
     bool fin_present[14] = {};  // ... and whether each was listed
     const nlohmann::json* cycles = nullptr;
@@ -95,8 +96,18 @@ public:
     }
 
 private:
+    // The capture harness as the CPU saw it: RAM for data, and for code fetches the test's
+    // instruction bytes in fetch order, then NOPs whatever the address (upstream README,
+    // "Instruction Prefetching"). Matters when a jump lands on a byte of the instruction.
+    struct Harness : BusHandler {
+        std::uint8_t* ram = nullptr;
+        std::size_t code_left = 0; // instruction bytes not yet fetched
+        unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                            cycles_t start) override;
+    };
     void run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
 
+    Harness harness_;
     std::unique_ptr<std::uint8_t[]> ram_;
     std::vector<std::uint32_t> touched_;
     Cpu cpu_;
