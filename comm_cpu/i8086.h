@@ -72,6 +72,7 @@ struct CycleRecord {
     QueueOp qop;                                 // queue operation of the previous clock
     std::uint8_t qbyte;
     bool transfer;                               // a read or write completes in this clock
+    bool lock;                                   // LOCK# asserted (active low on the pin)
 };
 
 enum Reg16 { AX, CX, DX, BX, SP, BP, SI, DI };
@@ -158,6 +159,7 @@ private:
         std::uint8_t width = 1;
         bool fetch = false;
         bool discard = false; // a prefetch overtaken by a queue flush
+        bool inta_first = false; // the first of the two INTA cycles: LOCK from its T2
     };
 
     void clk();
@@ -281,6 +283,7 @@ private:
     QueueOp qop_ = QueueOp::idle, last_qop_ = QueueOp::idle;
     std::uint8_t qbyte_ = 0, last_qbyte_ = 0;
     bool last_ale_ = false;
+    bool lock_pin_ = false;        // LOCK output: a LOCK-prefixed instruction, or the INTA pair
 
     // EU decode state
     std::uint8_t opcode_ = 0;       // first byte, read ahead

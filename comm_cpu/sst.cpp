@@ -334,7 +334,14 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
     return out;
 }
 
-void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {
+std::vector<std::uint64_t> Runner::cycles_per_test(const std::vector<Test>& tests, bool trace) {
+    std::vector<std::uint64_t> out;
+    out.reserve(tests.size());
+    for (const Test& t : tests) out.push_back(run_one(t, OpcodeInfo{}, nullptr, trace));
+    return out;
+}
+
+cycles_t Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {
     std::uint8_t* ram = ram_.get();
     touched_.clear();
     for (const auto& [a, v] : t.ram_in) {
@@ -486,6 +493,7 @@ void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, 
     // Back to the fill pattern for the next test.
     for (std::uint32_t a : touched_) ram[a] = kFill;
     for (const auto& [a, v] : t.ram_out) ram[a] = kFill;
+    return used;
 }
 
 } // namespace rcsim::i8086::sst
