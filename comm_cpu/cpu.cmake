@@ -4,6 +4,9 @@ add_library(rcsim_cpu8086_core STATIC
   ${CMAKE_CURRENT_LIST_DIR}/i8086_eu.cpp
   ${CMAKE_CURRENT_LIST_DIR}/i8086_exec.cpp
   ${CMAKE_CURRENT_LIST_DIR}/i8086_muldiv.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/i8086_ops_alu.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/i8086_ops_control.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/i8086_ops_move.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sst.cpp
   ${CMAKE_SOURCE_DIR}/models/memory.cpp
 )

@@ -203,7 +203,29 @@ private:
     std::uint16_t pop();
 
     // ---- EU ----
-    void execute(std::uint8_t op);
+    void execute(std::uint8_t op); // dispatch by instruction group (i8086_exec.cpp)
+    // ALU group (i8086_ops_alu.cpp)
+    void exec_alu(std::uint8_t op);
+    void exec_alu_imm(std::uint8_t op);
+    void exec_test(std::uint8_t op);
+    void exec_incdec_r16(std::uint8_t op);
+    void exec_incdec_rm(std::uint8_t op);
+    void exec_group3(std::uint8_t op);
+    void exec_shift(std::uint8_t op);
+    void exec_bcd(std::uint8_t op);
+    // moves, stack, I/O, strings (i8086_ops_move.cpp)
+    void exec_move(std::uint8_t op);
+    void exec_stack(std::uint8_t op);
+    void exec_io(std::uint8_t op);
+    void exec_string(std::uint8_t op);
+    void string_element(std::uint8_t op, bool last);
+    // control transfer (i8086_ops_control.cpp)
+    void exec_jump(std::uint8_t op);
+    void exec_jump_rm(std::uint8_t op);
+    void exec_return(std::uint8_t op);
+    void farret();
+    // flag operations, HLT, WAIT, SALC, ESC (i8086_exec.cpp)
+    void exec_misc(std::uint8_t op);
     void decode_modrm();
     void calc_ea();
     /// A memory operand addressed by registers alone (mod 0, not [disp16]).
@@ -235,6 +257,7 @@ private:
     void set_flag(std::uint16_t f, bool on) { r_.flags = on ? (r_.flags | f) : (r_.flags & ~f); }
     bool get_flag(std::uint16_t f) const { return r_.flags & f; }
     bool condition(unsigned cc) const;
+    // mul/div group (i8086_muldiv.cpp)
     void multiply(bool word, bool sign);
     bool divide(bool word, bool sign);
     void aam(std::uint8_t base);
@@ -246,7 +269,6 @@ private:
     void call_near(std::uint16_t ip);
     void call_far(std::uint16_t cs, std::uint16_t ip);
     void interrupt(std::uint8_t vector, bool hardware_inta = false);
-    void string_op(std::uint8_t op);
     bool check_interrupts();
 
     // state

@@ -109,6 +109,9 @@ private:
                             cycles_t start) override;
     };
     cycles_t run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
+    bool check_state(const Test& t, const OpcodeInfo& info, std::string* why) const;
+    bool check_trace(const nlohmann::json& cycles, std::string* why) const;
+    std::string side_by_side(const Test& t, cycles_t used) const;
 
     Harness harness_;
     std::unique_ptr<std::uint8_t[]> ram_;
