@@ -17,6 +17,7 @@
 
 #include "models/memory.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -203,7 +204,14 @@ private:
     std::uint16_t pop();
 
     // ---- EU ----
-    void execute(std::uint8_t op); // dispatch by instruction group (i8086_exec.cpp)
+    // dispatch by instruction group (i8086_exec.cpp): one handler per opcode
+    using Handler = void (Cpu::*)(std::uint8_t op);
+    static std::array<Handler, 256> make_handlers();
+    static const std::array<Handler, 256> kHandlers;
+    void execute(std::uint8_t op) { (this->*kHandlers[op])(op); }
+    void exec_group5(std::uint8_t op);
+    void exec_aam(std::uint8_t op);
+    void exec_aad(std::uint8_t op);
     // ALU group (i8086_ops_alu.cpp)
     void exec_alu(std::uint8_t op);
     void exec_alu_imm(std::uint8_t op);

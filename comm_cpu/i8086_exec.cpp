@@ -52,41 +52,46 @@ constexpr Group group_of(unsigned op) {
     return Group::misc;
 }
 
-constexpr std::array<Group, 256> make_groups() {
-    std::array<Group, 256> g{};
-    for (unsigned op = 0; op < 256; ++op) g[op] = group_of(op);
-    return g;
-}
-constexpr std::array<Group, 256> kGroups = make_groups();
-
 } // namespace
 
-void Cpu::execute(std::uint8_t op) {
-    switch (kGroups[op]) {
-    case Group::alu: exec_alu(op); break;
-    case Group::alu_imm: exec_alu_imm(op); break;
-    case Group::test: exec_test(op); break;
-    case Group::incdec_r16: exec_incdec_r16(op); break;
-    case Group::bcd: exec_bcd(op); break;
-    case Group::shift: exec_shift(op); break;
-    case Group::group3: exec_group3(op); break;
-    case Group::group5:
-        // FE/FF: /0 /1 INC/DEC, /2-/5 CALL/JMP, /6 /7 PUSH (FE /2-/7 as the FF forms).
-        if (reg_ < 2) exec_incdec_rm(op);
-        else if (reg_ < 6) exec_jump_rm(op);
-        else exec_stack(op);
-        break;
-    case Group::move: exec_move(op); break;
-    case Group::stack: exec_stack(op); break;
-    case Group::io: exec_io(op); break;
-    case Group::string: exec_string(op); break;
-    case Group::jump: exec_jump(op); break;
-    case Group::ret: exec_return(op); break;
-    case Group::aam: aam(imm8()); break;
-    case Group::aad: aad(imm8()); break;
-    case Group::misc: exec_misc(op); break;
+// The handler of every opcode, from its group: execute() is one indirect call.
+std::array<Cpu::Handler, 256> Cpu::make_handlers() {
+    std::array<Handler, 256> h{};
+    for (unsigned op = 0; op < 256; ++op) {
+        switch (group_of(op)) {
+        case Group::alu: h[op] = &Cpu::exec_alu; break;
+        case Group::alu_imm: h[op] = &Cpu::exec_alu_imm; break;
+        case Group::test: h[op] = &Cpu::exec_test; break;
+        case Group::incdec_r16: h[op] = &Cpu::exec_incdec_r16; break;
+        case Group::bcd: h[op] = &Cpu::exec_bcd; break;
+        case Group::shift: h[op] = &Cpu::exec_shift; break;
+        case Group::group3: h[op] = &Cpu::exec_group3; break;
+        case Group::group5: h[op] = &Cpu::exec_group5; break;
+        case Group::move: h[op] = &Cpu::exec_move; break;
+        case Group::stack: h[op] = &Cpu::exec_stack; break;
+        case Group::io: h[op] = &Cpu::exec_io; break;
+        case Group::string: h[op] = &Cpu::exec_string; break;
+        case Group::jump: h[op] = &Cpu::exec_jump; break;
+        case Group::ret: h[op] = &Cpu::exec_return; break;
+        case Group::aam: h[op] = &Cpu::exec_aam; break;
+        case Group::aad: h[op] = &Cpu::exec_aad; break;
+        case Group::misc: h[op] = &Cpu::exec_misc; break;
+        }
     }
+    return h;
 }
+
+const std::array<Cpu::Handler, 256> Cpu::kHandlers = Cpu::make_handlers();
+
+// FE/FF: /0 /1 INC/DEC, /2-/5 CALL/JMP, /6 /7 PUSH (FE /2-/7 as the FF forms).
+void Cpu::exec_group5(std::uint8_t op) {
+    if (reg_ < 2) exec_incdec_rm(op);
+    else if (reg_ < 6) exec_jump_rm(op);
+    else exec_stack(op);
+}
+
+void Cpu::exec_aam(std::uint8_t) { aam(imm8()); }
+void Cpu::exec_aad(std::uint8_t) { aad(imm8()); }
 
 // Flag operations, HLT, WAIT, SALC, ESC.
 void Cpu::exec_misc(std::uint8_t op) {
