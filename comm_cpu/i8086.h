@@ -17,6 +17,7 @@
 
 #include "models/memory.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -72,6 +73,7 @@ struct CycleRecord {
     QueueOp qop;                                 // queue operation of the previous clock
     std::uint8_t qbyte;
     bool transfer;                               // a read or write completes in this clock
+    bool lock;                                   // LOCK# asserted (active low on the pin)
 };
 
 enum Reg16 { AX, CX, DX, BX, SP, BP, SI, DI };
@@ -158,6 +160,7 @@ private:
         std::uint8_t width = 1;
         bool fetch = false;
         bool discard = false; // a prefetch overtaken by a queue flush
+        bool inta_first = false; // the first of the two INTA cycles: LOCK from its T2
     };
 
     void clk();
@@ -201,7 +204,36 @@ private:
     std::uint16_t pop();
 
     // ---- EU ----
-    void execute(std::uint8_t op);
+    // dispatch by instruction group (i8086_exec.cpp): one handler per opcode
+    using Handler = void (Cpu::*)(std::uint8_t op);
+    static std::array<Handler, 256> make_handlers();
+    static const std::array<Handler, 256> kHandlers;
+    void execute(std::uint8_t op) { (this->*kHandlers[op])(op); }
+    void exec_group5(std::uint8_t op);
+    void exec_aam(std::uint8_t op);
+    void exec_aad(std::uint8_t op);
+    // ALU group (i8086_ops_alu.cpp)
+    void exec_alu(std::uint8_t op);
+    void exec_alu_imm(std::uint8_t op);
+    void exec_test(std::uint8_t op);
+    void exec_incdec_r16(std::uint8_t op);
+    void exec_incdec_rm(std::uint8_t op);
+    void exec_group3(std::uint8_t op);
+    void exec_shift(std::uint8_t op);
+    void exec_bcd(std::uint8_t op);
+    // moves, stack, I/O, strings (i8086_ops_move.cpp)
+    void exec_move(std::uint8_t op);
+    void exec_stack(std::uint8_t op);
+    void exec_io(std::uint8_t op);
+    void exec_string(std::uint8_t op);
+    void string_element(std::uint8_t op, bool last);
+    // control transfer (i8086_ops_control.cpp)
+    void exec_jump(std::uint8_t op);
+    void exec_jump_rm(std::uint8_t op);
+    void exec_return(std::uint8_t op);
+    void farret();
+    // flag operations, HLT, WAIT, SALC, ESC (i8086_exec.cpp)
+    void exec_misc(std::uint8_t op);
     void decode_modrm();
     void calc_ea();
     /// A memory operand addressed by registers alone (mod 0, not [disp16]).
@@ -233,8 +265,11 @@ private:
     void set_flag(std::uint16_t f, bool on) { r_.flags = on ? (r_.flags | f) : (r_.flags & ~f); }
     bool get_flag(std::uint16_t f) const { return r_.flags & f; }
     bool condition(unsigned cc) const;
-    void grp_muldiv(unsigned op, bool word);
+    // mul/div group (i8086_muldiv.cpp)
+    void multiply(bool word, bool sign);
     bool divide(bool word, bool sign);
+    void aam(std::uint8_t base);
+    void aad(std::uint8_t base);
 
     // control transfer
     void jump_near(std::uint16_t ip);
@@ -242,7 +277,6 @@ private:
     void call_near(std::uint16_t ip);
     void call_far(std::uint16_t cs, std::uint16_t ip);
     void interrupt(std::uint8_t vector, bool hardware_inta = false);
-    void string_op(std::uint8_t op);
     bool check_interrupts();
 
     // state
@@ -279,6 +313,7 @@ private:
     QueueOp qop_ = QueueOp::idle, last_qop_ = QueueOp::idle;
     std::uint8_t qbyte_ = 0, last_qbyte_ = 0;
     bool last_ale_ = false;
+    bool lock_pin_ = false;        // LOCK output: a LOCK-prefixed instruction, or the INTA pair
 
     // EU decode state
     std::uint8_t opcode_ = 0;       // first byte, read ahead
@@ -288,8 +323,6 @@ private:
     int ea_seg_ = DS;
     int seg_override_ = -1;
     unsigned rep_ = 0;              // 0, 0xF2 or 0xF3
-    std::uint8_t rm_read8_cached_ = 0;   // divisor, read before the division microcode runs
-    std::uint16_t rm_read16_cached_ = 0;
     bool lock_ = false;
     std::uint16_t instr_ip_ = 0;    // IP of the first prefix of the current instruction
 

@@ -40,6 +40,7 @@ void Cpu::reset() {
     fetch_suspended_ = fetch_after_t4_ = false;
     qop_ = last_qop_ = QueueOp::idle;
     halted_ = inhibit_ = false;
+    lock_pin_ = false;
     nmi_pending_ = false;
     started_ = false;
 }
@@ -71,6 +72,8 @@ void Cpu::clk() {
     case TState::Ti:
         break;
     case TState::T1:
+        // LOCK runs from T2 of the first INTA cycle to T2 of the second (data sheet).
+        if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
         t_ = TState::T2;
         break;
     case TState::T2:
@@ -150,6 +153,7 @@ void Cpu::record_cycle() {
     c.data = c.transfer ? data_bus_ : 0;
     c.qop = last_qop_;
     c.qbyte = last_qop_ == QueueOp::idle ? 0 : last_qbyte_;
+    c.lock = lock_pin_;
     trace_->push_back(c);
 }
 
@@ -239,6 +243,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
     op.data = data;
     op.width = static_cast<std::uint8_t>(width);
     op.fetch = false;
+    op.inta_first = kind == Bus::int_ack && !lock_pin_; // the second INTA finds LOCK active
     bus_start(op, cycle_);
     eu_claim_ = false;
     clk(); // T1

@@ -411,8 +411,10 @@ void Cpu::step() {
             opcode_ = q_read(QueueOp::first);
             return;
         }
+        lock_pin_ = lock_;
         execute(opcode_);
         if (rep_suspended_) return;
+        lock_pin_ = false;
         ++instructions_;
         boundary_pending_ = true;
         if (halted_ || rep_interrupted_) return;
@@ -434,6 +436,7 @@ void Cpu::step() {
             rep_ = op;
         } else if (op == 0xF0 || op == 0xF1) {
             lock_ = true;
+            lock_pin_ = true; // LOCK# from the prefix to the end of the instruction
         } else {
             break;
         }
@@ -447,6 +450,7 @@ void Cpu::step() {
     else clk();
     execute(op);
     if (rep_suspended_) return; // parked inside a REP run at the end of a slice
+    lock_pin_ = false;
     ++instructions_;
     boundary_pending_ = true;
     if (halted_ || rep_interrupted_) return; // no next opcode is read: HLT, or a REP run cut short

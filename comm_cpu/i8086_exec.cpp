@@ -1,846 +1,109 @@
-// rcsim — Intel 8086 execution unit: the opcode table.
+// rcsim — Intel 8086 execution unit: opcode dispatch by instruction group, and the small
+// miscellaneous instructions (flag operations, HLT, WAIT, SALC, ESC).
 //
 // Documentation: iAPX 86/88 User's Manual (Intel 210201) instruction set; undocumented forms
 // as captured on a P80C86A-2 (SingleStepTests 8086 v1). The ModR/M byte and effective address
-// are already decoded (step()) when execute() runs; each case spends the remaining clocks.
+// are already decoded (step()) when execute() runs; each group spends the remaining clocks:
+//   i8086_ops_alu.cpp      ALU, TEST, INC/DEC, NOT/NEG, shifts, BCD adjustments
+//   i8086_ops_move.cpp     MOV/XCHG/LEA/LDS/LES/XLAT, PUSH/POP, IN/OUT, string instructions
+//   i8086_ops_control.cpp  jumps, calls, returns, INT/INTO/IRET
+//   i8086_muldiv.cpp       MUL/IMUL/DIV/IDIV/AAM/AAD (the CORX/CORD microcode timing)
 #include "comm_cpu/i8086.h"
 
-#include <cstdlib>
+#include <array>
 
 namespace rcsim::i8086 {
 namespace {
-unsigned popcount16(std::uint16_t v) {
-    unsigned n = 0;
-    for (; v; v &= std::uint16_t(v - 1)) ++n;
-    return n;
+
+enum class Group : std::uint8_t { alu, alu_imm, test, incdec_r16, bcd, shift, group3, group5, move, stack, io,
+                                  string, jump, ret, aam, aad, misc };
+
+constexpr Group group_of(unsigned op) {
+    if (op < 0x40) {
+        if ((op & 7) == 6 || (op & 7) == 7) {
+            if ((op & 0x27) == 0x26) return Group::misc; // segment prefixes (consumed by step())
+            if (op >= 0x20) return Group::bcd;           // 27, 2F, 37, 3F
+            return Group::stack;                         // PUSH/POP sreg
+        }
+        return Group::alu;
+    }
+    if (op < 0x50) return Group::incdec_r16;
+    if (op < 0x60) return Group::stack;
+    if (op < 0x80) return Group::jump; // 60-6F alias 70-7F on the 8086
+    if (op < 0x84) return Group::alu_imm;
+    if (op < 0x86) return Group::test;
+    if (op == 0x8F || op == 0x9C || op == 0x9D) return Group::stack;
+    if (op < 0xA0) return op == 0x9A ? Group::jump : op == 0x9B ? Group::misc : Group::move;
+    if (op < 0xA4) return Group::move;
+    if (op == 0xA8 || op == 0xA9) return Group::test;
+    if (op < 0xB0) return Group::string;
+    if (op < 0xC0) return Group::move;
+    if (op == 0xC4 || op == 0xC5 || op == 0xC6 || op == 0xC7) return Group::move;
+    if (op < 0xD0) return Group::ret;
+    if (op < 0xD4) return Group::shift;
+    if (op == 0xD4) return Group::aam;
+    if (op == 0xD5) return Group::aad;
+    if (op == 0xD7) return Group::move; // XLAT
+    if (op < 0xE0) return Group::misc;  // SALC, ESC
+    if (op < 0xE4 || (op >= 0xE8 && op <= 0xEB)) return Group::jump;
+    if (op < 0xF0) return Group::io;
+    if (op == 0xF6 || op == 0xF7) return Group::group3;
+    if (op == 0xFE || op == 0xFF) return Group::group5;
+    return Group::misc;
 }
-// IMUL clocks beyond the base (measured): one per one bit of |multiplicand|, one more when
-// both operands are negative, 11 when only the multiplier (r/m) is negative, 14 when only the
-// accumulator is.
-unsigned imul_extra(bool neg_a, bool neg_s, std::uint16_t abs_a) {
-    return popcount16(abs_a) + (neg_a ? (neg_s ? 1 : 14) : (neg_s ? 11 : 0));
-}
+
 } // namespace
 
-// MUL/IMUL (F6/F7 /4 and /5).
-void Cpu::grp_muldiv(unsigned op, bool word) {
-    const bool negate = rep_ != 0; // a REP prefix negates the product / quotient (microcode quirk)
-    if (!word) {
-        const std::uint8_t src = rm_read8();
-        const std::uint8_t al = reg8(0);
-        {
-            std::uint16_t prod;
-            bool high;
-            if (op == 4) {
-                prod = std::uint16_t(al * src);
-                // The multiply loop takes a clock more for every one bit of AL (measured).
-                clks(67 + popcount16(al) + (mod_ != 3 ? 1 : 0));
-                high = prod >> 8;
-            } else {
-                int p = int(std::int8_t(al)) * int(std::int8_t(src));
-                if (negate) p = -p;
-                prod = std::uint16_t(p);
-                clks(77 + imul_extra(al & 0x80, src & 0x80, std::uint16_t(std::abs(int(std::int8_t(al))))) +
-                     (mod_ != 3 ? 1 : 0));
-                high = std::int16_t(prod) != std::int8_t(prod & 0xFF);
-            }
-            r_.r[AX] = prod;
-            set_flag(flag::CF, high);
-            set_flag(flag::OF, high);
-            set_szp(prod >> 8, false);
-            set_flag(flag::ZF, (prod & 0xFF) == 0 && (prod >> 8) == 0);
-        }
-    } else {
-        const std::uint16_t src = rm_read16();
-        const std::uint16_t ax = r_.r[AX];
-        {
-            std::uint32_t prod;
-            bool high;
-            if (op == 4) {
-                prod = std::uint32_t(ax) * src;
-                clks(115 + popcount16(ax) + (mod_ != 3 ? 1 : 0));
-                high = prod >> 16;
-            } else {
-                std::int64_t p = std::int64_t(std::int16_t(ax)) * std::int16_t(src);
-                if (negate) p = -p;
-                prod = std::uint32_t(p);
-                clks(125 + imul_extra(ax & 0x8000, src & 0x8000, std::uint16_t(std::abs(int(std::int16_t(ax))))) +
-                     (mod_ != 3 ? 1 : 0));
-                high = std::int32_t(prod) != std::int16_t(prod & 0xFFFF);
-            }
-            r_.r[AX] = std::uint16_t(prod);
-            r_.r[DX] = std::uint16_t(prod >> 16);
-            set_flag(flag::CF, high);
-            set_flag(flag::OF, high);
-            set_szp(std::uint16_t(prod >> 16), true);
-            set_flag(flag::ZF, prod == 0);
+// The handler of every opcode, from its group: execute() is one indirect call.
+std::array<Cpu::Handler, 256> Cpu::make_handlers() {
+    std::array<Handler, 256> h{};
+    for (unsigned op = 0; op < 256; ++op) {
+        switch (group_of(op)) {
+        case Group::alu: h[op] = &Cpu::exec_alu; break;
+        case Group::alu_imm: h[op] = &Cpu::exec_alu_imm; break;
+        case Group::test: h[op] = &Cpu::exec_test; break;
+        case Group::incdec_r16: h[op] = &Cpu::exec_incdec_r16; break;
+        case Group::bcd: h[op] = &Cpu::exec_bcd; break;
+        case Group::shift: h[op] = &Cpu::exec_shift; break;
+        case Group::group3: h[op] = &Cpu::exec_group3; break;
+        case Group::group5: h[op] = &Cpu::exec_group5; break;
+        case Group::move: h[op] = &Cpu::exec_move; break;
+        case Group::stack: h[op] = &Cpu::exec_stack; break;
+        case Group::io: h[op] = &Cpu::exec_io; break;
+        case Group::string: h[op] = &Cpu::exec_string; break;
+        case Group::jump: h[op] = &Cpu::exec_jump; break;
+        case Group::ret: h[op] = &Cpu::exec_return; break;
+        case Group::aam: h[op] = &Cpu::exec_aam; break;
+        case Group::aad: h[op] = &Cpu::exec_aad; break;
+        case Group::misc: h[op] = &Cpu::exec_misc; break;
         }
     }
+    return h;
 }
 
-// Clocks of the division microcode for |dividend| / |divisor| (n = 8 or 16 bits), following
-// the published 8086 microcode (CORD restoring-division co-routine, PREIDIV/NEGATE/POSTIDIV for
-// IDIV). The set-up before CORD, the overflow test in CORD, then per quotient bit a fixed 4
-// clocks plus a branch whose length depends on whether the bit shifted out of the partial
-// remainder was set (3), or the trial subtraction succeeded (4) or failed (3); the loop's last
-// iteration leaves one clock earlier (except after a failed trial), then 4 clocks to return.
-// `fault` tells whether the microcode takes the divide error, and where: `early` = in CORD.
-namespace {
-struct DivTiming {
-    unsigned clocks;
-    bool fault;
-    bool early;                      // the error is found by CORD's first trial subtraction
-    bool flagged;                    // a trial subtraction set the flags (micro-op F) ...
-    std::uint32_t flag_a, flag_b;    // ... with these operands (the last one)
-};
-DivTiming div_microcode(std::uint32_t hi, std::uint32_t lo, std::uint32_t divisor, unsigned n, bool sign,
-                        bool neg_dividend, bool neg_divisor) {
-    const std::uint32_t mask = (1u << n) - 1, top = 1u << (n - 1);
-    unsigned c = 3; // dividend halves and divisor into the temporaries
-    if (sign) {
-        c += 3;                                   // PREIDIV: test the dividend's sign
-        c += neg_dividend ? 5 : 1;                // negate the dividend, or jump over it
-        c += 3 + (neg_divisor ? 2 : 3);           // NEGATE tail: the divisor's sign
-    }
-    c += 2;   // call CORD
-    c += 3;   // CORD: trial subtraction of the high half
-    DivTiming t{0, false, false, false, 0, 0};
-    if (hi >= divisor) return {c + 1, true, true, false, hi, divisor}; // quotient does not fit
-    std::uint32_t a = hi & mask, q = lo & mask;
-    bool carry = true; // borrow of the first trial
-    for (unsigned i = n; i-- > 0;) {
-        const bool last = i == 0;
-        const bool qout = q & top;
-        q = ((q << 1) | (carry ? 1 : 0)) & mask;
-        const bool aout = a & top;
-        a = ((a << 1) | (qout ? 1 : 0)) & mask;
-        c += 4;
-        if (aout) {
-            a = (a - divisor) & mask;
-            carry = false;
-            c += 3 + (last ? 2 : 1);
-            continue;
-        }
-        t.flagged = true; // this trial subtraction sets the flags
-        t.flag_a = a;
-        t.flag_b = divisor;
-        if (a >= divisor) {
-            a -= divisor;
-            carry = false;
-            c += 2 + 2 + (last ? 2 : 1);
-        } else {
-            carry = true;
-            c += 2 + 1 + (last ? 0 : 1);
-        }
-    }
-    q = ((q << 1) | (carry ? 1 : 0)) & mask; // the quotient, complemented
-    const bool final_carry = q & top;        // quotient (magnitude) below 2^(n-1)
-    c += 4;                                  // CORD return
-    c += 2;                                  // complement the quotient, test for IDIV
-    if (sign) {
-        c += 2;
-        if (!final_carry) { // POSTIDIV: quotient out of range
-            t.clocks = c + 1;
-            t.fault = true;
-            return t;
-        }
-        c += 3 + 1 + 2 + 1 + 2; // signs of remainder and quotient, return
-    }
-    t.clocks = c;
-    return t;
-}
-} // namespace
+const std::array<Cpu::Handler, 256> Cpu::kHandlers = Cpu::make_handlers();
 
-// DIV/IDIV; returns false when a divide error (type 0) was taken. The 8086 pushes the address
-// of the next instruction and, for IDIV, refuses the most negative quotient.
-bool Cpu::divide(bool word, bool sign) {
-    const bool negate = rep_ != 0;
-    bool fault = false;
-    DivTiming t{};
-    if (!word) {
-        const std::uint8_t src = rm_read8_cached_;
-        const std::uint16_t dividend = r_.r[AX];
-        if (!sign) {
-            t = div_microcode(dividend >> 8, dividend & 0xFF, src, 8, false, false, false);
-        } else {
-            const std::uint16_t m = (dividend & 0x8000) ? std::uint16_t(-dividend) : dividend;
-            const std::uint8_t d = (src & 0x80) ? std::uint8_t(-src) : src;
-            t = div_microcode(m >> 8, m & 0xFF, d, 8, true, dividend & 0x8000, src & 0x80);
-        }
-        if (src == 0) {
-            fault = true;
-        } else if (!sign) {
-            const unsigned q = dividend / src, r = dividend % src;
-            if (q > 0xFF) fault = true;
-            else r_.r[AX] = std::uint16_t((r << 8) | q);
-        } else {
-            const int a = std::int16_t(dividend), b = std::int8_t(src);
-            int q = a / b;
-            const int r = a % b;
-            if (negate) q = -q;
-            if (q > 127 || q < -127) fault = true;
-            else r_.r[AX] = std::uint16_t(((r & 0xFF) << 8) | (q & 0xFF));
-        }
-    } else {
-        const std::uint16_t src = rm_read16_cached_;
-        const std::uint32_t dividend = (std::uint32_t(r_.r[DX]) << 16) | r_.r[AX];
-        if (!sign) {
-            t = div_microcode(dividend >> 16, dividend & 0xFFFF, src, 16, false, false, false);
-        } else {
-            const std::uint32_t m = (dividend & 0x80000000u) ? std::uint32_t(0u - dividend) : dividend;
-            const std::uint16_t d = (src & 0x8000) ? std::uint16_t(-src) : src;
-            t = div_microcode(m >> 16, m & 0xFFFF, d, 16, true, dividend & 0x80000000u, src & 0x8000);
-        }
-        if (src == 0) {
-            fault = true;
-        } else if (!sign) {
-            const std::uint32_t q = dividend / src, r = dividend % src;
-            if (q > 0xFFFF) fault = true;
-            else {
-                r_.r[AX] = std::uint16_t(q);
-                r_.r[DX] = std::uint16_t(r);
-            }
-        } else {
-            const std::int64_t a = std::int32_t(dividend), b = std::int16_t(src);
-            std::int64_t q = a / b;
-            const std::int64_t r = a % b;
-            if (negate) q = -q;
-            if (q > 32767 || q < -32767) fault = true;
-            else {
-                r_.r[AX] = std::uint16_t(q);
-                r_.r[DX] = std::uint16_t(r);
-            }
-        }
-    }
-    // Around the microcode: one clock to take a memory operand into the ALU temporary, one
-    // more before the results are written back, three to reach the type-0 entry on an error.
-    clks(t.clocks + (mod_ != 3 ? 1 : 0) + (t.fault ? 3 : 1));
-    if (fault) {
-        // The FLAGS image pushed by the error holds what the last flag-setting subtraction
-        // of the microcode left (the first trial for an early error).
-        if (t.early || t.flagged) alu(5, std::uint16_t(t.flag_a), std::uint16_t(t.flag_b), word);
-        interrupt(0);
-    }
-    return !fault;
+// FE/FF: /0 /1 INC/DEC, /2-/5 CALL/JMP, /6 /7 PUSH (FE /2-/7 as the FF forms).
+void Cpu::exec_group5(std::uint8_t op) {
+    if (reg_ < 2) exec_incdec_rm(op);
+    else if (reg_ < 6) exec_jump_rm(op);
+    else exec_stack(op);
 }
 
-// One string element; returns false when a REPE/REPNE compare ends the run.
-void Cpu::string_op(std::uint8_t op) {
-    const bool word = op & 1;
-    const std::uint16_t step = get_flag(flag::DF) ? std::uint16_t(word ? -2 : -1) : std::uint16_t(word ? 2 : 1);
-    const int src_seg = data_seg(DS);
-    // Element timings measured on the P80C86A-2 (clocks counted from the end of the
-    // previous step; a read returns in its T4 clock, a write that is not the last one too).
-    auto one = [&](bool last) -> bool {
-        switch (op) {
-        case 0xA4:
-        case 0xA5: { // MOVS
-            // Not covered by the v1 suite (no A4/A5 files): the earlier estimate is kept.
-            const std::uint16_t v = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
-            clks(1);
-            if (word) write16(ES, r_.r[DI], v, last);
-            else write8(ES, r_.r[DI], std::uint8_t(v), last);
-            r_.r[SI] += step;
-            r_.r[DI] += step;
-            return true;
-        }
-        case 0xA6:
-        case 0xA7: { // CMPS
-            clks(2);
-            const std::uint16_t a = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
-            clks(2);
-            const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
-            clks(last ? 4 : 4);
-            alu(7, a, b, word);
-            r_.r[SI] += step;
-            r_.r[DI] += step;
-            return true;
-        }
-        case 0xAA:
-        case 0xAB: // STOS
-            clks(1);
-            if (word) write16(ES, r_.r[DI], r_.r[AX], false);
-            else write8(ES, r_.r[DI], reg8(0), false);
-            clks(last ? 2 : 2);
-            r_.r[DI] += step;
-            return true;
-        case 0xAC:
-        case 0xAD: { // LODS
-            clks(1);
-            const std::uint16_t v = word ? read16(src_seg, r_.r[SI]) : read8(src_seg, r_.r[SI]);
-            if (word) r_.r[AX] = v;
-            else set_reg8(0, std::uint8_t(v));
-            r_.r[SI] += step;
-            clks(last ? 3 : 3);
-            return true;
-        }
-        default: { // SCAS
-            clks(3);
-            const std::uint16_t b = word ? read16(ES, r_.r[DI]) : read8(ES, r_.r[DI]);
-            clks(last ? 4 : 4);
-            alu(7, word ? r_.r[AX] : reg8(0), b, word);
-            r_.r[DI] += step;
-            return true;
-        }
-        }
-    };
-    const bool compare = op == 0xA6 || op == 0xA7 || op == 0xAE || op == 0xAF;
-    if (!rep_) {
-        one(true);
-        return;
-    }
-    // REP timings measured on the P80C86A-2: a 4-clock prologue (CX tested in the fifth), a
-    // first-element set-up, a per-element loop overhead when the run continues and one clock
-    // when it ends.
-    const bool lods = op == 0xAC || op == 0xAD;
-    const bool stos = op == 0xAA || op == 0xAB;
-    const unsigned overhead = lods ? 3 : stos ? 1 : 2; // per element when the run goes on
-    const unsigned setup = 3;                           // before the first element
-    bool first = !rep_suspended_;
-    if (first) clks(4);
-    else clks(overhead); // resuming a parked run: the overhead of the element boundary
-    rep_suspended_ = false;
-    for (;;) {
-        if (r_.r[CX] == 0) {
-            clks(1);
-            return;
-        }
-        if (first) clks(setup);
-        first = false;
-        one(false);
-        r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
-        if (compare && (get_flag(flag::ZF) != (rep_ == 0xF3))) {
-            clk();
-            return;
-        }
-        if (r_.r[CX] == 0) {
-            clks(stos ? 1 : lods ? 3 : 2);
-            return;
-        }
-        // Interruptible between elements: IP goes back to the last prefix, so only that
-        // prefix is seen again when the handler returns (the 8086 multiple-prefix bug).
-        if (nmi_pending_ || (intr_ && get_flag(flag::IF))) {
-            r_.ip = std::uint16_t(r_.ip - 2);
-            rep_interrupted_ = true;
-            return;
-        }
-        if (cycle_ >= limit_) {
-            // End of a run slice: park between elements; step() resumes here.
-            rep_suspended_ = true;
-            return;
-        }
-        clks(overhead);
-    }
-}
+void Cpu::exec_aam(std::uint8_t) { aam(imm8()); }
+void Cpu::exec_aad(std::uint8_t) { aad(imm8()); }
 
-void Cpu::execute(std::uint8_t op) {
+// Flag operations, HLT, WAIT, SALC, ESC.
+void Cpu::exec_misc(std::uint8_t op) {
     switch (op) {
-    // ---- ALU r/m, reg / reg, r/m / acc, imm ----
-    case 0x00: case 0x08: case 0x10: case 0x18: case 0x20: case 0x28: case 0x30: case 0x38: {
-        const unsigned f = op >> 3;
-        const std::uint8_t a = rm_read8();
-        const std::uint8_t r = std::uint8_t(alu(f, a, reg8(reg_), false));
-        if (mod_ == 3) {
-            clks(1);
-            if (f != 7) rm_write8(r);
-        } else {
-            clks(f == 7 ? 3 : 5);
-            if (f != 7) rm_write8(r);
-        }
-        break;
-    }
-    case 0x01: case 0x09: case 0x11: case 0x19: case 0x21: case 0x29: case 0x31: case 0x39: {
-        const unsigned f = op >> 3;
-        const std::uint16_t a = rm_read16();
-        const std::uint16_t r = alu(f, a, r_.r[reg_], true);
-        if (mod_ == 3) {
-            clks(1);
-            if (f != 7) rm_write16(r);
-        } else {
-            clks(f == 7 ? 3 : 5);
-            if (f != 7) rm_write16(r);
-        }
-        break;
-    }
-    case 0x02: case 0x0A: case 0x12: case 0x1A: case 0x22: case 0x2A: case 0x32: case 0x3A: {
-        const unsigned f = op >> 3;
-        const std::uint8_t b = rm_read8();
-        const std::uint8_t r = std::uint8_t(alu(f, reg8(reg_), b, false));
-        clks(mod_ == 3 ? 1 : 3);
-        if (f != 7) set_reg8(reg_, r);
-        break;
-    }
-    case 0x03: case 0x0B: case 0x13: case 0x1B: case 0x23: case 0x2B: case 0x33: case 0x3B: {
-        const unsigned f = op >> 3;
-        const std::uint16_t b = rm_read16();
-        const std::uint16_t r = alu(f, r_.r[reg_], b, true);
-        clks(mod_ == 3 ? 1 : 3);
-        if (f != 7) r_.r[reg_] = r;
-        break;
-    }
-    case 0x04: case 0x0C: case 0x14: case 0x1C: case 0x24: case 0x2C: case 0x34: case 0x3C: {
-        const unsigned f = op >> 3;
-        const std::uint8_t r = std::uint8_t(alu(f, reg8(0), imm8(), false));
-        clk();
-        if (f != 7) set_reg8(0, r);
-        break;
-    }
-    case 0x05: case 0x0D: case 0x15: case 0x1D: case 0x25: case 0x2D: case 0x35: case 0x3D: {
-        const unsigned f = op >> 3;
-        const std::uint16_t r = alu(f, r_.r[AX], imm16(), true);
-        if (f != 7) r_.r[AX] = r;
-        break;
-    }
-
-    // ---- segment push/pop ----
-    case 0x06: case 0x0E: case 0x16: case 0x1E:
-        clks(3);
-        push(r_.s[(op >> 3) & 3], true);
-        break;
-    case 0x07: case 0x0F: case 0x17: case 0x1F:
-        // POP CS (0F) loads CS without flushing the queue, as the 8086 does.
-        r_.s[(op >> 3) & 3] = pop();
-        inhibit_ = true;
-        break;
-
-    // ---- BCD ----
-    case 0x27: case 0x2F: { // DAA / DAS
-        const std::uint8_t al = reg8(0);
-        const bool cf = get_flag(flag::CF), af = get_flag(flag::AF);
-        std::uint8_t v = al;
-        const bool sub = op == 0x2F;
-        bool new_af = false, new_cf = false;
-        if ((al & 0x0F) > 9 || af) {
-            v = std::uint8_t(sub ? v - 6 : v + 6);
-            new_af = true;
-        }
-        if (al > (af ? 0x9F : 0x99) || cf) {
-            v = std::uint8_t(sub ? v - 0x60 : v + 0x60);
-            new_cf = true;
-        }
-        set_reg8(0, v);
-        set_szp(v, false);
-        set_flag(flag::AF, new_af);
-        set_flag(flag::CF, new_cf);
-        clks(2);
-        break;
-    }
-    case 0x37: case 0x3F: { // AAA / AAS
-        const std::uint8_t al = reg8(0);
-        const bool adj = (al & 0x0F) > 9 || get_flag(flag::AF);
-        if (adj) {
-            if (op == 0x37) {
-                set_reg8(0, std::uint8_t(al + 6));
-                set_reg8(4, std::uint8_t(reg8(4) + 1));
-            } else {
-                set_reg8(0, std::uint8_t(al - 6));
-                set_reg8(4, std::uint8_t(reg8(4) - 1));
-            }
-        }
-        set_flag(flag::AF, adj);
-        set_flag(flag::CF, adj);
-        set_szp(reg8(0), false);
-        set_reg8(0, reg8(0) & 0x0F);
-        clks(adj ? 6 : 7);
-        break;
-    }
-
-    // ---- INC/DEC/PUSH/POP r16 ----
-    case 0x40: case 0x41: case 0x42: case 0x43: case 0x44: case 0x45: case 0x46: case 0x47:
-    case 0x48: case 0x49: case 0x4A: case 0x4B: case 0x4C: case 0x4D: case 0x4E: case 0x4F: {
-        const bool cf = get_flag(flag::CF);
-        r_.r[op & 7] = alu(op & 8 ? 5 : 0, r_.r[op & 7], 1, true);
-        set_flag(flag::CF, cf);
-        break;
-    }
-    case 0x50: case 0x51: case 0x52: case 0x53: case 0x54: case 0x55: case 0x56: case 0x57:
-        clks(3);
-        // PUSH SP stores the decremented value on the 8086.
-        r_.r[SP] = std::uint16_t(r_.r[SP] - 2);
-        write16(SS, r_.r[SP], r_.r[op & 7], true);
-        break;
-    case 0x58: case 0x59: case 0x5A: case 0x5B: case 0x5C: case 0x5D: case 0x5E: case 0x5F:
-        r_.r[op & 7] = pop();
-        break;
-
-    // ---- conditional jumps (60-6F alias 70-7F on the 8086) ----
-    case 0x60: case 0x61: case 0x62: case 0x63: case 0x64: case 0x65: case 0x66: case 0x67:
-    case 0x68: case 0x69: case 0x6A: case 0x6B: case 0x6C: case 0x6D: case 0x6E: case 0x6F:
-    case 0x70: case 0x71: case 0x72: case 0x73: case 0x74: case 0x75: case 0x76: case 0x77:
-    case 0x78: case 0x79: case 0x7A: case 0x7B: case 0x7C: case 0x7D: case 0x7E: case 0x7F: {
-        const std::int8_t d = std::int8_t(imm8());
-        clk();
-        if (condition(op & 0x0F)) {
-            clk();
-            reljmp(std::uint16_t(r_.ip + d));
-        }
-        break;
-    }
-
-    // ---- group 1: ALU r/m, imm ----
-    case 0x80: case 0x81: case 0x82: case 0x83: {
-        const bool word = op & 1;
-        const unsigned f = reg_;
-        const bool mem = mod_ != 3;
-        if (!word) {
-            const std::uint8_t a = rm_read8();
-            if (mem) clks(2); // the immediate is read two clocks after the operand's T4
-            const std::uint8_t b = imm8();
-            const std::uint8_t r = std::uint8_t(alu(f, a, b, false));
-            clks(!mem ? 1 : (f == 7 ? 2 : 3));
-            if (f != 7) rm_write8(r);
-        } else {
-            const std::uint16_t a = rm_read16();
-            if (mem) clks(2);
-            const bool imm_word = op == 0x81;
-            const std::uint16_t b = imm_word ? imm16() : std::uint16_t(std::int8_t(imm8()));
-            const std::uint16_t r = alu(f, a, b, true);
-            clks(!mem ? (imm_word ? 0 : 1) : (f == 7 ? (imm_word ? 1 : 2) : (imm_word ? 2 : 3)));
-            if (f != 7) rm_write16(r);
-        }
-        break;
-    }
-    case 0x84: {
-        alu(4, rm_read8(), reg8(reg_), false);
-        clks(mod_ == 3 ? 1 : 3);
-        break;
-    }
-    case 0x85: {
-        alu(4, rm_read16(), r_.r[reg_], true);
-        clks(mod_ == 3 ? 1 : 3);
-        break;
-    }
-    case 0x86: {
-        const std::uint8_t a = rm_read8();
-        clks(mod_ == 3 ? 2 : 6);
-        rm_write8(reg8(reg_));
-        set_reg8(reg_, a);
-        break;
-    }
-    case 0x87: {
-        const std::uint16_t a = rm_read16();
-        clks(mod_ == 3 ? 2 : 6);
-        rm_write16(r_.r[reg_]);
-        r_.r[reg_] = a;
-        break;
-    }
-    case 0x88:
-        if (mod_ != 3) clks(4);
-        rm_write8(reg8(reg_));
-        break;
-    case 0x89:
-        if (mod_ != 3) clks(4);
-        rm_write16(r_.r[reg_]);
-        break;
-    case 0x8A:
-        set_reg8(reg_, rm_read8());
-        if (mod_ != 3) clks(2);
-        break;
-    case 0x8B:
-        r_.r[reg_] = rm_read16();
-        if (mod_ != 3) clks(2);
-        break;
-    case 0x8C:
-        if (mod_ != 3) clks(3);
-        rm_write16(r_.s[reg_ & 3]);
-        break;
-    case 0x8D:
-        r_.r[reg_] = ea_;
-        clks(2);
-        break;
-    case 0x8E:
-        // Only two bits of reg select the segment register; MOV CS works on the 8086.
-        r_.s[reg_ & 3] = rm_read16();
-        if (mod_ != 3) clks(2);
-        inhibit_ = true;
-        break;
-    case 0x8F: {
-        const std::uint16_t v = pop();
-        clks(1);
-        rm_write16(v);
-        break;
-    }
-
-    // ---- XCHG AX, r16 / CBW / CWD / flags ----
-    case 0x90: case 0x91: case 0x92: case 0x93: case 0x94: case 0x95: case 0x96: case 0x97: {
-        const std::uint16_t t = r_.r[AX];
-        r_.r[AX] = r_.r[op & 7];
-        r_.r[op & 7] = t;
-        clks(1);
-        break;
-    }
-    case 0x98:
-        r_.r[AX] = std::uint16_t(std::int8_t(reg8(0)));
-        break;
-    case 0x99:
-        r_.r[DX] = (r_.r[AX] & 0x8000) ? 0xFFFF : 0;
-        clks((r_.r[AX] & 0x8000) ? 4 : 3);
-        break;
-    case 0x9A: {
-        const std::uint16_t ip = imm16();
-        const std::uint16_t cs = imm16();
-        clk();
-        susp();
-        clks(2);
-        call_far(cs, ip);
-        break;
-    }
-    case 0x9B: // WAIT: TEST# is held active on this board, so it falls through
-        clks(3);
-        break;
-    case 0x9C:
-        clks(3);
-        push(r_.flags, true);
-        break;
-    case 0x9D:
-        r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
-        break;
-    case 0x9E:
-        r_.flags = std::uint16_t((r_.flags & 0xFF00) | (reg8(4) & 0xD5) | 0x02);
-        clks(2);
-        break;
-    case 0x9F:
-        set_reg8(4, std::uint8_t(r_.flags));
-        break;
-
-    // ---- MOV acc, moffs ----
-    case 0xA0: { const std::uint16_t a = imm16(); set_reg8(0, read8(data_seg(DS), a)); break; }
-    case 0xA1: { const std::uint16_t a = imm16(); r_.r[AX] = read16(data_seg(DS), a); break; }
-    case 0xA2: { const std::uint16_t a = imm16(); clk(); write8(data_seg(DS), a, reg8(0), true); break; }
-    case 0xA3: { const std::uint16_t a = imm16(); clk(); write16(data_seg(DS), a, r_.r[AX], true); break; }
-
-    case 0xA4: case 0xA5: case 0xA6: case 0xA7: case 0xAA: case 0xAB: case 0xAC: case 0xAD: case 0xAE:
-    case 0xAF:
-        string_op(op);
-        break;
-    case 0xA8:
-        alu(4, reg8(0), imm8(), false);
-        clk();
-        break;
-    case 0xA9:
-        alu(4, r_.r[AX], imm16(), true);
-        break;
-
-    case 0xB0: case 0xB1: case 0xB2: case 0xB3: case 0xB4: case 0xB5: case 0xB6: case 0xB7:
-        set_reg8(op & 7, imm8());
-        clk();
-        break;
-    case 0xB8: case 0xB9: case 0xBA: case 0xBB: case 0xBC: case 0xBD: case 0xBE: case 0xBF:
-        r_.r[op & 7] = imm16();
-        break;
-
-    // ---- returns (C0/C1 alias C2/C3, C8/C9 alias CA/CB) ----
-    case 0xC0: case 0xC2: case 0xC8: case 0xCA: {
-        const std::uint16_t n = imm16();
-        clks(1);
-        const std::uint16_t ip = pop();
-        suspend_fetch();
-        std::uint16_t cs = r_.s[CS];
-        if (op & 8) {
-            clks(3);
-            cs = pop();
-        }
-        r_.r[SP] = std::uint16_t(r_.r[SP] + n);
-        clks((op & 8) ? 0 : 2);
-        jump_far(cs, ip);
-        clks(2);
-        break;
-    }
-    case 0xC1: case 0xC3: case 0xC9: case 0xCB: {
-        if (op & 8) { // RETF: prefetching goes on until IP has been read
-            clks(2);
-            const std::uint16_t ip = pop();
-            suspend_fetch();
-            clks(3);
-            const std::uint16_t cs = pop();
-            jump_far(cs, ip);
-        } else {
-            suspend_fetch();
-            const std::uint16_t ip = pop();
-            clk();
-            jump_near(ip);
-        }
-        clks(2);
-        break;
-    }
-    case 0xC4: case 0xC5: {
-        const std::uint16_t off = read16(ea_seg_, ea_);
-        clks(4);
-        const std::uint16_t seg = read16(ea_seg_, std::uint16_t(ea_ + 2));
-        r_.r[reg_] = off;
-        r_.s[op == 0xC4 ? ES : DS] = seg;
-        break;
-    }
-    case 0xC6:
-        // reg is ignored by the 8086.
-        if (mod_ == 3) set_reg8(rm_, imm8());
-        else {
-            clks(2);
-            const std::uint8_t v = imm8();
-            clks(2);
-            write8(ea_seg_, ea_, v, true);
-        }
-        break;
-    case 0xC7:
-        if (mod_ == 3) r_.r[rm_] = imm16();
-        else {
-            clks(2);
-            const std::uint16_t v = imm16();
-            clks(1);
-            write16(ea_seg_, ea_, v, true);
-        }
-        break;
-
-    // ---- interrupts ----
-    case 0xCC:
-        clks(4);
-        interrupt(3);
-        break;
-    case 0xCD: {
-        const std::uint8_t v = imm8();
-        clks(2);
-        interrupt(v);
-        break;
-    }
-    case 0xCE:
-        if (get_flag(flag::OF)) {
-            clks(5);
-            interrupt(4);
-        } else {
-            clks(2);
-        }
-        break;
-    case 0xCF: {
-        clks(2);
-        const std::uint16_t ip = pop();
-        suspend_fetch();
-        clks(3);
-        const std::uint16_t cs = pop();
-        jump_far(cs, ip);
-        clks(2);
-        r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
-        break;
-    }
-
-    // ---- shifts ----
-    case 0xD0: case 0xD1: case 0xD2: case 0xD3: {
-        const bool word = op & 1;
-        const unsigned count = (op & 2) ? reg8(1) : 1;
-        if (!word) {
-            const std::uint8_t v = rm_read8();
-            if (op & 2) clks(4 + 4 * count);
-            const std::uint8_t r = std::uint8_t(shift(reg_, v, count, false));
-            clks(mod_ != 3 ? ((op & 2) ? 5 : 4) : ((op & 2) ? 2 : 0));
-            rm_write8(r);
-        } else {
-            const std::uint16_t v = rm_read16();
-            if (op & 2) clks(4 + 4 * count);
-            const std::uint16_t r = shift(reg_, v, count, true);
-            clks(mod_ != 3 ? ((op & 2) ? 5 : 4) : ((op & 2) ? 2 : 0));
-            rm_write16(r);
-        }
-        break;
-    }
-    case 0xD4: { // AAM
-        const std::uint8_t base = imm8();
-        if (base == 0) {
-            clks(2);
-            interrupt(0);
-            break;
-        }
-        const std::uint8_t al = reg8(0);
-        const std::uint8_t q = std::uint8_t(al / base);
-        set_reg8(4, q);
-        set_reg8(0, std::uint8_t(al % base));
-        set_szp(reg8(0), false);
-        // The division loop (measured): one clock per one bit of the quotient, two more when
-        // the quotient is odd.
-        clks(74 + popcount16(q) + ((q & 1) ? 2 : 0));
-        break;
-    }
-    case 0xD5: { // AAD: AL = AL + AH * imm, flags as the addition
-        const std::uint8_t base = imm8();
-        const std::uint8_t prod = std::uint8_t(reg8(4) * base);
-        const std::uint8_t r = std::uint8_t(alu(0, reg8(0), prod, false));
-        r_.r[AX] = r;
-        clks(56 + popcount16(base)); // the multiply loop: one clock per one bit of the base
-        break;
-    }
-    case 0xD6: // SALC
-        set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00);
-        clks(1);
-        break;
-    case 0xD7: { // XLAT
-        clks(3);
-        set_reg8(0, read8(data_seg(DS), std::uint16_t(r_.r[BX] + reg8(0))));
-        break;
-    }
+    case 0x9B: clks(3); break; // WAIT: TEST# is held active on this board, so it falls through
+    case 0xD6: set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00); clks(1); break; // SALC
     case 0xD8: case 0xD9: case 0xDA: case 0xDB: case 0xDC: case 0xDD: case 0xDE: case 0xDF:
         // ESC: no coprocessor; a memory operand is still read.
         if (mod_ != 3) read16(ea_seg_, ea_);
         clks(1);
         break;
-
-    // ---- loops ----
-    case 0xE0: case 0xE1: case 0xE2: case 0xE3: {
-        bool take;
-        clks(2); // CX (- 1) before the displacement is read
-        if (op == 0xE3) {
-            take = r_.r[CX] == 0;
-        } else {
-            r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
-            take = r_.r[CX] != 0;
-            if (op == 0xE0) take = take && !get_flag(flag::ZF);
-            if (op == 0xE1) take = take && get_flag(flag::ZF);
-        }
-        const std::int8_t d = std::int8_t(imm8());
-        clk();
-        if (take) {
-            if (op != 0xE2) clk(); // the extra condition test of LOOPE/LOOPNE/JCXZ
-            reljmp(std::uint16_t(r_.ip + d));
-        }
-        break;
-    }
-    case 0xE4: { const std::uint8_t p = imm8(); clks(1); set_reg8(0, std::uint8_t(in(p, false))); break; }
-    case 0xE5: { const std::uint8_t p = imm8(); clks(1); r_.r[AX] = in(p, true); break; }
-    case 0xE6: { const std::uint8_t p = imm8(); clks(2); out(p, reg8(0), false, true); break; }
-    case 0xE7: { const std::uint8_t p = imm8(); clks(2); out(p, r_.r[AX], true, true); break; }
-    case 0xEC: set_reg8(0, std::uint8_t(in(r_.r[DX], false))); break;
-    case 0xED: r_.r[AX] = in(r_.r[DX], true); break;
-    case 0xEE: clks(1); out(r_.r[DX], reg8(0), false, true); break;
-    case 0xEF: clks(1); out(r_.r[DX], r_.r[AX], true, true); break;
-
-    case 0xE8: {
-        const std::uint16_t d = imm16();
-        const std::uint16_t ret = r_.ip;
-        reljmp(std::uint16_t(r_.ip + d));
-        clks(2);
-        push(ret, true);
-        break;
-    }
-    case 0xE9: {
-        const std::uint16_t d = imm16();
-        reljmp(std::uint16_t(r_.ip + d));
-        break;
-    }
-    case 0xEA: {
-        const std::uint16_t ip = imm16();
-        const std::uint16_t cs = imm16();
-        susp();
-        clk();
-        jump_far(cs, ip);
-        clks(1);
-        break;
-    }
-    case 0xEB: {
-        const std::int8_t d = std::int8_t(imm8());
-        clk();
-        reljmp(std::uint16_t(r_.ip + d));
-        break;
-    }
-
-    // ---- misc ----
-    case 0xF4: // HLT
+    case 0xF4: // HLT: prefetching stops; the EU idles until NMI or an enabled INTR
         halted_ = true;
         suspend_fetch();
         clks(1);
@@ -856,123 +119,7 @@ void Cpu::execute(std::uint8_t op) {
         break;
     case 0xFC: set_flag(flag::DF, false); break;
     case 0xFD: set_flag(flag::DF, true); break;
-
-    case 0xF6: case 0xF7: {
-        const bool word = op & 1;
-        switch (reg_) {
-        case 0:
-        case 1:
-            if (!word) {
-                const std::uint8_t a = rm_read8();
-                clks(mod_ != 3 ? 2 : 1);
-                alu(4, a, imm8(), false);
-            } else {
-                const std::uint16_t a = rm_read16();
-                clks(mod_ != 3 ? 2 : 1);
-                alu(4, a, imm16(), true);
-            }
-            clks(mod_ != 3 ? (word ? 1 : 2) : (word ? 0 : 1));
-            break;
-        case 2:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 1 : 4); rm_write8(std::uint8_t(~a)); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 1 : 4); rm_write16(std::uint16_t(~a)); }
-            break;
-        case 3:
-            if (!word) { const std::uint8_t a = rm_read8(); clks(mod_ == 3 ? 1 : 4); rm_write8(std::uint8_t(alu(5, 0, a, false))); }
-            else { const std::uint16_t a = rm_read16(); clks(mod_ == 3 ? 1 : 4); rm_write16(alu(5, 0, a, true)); }
-            break;
-        default:
-            if (reg_ >= 6) {
-                if (word) rm_read16_cached_ = rm_read16();
-                else rm_read8_cached_ = rm_read8();
-                divide(word, reg_ == 7);
-            } else {
-                grp_muldiv(reg_, word);
-            }
-            break;
-        }
-        break;
-    }
-    case 0xFE: case 0xFF: {
-        const bool word = op & 1;
-        switch (reg_) {
-        case 0:
-        case 1: {
-            const bool cf = get_flag(flag::CF);
-            if (!word) {
-                const std::uint8_t a = rm_read8();
-                const std::uint8_t r = std::uint8_t(alu(reg_ ? 5 : 0, a, 1, false));
-                set_flag(flag::CF, cf);
-                clks(mod_ == 3 ? 1 : 4);
-                rm_write8(r);
-            } else {
-                const std::uint16_t a = rm_read16();
-                const std::uint16_t r = alu(reg_ ? 5 : 0, a, 1, true);
-                set_flag(flag::CF, cf);
-                clks(mod_ == 3 ? 1 : 4);
-                rm_write16(r);
-            }
-            break;
-        }
-        case 2: { // CALL near r/m
-            const std::uint16_t t = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            if (mod_ == 3) {
-                clk();
-                susp();
-            } else {
-                clks(2);
-                susp();
-            }
-            clks(3);
-            call_near(t);
-            break;
-        }
-        case 3: { // CALL far m
-            const std::uint16_t ip = read16(ea_seg_, ea_);
-            clks(4);
-            const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
-            suspend_fetch();
-            clks(4);
-            call_far(cs, ip);
-            break;
-        }
-        case 4: { // JMP near r/m
-            const std::uint16_t t = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            if (mod_ == 3) {
-                clk();
-                susp();
-            } else {
-                clks(2); // a prefetch may still start after the operand read
-                susp();
-            }
-            jump_near(t);
-            clks(1);
-            break;
-        }
-        case 5: { // JMP far m
-            const std::uint16_t ip = read16(ea_seg_, ea_);
-            clks(4);
-            const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
-            suspend_fetch();
-            jump_far(cs, ip);
-            clks(1);
-            break;
-        }
-        default: { // PUSH r/m (7 is an alias)
-            const std::uint16_t v = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-            clks(mod_ == 3 ? 4 : 5);
-            r_.r[SP] = std::uint16_t(r_.r[SP] - 2);
-            // PUSH SP through r/m pushes the decremented value as well.
-            write16(SS, r_.r[SP], (mod_ == 3 && rm_ == SP) ? r_.r[SP] : v, true);
-            break;
-        }
-        }
-        break;
-    }
-    default:
-        // Prefix bytes never reach here (step() consumes them).
-        clks(1);
-        break;
+    default: clks(1); break; // prefix bytes never reach here (step() consumes them)
     }
 }
 

@@ -203,14 +203,39 @@ std::string row(bool ale, std::uint32_t addr, const std::string& status, const s
 
 } // namespace
 
+unsigned Runner::Harness::bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                                     cycles_t) {
+    const std::uint32_t a1 = (address + 1) & (kRamSize - 1);
+    switch (kind) {
+    case Bus::code_fetch: {
+        auto next = [&](std::uint32_t a) -> std::uint8_t {
+            if (code_left == 0) return kFill;
+            --code_left;
+            return ram[a];
+        };
+        const std::uint8_t lo = next(address);
+        data = width == 2 ? std::uint16_t(lo | (next(a1) << 8)) : lo;
+        break;
+    }
+    case Bus::mem_read:
+        data = width == 2 ? std::uint16_t(ram[address] | (ram[a1] << 8)) : ram[address];
+        break;
+    case Bus::mem_write:
+        ram[address] = std::uint8_t(data);
+        if (width == 2) ram[a1] = std::uint8_t(data >> 8);
+        break;
+    default: // no I/O or INTA device in the suite: the bus floats
+        if (kind != Bus::io_write) data = 0xFFFF;
+        break;
+    }
+    return 0;
+}
+
 Runner::Runner() : ram_(new std::uint8_t[kRamSize]) {
     std::memset(ram_.get(), kFill, kRamSize);
-    MemRegion r;
-    r.name = "sst-ram";
-    r.base = 0;
-    r.size = kRamSize;
-    r.data = ram_.get();
-    cpu_.map_memory(r);
+    // No direct memory map: every bus cycle goes through the harness model.
+    harness_.ram = ram_.get();
+    cpu_.set_bus_handler(&harness_);
     cpu_.set_bus_hook(
         [](void* ctx, const BusRecord& rec) {
             if (rec.kind == Bus::mem_write) {
@@ -284,6 +309,10 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
         parse_regs(fin["regs"], file, where + ".final.regs", t.fin, t.fin_present, false);
         parse_ram(ini["ram"], file, where + ".initial.ram", t.ram_in);
         parse_ram(fin["ram"], file, where + ".final.ram", t.ram_out);
+        if (j.contains("bytes")) {
+            if (!j["bytes"].is_array()) fail(file, where + ".bytes is not an array");
+            t.code_bytes = j["bytes"].size();
+        }
         if (ini.contains("queue")) {
             if (!ini["queue"].is_array() || ini["queue"].size() > 6)
                 fail(file, where + ".initial.queue is not an array of at most 6 bytes");
@@ -305,13 +334,21 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
     return out;
 }
 
-void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {
+std::vector<std::uint64_t> Runner::cycles_per_test(const std::vector<Test>& tests, bool trace) {
+    std::vector<std::uint64_t> out;
+    out.reserve(tests.size());
+    for (const Test& t : tests) out.push_back(run_one(t, OpcodeInfo{}, nullptr, trace));
+    return out;
+}
+
+cycles_t Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace) {
     std::uint8_t* ram = ram_.get();
     touched_.clear();
     for (const auto& [a, v] : t.ram_in) {
         ram[a] = v;
         touched_.push_back(a);
     }
+    harness_.code_left = t.code_bytes > t.queue.size() ? t.code_bytes - t.queue.size() : 0;
     cpu_.load_state(t.init, t.queue.data(), static_cast<unsigned>(t.queue.size()));
     cpu_.set_cycle_trace(nullptr);
     cpu_.start(); // the first byte is read in the clock before the trace begins
@@ -323,139 +360,152 @@ void Runner::run_one(const Test& t, const OpcodeInfo& info, FileResult* result, 
     cpu_.set_cycle_trace(nullptr);
 
     if (result) {
-        std::ostringstream why;
-        // ---- level 1: registers and RAM ----
-        bool ok1 = true;
-        const Registers& r = cpu_.regs();
-        std::uint16_t got[14];
-        for (int i = 0; i < 8; ++i) got[i] = r.r[i];
-        for (int i = 0; i < 4; ++i) got[8 + i] = r.s[i];
-        got[12] = r.ip;
-        got[13] = r.flags;
-        std::uint16_t init[14];
-        for (int i = 0; i < 8; ++i) init[i] = t.init.r[i];
-        for (int i = 0; i < 4; ++i) init[8 + i] = t.init.s[i];
-        init[12] = t.init.ip;
-        init[13] = t.init.flags;
-        for (int i = 0; i < 14 && ok1; ++i) {
-            std::uint16_t want = t.fin_present[i] ? t.fin[i] : init[i];
-            std::uint16_t have = got[i];
-            if (i == 13) {
-                want &= info.flags_mask;
-                have &= info.flags_mask;
-            }
-            if (want != have) {
-                ok1 = false;
-                const char* name = i < 8 ? kRegNames[i] : i < 12 ? kSegNames[i - 8] : i == 12 ? "ip" : "flags";
-                why << name << " expected " << want << " got " << have;
-            }
-        }
-        // The flags image pushed by a divide error holds the undefined flags: mask it too.
-        std::uint32_t flag_img = ~0u;
-        const std::uint16_t fin_sp = t.fin_present[SP] ? t.fin[SP] : t.init.r[SP];
-        if (info.flags_mask != 0xFFFF && fin_sp == std::uint16_t(t.init.r[SP] - 6))
-            flag_img = Cpu::linear(t.init.s[SS], std::uint16_t(t.init.r[SP] - 2));
-        for (const auto& [a, v] : t.ram_out) {
-            if (!ok1) break;
-            std::uint8_t mask = 0xFF;
-            if (a == flag_img) mask = std::uint8_t(info.flags_mask);
-            if (a == ((flag_img + 1) & (kRamSize - 1)) && flag_img != ~0u) mask = std::uint8_t(info.flags_mask >> 8);
-            if ((ram[a] & mask) != (v & mask)) {
-                ok1 = false;
-                why << "ram[" << a << "] expected " << unsigned(v) << " got " << unsigned(ram[a]);
-            }
-        }
-        if (ok1) ++result->pass[1];
-        else if (result->first_failure[1].empty())
-            result->first_failure[1] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + why.str();
-
-        // ---- level 2: cycle count; level 3: the trace ----
+        auto record = [&](int level, bool ok, const std::string& why) {
+            if (ok) ++result->pass[level];
+            else if (result->first_failure[level].empty())
+                result->first_failure[level] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + why;
+        };
+        std::string why;
+        record(1, check_state(t, info, &why), why);
         if (t.cycles) {
             const json& cyc = *t.cycles;
-            if (cyc.size() == used) ++result->pass[2];
-            else if (result->first_failure[2].empty())
-                result->first_failure[2] = "test " + std::to_string(t.idx) + " (" + t.name + "): expected " +
-                                           std::to_string(cyc.size()) + " cycles, got " + std::to_string(used);
-            bool ok3 = trace && cyc.size() == trace_.size();
-            std::ostringstream w3;
-            if (!ok3) w3 << "length expected " << cyc.size() << " got " << trace_.size();
-            std::uint32_t latch = 0;
-            std::string kind = "PASV";
-            for (std::size_t k = 0; ok3 && k < cyc.size(); ++k) {
-                const json& e = cyc[k];
-                const CycleRecord& m = trace_[k];
-                const bool ale = e[0].get<unsigned>() & 1;
-                const std::string status = e[7].get<std::string>();
-                const std::string ts = e[8].get<std::string>();
-                const std::string qo = e[9].get<std::string>();
-                if (ale) {
-                    latch = e[1].get<std::uint32_t>();
-                    kind = status;
-                }
-                auto bad = [&](const char* field, const std::string& want, const std::string& have) {
-                    ok3 = false;
-                    w3 << "cycle " << k << " " << field << " expected " << want << " got " << have;
-                };
-                if (status != to_string(m.status)) bad("status", status, to_string(m.status));
-                else if (ts != to_string(m.t)) bad("T-state", ts, to_string(m.t));
-                else if (qo != qop_name(m.qop)) bad("queue op", qo, qop_name(m.qop));
-                else if (qo != "-" && e[10].get<unsigned>() != m.qbyte)
-                    bad("queue byte", std::to_string(e[10].get<unsigned>()), std::to_string(m.qbyte));
-                else if (ale != m.ale) bad("ALE", std::to_string(ale), std::to_string(m.ale));
-                else if (ale && latch != m.address_latch)
-                    bad("address", std::to_string(latch), std::to_string(m.address_latch));
-                else if ((ts == "T3" || ts == "Tw") &&
-                         (k + 1 >= cyc.size() || cyc[k + 1][8].get<std::string>() != "Tw") && kind != "PASV" &&
-                         kind != "HALT") {
-                    const bool bhe_active = e[5].get<unsigned>() == 0;
-                    const std::uint16_t lanes = (latch & 1) ? 0xFF00 : bhe_active ? 0xFFFF : 0x00FF;
-                    const std::uint16_t want = std::uint16_t(e[6].get<unsigned>() & lanes);
-                    const std::uint16_t have = std::uint16_t(m.data & lanes);
-                    if (want != have) bad("data", std::to_string(want), std::to_string(have));
-                }
-            }
-            if (ok3) ++result->pass[3];
-            else if (result->first_failure[3].empty())
-                result->first_failure[3] = "test " + std::to_string(t.idx) + " (" + t.name + "): " + w3.str();
+            record(2, cyc.size() == used,
+                   "expected " + std::to_string(cyc.size()) + " cycles, got " + std::to_string(used));
+            why.clear();
+            const bool ok3 = trace && check_trace(cyc, &why);
+            record(3, ok3, why);
             const bool failed = diff_level_ == 2 ? cyc.size() != used : !ok3;
-            if (trace && failed && result->diffs.size() < diff_n_) {
-                std::ostringstream d;
-                d << "test " << t.idx << " (" << t.name << ") bytes at " << hex(Cpu::linear(t.init.s[CS], t.init.ip), 5)
-                  << ", queue " << t.queue.size() << ", expected " << cyc.size() << " cycles, got " << used << "\n";
-                const std::size_t n = std::max<std::size_t>(cyc.size(), trace_.size());
-                bool marked = false;
-                for (std::size_t k = 0; k < n; ++k) {
-                    std::string a = "", b = "";
-                    if (k < cyc.size()) {
-                        const json& e = cyc[k];
-                        const std::string ts = e[8].get<std::string>();
-                        a = row(e[0].get<unsigned>() & 1, e[1].get<std::uint32_t>(), e[7].get<std::string>(), ts,
-                                e[9].get<std::string>(), e[10].get<unsigned>(), ts == "T3" || ts == "Tw",
-                                std::uint16_t(e[6].get<unsigned>()));
-                    }
-                    if (k < trace_.size()) {
-                        const CycleRecord& m = trace_[k];
-                        b = row(m.ale, m.address_latch, to_string(m.status), to_string(m.t), qop_name(m.qop), m.qbyte,
-                                m.transfer, m.data);
-                    }
-                    // Compare on the fields level 3 checks (data only roughly: lanes are not masked here).
-                    std::string ac = a.substr(0, std::min<std::size_t>(a.size(), 24));
-                    std::string bc = b.substr(0, std::min<std::size_t>(b.size(), 24));
-                    const bool differ = ac != bc;
-                    char line[160];
-                    std::snprintf(line, sizeof line, "  %3zu %-38s | %-38s%s\n", k, a.c_str(), b.c_str(),
-                                  differ && !marked ? "  <==" : "");
-                    if (differ) marked = true;
-                    d << line;
-                }
-                result->diffs.push_back(d.str());
-            }
+            if (trace && failed && result->diffs.size() < diff_n_) result->diffs.push_back(side_by_side(t, used));
         }
     }
 
     // Back to the fill pattern for the next test.
     for (std::uint32_t a : touched_) ram[a] = kFill;
     for (const auto& [a, v] : t.ram_out) ram[a] = kFill;
+    return used;
+}
+
+// Level 1: final registers (undefined flags masked) and the listed RAM.
+bool Runner::check_state(const Test& t, const OpcodeInfo& info, std::string* why) const {
+    const std::uint8_t* ram = ram_.get();
+    const Registers& r = cpu_.regs();
+    std::uint16_t got[14], init[14];
+    for (int i = 0; i < 8; ++i) got[i] = r.r[i], init[i] = t.init.r[i];
+    for (int i = 0; i < 4; ++i) got[8 + i] = r.s[i], init[8 + i] = t.init.s[i];
+    got[12] = r.ip, init[12] = t.init.ip;
+    got[13] = r.flags, init[13] = t.init.flags;
+    std::ostringstream w;
+    for (int i = 0; i < 14; ++i) {
+        std::uint16_t want = t.fin_present[i] ? t.fin[i] : init[i];
+        std::uint16_t have = got[i];
+        if (i == 13) {
+            want &= info.flags_mask;
+            have &= info.flags_mask;
+        }
+        if (want != have) {
+            const char* name = i < 8 ? kRegNames[i] : i < 12 ? kSegNames[i - 8] : i == 12 ? "ip" : "flags";
+            w << name << " expected " << want << " got " << have;
+            *why = w.str();
+            return false;
+        }
+    }
+    // The flags image pushed by a divide error holds the undefined flags: mask it too.
+    std::uint32_t flag_img = ~0u;
+    const std::uint16_t fin_sp = t.fin_present[SP] ? t.fin[SP] : t.init.r[SP];
+    if (info.flags_mask != 0xFFFF && fin_sp == std::uint16_t(t.init.r[SP] - 6))
+        flag_img = Cpu::linear(t.init.s[SS], std::uint16_t(t.init.r[SP] - 2));
+    for (const auto& [a, v] : t.ram_out) {
+        std::uint8_t mask = 0xFF;
+        if (a == flag_img) mask = std::uint8_t(info.flags_mask);
+        if (a == ((flag_img + 1) & (kRamSize - 1)) && flag_img != ~0u) mask = std::uint8_t(info.flags_mask >> 8);
+        if ((ram[a] & mask) != (v & mask)) {
+            w << "ram[" << a << "] expected " << unsigned(v) << " got " << unsigned(ram[a]);
+            *why = w.str();
+            return false;
+        }
+    }
+    return true;
+}
+
+// Level 3: per cycle the bus status, T-state, queue operation and byte, ALE and the latched
+// address, and on a transfer clock the data on the lanes A0/BHE select.
+bool Runner::check_trace(const json& cyc, std::string* why) const {
+    std::ostringstream w;
+    if (cyc.size() != trace_.size()) {
+        w << "length expected " << cyc.size() << " got " << trace_.size();
+        *why = w.str();
+        return false;
+    }
+    std::uint32_t latch = 0;
+    std::string kind = "PASV";
+    for (std::size_t k = 0; k < cyc.size(); ++k) {
+        const json& e = cyc[k];
+        const CycleRecord& m = trace_[k];
+        const bool ale = e[0].get<unsigned>() & 1;
+        const std::string status = e[7].get<std::string>();
+        const std::string ts = e[8].get<std::string>();
+        const std::string qo = e[9].get<std::string>();
+        if (ale) {
+            latch = e[1].get<std::uint32_t>();
+            kind = status;
+        }
+        auto bad = [&](const char* field, const std::string& want, const std::string& have) {
+            w << "cycle " << k << " " << field << " expected " << want << " got " << have;
+            *why = w.str();
+            return false;
+        };
+        if (status != to_string(m.status)) return bad("status", status, to_string(m.status));
+        if (ts != to_string(m.t)) return bad("T-state", ts, to_string(m.t));
+        if (qo != qop_name(m.qop)) return bad("queue op", qo, qop_name(m.qop));
+        if (qo != "-" && e[10].get<unsigned>() != m.qbyte)
+            return bad("queue byte", std::to_string(e[10].get<unsigned>()), std::to_string(m.qbyte));
+        if (ale != m.ale) return bad("ALE", std::to_string(ale), std::to_string(m.ale));
+        if (ale && latch != m.address_latch)
+            return bad("address", std::to_string(latch), std::to_string(m.address_latch));
+        const bool transfer = (ts == "T3" || ts == "Tw") &&
+                              (k + 1 >= cyc.size() || cyc[k + 1][8].get<std::string>() != "Tw");
+        if (transfer && kind != "PASV" && kind != "HALT") {
+            const bool bhe_active = e[5].get<unsigned>() == 0;
+            const std::uint16_t lanes = (latch & 1) ? 0xFF00 : bhe_active ? 0xFFFF : 0x00FF;
+            const std::uint16_t want = std::uint16_t(e[6].get<unsigned>() & lanes);
+            const std::uint16_t have = std::uint16_t(m.data & lanes);
+            if (want != have) return bad("data", std::to_string(want), std::to_string(have));
+        }
+    }
+    return true;
+}
+
+// The expected and the emulated trace side by side, the first differing row marked.
+std::string Runner::side_by_side(const Test& t, cycles_t used) const {
+    const json& cyc = *t.cycles;
+    std::ostringstream d;
+    d << "test " << t.idx << " (" << t.name << ") bytes at " << hex(Cpu::linear(t.init.s[CS], t.init.ip), 5)
+      << ", queue " << t.queue.size() << ", expected " << cyc.size() << " cycles, got " << used << "\n";
+    const std::size_t n = std::max<std::size_t>(cyc.size(), trace_.size());
+    bool marked = false;
+    for (std::size_t k = 0; k < n; ++k) {
+        std::string a, b;
+        if (k < cyc.size()) {
+            const json& e = cyc[k];
+            const std::string ts = e[8].get<std::string>();
+            a = row(e[0].get<unsigned>() & 1, e[1].get<std::uint32_t>(), e[7].get<std::string>(), ts,
+                    e[9].get<std::string>(), e[10].get<unsigned>(), ts == "T3" || ts == "Tw",
+                    std::uint16_t(e[6].get<unsigned>()));
+        }
+        if (k < trace_.size()) {
+            const CycleRecord& m = trace_[k];
+            b = row(m.ale, m.address_latch, to_string(m.status), to_string(m.t), qop_name(m.qop), m.qbyte,
+                    m.transfer, m.data);
+        }
+        // Compare on the fields level 3 checks (data only roughly: lanes are not masked here).
+        const bool differ = a.substr(0, std::min<std::size_t>(a.size(), 24)) != b.substr(0, std::min<std::size_t>(b.size(), 24));
+        char line[160];
+        std::snprintf(line, sizeof line, "  %3zu %-38s | %-38s%s\n", k, a.c_str(), b.c_str(),
+                      differ && !marked ? "  <==" : "");
+        if (differ) marked = true;
+        d << line;
+    }
+    return d.str();
 }
 
 } // namespace rcsim::i8086::sst

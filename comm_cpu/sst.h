@@ -70,6 +70,7 @@ struct Test {
     Registers init;
     std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
     std::vector<std::uint8_t> queue;
+    std::size_t code_bytes = ~std::size_t(0); // length of "bytes": the harness then feeds NOPs
     std::uint16_t fin[14] = {}; // final registers (8 general, 4 segment, ip, flags) ...
     bool fin_present[14] = {};  // ... and whether each was listed
     const nlohmann::json* cycles = nullptr;
@@ -82,6 +83,9 @@ public:
     static std::vector<Test> convert(const nlohmann::json& tests, const std::string& file);
     /// Runs converted tests without comparison or trace (benchmarks); returns cycles executed.
     std::uint64_t run_converted(const std::vector<Test>& tests);
+    /// Runs converted tests without comparison, with the per-cycle trace on or off, and returns
+    /// the cycles each one took (the idle-clock skip is taken only with the trace off).
+    std::vector<std::uint64_t> cycles_per_test(const std::vector<Test>& tests, bool trace);
     /// Runs every test of one file; throws InputError on unreadable or malformed content.
     FileResult run_file(const std::string& path, const Metadata& meta);
     /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
@@ -95,8 +99,21 @@ public:
     }
 
 private:
-    void run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
+    // The capture harness as the CPU saw it: RAM for data, and for code fetches the test's
+    // instruction bytes in fetch order, then NOPs whatever the address (upstream README,
+    // "Instruction Prefetching"). Matters when a jump lands on a byte of the instruction.
+    struct Harness : BusHandler {
+        std::uint8_t* ram = nullptr;
+        std::size_t code_left = 0; // instruction bytes not yet fetched
+        unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
+                            cycles_t start) override;
+    };
+    cycles_t run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
+    bool check_state(const Test& t, const OpcodeInfo& info, std::string* why) const;
+    bool check_trace(const nlohmann::json& cycles, std::string* why) const;
+    std::string side_by_side(const Test& t, cycles_t used) const;
 
+    Harness harness_;
     std::unique_ptr<std::uint8_t[]> ram_;
     std::vector<std::uint32_t> touched_;
     Cpu cpu_;

@@ -1,74 +1,16 @@
 // Hand-written tests of the 8086 core for what the SingleStepTests vectors do not exercise:
 // hardware interrupts, NMI, TF, HLT, the inhibit rules, REP interruption, wait states, odd words.
 #include "comm_cpu/i8086.h"
+#include "tests/comm_cpu/cpu_board.h"
 #include "tests/support/sc_test.h"
 
-#include <cstring>
-#include <memory>
 #include <vector>
 
 using namespace rcsim;
 using namespace rcsim::i8086;
 
-namespace {
-
-// A board for the bare core: 1 MB of RAM (optionally with wait states below 0x10000) and a
-// handler that answers I/O and INTA, recording every call.
-struct Board : BusHandler {
-    std::unique_ptr<std::uint8_t[]> ram{new std::uint8_t[1 << 20]};
-    Cpu cpu;
-    std::uint8_t vector = 0x20;
-    unsigned io_waits = 0;
-    std::vector<BusRecord> calls; // handler calls
-    std::vector<BusRecord> cycles; // every bus cycle (hook)
-    std::uint16_t io_value = 0x1234;
-
-    explicit Board(unsigned ram_waits = 0) {
-        std::memset(ram.get(), 0xF4, 1 << 20); // HLT everywhere by default
-        MemRegion r{"ram", 0, 1u << 20, ram.get(), ram_waits, true};
-        cpu.map_memory(r);
-        cpu.set_bus_handler(this);
-        cpu.set_bus_hook([](void* c, const BusRecord& r) { static_cast<Board*>(c)->cycles.push_back(r); }, this);
-        Registers regs;
-        regs.s[CS] = 0x1000;
-        regs.s[SS] = 0x2000;
-        regs.s[DS] = 0x3000;
-        regs.s[ES] = 0x4000;
-        regs.r[SP] = 0x0100;
-        regs.ip = 0;
-        cpu.load_state(regs, nullptr, 0);
-        set_vector(0x20, 0x0500, 0);
-        set_vector(2, 0x0600, 0);
-        set_vector(1, 0x0700, 0);
-        set_vector(0, 0x0800, 0);
-        // handlers: INC BX ; IRET
-        for (std::uint32_t a : {0x500u, 0x600u, 0x700u, 0x800u}) {
-            ram[a] = 0x43;
-            ram[a + 1] = 0xCF;
-        }
-    }
-    void set_vector(unsigned v, std::uint16_t ip, std::uint16_t cs) {
-        ram[v * 4] = ip & 0xFF;
-        ram[v * 4 + 1] = ip >> 8;
-        ram[v * 4 + 2] = cs & 0xFF;
-        ram[v * 4 + 3] = cs >> 8;
-    }
-    void load(const std::vector<std::uint8_t>& code, std::uint32_t at = 0x10000) {
-        std::memcpy(ram.get() + at, code.data(), code.size());
-    }
-    unsigned bus_access(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width, cycles_t start) override {
-        if (kind == Bus::int_ack) data = vector;
-        else if (kind == Bus::io_read) data = io_value;
-        calls.push_back(BusRecord{kind, addr, data, std::uint8_t(width), io_waits, start});
-        return kind == Bus::int_ack ? 0 : io_waits;
-    }
-    std::uint16_t word_at(std::uint32_t a) const { return std::uint16_t(ram[a] | (ram[a + 1] << 8)); }
-    std::uint32_t pc() const { return cpu.pc(); }
-};
-
-constexpr std::uint32_t kStack = 0x20000; // SS = 0x2000
-
-} // namespace
+using rcsim::i8086::test::Board;
+using rcsim::i8086::test::kStack;
 
 TEST(Cpu8086Core, ResetVectorIsFFFF0) {
     Cpu cpu;

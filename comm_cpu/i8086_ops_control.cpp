@@ -1,0 +1,188 @@
+// rcsim — Intel 8086 execution unit: control transfer.
+//
+// Jcc (70-7F, 60-6F alias), LOOP/LOOPE/LOOPNE/JCXZ (E0-E3), JMP (E9, EA, EB, FF /4 /5), CALL
+// (E8, 9A, FF /2 /3), RET/RETF with and without an immediate (C0-C3, C8-CB), INT 3 / INT n /
+// INTO / IRET (CC-CF).
+//
+// The shared tails are the microcode's: SUSP (susp: prefetching stops, a cycle in progress
+// runs to T4), RELJMP (reljmp: SUSP, the addition, the flush), NEARCALL (call_near: the flush,
+// then the IP push), FARCALL (call_far: push CS, then NEARCALL), the far return (farret: pop
+// IP, SUSP, pop CS, flush). The clocks around them are the EU's as measured on the captured
+// P80C86A-2 (SingleStepTests 8086 v1, level 3 exact).
+#include "comm_cpu/i8086.h"
+
+namespace rcsim::i8086 {
+
+// Pops IP, stops prefetching, pops CS three clocks later and jumps (RETF, RETF n, IRET).
+void Cpu::farret() {
+    const std::uint16_t ip = pop();
+    suspend_fetch();
+    clks(3);
+    const std::uint16_t cs = pop();
+    jump_far(cs, ip);
+}
+
+// Short and near relative jumps and calls, Jcc, LOOP/JCXZ, and the far forms with an
+// immediate address.
+void Cpu::exec_jump(std::uint8_t op) {
+    if (op < 0x80) { // Jcc: the condition is tested in the clock after the displacement
+        const std::int8_t d = std::int8_t(imm8());
+        clk();
+        if (condition(op & 0x0F)) {
+            clk();
+            reljmp(std::uint16_t(r_.ip + d));
+        }
+        return;
+    }
+    switch (op) {
+    case 0xE0: case 0xE1: case 0xE2: case 0xE3: { // LOOPNE, LOOPE, LOOP, JCXZ
+        clks(2); // CX (- 1) before the displacement is read
+        bool take;
+        if (op == 0xE3) {
+            take = r_.r[CX] == 0;
+        } else {
+            r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
+            take = r_.r[CX] != 0;
+            if (op == 0xE0) take = take && !get_flag(flag::ZF);
+            if (op == 0xE1) take = take && get_flag(flag::ZF);
+        }
+        const std::int8_t d = std::int8_t(imm8());
+        clk();
+        if (take) {
+            if (op != 0xE2) clk(); // the extra condition test of LOOPE/LOOPNE/JCXZ
+            reljmp(std::uint16_t(r_.ip + d));
+        }
+        break;
+    }
+    case 0xE8: { // CALL near: RELJMP, two clocks, the IP push
+        const std::uint16_t d = imm16();
+        const std::uint16_t ret = r_.ip;
+        reljmp(std::uint16_t(r_.ip + d));
+        clks(2);
+        push(ret, true);
+        break;
+    }
+    case 0xE9: {
+        const std::uint16_t d = imm16();
+        reljmp(std::uint16_t(r_.ip + d));
+        break;
+    }
+    case 0xEB: {
+        const std::int8_t d = std::int8_t(imm8());
+        clk();
+        reljmp(std::uint16_t(r_.ip + d));
+        break;
+    }
+    case 0xEA: { // JMP far: SUSP, one clock, the flush
+        const std::uint16_t ip = imm16();
+        const std::uint16_t cs = imm16();
+        susp();
+        clk();
+        jump_far(cs, ip);
+        clks(1);
+        break;
+    }
+    default: { // 9A CALL far: one clock, SUSP, two clocks, FARCALL
+        const std::uint16_t ip = imm16();
+        const std::uint16_t cs = imm16();
+        clk();
+        susp();
+        clks(2);
+        call_far(cs, ip);
+        break;
+    }
+    }
+}
+
+// Group 5 /2-/5 (FF; FE treated alike): CALL and JMP, near through r/m, far through memory.
+void Cpu::exec_jump_rm(std::uint8_t op) {
+    const bool word = op & 1;
+    const bool mem = mod_ != 3;
+    switch (reg_) {
+    case 2:
+    case 4: { // CALL / JMP near r/m: SUSP one clock (two after a memory operand) later
+        const std::uint16_t t = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
+        clks(mem ? 2 : 1); // a prefetch may still start after the operand read
+        susp();
+        if (reg_ == 2) {
+            clks(3);
+            call_near(t);
+        } else {
+            jump_near(t);
+            clks(1);
+        }
+        break;
+    }
+    case 3: { // CALL far m: offset, 3 clocks, segment; prefetching stops; 4 clocks, FARCALL
+        const std::uint16_t ip = read16(ea_seg_, ea_);
+        clks(3);
+        const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
+        suspend_fetch();
+        clks(4);
+        call_far(cs, ip);
+        break;
+    }
+    default: { // 5: JMP far m: offset, 3 clocks, SUSP (a prefetch started after the offset
+               // read runs to its T4 first), segment, the flush
+        const std::uint16_t ip = read16(ea_seg_, ea_);
+        clks(3);
+        susp();
+        const std::uint16_t cs = read16(ea_seg_, std::uint16_t(ea_ + 2));
+        jump_far(cs, ip);
+        clks(1);
+        break;
+    }
+    }
+}
+
+// RET, RET n, RETF, RETF n (C0/C1 alias C2/C3, C8/C9 alias CA/CB), INT 3, INT n, INTO, IRET.
+void Cpu::exec_return(std::uint8_t op) {
+    const bool far = op & 8;
+    switch (op) {
+    case 0xC0: case 0xC2: case 0xC8: case 0xCA: { // RET n / RETF n: release n bytes of arguments
+        const std::uint16_t n = imm16();
+        clks(1);
+        if (far) {
+            farret();
+        } else {
+            const std::uint16_t ip = pop();
+            suspend_fetch();
+            clks(2);
+            jump_near(ip);
+        }
+        r_.r[SP] = std::uint16_t(r_.r[SP] + n);
+        clks(2);
+        break;
+    }
+    case 0xC1: case 0xC3: case 0xC9: case 0xCB:
+        if (far) { // RETF: prefetching goes on until IP has been read
+            clks(2);
+            farret();
+        } else {
+            suspend_fetch();
+            const std::uint16_t ip = pop();
+            clk();
+            jump_near(ip);
+        }
+        clks(2);
+        break;
+    case 0xCC: clks(4); interrupt(3); break;
+    case 0xCD: { const std::uint8_t v = imm8(); clks(2); interrupt(v); break; }
+    case 0xCE: // INTO: the OF test, then the type-4 entry
+        if (get_flag(flag::OF)) {
+            clks(5);
+            interrupt(4);
+        } else {
+            clks(2);
+        }
+        break;
+    default: // CF IRET: the far return, two clocks, FLAGS
+        clks(2);
+        farret();
+        clks(2);
+        r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
+        break;
+    }
+}
+
+} // namespace rcsim::i8086

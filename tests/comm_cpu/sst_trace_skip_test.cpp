@@ -1,0 +1,36 @@
+// The idle-clock skip (Cpu::clks jumps over idle clocks when no trace is recorded) must not change
+// timing: every test of every shared vector file marked normal takes the same number of cycles
+// with the per-cycle trace off (skip taken) and on (every clock simulated). Skipped when the
+// vectors are absent, like the other SingleStepTests checks.
+#include "comm_cpu/sst.h"
+#include "tests/support/sc_test.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+using namespace rcsim::i8086::sst;
+
+TEST(SstTraceSkip, TraceOffAndOnGiveTheSameCyclesOnEveryNormalFile) {
+    const std::string dir = rcsim::test::sst_dir();
+    if (dir.empty()) GTEST_SKIP() << "SingleStepTests 8086 vectors not present (set RCSIM_SST_DIR)";
+    const Metadata meta = Metadata::load(dir + "/metadata.json");
+    Runner off, on;
+    std::size_t files = 0, tests = 0;
+    for (const std::string& path : collect({dir})) {
+        std::string stem = std::filesystem::path(path).filename().string();
+        stem = stem.substr(0, stem.find(".json"));
+        if (meta.lookup(stem).status != "normal") continue;
+        const std::vector<rcsim::i8086::sst::Test> list = Runner::convert(nlohmann::json::parse(read_text(path)), path);
+        const std::vector<std::uint64_t> a = off.cycles_per_test(list, false);
+        const std::vector<std::uint64_t> b = on.cycles_per_test(list, true);
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i)
+            EXPECT_EQ(a[i], b[i]) << stem << " test " << i << " (" << list[i].name << ")";
+        ++files;
+        tests += list.size();
+    }
+    // metadata.json marks 274 files normal, 100 tests each (docs/cpu8086.md, "Exactness").
+    EXPECT_EQ(files, 274u);
+    EXPECT_EQ(tests, 27400u);
+}
