@@ -27,7 +27,13 @@ bool read_char_inside(const std::vector<sc_time>& reads, const sc_time& a, const
 
 } // namespace
 
-nlohmann::json samples_json(const Samples& s) { return to_json(s.summary()); }
+nlohmann::json samples_json(const Samples& s) {
+    nlohmann::json j = to_json(s.summary());
+    // No sample, no figure: null, never a 0 that reads as a measured value.
+    if (s.count() == 0)
+        for (const char* k : {"min", "mean", "p50", "p99", "max"}) j[k] = nullptr;
+    return j;
+}
 
 std::vector<report::InterruptRow> interrupt_rows(const Bench& b) {
     std::vector<report::InterruptRow> rows;

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Runs one scenario through the real rcsim binary and asserts its verdict.
+
+usage: check_case.py RCSIM SCENARIO OUTDIR EXIT [FAILING_CHECK[=STATUS] ...]
+
+EXIT is the expected exit code (0 every check holds, 1 a check failed). The FAILING_CHECKs are
+exactly the checks that must fail (all others must pass), each optionally with the status it must
+report ("failed" or "not measured"; default "failed"). The verdict is asserted in all three places a
+user reads it: the exit code, report.json (`passed`, each check's `passed` and `status`) and the
+printed summary (a FAIL line naming the check, and the last line PASSED/FAILED)."""
+import json
+import os
+import subprocess
+import sys
+
+
+def main():
+    rcsim, scenario, out, want_exit = sys.argv[1:5]
+    want = {}
+    for arg in sys.argv[5:]:
+        name, _, status = arg.partition("=")
+        want[name] = status or "failed"
+    run = subprocess.run([rcsim, "run", scenario, "--out", out, "--reproducible"],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+    problems = []
+    if run.returncode != int(want_exit):
+        problems.append(f"exit {run.returncode}, expected {want_exit}")
+    try:
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+    except (OSError, ValueError) as e:
+        print(run.stdout)
+        print(f"FAIL: no readable report.json: {e}")
+        return 1
+    checks = {c["name"]: c for c in report["checks"]}
+    failing = {n: c.get("status", "failed") for n, c in checks.items() if not c["passed"]}
+    for name, status in want.items():
+        if name not in checks:
+            problems.append(f"check {name} is not in the report")
+        elif name not in failing:
+            problems.append(f"check {name} passed, expected it to fail ({status})")
+        elif failing[name] != status:
+            problems.append(f"check {name} is '{failing[name]}', expected '{status}'")
+        elif f"FAIL  {name}" not in run.stdout:
+            problems.append(f"the summary has no 'FAIL  {name}' line")
+    for name in failing:
+        if name not in want:
+            problems.append(f"check {name} failed too ({failing[name]}): {checks[name]}")
+    if report["passed"] != (not want):
+        problems.append(f"report.json passed = {report['passed']}")
+    verdict = [l for l in run.stdout.splitlines() if l in ("PASSED", "FAILED")]
+    if verdict != ["FAILED" if want else "PASSED"]:
+        problems.append(f"the summary's verdict lines are {verdict}")
+    if problems:
+        print(run.stdout)
+        for p in problems:
+            print("FAIL:", p)
+        return 1
+    print(f"ok: {os.path.basename(scenario)} exit {run.returncode}, failing {sorted(failing) or 'none'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
