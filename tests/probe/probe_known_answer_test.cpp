@@ -2,8 +2,9 @@
 // with the communication board's memory map and wait states, interrupts raised at known times,
 // handlers of known instructions. Every expected time below is derived in clocks from the 8086's
 // documented interrupt sequence and bus rules, not from the probe:
-//   [DS]   8086 data sheet (chips.md §4.1): INTR is sampled at the end of an instruction (the
-//          model: a boundary at clock edge c sees the level held before c); the response is two
+//   [DS]   8086 data sheet (docs/cpu8086.md "Published timing facts"): INTR is sampled at the
+//          end of an instruction (the model: a boundary at clock edge c sees the level held
+//          before c; HLT resumes at the first clock edge after the change); the response is two
 //          back-to-back INTA cycles, the type read on the second; IF is cleared by the entry;
 //          bus cycles are T1 T2 T3 [Tw] T4; STI delays recognition by one instruction.
 //   [TAB]  8086 clock tables: NOP 3, CLI 2, STI 2 (instruction already in the queue).
