@@ -18,17 +18,16 @@ using sc_core::SC_US;
 
 namespace {
 
-/// A host CPU on the chip's bus: a thread that runs the test body.
+/// A host CPU on the chip's bus: a checked thread that runs the test body.
 struct Host : sc_core::sc_module {
     tlm_utils::simple_initiator_socket<Host> sock{"sock"};
     CamcQi chip{"chip"};
     std::function<void(Host&)> body;
     unsigned last_wait_states = 0;
 
-    SC_HAS_PROCESS(Host);
     explicit Host(sc_core::sc_module_name n) : sc_module(n) {
         sock.bind(chip.socket);
-        SC_THREAD(run);
+        test::spawn_checked([this] { run(); }, "run");
     }
     void run() {
         body(*this);

@@ -1,4 +1,4 @@
-// Test bench for the IDT7130: one scripted initiator per port (each an SC_THREAD running a
+// Test bench for the IDT7130: one scripted initiator per port (each a checked thread running a
 // test-supplied body) and a log of every INT pin change with its time.
 #pragma once
 
@@ -6,6 +6,7 @@
 #include "models/bus.h"
 #include "models/clock.h"
 #include "models/irq.h"
+#include "tests/support/sc_test.h"
 
 #include <systemc>
 #include <tlm_utils/simple_initiator_socket.h>
@@ -43,8 +44,8 @@ public:
         ram.int_r.bind(int_r);
         ram.on_busy = [this](const Idt7130::BusyEvent& e) { busy.push_back(e); };
         SC_HAS_PROCESS(DpramBench);
-        SC_THREAD(run_left);
-        SC_THREAD(run_right);
+        spawn_checked([this] { run_left(); }, "run_left");
+        spawn_checked([this] { run_right(); }, "run_right");
         SC_METHOD(log_pins);
         sensitive << int_l.value_changed_event() << int_r.value_changed_event();
         dont_initialize();

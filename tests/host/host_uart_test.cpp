@@ -1,7 +1,6 @@
 // The protocol host talking to a real 82510 model (host at nominal 9600 bps, the 82510 at
 // 18.432 MHz / 60): a tiny interrupt-driven responder behind the 82510 answers ENQ with ACK and
 // ETX with EOT. Checks that the two ends' timing and formats interoperate byte for byte.
-#define SC_INCLUDE_DYNAMIC_PROCESSES
 #include "scenarios/host/protocol_host.h"
 #include "uart82510/uart82510.h"
 
@@ -41,7 +40,7 @@ TEST(HostWithUart82510, CommandsCrossTheLineIntact) {
     host.connect(line, SerialLine::b);
 
     std::string seen;
-    sc_core::sc_spawn([&] {
+    test::spawn_forever([&] { // the comm CPU's receive ISR: serves the line until the end
         uart.write(LCR, LCR_DLAB);
         uart.write(BAL, 60);
         uart.write(LCR, 0x1B);
@@ -59,7 +58,7 @@ TEST(HostWithUart82510, CommandsCrossTheLineIntact) {
                 if (c == proto::ETX) uart.write(TXD, proto::EOT);
             }
         }
-    });
+    }, "isr");
     sc_core::sc_start(sc_core::sc_time(2, sc_core::SC_SEC));
     EXPECT_EQ(host.counters().frames_delivered, 5u);
     EXPECT_EQ(host.counters().naks + host.counters().timeouts + host.counters().line_errors, 0u);

@@ -1,7 +1,6 @@
 // The protocol host against a scripted fake controller, on every path of docs/system.md §5 and §6:
 // ACK, NAK then retry, timeout then retry, give-up, bad checksum -> NAK, T2 gap -> drop,
 // ENQ collision; and its traffic generators.
-#define SC_INCLUDE_DYNAMIC_PROCESSES
 #include "scenarios/host/protocol_host.h"
 
 #include "models/clock.h"
@@ -36,8 +35,7 @@ struct FakeController : sc_core::sc_module, SerialEndpoint {
 
     FakeController(sc_core::sc_module_name n, SerialLine& l) : sc_module(n), line(l) {
         line.attach(SerialLine::b, *this);
-        SC_HAS_PROCESS(FakeController);
-        SC_THREAD(sender);
+        test::spawn_forever([this] { sender(); }, "sender"); // serves the outbox until the end
     }
     void send_at(const sc_time& at, const std::string& bytes, const sc_time& gap = sc_core::SC_ZERO_TIME) {
         outbox.emplace(at, std::make_pair(bytes, gap));

@@ -1,5 +1,4 @@
 // Tests of the raw host: timed byte strings with escapes out, every received byte recorded.
-#define SC_INCLUDE_DYNAMIC_PROCESSES
 #include "scenarios/host/raw_host.h"
 
 #include "models/clock.h"
@@ -59,10 +58,10 @@ TEST(RawHost, RecordsLineErrorsAndBreaks) {
     b.connect(line, SerialLine::b);
     line.inject(SerialLine::a, 0, FaultKind::flip_data_bit, 1);
     line.inject(SerialLine::a, 1, FaultKind::corrupt_stop);
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         sc_core::wait(us(10000));
         line.insert_break(SerialLine::a, us(5000));
-    });
+    }, "break_at_10ms");
     sc_core::sc_start();
     ASSERT_EQ(b.received().size(), 2u);
     EXPECT_TRUE(b.received()[0].parity_error);

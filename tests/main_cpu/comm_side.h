@@ -6,6 +6,7 @@
 #include "models/dpram_layout.h"
 #include "models/frame_codec.h"
 #include "models/bus.h"
+#include "tests/support/sc_test.h"
 
 #include <gtest/gtest.h>
 #include <systemc>
@@ -113,8 +114,9 @@ public:
     std::deque<std::uint8_t> pending; // words read while waiting for another
     bool handshake = true; // clear int2ext after reading it; write int2rbt only when it reads 0
 
-    SC_HAS_PROCESS(CommSide);
-    CommSide(sc_core::sc_module_name n, FakeDpram& ram) : sc_module(n), ram_(ram) { SC_THREAD(run); }
+    CommSide(sc_core::sc_module_name n, FakeDpram& ram) : sc_module(n), ram_(ram) {
+        rcsim::test::spawn_checked([this] { run(); }, "run");
+    }
 
     /// Next int2ext word (from the pending ones first), or -1 when none comes within `timeout`.
     int next_word(const sc_core::sc_time& timeout) {

@@ -1,9 +1,7 @@
 // Tests of the single-processor arbitration of the main CPU's activities.
 #include "main_cpu/processor.h"
 #include "models/clock.h"
-
-#include <gtest/gtest.h>
-#include <systemc>
+#include "tests/support/sc_test.h"
 
 #include <string>
 #include <vector>
@@ -19,12 +17,11 @@ struct Contenders : sc_core::sc_module {
     Processor cpu{"cpu"};
     std::vector<std::pair<std::string, sc_time>> starts;
 
-    SC_HAS_PROCESS(Contenders);
     explicit Contenders(sc_core::sc_module_name n) : sc_module(n) {
-        SC_THREAD(holder);
-        SC_THREAD(low);
-        SC_THREAD(high);
-        SC_THREAD(low2);
+        test::spawn_checked([this] { holder(); }, "holder");
+        test::spawn_checked([this] { low(); }, "low");
+        test::spawn_checked([this] { high(); }, "high");
+        test::spawn_checked([this] { low2(); }, "low2");
     }
     void run(Processor::Priority p, const char* who, sc_time at, sc_time hold) {
         wait(at);

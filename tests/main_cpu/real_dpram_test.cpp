@@ -29,8 +29,7 @@ struct LeftCpu : sc_core::sc_module {
     std::deque<std::uint8_t> pending;
     Clock clk{8'000'000};
 
-    SC_HAS_PROCESS(LeftCpu);
-    explicit LeftCpu(sc_core::sc_module_name n) : sc_module(n) { SC_THREAD(run); }
+    explicit LeftCpu(sc_core::sc_module_name n) : sc_module(n) { test::spawn_checked([this] { run(); }, "run"); }
     void run() {
         if (script) script(*this);
     }

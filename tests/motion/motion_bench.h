@@ -1,4 +1,5 @@
-// Test bench: a MotionController and a thread that runs the test body with 1 ms control cycles.
+// Test bench: a MotionController and a checked thread that runs the test body with 1 ms control
+// cycles.
 #pragma once
 
 #include "main_cpu/motion/motion_controller.h"
@@ -11,8 +12,9 @@ namespace rcsim::motion::test {
 struct Bench : sc_core::sc_module {
     MotionController mc;
     std::function<void(Bench&)> body;
-    SC_HAS_PROCESS(Bench);
-    Bench(sc_core::sc_module_name n, const MotionConfig& cfg) : sc_module(n), mc("mc", cfg) { SC_THREAD(run); }
+    Bench(sc_core::sc_module_name n, const MotionConfig& cfg) : sc_module(n), mc("mc", cfg) {
+        rcsim::test::spawn_checked([this] { run(); }, "run");
+    }
     void run() {
         body(*this);
         sc_core::sc_stop();

@@ -10,8 +10,7 @@ namespace {
 
 void run(PicBench& tb, std::function<void()> body) {
     tb.body = std::move(body);
-    sc_core::sc_start();
-    EXPECT_TRUE(tb.finished) << "the test body did not run to its end";
+    sc_core::sc_start(); // the bench's body is a checked thread: a stuck one fails the test
 }
 
 } // namespace

@@ -1,4 +1,4 @@
-// Test bench for the 8259A: a scripted CPU (one SC_THREAD running a test-supplied body) with the
+// Test bench for the 8259A: a scripted CPU (one checked thread running a test-supplied body) with the
 // 8086's I/O and INTA initiator sockets, and eight IR lines the body drives directly.
 #pragma once
 
@@ -6,6 +6,7 @@
 #include "models/clock.h"
 #include "models/irq.h"
 #include "pic8259/pic8259.h"
+#include "tests/support/sc_test.h"
 
 #include <systemc>
 #include <tlm_utils/simple_initiator_socket.h>
@@ -27,7 +28,6 @@ public:
 
     std::function<void()> body;
     std::vector<Pic8259::IntaEvent> inta_log;
-    bool finished = false;
 
     static constexpr unsigned kPortA0 = 0; // local offsets with the board's a0_shift = 1
     static constexpr unsigned kPortA1 = 2;
@@ -38,8 +38,7 @@ public:
         for (unsigned n = 0; n < 8; ++n) pic.ir[n].bind(ir[n]);
         pic.intr.bind(intr);
         pic.on_inta = [this](const Pic8259::IntaEvent& e) { inta_log.push_back(e); };
-        SC_HAS_PROCESS(PicBench);
-        SC_THREAD(run);
+        spawn_checked([this] { run(); }, "run");
     }
 
     /// One 8086 bus cycle: 4 clocks, so everything the access triggered has settled afterwards.
@@ -89,7 +88,6 @@ public:
 private:
     void run() {
         if (body) body();
-        finished = true;
         sc_core::sc_stop();
     }
 };

@@ -1,6 +1,5 @@
 // Tests of the bit-timed RS-232C line: exact character times, the sampling rule for mismatched
 // receivers, BREAK, and every kind of fault injection.
-#define SC_INCLUDE_DYNAMIC_PROCESSES
 #include "models/serial_line.h"
 
 #include "models/clock.h"
@@ -27,7 +26,7 @@ struct Recorder : SerialEndpoint {
 
 /// Runs `f` at simulated time `t` (a spawned thread; call before sc_start).
 void at(const sc_time& t, std::function<void()> f) {
-    sc_core::sc_spawn([t, f] {
+    test::spawn_checked([t, f] {
         sc_core::wait(t);
         f();
     });
@@ -181,18 +180,18 @@ TEST(SerialLine, BackToBackCharactersBothDirections) {
     Recorder ea(f), eb(f);
     line.attach(SerialLine::a, ea);
     line.attach(SerialLine::b, eb);
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         for (char c : std::string("hello")) {
             line.transmit(SerialLine::a, SerialWord::encode(static_cast<std::uint8_t>(c), f));
             sc_core::wait(f.frame_time());
         }
     });
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         for (char c : std::string("world")) {
             line.transmit(SerialLine::b, SerialWord::encode(static_cast<std::uint8_t>(c), f));
             sc_core::wait(f.frame_time());
         }
-    });
+    }, "send_world");
     sc_core::sc_start();
     ASSERT_EQ(eb.chars.size(), 5u);
     ASSERT_EQ(ea.chars.size(), 5u);
@@ -258,12 +257,12 @@ TEST(SerialLineFaults, FlippedDataBitIsAParityError) {
     line.attach(SerialLine::a, ea);
     line.attach(SerialLine::b, eb);
     line.inject(SerialLine::a, 1, FaultKind::flip_data_bit, 3);
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         for (int i = 0; i < 3; ++i) {
             line.transmit(SerialLine::a, SerialWord::encode(0x30, f));
             sc_core::wait(f.frame_time());
         }
-    });
+    }, "sender");
     sc_core::sc_start();
     ASSERT_EQ(eb.chars.size(), 3u);
     EXPECT_FALSE(eb.chars[0].parity_error);
@@ -281,13 +280,13 @@ TEST(SerialLineFaults, DropCorruptStopAndInsertedBreak) {
     line.attach(SerialLine::b, eb);
     line.inject(SerialLine::a, 0, FaultKind::drop);
     line.inject(SerialLine::a, 1, FaultKind::corrupt_stop);
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         for (std::uint8_t c : {'x', 'y', 'z'}) {
             line.transmit(SerialLine::a, SerialWord::encode(c, f));
             sc_core::wait(f.frame_time());
         }
         line.insert_break(SerialLine::a, f.frame_time() * 3.0);
-    });
+    }, "sender");
     sc_core::sc_start();
     ASSERT_EQ(eb.chars.size(), 2u);
     EXPECT_EQ(eb.chars[0].data, 'y');
@@ -322,7 +321,7 @@ struct NoisyRun {
         line.attach(SerialLine::a, ea);
         line.attach(SerialLine::b, eb);
         line.set_noise(rate, seed);
-        sc_core::sc_spawn([this, n] {
+        test::spawn_checked([this, n] {
             for (std::size_t i = 0; i < n; ++i) {
                 line.transmit(SerialLine::a, SerialWord::encode(static_cast<std::uint16_t>(i & 0xFF), f));
                 sc_core::wait(f.frame_time());

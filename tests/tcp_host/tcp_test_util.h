@@ -3,6 +3,7 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "tests/support/sc_test.h"
 
 #include <systemc>
 
@@ -110,10 +111,9 @@ public:
     std::vector<std::pair<sc_core::sc_time, std::string>> script;
     std::vector<std::pair<sc_core::sc_time, std::uint8_t>> got;
 
-    SC_HAS_PROCESS(Peer);
     Peer(sc_core::sc_module_name n, SerialLine& line, SerialLine::Side side) : sc_module(n), line_(line), side_(side) {
         line.attach(side, *this);
-        SC_THREAD(run);
+        spawn_checked([this] { run(); }, "run");
     }
     std::string text() const {
         std::string s;

@@ -1,6 +1,5 @@
 // Tests of the Intel 82510 model: registers of every bank, bank switching, FIFOs, interrupts,
 // baud-rate generators and timers, receive errors, and two 82510s talking over a line.
-#define SC_INCLUDE_DYNAMIC_PROCESSES
 #include "uart82510/uart82510.h"
 
 #include "models/bus.h"
@@ -84,7 +83,7 @@ struct Bench {
 
 /// Runs `body` as a thread from time 0, then simulates until nothing is left (or `limit`).
 void run(std::function<void()> body, const sc_time& limit = sc_core::SC_ZERO_TIME) {
-    sc_core::sc_spawn(body);
+    test::spawn_checked(std::move(body), "body");
     if (limit == sc_core::SC_ZERO_TIME) sc_core::sc_start();
     else sc_core::sc_start(limit);
 }
@@ -627,12 +626,14 @@ TEST(Uart82510Interrupts, RieGatesRxMachineEvents) {
 TEST(Uart82510Interrupts, IntFollowsSourcesInAutomaticMode) {
     Bench b;
     std::vector<std::pair<sc_time, bool>> edges;
-    sc_core::sc_spawn([&] {
-        for (;;) {
-            sc_core::wait(b.irq.value_changed_event());
-            edges.emplace_back(sc_core::sc_time_stamp(), b.irq.read());
-        }
-    });
+    test::spawn_forever(
+        [&] {
+            for (;;) {
+                sc_core::wait(b.irq.value_changed_event());
+                edges.emplace_back(sc_core::sc_time_stamp(), b.irq.read());
+            }
+        },
+        "int_edges");
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.wr(GER, 1u << rx_fifo);
@@ -648,12 +649,14 @@ TEST(Uart82510Interrupts, IntFollowsSourcesInAutomaticMode) {
 TEST(Uart82510Interrupts, ManualAcknowledgeModeNeedsIcmInta) {
     Bench b;
     std::vector<std::pair<sc_time, bool>> edges;
-    sc_core::sc_spawn([&] {
-        for (;;) {
-            sc_core::wait(b.irq.value_changed_event());
-            edges.emplace_back(sc_core::sc_time_stamp(), b.irq.read());
-        }
-    });
+    test::spawn_forever(
+        [&] {
+            for (;;) {
+                sc_core::wait(b.irq.value_changed_event());
+                edges.emplace_back(sc_core::sc_time_stamp(), b.irq.read());
+            }
+        },
+        "int_edges");
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -755,7 +758,9 @@ struct Driver {
     std::string out, in;
     std::size_t next = 0;
     void start() {
-        sc_core::sc_spawn([this] {
+        // The driver's interrupt loop, like the firmware's, never returns.
+        const std::string name = std::string(cpu.basename()) + "_driver";
+        test::spawn_forever([this] {
             cpu.setup_9600_8e1();
             cpu.bank(2);
             cpu.wr(IMD, 0x00);
@@ -774,7 +779,7 @@ struct Driver {
                 }
                 sc_core::wait(us(5)); // the ISR's own time; INT has settled by then
             }
-        });
+        }, name.c_str());
     }
 };
 
@@ -813,7 +818,7 @@ TEST(Uart82510Pair, MismatchedBaudGivesWrongDataAndErrors) {
     Pair p;
     Driver d0{p.c0, p.i0, std::string("U") + std::string(1, '\0'), {}};
     d0.start();
-    sc_core::sc_spawn([&] {
+    test::spawn_checked([&] {
         p.c1.setup_9600_8e1();
         p.c1.wr(LCR, 0x9B);
         p.c1.wr(BAL, 30); // 19200: twice too fast
@@ -821,7 +826,7 @@ TEST(Uart82510Pair, MismatchedBaudGivesWrongDataAndErrors) {
         p.c1.bank(2);
         p.c1.wr(IMD, 0x00);
         p.c1.bank(0);
-    });
+    }, "c1_setup");
     sc_core::sc_start(sc_core::sc_time(20, sc_core::SC_MS));
     // 'U' (0x55) sampled twice per bit reads 0x66 with correct parity and stop: silent garbage.
     // 0x00 puts the 19200 receiver's stop sample on a SPACE data bit: a framing error.
@@ -838,7 +843,7 @@ TEST(Uart82510Serial, FlushRxMachineDropsTheCharacterInProgress) {
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(1);
-        sc_core::sc_spawn([&] { b.host.send("ab"); });
+        test::spawn_checked([&] { b.host.send("ab"); }, "host_send");
         sc_core::wait(k_char / 2.0); // 'a' half received
         b.cpu.wr(RCM, RCM_FRM);
         sc_core::wait(k_char * 3.0);
