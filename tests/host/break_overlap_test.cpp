@@ -52,7 +52,7 @@ struct Bench {
     }
     /// Runs `f` at simulated time `t`.
     static void at(const sc_time& t, std::function<void()> f) {
-        sc_core::sc_spawn([t, f] {
+        test::spawn_checked([t, f] {
             sc_core::wait(t);
             f();
         });
@@ -162,7 +162,7 @@ TEST(HostBreakOverlap, ControllerSideBreakOverTheAckMakesTheProtocolHostRetry) {
     cfg.traffic.start = us(1000);
     ProtocolHost host("host", cfg);
     host.connect(line, SerialLine::b);
-    sc_core::sc_spawn([&] {
+    test::spawn_forever([&] {
         uart.write(LCR, LCR_DLAB);
         uart.write(BAL, 60);
         uart.write(LCR, 0x1B);
@@ -179,7 +179,7 @@ TEST(HostBreakOverlap, ControllerSideBreakOverTheAckMakesTheProtocolHostRetry) {
                 if (c == proto::ETX) uart.write(TXD, proto::EOT);
             }
         }
-    });
+    }, "controller");
     Bench::at(us(2000), [&] { line.insert_break(SerialLine::a, us(10000)); });
     sc_core::sc_start(sc_core::sc_time(1, sc_core::SC_SEC));
     const auto& c = host.counters();

@@ -194,7 +194,7 @@ struct Bench : sc_module {
             v[2] = 0x00;
             v[3] = 0xF0;
         }
-        SC_THREAD(drive);
+        test::spawn_checked([this] { drive(); }, "drive");
     }
     std::vector<IrqLine*> lines() {
         std::vector<IrqLine*> v;

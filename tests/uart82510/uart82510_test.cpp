@@ -952,13 +952,13 @@ struct BreakBench : Bench {
         cpu.bank(1);
     }
     void host_sends_at(const sc_time& t, std::uint8_t byte) {
-        sc_core::sc_spawn([this, t, byte] {
+        test::spawn_checked([this, t, byte] {
             sc_core::wait(t - sc_core::sc_time_stamp());
             line.transmit(SerialLine::b, SerialWord::encode(byte, host.fmt));
         });
     }
     void host_breaks_at(const sc_time& t, const sc_time& duration) {
-        sc_core::sc_spawn([this, t, duration] {
+        test::spawn_checked([this, t, duration] {
             sc_core::wait(t - sc_core::sc_time_stamp());
             line.insert_break(SerialLine::b, duration);
         });
