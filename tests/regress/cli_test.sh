@@ -109,6 +109,28 @@ grep -q "rcsim merge" d1.txt || fail "a shard does not say how to merge"
 "$RCSIM" merge D > /dev/null
 for f in summary.json summary.csv summary.html; do cmp -s "A/$f" "D/$f" || fail "merged shards: $f differs"; done
 
+# The shipped recipes, run here as the cluster would: two Slurm array tasks, then the Indexed Job's
+# pods one by one (its command with the paths of this test).
+for k in 0 1; do
+    SLURM_ARRAY_TASK_ID=$k SLURM_ARRAY_TASK_COUNT=2 SLURM_CPUS_PER_TASK=2 RCSIM=$RCSIM SWEEP=s.yaml OUT=SB \
+        bash "$SRC/scripts/cluster/sweep.sbatch" > "sb$k.txt" 2>&1 || fail "sweep.sbatch task $k: $(tail -2 "sb$k.txt")"
+done
+"$RCSIM" merge SB > /dev/null
+for f in summary.json summary.csv summary.html; do cmp -s "A/$f" "SB/$f" || fail "Slurm recipe: $f differs"; done
+MANIFEST=$SRC/scripts/cluster/sweep-indexed-job.yaml
+pods=$(sed -n 's/^ *completions: *\([0-9]*\)$/\1/p' "$MANIFEST")
+cmd=$(grep -o '"rcsim sweep [^"]*"' "$MANIFEST" | tr -d '"')
+echo "$cmd" | grep -q -- "--shards $pods " || fail "the Indexed Job's --shards is not its completions ($pods): $cmd"
+grep -q "completionMode: Indexed" "$MANIFEST" || fail "the Job is not an Indexed Job"
+cmd=${cmd/rcsim /\"\$RCSIM\" }
+cmd=${cmd/scenarios\/regress\/suite.yaml/s.yaml}
+cmd=${cmd/\/results\/suite/K8}
+for k in $(seq 0 $((pods - 1))); do
+    JOB_COMPLETION_INDEX=$k RCSIM=$RCSIM sh -c "$cmd" > "k8s$k.txt" 2>&1 || fail "Indexed Job pod $k: $(tail -2 "k8s$k.txt")"
+done
+"$RCSIM" merge K8 > /dev/null
+for f in summary.json summary.csv summary.html; do cmp -s "A/$f" "K8/$f" || fail "Indexed Job recipe: $f differs"; done
+
 # --- 6. compare ---------------------------------------------------------------------------------
 junit_shape() { # FILE: the usual JUnit shape, counts consistent
     local f=$1
