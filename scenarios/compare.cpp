@@ -249,59 +249,82 @@ std::string signed_text(std::optional<double> v, bool percent) {
     return buf;
 }
 
+/// One line of the console table: a figure (or check) over every run where it changed this way,
+/// with the run where it changed most.
 struct Row {
-    std::string run, what, baseline, current, delta, rel;
-    int tier = 3;     // 0 a run missing or unfinished, 1 a check, 2 a headline figure, 3 any other
-    double order = 0; // |rel| within a tier, infinite for a change from 0 or null
+    std::string what, run, baseline, current, delta, rel;
+    std::size_t runs = 1;
+    int tier = 4;     // 0 a run missing or unfinished, 1 a check, 2 Table 3, 3 RS-232 receive and
+                      // delivery, 4 any other figure
+    double order = 0; // |rel| of the worst run, infinite for a change from 0 or null
 };
 
-/// The figures a reader looks for first (Table 3, RS-232 receive interrupts, delivery).
-bool headline_figure(const std::string& key) {
-    return key.rfind("table3.", 0) == 0 || key.rfind("interrupts.rs232_rx.", 0) == 0 ||
-           glob_match("ports[*].frames_delivered", key) || glob_match("ports[*].overruns", key);
+int tier_of(const std::string& key) {
+    if (key.rfind("table3.", 0) == 0) return 2;
+    if (key.rfind("interrupts.rs232_rx.", 0) == 0 || glob_match("ports[*].frames_delivered", key) ||
+        glob_match("ports[*].overruns", key))
+        return 3;
+    return 4;
 }
 
+/// The rows of one verdict, one per figure or check (grouped over the runs), the most telling first.
 std::vector<Row> rows_of(const Comparison& c, Verdict want) {
     std::vector<Row> rows;
+    std::map<std::string, std::size_t> at; // figure or check -> its row
+    auto add = [&](Row row) {
+        const auto it = at.find(row.what);
+        if (it == at.end()) {
+            at[row.what] = rows.size();
+            rows.push_back(std::move(row));
+            return;
+        }
+        Row& old = rows[it->second];
+        const std::size_t n = old.runs + 1;
+        if (row.order > old.order) old = std::move(row);
+        old.runs = n;
+    };
     for (const RunDiff& r : c.runs) {
         if (want == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
             const char* what = r.state == RunDiff::State::missing ? "run missing from current"
                                : r.state == RunDiff::State::extra ? "run not in the baseline"
                                                                   : "run has no report.json";
-            rows.push_back({r.id, what, "", "", "", "", 0, INFINITY});
+            rows.push_back({what, r.id, "", "", "", "", 1, 0, INFINITY});
         }
         for (const auto& k : r.checks)
             if (k.verdict == want)
-                rows.push_back({r.id, "check " + k.name, k.baseline ? (*k.baseline ? "PASS" : "FAIL") : "(absent)",
-                                k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, INFINITY});
+                add({"check " + k.name, r.id, k.baseline ? (*k.baseline ? "PASS" : "FAIL") : "(absent)",
+                     k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, 1, INFINITY});
         for (const auto& f : r.figures)
             if (f.verdict == want)
-                rows.push_back({r.id, f.key, value_text(f.baseline, f.has_baseline), value_text(f.current, f.has_current),
-                                signed_text(f.delta, false), signed_text(f.rel, true), headline_figure(f.key) ? 2 : 3,
-                                f.rel ? std::fabs(*f.rel) : INFINITY});
+                add({f.key, r.id, value_text(f.baseline, f.has_baseline), value_text(f.current, f.has_current),
+                     signed_text(f.delta, false), signed_text(f.rel, true), 1, tier_of(f.key),
+                     f.rel ? std::fabs(*f.rel) : INFINITY});
     }
     std::stable_sort(rows.begin(), rows.end(),
                      [](const Row& a, const Row& b) { return a.tier != b.tier ? a.tier < b.tier : a.order > b.order; });
     return rows;
 }
 
-void print_rows(const std::vector<Row>& rows, const char* title, std::ostream& os, std::size_t limit) {
+void print_rows(const std::vector<Row>& rows, const char* title, std::size_t items, std::ostream& os,
+                std::size_t limit) {
     if (rows.empty()) return;
-    std::size_t wr = 3, ww = 6;
+    std::size_t wr = 9, ww = 6;
     for (std::size_t i = 0; i < rows.size() && i < limit; ++i)
         wr = std::max(wr, rows[i].run.size()), ww = std::max(ww, rows[i].what.size());
-    wr = std::min<std::size_t>(wr, 48);
-    ww = std::min<std::size_t>(ww, 48);
-    os << "\n" << title << " (" << rows.size() << ")\n  " << std::left << std::setw(static_cast<int>(wr)) << "run"
-       << "  " << std::setw(static_cast<int>(ww)) << "figure" << std::right << std::setw(14) << "baseline" << std::setw(14)
-       << "current" << std::setw(14) << "delta" << std::setw(11) << "rel" << "\n";
+    wr = std::min<std::size_t>(wr, 40);
+    ww = std::min<std::size_t>(ww, 44);
+    const int r = static_cast<int>(wr), w = static_cast<int>(ww);
+    os << "\n" << title << ": " << items << " in " << rows.size() << " figures/checks; per figure the run where it "
+       << "changed most\n  " << std::left << std::setw(w) << "figure" << std::right << std::setw(5) << "runs"
+       << "  " << std::left << std::setw(r) << "worst run" << std::right << std::setw(13) << "baseline" << std::setw(13)
+       << "current" << std::setw(13) << "delta" << std::setw(11) << "rel" << "\n";
     for (std::size_t i = 0; i < rows.size() && i < limit; ++i) {
-        const Row& r = rows[i];
-        os << "  " << std::left << std::setw(static_cast<int>(wr)) << r.run << "  " << std::setw(static_cast<int>(ww))
-           << r.what << std::right << std::setw(14) << r.baseline << std::setw(14) << r.current << std::setw(14)
-           << r.delta << std::setw(11) << r.rel << "\n";
+        const Row& x = rows[i];
+        os << "  " << std::left << std::setw(w) << x.what << std::right << std::setw(5) << x.runs << "  " << std::left
+           << std::setw(r) << x.run << std::right << std::setw(13) << x.baseline << std::setw(13) << x.current
+           << std::setw(13) << x.delta << std::setw(11) << x.rel << "\n";
     }
-    if (rows.size() > limit) os << "  ... and " << rows.size() - limit << " more (--html shows them all)\n";
+    if (rows.size() > limit) os << "  ... and " << rows.size() - limit << " more (--html lists every run)\n";
 }
 
 std::size_t count(const std::map<Verdict, std::size_t>& m, Verdict v) {
@@ -322,8 +345,11 @@ void print_comparison(const Comparison& c, std::ostream& os, std::size_t limit) 
        << "checks:  " << count(c.check_counts, Verdict::regression) << " regressions, "
        << count(c.check_counts, Verdict::improvement) << " improvements, " << count(c.check_counts, Verdict::same)
        << " unchanged, " << count(c.check_counts, Verdict::added) << " new\n";
-    print_rows(rows_of(c, Verdict::regression), "regressions", os, limit);
-    print_rows(rows_of(c, Verdict::improvement), "improvements", os, limit);
+    const std::size_t regressions = count(f, Verdict::regression) + count(c.check_counts, Verdict::regression) +
+                                    (c.allow_missing ? 0 : c.missing + c.extra) + c.no_report;
+    print_rows(rows_of(c, Verdict::regression), "regressions", regressions, os, limit);
+    print_rows(rows_of(c, Verdict::improvement), "improvements",
+               count(f, Verdict::improvement) + count(c.check_counts, Verdict::improvement), os, limit);
     os << "\n" << (c.regression() ? "REGRESSION" : "no regression") << "\n";
 }
 

@@ -165,9 +165,9 @@ rm -rf "C/t-rom=2-seed=2"
 "$RCSIM" compare A C --junit reg.xml --html reg.html > reg.txt; rc=$?
 [ "$rc" -eq 1 ] || fail "compare A C: exit $rc, expected 1"
 junit_shape reg.xml
-grep -q "t-rom=0-seed=1 .*table3.rs232_isr_us .*999.5" reg.txt || fail "the changed figure is not listed: $(cat reg.txt)"
-grep -q "t-rom=2-seed=2 .*run missing from current" reg.txt || fail "the missing run is not listed"
-grep -q "t-rom=0-seed=2 .*check .*PASS .*FAIL" reg.txt || fail "the failing check is not listed"
+grep -q "table3.rs232_isr_us .* t-rom=0-seed=1 .*999.5" reg.txt || fail "the changed figure is not listed: $(cat reg.txt)"
+grep -q "run missing from current .* t-rom=2-seed=2" reg.txt || fail "the missing run is not listed"
+grep -q "check .* t-rom=0-seed=2 .*PASS .*FAIL" reg.txt || fail "the failing check is not listed"
 [ "$(xmllint --xpath 'count(//testcase[@name="figure table3.rs232_isr_us"]/failure)' reg.xml)" = 1 ] ||
     fail "JUnit: no failure for table3.rs232_isr_us"
 grep -q 'class="reg"' reg.html || fail "compare.html marks no regression"

@@ -167,11 +167,31 @@ TEST(Compare, ConsoleListsRegressionsFirstWithDeltas) {
     std::ostringstream os;
     print_comparison(c, os);
     const std::string s = os.str();
-    EXPECT_NE(s.find("regressions (2)"), std::string::npos) << s;
+    EXPECT_NE(s.find("regressions: 2 in 2 figures/checks"), std::string::npos) << s;
     EXPECT_LT(s.find("check overruns"), s.find("table3.rs232_isr_us")) << s; // the check first
     EXPECT_NE(s.find("+8"), std::string::npos) << s;
     EXPECT_NE(s.find("+9.76%"), std::string::npos) << s; // 8 / 82
     EXPECT_NE(s.find("REGRESSION"), std::string::npos);
+}
+
+TEST(Compare, ConsoleGroupsAFigureOverRunsAndShowsTheWorst) {
+    // table3.rs232_isr_us regresses in two runs: one row, 2 runs, the worst (b: +20 %) shown.
+    const std::map<std::string, RunRecord> base{{"a", run_of("a", report(100, 1, true))}, {"b", run_of("b", report(100, 1, true))}};
+    const std::map<std::string, RunRecord> cur{{"a", run_of("a", report(110, 1, true))}, {"b", run_of("b", report(120, 1, true))}};
+    std::ostringstream os;
+    print_comparison(compare_runs(base, cur, default_tolerances(), false), os);
+    const std::string s = os.str();
+    EXPECT_NE(s.find("regressions: 2 in 1 figures/checks"), std::string::npos) << s;
+    std::istringstream lines(s);
+    std::string line;
+    std::size_t rows = 0;
+    while (std::getline(lines, line))
+        if (line.find("table3.rs232_isr_us") != std::string::npos) {
+            ++rows;
+            EXPECT_NE(line.find(" 2  b "), std::string::npos) << line;
+            EXPECT_NE(line.find("+20.00%"), std::string::npos) << line;
+        }
+    EXPECT_EQ(rows, 1u) << s;
 }
 
 TEST(Compare, JunitCountsMatchItsTestcases) {
