@@ -158,13 +158,13 @@ nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
     json s;
     s["runs"] = runs.size();
     for (const auto& [k, n] : counts) s[k] = n;
-    s["run"] = list;
+    s["results"] = list;
     return s;
 }
 
 std::string summary_csv(const nlohmann::json& summary) {
     // Columns in the summary's key order (sorted, as in report.json itself).
-    const json& runs = summary["run"];
+    const json& runs = summary["results"];
     const auto params = union_keys(runs, "parameters");
     const auto figures = union_keys(runs, "figures");
     const auto checks = union_keys(runs, "checks");

@@ -20,7 +20,7 @@ namespace rcsim::regress {
 struct RunRecord {
     std::string id;
     std::filesystem::path dir;
-    nlohmann::json meta;                  // run.json, or {} 
+    nlohmann::json meta;                  // run.json, or {}
     std::optional<nlohmann::json> report; // report.json
 };
 
@@ -45,7 +45,7 @@ std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann
 /// "passed", "failed" (a check failed) or "no report" (the run did not finish).
 std::string run_status(const RunRecord& run);
 
-/// summary.json: {"runs": [{id, entry, status, parameters, figures, checks}], counts}.
+/// summary.json: {runs, passed, failed, "no report", "results": [{id, entry, status, parameters, figures, checks}]}.
 nlohmann::json summary_json(const std::vector<RunRecord>& runs);
 
 /// summary.csv: one row per run: id, status, parameters, every figure, every check (PASS/FAIL).

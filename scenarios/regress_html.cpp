@@ -245,7 +245,7 @@ void runs_table(const json& runs, std::ostringstream& o) {
 } // namespace
 
 std::string summary_html(const nlohmann::json& summary) {
-    const json& runs = summary["run"];
+    const json& runs = summary["results"];
     const std::size_t failed = summary.value("failed", 0u) + summary.value("no report", 0u);
     std::ostringstream o;
     o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim sweep: "

@@ -227,6 +227,7 @@ void expand(const Entry& e, const Sweep& sweep, const std::vector<std::pair<std:
         r.scenario = YAML::Clone(base.doc);
         r.scenario["name"] = r.id;
         auto apply = [&](const std::string& path, const YAML::Node& v, int line) {
+            r.sources.emplace_back(path, line);
             try {
                 set_path(r.scenario, path, YAML::Clone(v));
             } catch (const std::invalid_argument& ex) {
@@ -362,6 +363,27 @@ nlohmann::json run_json(const SweepRun& run) {
     return {{"id", run.id}, {"entry", run.entry}, {"parameters", params}};
 }
 
+namespace {
+/// The sweep line that set the key a scenario error names ('board.wait_states.rom' = 99 ...,
+/// 'ports[1].data_size' for an axis on ports[*].data_size); the entry's line when none did.
+int source_line(const SweepRun& run, const std::string& message) {
+    for (auto it = run.sources.rbegin(); it != run.sources.rend(); ++it) {
+        const std::string& p = it->first;
+        const std::size_t star = p.find("[*]");
+        if (star == std::string::npos) {
+            if (message.find("'" + p + "'") != std::string::npos) return it->second;
+            continue;
+        }
+        const std::string head = "'" + p.substr(0, star) + "[", tail = p.substr(star + 3) + "'";
+        const std::size_t at = message.find(head);
+        if (at == std::string::npos) continue;
+        const std::size_t end = message.find('\'', at + 1);
+        if (end != std::string::npos && message.compare(end + 1 - tail.size(), tail.size(), tail) == 0) return it->second;
+    }
+    return run.line;
+}
+} // namespace
+
 void materialise(const Sweep& sweep, const SweepRun& run, const fs::path& dir) {
     const fs::path d = dir / run.id;
     std::error_code ec;
@@ -375,7 +397,7 @@ void materialise(const Sweep& sweep, const SweepRun& run, const fs::path& dir) {
     try {
         (void)load_scenario(scen.string());
     } catch (const ConfigError& e) {
-        throw ConfigError(sweep.file, run.line, "run '" + run.id + "': " + e.what());
+        throw ConfigError(sweep.file, source_line(run, e.what()), "run '" + run.id + "': " + e.what());
     }
 }
 

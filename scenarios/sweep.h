@@ -28,6 +28,9 @@ struct SweepRun {
     std::vector<std::pair<std::string, YAML::Node>> parameters;
     YAML::Node scenario;  // the materialised scenario document
     int line = 0;         // the sweep entry's line, for errors
+    /// Every key the sweep set in this run (set: and axes) with the line that set it, so that a
+    /// value the scenario refuses is reported at that line.
+    std::vector<std::pair<std::string, int>> sources;
 };
 
 struct Sweep {

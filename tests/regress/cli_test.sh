@@ -193,7 +193,7 @@ expect2() { # SUBSTRING ARGS...: exit 2, one line on stderr holding SUBSTRING
 printf 'base: base.yaml\naxes:\n  seed: [1]\n  frob: 3\n' > bad1.yaml
 expect2 "bad1.yaml:4: axis 'frob': values must be a non-empty list" sweep bad1.yaml --out B
 printf 'base: base.yaml\naxes:\n  board.wait_states.rom: [1, 65]\n' > bad2.yaml
-expect2 "bad2.yaml:1: run 'base-rom=65': " sweep bad2.yaml --out B
+expect2 "bad2.yaml:3: run 'base-rom=65': " sweep bad2.yaml --out B
 printf 'base: base.yaml\naxes:\n  seeds: [1]\n' > bad3.yaml
 expect2 "unknown key 'seeds'" sweep bad3.yaml --out B
 printf 'base: base.yaml\naxes: {seed: [1, 2\n' > bad4.yaml

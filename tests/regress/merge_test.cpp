@@ -76,10 +76,10 @@ TEST(Merge, SummaryRowsParametersFiguresChecks) {
     EXPECT_EQ(s["passed"], 1);
     EXPECT_EQ(s["failed"], 1);
     EXPECT_EQ(s["no report"], 1);
-    EXPECT_EQ(s["run"][1]["figures"]["table3.margin_us"], json(-3));
-    EXPECT_TRUE(s["run"][1]["figures"]["table3.dpram_byte_us"].is_null());
-    EXPECT_EQ(s["run"][1]["checks"]["overruns"]["passed"], false);
-    EXPECT_EQ(s["run"][2]["status"], "no report");
+    EXPECT_EQ(s["results"][1]["figures"]["table3.margin_us"], json(-3));
+    EXPECT_TRUE(s["results"][1]["figures"]["table3.dpram_byte_us"].is_null());
+    EXPECT_EQ(s["results"][1]["checks"]["overruns"]["passed"], false);
+    EXPECT_EQ(s["results"][2]["status"], "no report");
 
     const std::string csv = slurp(d / "runs/summary.csv");
     std::istringstream lines(csv);

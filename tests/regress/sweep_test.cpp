@@ -133,7 +133,7 @@ TEST_F(SweepTest, BadSweepFilesNameFileAndLine) {
 }
 
 TEST_F(SweepTest, MaterialisedScenarioIsCheckedAndNamesTheSweepLine) {
-    const Sweep s = load_sweep(write("s.yaml", "base: base.yaml\naxes:\n  board.wait_states.rom: [1, 99]\n"));
+    const Sweep s = load_sweep(write("s.yaml", "base: base.yaml\n\naxes:\n  board.wait_states.rom: [1, 99]\n"));
     materialise(s, s.runs[0], dir / "out");
     EXPECT_TRUE(fs::exists(dir / "out" / s.runs[0].id / "scenario.yaml"));
     EXPECT_TRUE(fs::exists(dir / "out" / s.runs[0].id / "run.json"));
@@ -142,8 +142,29 @@ TEST_F(SweepTest, MaterialisedScenarioIsCheckedAndNamesTheSweepLine) {
         FAIL() << "wait_states.rom 99 is out of range [0, 64]";
     } catch (const ConfigError& e) {
         const std::string m = e.what();
-        EXPECT_NE(m.find("s.yaml:1: run 'base-rom=99': "), std::string::npos) << m;
+        EXPECT_NE(m.find("s.yaml:4: run 'base-rom=99': "), std::string::npos) << m; // the axis's line
         EXPECT_NE(m.find("'board.wait_states.rom' = 99 is out of range"), std::string::npos) << m;
+    }
+}
+
+TEST_F(SweepTest, RefusedValueOfAStarAxisOrSetNamesItsLine) {
+    const Sweep s = load_sweep(write("s.yaml", "base: base.yaml\nset:\n  drain_s: -1\naxes:\n  ports[*].data_size: [9999]\n"));
+    auto error = [&](const SweepRun& r) {
+        try {
+            materialise(s, r, dir / "out");
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    // drain_s -1 is refused first (the scenario reads it before the ports): the set: line.
+    EXPECT_NE(error(s.runs[0]).find("s.yaml:3: run"), std::string::npos) << error(s.runs[0]);
+    const Sweep t = load_sweep(write("t.yaml", "base: base.yaml\naxes:\n  seed: [1]\n  ports[*].data_size: [9999]\n"));
+    try {
+        materialise(t, t.runs[0], dir / "out");
+        FAIL() << "data_size 9999 is out of range";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("t.yaml:4: run"), std::string::npos) << e.what(); // ports[0].data_size
     }
 }
 
