@@ -145,15 +145,18 @@ void verdict_table(std::ostringstream& o, const Comparison& c, Verdict v, const 
     if (n) o << "<table>\n<tr><th class=\"k\">run</th>" << kHead << rows.str() << "</table>\n";
 }
 
-/// The figure paths that changed most (largest |relative change| in any run, then most runs).
+/// The figure paths that changed most: the largest |relative change| in any run; changes from 0
+/// (no relative change) after every one that has one.
 std::vector<std::string> worst_changed(const Comparison& c, std::size_t n) {
-    std::map<std::string, double> worst;
+    std::map<std::string, std::pair<int, double>> worst; // (has a relative change, its size)
     for (const RunDiff& r : c.runs)
         for (const FigureDiff& f : r.figures)
             if (f.delta && (f.verdict == Verdict::regression || f.verdict == Verdict::improvement ||
-                            f.verdict == Verdict::within))
-                worst[f.key] = std::max(worst[f.key], f.rel ? std::fabs(*f.rel) : 1e300);
-    std::vector<std::pair<std::string, double>> v(worst.begin(), worst.end());
+                            f.verdict == Verdict::within)) {
+                const std::pair<int, double> w{f.rel ? 1 : 0, f.rel ? std::fabs(*f.rel) : std::fabs(*f.delta)};
+                worst[f.key] = std::max(worst[f.key], w);
+            }
+    std::vector<std::pair<std::string, std::pair<int, double>>> v(worst.begin(), worst.end());
     std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
     std::vector<std::string> out;
     for (std::size_t i = 0; i < v.size() && i < n; ++i) out.push_back(v[i].first);
