@@ -98,7 +98,9 @@ std::map<std::string, RunRecord> load_run_set(const std::string& path) {
         r.dir = fs::path(path).parent_path();
         r.report = read_json_file(path);
         if (!r.report->is_object()) throw ConfigError(path, 1, "not an rcsim report.json (not a JSON object)");
-        r.id = r.report->value("scenario", fs::path(path).stem().string());
+        const json& rep = *r.report;
+        r.id = rep.contains("scenario") && rep["scenario"].is_string() ? rep["scenario"].get<std::string>()
+                                                                       : fs::path(path).stem().string();
         r.meta = json::object();
         out.emplace(r.id, std::move(r));
         return out;

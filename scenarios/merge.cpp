@@ -127,6 +127,7 @@ std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann
         if (!c.is_object() || !c.contains("name")) continue;
         nlohmann::json v = c;
         v.erase("name");
+        v["passed"] = c.contains("passed") && c["passed"].is_boolean() && c["passed"].get<bool>(); // else: failed
         out.emplace_back(c["name"].is_string() ? c["name"].get<std::string>() : c["name"].dump(), v);
     }
     return out;
@@ -134,7 +135,8 @@ std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann
 
 std::string run_status(const RunRecord& run) {
     if (!run.report) return "no report";
-    return run.report->value("passed", false) ? "passed" : "failed";
+    const nlohmann::json& r = *run.report;
+    return r.contains("passed") && r["passed"].is_boolean() && r["passed"].get<bool>() ? "passed" : "failed";
 }
 
 nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
@@ -143,10 +145,11 @@ nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
     for (const RunRecord& r : runs) {
         json j;
         j["id"] = r.id;
-        j["entry"] = r.meta.value("entry", "");
+        j["entry"] = r.meta.contains("entry") && r.meta["entry"].is_string() ? r.meta["entry"] : json("");
         j["status"] = run_status(r);
         ++counts[j["status"].get<std::string>()];
-        j["parameters"] = r.meta.value("parameters", nlohmann::json::object());
+        j["parameters"] = r.meta.contains("parameters") && r.meta["parameters"].is_object() ? r.meta["parameters"]
+                                                                                            : json::object();
         j["figures"] = json::object();
         j["checks"] = json::object();
         if (r.report) {

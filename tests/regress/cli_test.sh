@@ -210,6 +210,13 @@ cp -r A J && printf '{\n  "scenario": "x",\n  oops\n}\n' > "J/t-rom=0-seed=1/rep
 expect2 "J/t-rom=0-seed=1/report.json:3: bad JSON" compare A J
 printf '[1, 2]\n' > list.json
 expect2 "list.json:1: not an rcsim report.json" compare list.json "A/t-rom=0-seed=1/report.json"
+# Reports of the wrong shape compare (a malformed `passed` counts as failed), never crash.
+cp -r A O && sed -i '0,/"passed": true/s//"passed": "yes"/' "O/t-rom=0-seed=1/report.json"
+"$RCSIM" compare A O > odd.txt 2> odd_err.txt; rc=$?
+[ "$rc" -eq 1 ] && grep -q "check .* t-rom=0-seed=1 .*PASS .*FAIL" odd.txt || fail "a check with passed: \"yes\": exit $rc, $(cat odd_err.txt)"
+printf '{"scenario": 5, "checks": 3, "passed": []}\n' > odd.json
+"$RCSIM" compare odd.json odd.json > /dev/null 2> odd_err.txt; rc=$?
+[ "$rc" -eq 0 ] || fail "an odd report against itself: exit $rc, $(cat odd_err.txt)"
 printf 'tolerances:\n  - {figure: x, better: sideways}\n' > tol.yaml
 expect2 "tol.yaml:2: 'tolerances[0].better' must be" compare A P --tolerances tol.yaml
 
