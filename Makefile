@@ -5,7 +5,7 @@ ASAN_BUILD ?= build-asan
 JOBS  ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build run test test-asan bench clean
+.PHONY: all deps configure build run test test-asan bench regress regress-update clean
 
 all: build
 
@@ -43,6 +43,15 @@ bench: build
 	$(BUILD)/rcsim bench serial
 	$(BUILD)/rcsim bench motion
 	$(BUILD)/rcsim bench system
+
+# The regression suite (docs/regression.md): scenarios/regress/suite.yaml against its baseline;
+# writes $(BUILD)/regress/compare.html and junit.xml, exits non-zero on a regression.
+regress: build
+	bash scripts/regress.sh $(BUILD)/rcsim $(BUILD)/regress $(JOBS)
+
+# Rewrites scenarios/regress/baseline/ from a fresh run of the suite (after an intended change).
+regress-update: build
+	bash scripts/regress.sh --update $(BUILD)/rcsim $(BUILD)/regress $(JOBS)
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD)

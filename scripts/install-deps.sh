@@ -7,6 +7,7 @@ PACKAGES=(
   libsystemc-dev libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev zlib1g-dev
   bcc bin86 nasm python3
+  parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

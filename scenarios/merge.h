@@ -1,0 +1,63 @@
+// rcsim — the runs of a sweep read back from their directories, and the summary of them all
+// (summary.json, summary.csv, summary.html; docs/regression.md "Merging").
+//
+// Everything here depends only on the set of runs, never on the order the directories are named
+// or read in, or on where they live: merging the same runs gives the same bytes.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rcsim::regress {
+
+/// One run directory: its id, run.json (absent for a plain `rcsim run --out` directory) and
+/// report.json (absent when the run did not finish).
+struct RunRecord {
+    std::string id;
+    std::filesystem::path dir;
+    nlohmann::json meta;                  // run.json, or {}
+    std::optional<nlohmann::json> report; // report.json
+};
+
+/// Reads a JSON file; a syntax error is a ConfigError naming the file and line.
+nlohmann::json read_json_file(const std::filesystem::path& file);
+
+/// The run directories under each of `dirs` (every subdirectory with a run.json or report.json),
+/// sorted by id. The same id twice is a ConfigError naming both directories.
+std::vector<RunRecord> collect_runs(const std::vector<std::string>& dirs);
+
+/// One figure: its path in report.json ("table3.margin_us", "ports[0].overruns") and value.
+using Figures = std::vector<std::pair<std::string, nlohmann::json>>;
+
+/// Every scalar figure of a report, flattened by path in the report's key order: numbers,
+/// booleans and nulls ("not measured"). Strings (names, reasons, warnings), the checks (compared
+/// by name, see report_checks) and the overall `passed` are left out.
+Figures flatten_figures(const nlohmann::json& report);
+
+/// The checks of a report by name: {passed, value, limit[, status]}.
+std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann::json& report);
+
+/// "passed", "failed" (a check failed) or "no report" (the run did not finish).
+std::string run_status(const RunRecord& run);
+
+/// summary.json: {runs, passed, failed, "no report", "results": [{id, entry, status, parameters, figures, checks}]}.
+nlohmann::json summary_json(const std::vector<RunRecord>& runs);
+
+/// summary.csv: one row per run: id, status, parameters, every figure, every check (PASS/FAIL).
+std::string summary_csv(const nlohmann::json& summary);
+
+/// summary.html: the runs table and, per numeric parameter, the headline figures against it.
+std::string summary_html(const nlohmann::json& summary);
+
+/// Writes OUT/summary.{json,csv,html} for the runs under `dirs`. Returns the runs merged.
+std::size_t merge_runs(const std::vector<std::string>& dirs, const std::filesystem::path& out);
+
+/// A number as the summaries print it: the shortest text that reads back as the same double.
+std::string number_text(const nlohmann::json& v);
+
+} // namespace rcsim::regress

@@ -1,0 +1,47 @@
+// rcsim — runs commands as child processes, at most N at a time (a sweep's runs: SystemC cannot
+// elaborate a second design in one process, so every run is its own `rcsim run`).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rcsim::regress {
+
+struct Job {
+    std::vector<std::string> argv; // argv[0] is the executable's path
+    std::string log;               // stdout and stderr go here
+};
+
+struct JobResult {
+    int exit_code = 0; // the child's exit status; 128 + signal when it died of one; 127 spawn failed
+    double wall_s = 0;
+};
+
+/// Called after each job ends: (job index, its result, jobs done so far).
+using JobDone = std::function<void(std::size_t, const JobResult&, std::size_t)>;
+
+/// Runs every job, `parallel` at a time (>= 1), in index order of start. Returns one result per job.
+std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel, const JobDone& done);
+
+/// The path of the running executable (/proc/self/exe), for children of the same build.
+std::string self_executable();
+
+/// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr; in CI
+/// (stderr not a terminal, or CI set) nothing but the failures and the final line.
+class Progress {
+public:
+    Progress(std::size_t total, bool interactive);
+    void update(std::size_t done, std::size_t failed, double elapsed_s);
+    /// A line that must stay (a failure), printed above the progress line.
+    void note(const std::string& line);
+    void finish(std::size_t failed, double elapsed_s);
+    static bool interactive_default(); // stderr is a tty and CI is unset
+
+private:
+    std::size_t total_;
+    bool interactive_;
+};
+
+} // namespace rcsim::regress
