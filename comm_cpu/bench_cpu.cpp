@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -105,7 +106,14 @@ void add_bench_cpu(CLI::App& bench) {
     auto secs = std::make_shared<double>(2.0);
     auto* cmd = bench.add_subcommand("cpu", "8086 core: emulated cycles per host second (trace off)");
     cmd->add_option("--sst", *dir, "SingleStepTests folder for the instruction-stream figure (default: skip)");
-    cmd->add_option("--seconds", *secs, "Minimum host time per measurement")->check(CLI::Range(0.1, 600.0));
+    // CLI::Range lets NaN through (every comparison with it is false): name the range ourselves.
+    cmd->add_option("--seconds", *secs, "Minimum host time per measurement (0.1 .. 600)")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                const double v = std::strtod(text.c_str(), nullptr);
+                return v >= 0.1 && v <= 600.0 ? std::string() : "'" + text + "' is not in 0.1 .. 600";
+            },
+            "0.1 .. 600"));
     cmd->callback([dir, secs] {
         std::uint64_t cycles = 0;
         const double loop = bench_loop(*secs, &cycles);

@@ -16,6 +16,10 @@ using nlohmann::json;
 namespace {
 
 constexpr std::uint32_t kRamSize = 1u << 20;
+// Input caps (docs/scenarios.md "Limits"): the largest SingleStepTests 8086 file is a few MB, its
+// text a few tens of MB; these bound what a wrong path can make rcsim read and parse.
+constexpr std::uintmax_t kMaxFileBytes = 64u << 20;
+constexpr std::size_t kMaxTextBytes = 256u << 20;
 constexpr std::uint8_t kFill = 0x90; // bytes the suite did not list are NOPs (upstream README)
 
 const char* const kRegNames[] = {"ax", "cx", "dx", "bx", "sp", "bp", "si", "di"};
@@ -50,6 +54,13 @@ std::uint32_t get_u32(const json& j, const std::string& file, const std::string&
 // ---------------------------------------------------------------------------------------------
 
 std::string read_text(const std::string& path) {
+    // A device (/dev/zero) or a huge file would be read whole before anything could fail.
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st)) fail(path, "not a regular file");
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size > kMaxFileBytes)
+        fail(path, std::to_string(size) + " bytes; a test file is at most " + std::to_string(kMaxFileBytes));
     gzFile f = gzopen(path.c_str(), "rb"); // reads plain files transparently
     if (!f) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
     std::string out;
@@ -63,6 +74,10 @@ std::string read_text(const std::string& path) {
             throw InputError(path + ": read error (" + msg + ")");
         }
         if (n == 0) break;
+        if (out.size() + static_cast<std::size_t>(n) > kMaxTextBytes) {
+            gzclose(f);
+            fail(path, "decompresses to more than " + std::to_string(kMaxTextBytes) + " bytes");
+        }
         out.append(buf, static_cast<std::size_t>(n));
     }
     // A truncated gzip stream ends without error from gzread on some zlib versions; check.

@@ -9,6 +9,9 @@ namespace rcsim {
 namespace {
 
 constexpr const char* kMsgType = "rcsim/pic8259";
+// Legal 8259A modes this model does not implement: a ROM that selects one is not wrong, the
+// model cannot follow it (rcsim reports "unsupported by the model", exit code 3).
+constexpr const char* kUnsupported = "rcsim/pic8259/unsupported";
 
 std::uint8_t bit(unsigned n) { return static_cast<std::uint8_t>(1u << n); }
 
@@ -172,15 +175,15 @@ void Pic8259::write_register(bool a0, std::uint8_t value) {
 // rotate-in-AEOI flag are not touched.
 void Pic8259::write_icw1(std::uint8_t value) {
     if (!(value & ICW1_IC4)) {
-        SC_REPORT_ERROR(kMsgType, (std::string(name()) + ": ICW1 " + hex2(value) +
-                                   " has IC4=0, which selects MCS-80/85 mode; only 8086 mode is "
-                                   "modelled (set IC4 and ICW4.uPM, e.g. ICW1 0x13)").c_str());
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 " + hex2(value) +
+                                       " has IC4=0, which selects MCS-80/85 mode; only 8086 mode is "
+                                       "modelled (set IC4 and ICW4.uPM, e.g. ICW1 0x13)").c_str());
         return; // only reached when errors are configured not to throw: the write is dropped
     }
     if (!(value & ICW1_SNGL)) {
-        SC_REPORT_ERROR(kMsgType, (std::string(name()) + ": ICW1 " + hex2(value) +
-                                   " has SNGL=0 (cascade mode), which is not modelled: the board has "
-                                   "one 8259A (set SNGL, e.g. ICW1 0x13)").c_str());
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 " + hex2(value) +
+                                       " has SNGL=0 (cascade mode), which is not modelled: the board has "
+                                       "one 8259A (set SNGL, e.g. ICW1 0x13)").c_str());
         return;
     }
     icw1_ = value;
@@ -209,9 +212,9 @@ void Pic8259::write_icw3(std::uint8_t value) {
 
 void Pic8259::write_icw4(std::uint8_t value) {
     if (!(value & ICW4_UPM)) {
-        SC_REPORT_ERROR(kMsgType, (std::string(name()) + ": ICW4 " + hex2(value) +
-                                   " has uPM=0, which selects MCS-80/85 mode; only 8086 mode is "
-                                   "modelled (e.g. ICW4 0x01)").c_str());
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW4 " + hex2(value) +
+                                       " has uPM=0, which selects MCS-80/85 mode; only 8086 mode is "
+                                       "modelled (e.g. ICW4 0x01)").c_str());
         return;
     }
     icw4_ = value; // BUF, M/S and SFNM are stored; with a single chip and no transceiver they do nothing

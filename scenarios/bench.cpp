@@ -2,8 +2,11 @@
 
 #include "models/config_error.h"
 #include "models/dpram_layout.h"
+#include "scenarios/stop_signal.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <iostream>
 #include <string>
 
@@ -126,7 +129,21 @@ void Bench::drain(double drain_s) {
             if (h && !h->idle()) return true;
         return false;
     };
-    while (busy() && sc_core::sc_time_stamp() < end) sc_core::sc_start(std::min(step, end - sc_core::sc_time_stamp()));
+    while (busy() && sc_core::sc_time_stamp() < end && stop_signal() == 0)
+        sc_core::sc_start(std::min(step, end - sc_core::sc_time_stamp()));
+}
+
+void Bench::finish_files() {
+    for (unsigned p = 0; p < kPorts; ++p) {
+        if (logs_[p].is_open()) {
+            logs_[p].flush();
+            if (!logs_[p])
+                throw ConfigError(scenario_.ports[p].log_path, 0, std::string("cannot write the host log: ") + std::strerror(errno));
+        }
+        if (raw[p]) raw[p]->finish_files();
+        if (tcp[p]) tcp[p]->finish_log();
+        if (replay[p]) replay[p]->finish_log();
+    }
 }
 
 } // namespace rcsim

@@ -62,6 +62,11 @@ public:
     /// at the end are not counted as lost.
     void drain(double drain_s);
 
+    /// After the run: ends the hosts' logs and record files and throws ConfigError naming the
+    /// first that could not be written completely (a full disk), so a truncated file never
+    /// passes as a complete one.
+    void finish_files();
+
 private:
     const Scenario& scenario_;
     std::array<int, kPorts> open_chunk_{-1, -1, -1};

@@ -2,6 +2,8 @@
 
 #include "models/config_error.h"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 namespace rcsim {
@@ -17,16 +19,21 @@ void prepare_out_dir(const std::string& dir) {
 void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report) {
     const std::filesystem::path file = dir / "report.json";
     std::ofstream out(file);
+    if (!out) throw ConfigError(file.string(), 0, "cannot write the report");
     out << report.dump(2) << "\n";
     out.flush();
-    if (!out) throw ConfigError(file.string(), 0, "cannot write the report");
+    if (!out) throw ConfigError(file.string(), 0, std::string("cannot write the report: ") + std::strerror(errno));
 }
 
 sc_core::sc_trace_file* open_vcd(const std::string& path) {
     const std::string ext = ".vcd";
     const bool has_ext = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
     const std::string stem = has_ext ? path.substr(0, path.size() - ext.size()) : path;
-    if (!std::ofstream(stem + ext)) throw ConfigError(stem + ext, 0, "cannot write the VCD file");
+    // SystemC's VCD writer ignores write errors, so try one write here: a path on a full disk or
+    // /dev/full fails now, not silently after the run.
+    std::ofstream probe(stem + ext);
+    probe << "$comment rcsim $end\n" << std::flush;
+    if (!probe) throw ConfigError(stem + ext, 0, std::string("cannot write the VCD file: ") + std::strerror(errno));
     return sc_core::sc_create_vcd_trace_file(stem.c_str());
 }
 

@@ -1,4 +1,6 @@
 // rcsim — command-line entry point.
+#include "scenarios/failure.h"
+
 #include <CLI/CLI.hpp>
 #include <systemc>
 
@@ -39,6 +41,7 @@ std::string unknown_command(const CLI::App& app, int argc, char* argv[], int i) 
 int sc_main(int argc, char* argv[]) {
     CLI::App app{"rcsim — cycle-accurate co-simulation of a two-CPU robot controller"};
     app.require_subcommand(1);
+    app.footer(rcsim::kExitCodesHelp);
 
     auto* version = app.add_subcommand("version", "Print the rcsim and SystemC versions");
     version->callback([] {
@@ -62,18 +65,19 @@ int sc_main(int argc, char* argv[]) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {
-        return e.get_exit_code(); // a subcommand's own exit code (0 pass, 1 fail, 2 bad input)
+        return e.get_exit_code(); // a subcommand's own exit code (rcsim::kExitCodesHelp)
     } catch (const CLI::ParseError& e) {
         const std::string unknown = unknown_command(app, argc, argv, 1);
         if (!unknown.empty()) {
             std::cerr << "rcsim: " << unknown << "\n";
             return 2;
         }
-        return app.exit(e) == 0 ? 0 : 2;
-    } catch (const std::exception& e) {
-        // Bad input must end in one clear message, never an abort.
-        std::cerr << "rcsim: " << e.what() << "\n";
-        return 2;
+        return app.exit(e) == 0 ? 0 : rcsim::kExitBadInput;
+    } catch (...) {
+        // One clear message and its exit code, never an abort (scenarios/failure.h).
+        std::string args;
+        for (int i = 1; i < argc; ++i) args += (i > 1 ? " " : "") + std::string(argv[i]);
+        return rcsim::report_exception("rcsim", "rcsim " + args);
     }
     return 0;
 }

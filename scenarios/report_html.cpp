@@ -1,12 +1,15 @@
 // rcsim — interrupts.csv and report.html. See report_html.h.
 #include "scenarios/report_html.h"
 
+#include "models/config_error.h"
 #include "models/stats.h"
 #include "scenarios/svg.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -692,9 +695,10 @@ void write_report_files(const std::filesystem::path& dir, const json& report, st
     {
         const auto f = dir / "interrupts.csv";
         std::ofstream out(f);
-        if (!out) throw std::runtime_error("cannot write " + f.string());
+        if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
         write_interrupts_csv(rows, out);
-        if (!out) throw std::runtime_error("error writing " + f.string());
+        out.flush();
+        if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
     }
     HtmlOptions opt;
     const auto traj = dir / "trajectory.svg";
@@ -706,9 +710,10 @@ void write_report_files(const std::filesystem::path& dir, const json& report, st
     }
     const auto f = dir / "report.html";
     std::ofstream out(f);
-    if (!out) throw std::runtime_error("cannot write " + f.string());
+    if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
     out << render_html(report, rows, opt);
-    if (!out) throw std::runtime_error("error writing " + f.string());
+    out.flush();
+    if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
 }
 
 } // namespace rcsim::report

@@ -1,6 +1,8 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE]
 #include "models/config_error.h"
+#include "scenarios/failure.h"
 #include "scenarios/runner.h"
+#include "scenarios/stop_signal.h"
 
 #include <CLI/CLI.hpp>
 
@@ -42,6 +44,8 @@ void add_run_command(CLI::App& app) {
         RunOptions opt;
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
+        // The input a run that exhausts memory is blamed on.
+        const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
         int code = 0;
@@ -49,15 +53,16 @@ void add_run_command(CLI::App& app) {
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         try {
             if (*seed) opt.seed = parse_seed(args->seed);
+            if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
+            install_stop_handlers();
             nlohmann::json report;
             code = run_scenario(load_scenario(args->scenario), opt, report);
             print_summary(report, std::cout);
             if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
             if (!args->out.empty() && report.contains("interrupts"))
                 std::cout << "html:   " << args->out << "/report.html\n";
-        } catch (const ConfigError& e) {
-            std::cerr << "rcsim run: " << e.what() << "\n";
-            code = 2;
+        } catch (...) {
+            code = report_exception("rcsim run", input);
         }
         throw CLI::RuntimeError(code);
     });

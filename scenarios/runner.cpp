@@ -8,6 +8,7 @@
 #include "scenarios/measure.h"
 #include "scenarios/output.h"
 #include "scenarios/report_html.h"
+#include "scenarios/stop_signal.h"
 #include "scenarios/motion_scenario.h"
 #include "scenarios/trajectory_report.h"
 #include "models/config_error.h"
@@ -29,12 +30,17 @@ constexpr unsigned kPorts = Bench::kPorts;
 /// `reproducible` writes 0 for both.
 nlohmann::json run_header(const Scenario& s, const RunOptions& opt, double wall) {
     const double sim_s = sc_core::sc_time_stamp().to_seconds();
-    return {{"scenario", s.name},
-            {"seed", s.seed},
-            {"sim_time_s", sim_s},
-            {"wall_time_s", opt.reproducible ? 0.0 : wall},
-            {"rtf", opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall}};
+    nlohmann::json h = {{"scenario", s.name},
+                        {"seed", s.seed},
+                        {"sim_time_s", sim_s},
+                        {"wall_time_s", opt.reproducible ? 0.0 : wall},
+                        {"rtf", opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall}};
+    if (stop_signal() != 0) h["interrupted"] = true; // by SIGINT/SIGTERM at sim_time_s
+    return h;
 }
+
+/// The exit code: 128 + the signal that stopped the run, else 0 (passed) or 1.
+int exit_code(bool passed) { return stop_signal() != 0 ? 128 + stop_signal() : passed ? 0 : 1; }
 
 /// A scenario with a `motion:` section: the motion side alone (main_cpu/motion, docs/motion.md).
 int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
@@ -60,7 +66,7 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     for (const auto& c : m.value("checks", nlohmann::json::array())) report["checks"].push_back(c);
     report["passed"] = rc == 0;
     if (!opt.out_dir.empty()) write_report_json(out, report);
-    return rc;
+    return exit_code(rc == 0);
 }
 
 /// The interrupt lines in a VCD trace (--vcd).
@@ -160,6 +166,7 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
 int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.seed) s.seed = *opt.seed;
     prepare_out_dir(opt.out_dir);
+    StopPoller stop("stop");
     if (s.has_motion) return run_motion_only(s, opt, report);
     for (unsigned p = 0; p < kPorts; ++p) s.ports[p].protocol.traffic.seed = s.seed * 1000 + p;
     std::string rom = opt.rom ? *opt.rom : s.rom;
@@ -172,9 +179,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const auto wall0 = std::chrono::steady_clock::now();
     if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
-    bench.drain(s.drain_s);
+    if (stop_signal() == 0) bench.drain(s.drain_s);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
+    bench.finish_files();
 
     report = run_header(s, opt, wall);
     report["rom"] = std::filesystem::path(rom).filename().string();
@@ -202,7 +210,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         write_report_json(opt.out_dir, report);
         report::write_report_files(opt.out_dir, report, interrupt_rows(bench));
     }
-    return passed ? 0 : 1;
+    return exit_code(passed);
 }
 
 } // namespace rcsim

@@ -8,6 +8,14 @@
 namespace rcsim {
 
 namespace {
+/// " (INTERRUPTED at 1.234000 s)" after the verdict of a run a signal stopped, else "".
+std::string interrupted_note(const nlohmann::json& r) {
+    if (!r.value("interrupted", false)) return "";
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(6) << " (INTERRUPTED at " << r["sim_time_s"].get<double>() << " s)";
+    return os.str();
+}
+
 void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     const auto& m = r["motion"];
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
@@ -22,7 +30,7 @@ void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     os << "\n\nchecks\n";
     for (const auto& c : r["checks"]) os << "  " << c.dump() << "\n";
     if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
-    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
 }
 } // namespace
 
@@ -92,7 +100,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     }
     for (const auto& name : r.value("checks_off", nlohmann::json::array()))
         os << "  off   " << name.get<std::string>() << "\n";
-    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
 }
 
 } // namespace rcsim

@@ -1,6 +1,7 @@
 // rcsim — trajectory.csv and trajectory.svg. See trajectory_report.h.
 #include "scenarios/trajectory_report.h"
 
+#include "models/config_error.h"
 #include "scenarios/svg.h"
 
 #include <algorithm>
@@ -14,13 +15,13 @@ namespace {
 
 std::ofstream open_out(const std::filesystem::path& file) {
     std::ofstream out(file);
-    if (!out) throw std::runtime_error("cannot write " + file.string());
+    if (!out) throw ConfigError(file.string(), 0, "cannot write the file");
     return out;
 }
 
 void close_out(std::ofstream& out, const std::filesystem::path& file) {
     out.close();
-    if (!out) throw std::runtime_error("error writing " + file.string());
+    if (!out) throw ConfigError(file.string(), 0, "cannot write the file (disk full?)");
 }
 
 bool has_axes(const motion::TrajectorySample& s, unsigned ax, unsigned ay) {

@@ -1,8 +1,11 @@
 #include "scenarios/yaml_map.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <unordered_set>
 
 namespace rcsim {
 
@@ -36,6 +39,16 @@ double YamlMap::number(const std::string& key, double fallback, double lo, doubl
         fail(has(key) ? node_[key] : node_, os.str());
     }
     return v;
+}
+
+std::uint64_t YamlMap::integer(const std::string& key, std::uint64_t fallback, std::uint64_t lo, std::uint64_t hi) {
+    const double v = get<double>(key, static_cast<double>(fallback));
+    if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi)) || v != std::floor(v)) {
+        std::ostringstream os;
+        os << "'" << context_ << key << "' = " << v << " must be a whole number in [" << lo << ", " << hi << "]";
+        fail(has(key) ? node_[key] : node_, os.str());
+    }
+    return static_cast<std::uint64_t>(v);
 }
 
 double YamlMap::require_number(const std::string& key, double lo, double hi) {
@@ -94,18 +107,63 @@ void YamlMap::fail(const YAML::Node& at, const std::string& message) const {
     throw ConfigError(file_, line_of(at), message);
 }
 
+void reject_duplicate_keys(const YAML::Node& root, const std::string& file) {
+    // Iterative, and each container once: an alias (*a) is the node its anchor defined, at the
+    // same mark, so a file of aliases to aliases costs no more than its text.
+    std::vector<YAML::Node> todo{root};
+    std::unordered_set<int> seen;
+    while (!todo.empty()) {
+        const YAML::Node n = todo.back();
+        todo.pop_back();
+        if (!n.IsMap() && !n.IsSequence()) continue;
+        if (!n.Mark().is_null() && !seen.insert(n.Mark().pos).second) continue;
+        if (n.IsSequence()) {
+            for (const auto& item : n) todo.push_back(item);
+            continue;
+        }
+        std::map<std::string, int> first_line;
+        for (const auto& kv : n) {
+            if (kv.first.IsScalar()) {
+                const int line = YamlMap::line_of(kv.first);
+                const auto [it, fresh] = first_line.emplace(kv.first.Scalar(), line);
+                if (!fresh)
+                    throw ConfigError(file, line,
+                                      "duplicate key '" + kv.first.Scalar() + "' (" +
+                                          (it->second == line ? std::string("twice on this line")
+                                                              : "first at line " + std::to_string(it->second)) +
+                                          ")");
+            }
+            todo.push_back(kv.second);
+        }
+    }
+}
+
 YAML::Node load_yaml_file(const std::string& path) {
+    namespace fs = std::filesystem;
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw ConfigError(path, 0, "is a directory, not a scenario file");
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::is_directory(st)) throw ConfigError(path, 0, "is a directory, not a scenario file");
+    if (fs::exists(st) && !fs::is_regular_file(st)) throw ConfigError(path, 0, "is not a regular file");
     std::ifstream in(path);
     if (!in) throw ConfigError(path, 0, "cannot open scenario file");
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size > kMaxYamlFileBytes)
+        throw ConfigError(path, 0, "is " + std::to_string(size) + " bytes; a scenario file is at most " +
+                                       std::to_string(kMaxYamlFileBytes) + " bytes");
+    std::vector<YAML::Node> docs;
     try {
-        return YAML::Load(in);
+        docs = YAML::LoadAll(in);
     } catch (const YAML::ParserException& e) {
         throw ConfigError(path, e.mark.line + 1, "YAML syntax error: " + e.msg);
     } catch (const std::ios_base::failure& e) {
         throw ConfigError(path, 0, std::string("cannot read scenario file: ") + e.what());
     }
+    if (docs.empty()) return YAML::Node();
+    if (docs.size() > 1)
+        throw ConfigError(path, YamlMap::line_of(docs[1]),
+                          "a second YAML document ('---'): a scenario file is one document");
+    reject_duplicate_keys(docs[0], path);
+    return docs[0];
 }
 
 } // namespace rcsim

@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <limits>
 #include <set>
@@ -33,6 +34,9 @@ public:
     double number(const std::string& key, double fallback, double lo, double hi);
     /// A required numeric value checked against [lo, hi].
     double require_number(const std::string& key, double lo, double hi);
+    /// A whole number checked against [lo, hi] (`index: 1.7` is an error, not 1). `lo` and `hi`
+    /// must be exact in a double (below 2^53).
+    std::uint64_t integer(const std::string& key, std::uint64_t fallback, std::uint64_t lo, std::uint64_t hi);
     /// A string that must be one of `allowed` (`fallback` when absent).
     std::string choice(const std::string& key, const std::string& fallback,
                        std::initializer_list<const char*> allowed);
@@ -99,7 +103,16 @@ template <typename T> std::vector<T> YamlMap::list(const std::string& key, std::
     return out;
 }
 
-/// Loads a YAML file; a syntax error becomes a ConfigError naming file and line.
+/// The largest configuration file rcsim reads (a scenario is a few kilobytes; this bounds the
+/// memory a wrong path such as /dev/zero or a log file given as the scenario can take).
+constexpr std::uintmax_t kMaxYamlFileBytes = 4u << 20;
+
+/// Loads a YAML file: a regular file of at most kMaxYamlFileBytes holding one document whose
+/// mappings have no key twice. Any other input becomes a ConfigError naming file and line.
 YAML::Node load_yaml_file(const std::string& path);
+
+/// Throws ConfigError (at the second occurrence's line) when a mapping in `node`, at any depth,
+/// has the same key twice: yaml-cpp keeps both and lookups would silently take the first.
+void reject_duplicate_keys(const YAML::Node& node, const std::string& file);
 
 } // namespace rcsim

@@ -142,6 +142,7 @@ void ProtocolHost::run() {
         if (!awaiting_response_ && !commands_.empty()) {
             const Frame f = commands_.front();
             commands_.pop_front();
+            cmd_taken_ev_.notify(sc_core::SC_ZERO_TIME);
             do_command(f);
             continue;
         }
@@ -335,6 +336,15 @@ Frame ProtocolHost::make_command() {
     return f;
 }
 
+// The queue is the external system's command buffer: when the line cannot carry what the
+// traffic pattern generates, it fills, and generation waits for the protocol thread to take the
+// oldest command. Memory stays bounded whatever rate or burst a scenario asks for.
+void ProtocolHost::queue_generated() {
+    while (commands_.size() >= kMaxQueuedCommands) wait(cmd_taken_ev_);
+    commands_.push_back(make_command());
+    cmd_ev_.notify(sc_core::SC_ZERO_TIME);
+}
+
 void ProtocolHost::generate() {
     const HostTraffic& t = cfg_.traffic;
     using P = HostTraffic::Pattern;
@@ -343,13 +353,11 @@ void ProtocolHost::generate() {
     const sc_core::sc_time period = ps(static_cast<std::uint64_t>(std::llround(1e12 / t.rate)));
     while (may_generate()) {
         if (t.pattern == P::burst) {
-            for (unsigned i = 0; i < t.burst_size && may_generate(); ++i) commands_.push_back(make_command());
-            cmd_ev_.notify(sc_core::SC_ZERO_TIME);
+            for (unsigned i = 0; i < t.burst_size && may_generate(); ++i) queue_generated();
             wait(t.burst_period);
             continue;
         }
-        commands_.push_back(make_command());
-        cmd_ev_.notify(sc_core::SC_ZERO_TIME);
+        queue_generated();
         if (t.pattern == P::fixed) wait(period);
         else wait(ps(static_cast<std::uint64_t>(std::llround(-std::log(1.0 - next_uniform()) / t.rate * 1e12))));
     }

@@ -16,7 +16,8 @@
 // Every transaction step is logged with its simulation time. Traffic generation: fixed rate,
 // Poisson, bursts, or saturate ("as fast as the line allows": the next command as soon as the
 // previous one finished, and its response arrived when wait_response is set); data sizes fixed or
-// uniformly random up to 8192; tokens drawn from a weighted mix; everything from one seed.
+// uniformly random up to 8192; tokens drawn from a weighted mix; everything from one seed. At most
+// kMaxQueuedCommands generated commands wait for the line; then generation waits for room.
 #pragma once
 
 #include "models/serial_line.h"
@@ -76,6 +77,10 @@ struct ProtocolHostConfig {
 
 class ProtocolHost : public sc_core::sc_module, public HostLineEnd {
 public:
+    /// Generated commands waiting for the line, at most (docs/scenarios.md "Limits"): beyond
+    /// this the traffic generator waits for room. 256 x 8192 data bytes = 2 MB a port.
+    static constexpr std::size_t kMaxQueuedCommands = 256;
+
     struct Counters {
         std::uint64_t frames_sent = 0;      // commands started
         std::uint64_t frames_delivered = 0; // EOT received
@@ -133,7 +138,7 @@ private:
 
     ProtocolHostConfig cfg_;
     std::deque<RxByte> rx_;
-    sc_core::sc_event rx_ev_, cmd_ev_;
+    sc_core::sc_event rx_ev_, cmd_ev_, cmd_taken_ev_;
     std::deque<proto::Frame> commands_;
     bool busy_ = false;
     bool awaiting_response_ = false;
@@ -153,6 +158,7 @@ private:
     void end_of_elaboration() override;
     void run();
     void generate();
+    void queue_generated();
     void do_command(const proto::Frame& f);
     void serve_controller();
     sc_core::sc_time t1_deadline() const;

@@ -5,6 +5,8 @@
 #include "models/frame_codec.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 namespace rcsim {
@@ -56,6 +58,14 @@ void RawHost::rx_char(const SerialRx& c) {
 void RawHost::rx_break(bool active) {
     breaks_.emplace_back(sc_core::sc_time_stamp(), active);
     if (log_.is_open()) log_ << sc_core::sc_time_stamp().value() << " BREAK " << (active ? "on" : "off") << '\n' << std::flush;
+}
+
+void RawHost::finish_files() {
+    for (auto [os, path] : {std::pair{&record_, &cfg_.record_path}, std::pair{&log_, &cfg_.log_path}}) {
+        if (!os->is_open()) continue;
+        os->flush();
+        if (!*os) throw ConfigError(*path, 0, std::string("cannot write the file: ") + std::strerror(errno));
+    }
 }
 
 std::string RawHost::text() const {

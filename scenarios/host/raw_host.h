@@ -50,6 +50,9 @@ public:
     std::string text() const;
     const std::vector<std::pair<sc_core::sc_time, bool>>& breaks() const { return breaks_; }
     std::uint64_t bytes_sent() const { return sent_; }
+    /// Flushes the record and log files; throws rcsim::ConfigError naming one that could not be
+    /// written completely.
+    void finish_files();
 
     SerialFormat rx_format() const override { return cfg_.format; }
     void rx_char(const SerialRx& c) override;

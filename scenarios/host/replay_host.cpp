@@ -5,6 +5,10 @@
 #include "models/config_error.h"
 #include "models/frame_codec.h"
 
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,20 +35,60 @@ std::string describe_out(std::uint8_t byte, bool p, bool f, const sc_core::sc_ti
     return s + " at " + std::to_string(at.value()) + " ps";
 }
 
+/// A log time: decimal digits only (no sign, no spaces, no exponent), at most kMaxSessionTimePs.
+bool parse_time_ps(const std::string& text, std::uint64_t& out) {
+    if (text.empty() || text.size() > 20) return false;
+    for (char c : text)
+        if (c < '0' || c > '9') return false;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, out);
+    return r.ec == std::errc() && r.ptr == end && out <= kMaxSessionTimePs;
+}
+
+/// Opens a log for reading: a regular file of at most kMaxSessionLogBytes (a device such as
+/// /dev/zero would be read forever, a huge file into memory).
+std::ifstream open_log(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::is_directory(st)) throw ConfigError(path, 0, "is a directory, not a session log");
+    if (fs::exists(st) && !fs::is_regular_file(st)) throw ConfigError(path, 0, "is not a regular file (a session log)");
+    std::ifstream is(path);
+    if (!is) throw ConfigError(path, 0, "cannot open the session log");
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size > kMaxSessionLogBytes)
+        throw ConfigError(path, 0, "session log is " + std::to_string(size) + " bytes; at most " +
+                                       std::to_string(kMaxSessionLogBytes) + " are read");
+    return is;
+}
+
 } // namespace
 
 // ---- writer ----
 
 void SessionLogWriter::open(const std::string& path, const SerialFormat& f) {
+    path_ = path;
     os_.open(path, std::ios::trunc);
     if (!os_) throw ConfigError(path, 0, "cannot open the session log for writing");
     os_ << "# rcsim serial session log v1: <time ps> in|out <hex> [P][F] | connect | disconnect | end\n"
         << "format " << f.describe() << '\n'
         << std::flush;
+    note_failure();
+}
+
+void SessionLogWriter::note_failure() {
+    // errno is the failed write's: every line is flushed right before this check.
+    if (!os_ && error_.empty()) error_ = errno ? std::strerror(errno) : "write error";
+}
+
+void SessionLogWriter::check() const {
+    if (!error_.empty()) throw ConfigError(path_, 0, "cannot write the session log: " + error_);
 }
 
 void SessionLogWriter::in(const sc_core::sc_time& at, std::uint8_t byte) {
-    if (os_.is_open()) os_ << at.value() << " in " << proto::hex2(byte) << '\n' << std::flush;
+    if (!os_.is_open()) return;
+    os_ << at.value() << " in " << proto::hex2(byte) << '\n' << std::flush;
+    note_failure();
 }
 
 void SessionLogWriter::out(const sc_core::sc_time& at, std::uint8_t byte, bool parity_error, bool framing_error) {
@@ -52,6 +96,7 @@ void SessionLogWriter::out(const sc_core::sc_time& at, std::uint8_t byte, bool p
     os_ << at.value() << " out " << proto::hex2(byte);
     if (parity_error || framing_error) os_ << ' ' << (parity_error ? "P" : "") << (framing_error ? "F" : "");
     os_ << '\n' << std::flush;
+    note_failure();
 }
 
 void SessionLogWriter::event(const sc_core::sc_time& at, SessionEvent::Kind k, const std::string& text) {
@@ -59,13 +104,13 @@ void SessionLogWriter::event(const sc_core::sc_time& at, SessionEvent::Kind k, c
     os_ << at.value() << ' ' << kind_word(k);
     if (!text.empty()) os_ << ' ' << text;
     os_ << '\n' << std::flush;
+    note_failure();
 }
 
 // ---- reader ----
 
 SessionLog read_session_log(const std::string& path) {
-    std::ifstream is(path);
-    if (!is) throw ConfigError(path, 0, "cannot open the session log");
+    std::ifstream is = open_log(path);
     SessionLog log;
     std::string line;
     int n = 0;
@@ -88,12 +133,12 @@ SessionLog read_session_log(const std::string& path) {
             continue;
         }
         std::uint64_t t = 0;
-        try {
-            std::size_t used = 0;
-            t = std::stoull(first, &used, 10);
-            if (used != first.size()) throw std::invalid_argument(first);
-        } catch (const std::exception&) {
-            throw ConfigError(path, n, "expected '<time ps> <event>' or 'format ...', got '" + line + "'");
+        if (!parse_time_ps(first, t)) {
+            const bool digits = !first.empty() && first.find_first_not_of("0123456789") == std::string::npos;
+            throw ConfigError(path, n, digits ? "time " + first + " ps is beyond " + std::to_string(kMaxSessionTimePs) +
+                                                    " ps (3600 s, the longest run)"
+                                              : ("expected '<time ps> <event>' or 'format ...', got '" +
+                                                               line.substr(0, 80) + "'"));
         }
         if (t < last) throw ConfigError(path, n, "time " + std::to_string(t) + " ps goes backwards");
         last = t;
@@ -105,19 +150,16 @@ SessionLog read_session_log(const std::string& path) {
             ev.kind = word == "in" ? SessionEvent::Kind::in : SessionEvent::Kind::out;
             std::string hex, flags;
             ls >> hex >> flags;
-            unsigned long v = 0;
-            try {
-                std::size_t used = 0;
-                v = std::stoul(hex, &used, 16);
-                if (used != hex.size() || hex.empty() || v > 0xFF) throw std::invalid_argument(hex);
-            } catch (const std::exception&) {
-                throw ConfigError(path, n, "bad byte '" + hex + "' (two hex digits)");
-            }
+            unsigned v = 0;
+            const char* end = hex.data() + hex.size();
+            const auto r = std::from_chars(hex.data(), end, v, 16);
+            if (hex.empty() || hex.size() > 2 || r.ec != std::errc() || r.ptr != end)
+                throw ConfigError(path, n, "bad byte '" + hex.substr(0, 40) + "' (two hex digits)");
             ev.byte = static_cast<std::uint8_t>(v);
             for (char c : flags) {
                 if (c == 'P') ev.parity_error = true;
                 else if (c == 'F') ev.framing_error = true;
-                else throw ConfigError(path, n, "bad flags '" + flags + "' (P, F)");
+                else throw ConfigError(path, n, "bad flags '" + flags.substr(0, 40) + "' (P, F)");
             }
         } else if (word == "connect") {
             ev.kind = SessionEvent::Kind::connect;
@@ -129,8 +171,11 @@ SessionLog read_session_log(const std::string& path) {
             ev.kind = SessionEvent::Kind::listen;
             ls >> ev.text;
         } else {
-            throw ConfigError(path, n, "unknown event '" + word + "' (in, out, connect, disconnect, listen, end)");
+            throw ConfigError(path, n, ("unknown event '" + word.substr(0, 40) +
+                                                      "' (in, out, connect, disconnect, listen, end)"));
         }
+        std::string extra;
+        if (ls >> extra) throw ConfigError(path, n, ("unexpected '" + extra.substr(0, 40) + "' at the end of the line"));
         log.events.push_back(ev);
     }
     return log;

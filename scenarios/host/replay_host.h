@@ -35,6 +35,11 @@
 
 namespace rcsim {
 
+/// Times in a log are at most this (3600 s, the longest run, in picoseconds).
+constexpr std::uint64_t kMaxSessionTimePs = 3600ULL * 1000000000000ULL;
+/// The largest session log read (about two million events: an hour at 9600 baud both ways).
+constexpr std::uintmax_t kMaxSessionLogBytes = 64u << 20;
+
 struct SessionEvent {
     enum class Kind : std::uint8_t { in, out, connect, disconnect, listen, end } kind = Kind::in;
     sc_core::sc_time at;
@@ -54,9 +59,15 @@ public:
     void out(const sc_core::sc_time& at, std::uint8_t byte, bool parity_error, bool framing_error);
     /// connect, disconnect, listen (with `text`), end.
     void event(const sc_core::sc_time& at, SessionEvent::Kind k, const std::string& text = "");
+    /// Throws rcsim::ConfigError naming the file when a write failed (a full disk): called after
+    /// the run, so that a log with missing lines never passes as complete.
+    void check() const;
 
 private:
     std::ofstream os_;
+    std::string path_;
+    std::string error_; // the first write failure, "" if none
+    void note_failure();
 };
 
 struct SessionLog {
@@ -64,8 +75,9 @@ struct SessionLog {
     std::vector<SessionEvent> events;   // in file order
 };
 
-/// Reads a session log; throws rcsim::ConfigError naming the file and line of a bad entry
-/// (also for times that go backwards).
+/// Reads a session log (a regular file of at most kMaxSessionLogBytes); throws
+/// rcsim::ConfigError naming the file and line of a bad entry: a time that is not a plain decimal
+/// 0 .. kMaxSessionTimePs, that goes backwards, an unknown event or trailing text.
 SessionLog read_session_log(const std::string& path);
 
 struct ReplayHostConfig {
@@ -97,6 +109,8 @@ public:
     /// The log's end time (its `end` line, else its last event).
     sc_core::sc_time end_time() const { return end_; }
     const SerialFormat& format() const { return format_; }
+    /// Throws rcsim::ConfigError when the re-recorded log could not be written completely.
+    void finish_log() const { rec_.check(); }
 
     SerialFormat rx_format() const override { return format_; }
     void rx_char(const SerialRx& c) override;

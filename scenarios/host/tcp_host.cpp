@@ -75,8 +75,14 @@ TcpHost::~TcpHost() {
     stopping_ = true;
     io_.stop();
     if (thread_.joinable()) thread_.join();
-    if (rec_.is_open() && !ended_) rec_.event(sc_core::sc_time_stamp(), SessionEvent::Kind::end);
+    if (rec_.is_open() && !ended_ && !end_logged_) rec_.event(sc_core::sc_time_stamp(), SessionEvent::Kind::end);
     if (attached_) inbox_.async_detach_suspending();
+}
+
+void TcpHost::finish_log() {
+    if (rec_.is_open() && !ended_ && !end_logged_) rec_.event(sc_core::sc_time_stamp(), SessionEvent::Kind::end);
+    end_logged_ = true;
+    rec_.check();
 }
 
 std::string TcpHost::endpoint() const {

@@ -88,6 +88,9 @@ public:
     Counters counters() const;
     /// True once a client disconnected with end_on_disconnect set and the host paused the run.
     bool ended() const { return ended_; }
+    /// Ends the session log with its `end` line (at the current simulated time, unless the session
+    /// already ended) and throws rcsim::ConfigError when the log could not be written completely.
+    void finish_log();
 
     SerialFormat rx_format() const override { return cfg_.format; }
     void rx_char(const SerialRx& c) override;
@@ -116,6 +119,7 @@ private:
     SessionLogWriter rec_;
     bool attached_ = false;
     bool ended_ = false;
+    bool end_logged_ = false; // the `end` line is written
 
     // Shared between the io thread and SystemC, under mu_.
     mutable std::mutex mu_;

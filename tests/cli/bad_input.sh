@@ -76,13 +76,68 @@ expect 2 "seedneg.yaml:1: bad value for 'seed': '-1'" -- run seedneg.yaml
 scen boardint.yaml 'board: 5\n'
 expect 2 "boardint.yaml:1: 'board' must be a mapping" -- run boardint.yaml
 scen cpuhz.yaml 'board: {cpu_hz: 1e300}\n'
-expect 2 "cpuhz.yaml:1: 'board.cpu_hz' = 1e+300 is out of range" -- run cpuhz.yaml
+expect 2 "cpuhz.yaml:1: 'board.cpu_hz' = 1e+300 must be a whole number in [100000, 100000000]" -- run cpuhz.yaml
 scen grade.yaml 'board: {dpram_speed_grade_ns: 30}\n'
 expect 2 "grade.yaml:1: 'board.dpram_speed_grade_ns' must be" -- run grade.yaml
 scen quantum.yaml 'board: {quantum_us: 0}\n'
-expect 2 "quantum.yaml:1: 'board.quantum_us' must be > 0" -- run quantum.yaml
+expect 2 "quantum.yaml:1: 'board.quantum_us' = 0 must be at least one CPU clock" -- run quantum.yaml
+# One CPU clock at 8 MHz is 0.125 us; 1 ps used to end in a two-line SystemC error.
+scen quantum_ps.yaml 'board: {quantum_us: 0.000001}\n'
+expect 2 "quantum_ps.yaml:1: 'board.quantum_us' = 1e-06 must be at least one CPU clock (0.125 us" -- run quantum_ps.yaml
 scen cycle.yaml 'main_cpu: {cycle_time_us: 5000, cycle_period_us: 1000}\n'
 expect 2 "cycle.yaml:1: main_cpu: cycle_time" -- run cycle.yaml
+
+# --- strict YAML: duplicate keys, one document, whole numbers, escaped echoes ------------------
+scen dup_top.yaml 'duration_s: 0.001\nseed: 1\nduration_s: 2\n'
+expect 2 "dup_top.yaml:3: duplicate key 'duration_s' (first at line 1)" -- run dup_top.yaml
+scen dup_port.yaml 'ports:\n  - host: protocol\n    traffic: fixed\n    traffic: burst\n'
+expect 2 "dup_port.yaml:4: duplicate key 'traffic' (first at line 3)" -- run dup_port.yaml
+scen dup_flow.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    tokens: {EC: 1, EC: 2}\n'
+expect 2 "dup_flow.yaml:4: duplicate key 'EC' (twice on this line)" -- run dup_flow.yaml
+scen dup_motion.yaml 'motion:\n  duration_s: 0.01\n  duration_s: 0.02\n'
+expect 2 "dup_motion.yaml:3: duplicate key 'duration_s' (first at line 2)" -- run dup_motion.yaml
+scen twodoc.yaml 'duration_s: 0.001\n---\nduration_s: 2\n'
+expect 2 "twodoc.yaml:3: a second YAML document" -- run twodoc.yaml
+scen index.yaml 'ports:\n  - host: protocol\n    faults: [{kind: drop, index: 1.7}]\n'
+expect 2 "index.yaml:3: 'ports[0].faults[0].index' = 1.7 must be a whole number" -- run index.yaml
+scen count.yaml 'ports:\n  - host: protocol\n    traffic: fixed\n    count: 2.5\n'
+expect 2 "count.yaml:4: 'ports[0].count' = 2.5 must be a whole number" -- run count.yaml
+scen burst0.yaml 'ports:\n  - host: protocol\n    traffic: burst\n    burst_size: 0\n'
+expect 2 "burst0.yaml:4: 'ports[0].burst_size' = 0 must be a whole number in [1, 1000000]" -- run burst0.yaml
+scen data.yaml 'ports:\n  - host: protocol\n    traffic: fixed\n    data_size: 8193\n'
+expect 2 "data.yaml:4: 'ports[0].data_size' = 8193 must be a whole number in [0, 8192]" -- run data.yaml
+scen ctrl.yaml 'b\001ad\033[2J: 1\n'
+expect 2 "ctrl.yaml:1: unknown key 'b\\x01ad\\x1B[2J'" -- run ctrl.yaml
+scen realtime.yaml 'realtime: -0.5\n'
+expect 2 "realtime.yaml:1: 'realtime' = -0.5 must be 0 (off) or in [0.01, 1e6]" -- run realtime.yaml
+scen realtime2.yaml 'realtime: 1e-300\n'
+expect 2 "realtime2.yaml:1: 'realtime' = 1e-300 must be 0 (off) or in [0.01, 1e6]" -- run realtime2.yaml
+scen budget.yaml 'budget_us: -0.5\n'
+expect 2 "budget.yaml:1: 'budget_us' = -0.5 is out of range [0, 1e+09]" -- run budget.yaml
+scen budget0.yaml 'budget_us: 0\n'
+expect 2 "budget0.yaml:1: 'budget_us' must be > 0" -- run budget0.yaml
+scen latency.yaml 'checks: {max_char_latency_us: -0.5}\n'
+expect 2 "latency.yaml:1: 'checks.max_char_latency_us' = -0.5 is out of range [0, 1e+09]" -- run latency.yaml
+scen period.yaml 'main_cpu: {cycle_period_us: 1e-6, cycle_time_us: 0}\n'
+expect 2 "period.yaml:1: 'main_cpu.cycle_period_us' = 1e-06 is out of range [10," -- run period.yaml
+# Fault bits against the port's format: 8E1 has data bits 0..7 and cells 0..10 (START, 8 data,
+# parity, STOP); 7N2 has data bits 0..6 and cells 0..8 (the line model takes cells through the
+# first STOP).
+scen cell11.yaml 'ports:\n  - host: protocol\n    faults: [{kind: flip_cell, bit: 11}]\n'
+expect 2 "cell11.yaml:3: 'ports[0].faults[0].bit' = 11 is not a cell of a 9600,8E1 character (0..10)" -- run cell11.yaml
+scen bit9.yaml 'ports:\n  - host: protocol\n    faults: [{kind: flip_data_bit, bit: 9}]\n'
+expect 2 "bit9.yaml:3: 'ports[0].faults[0].bit' = 9 is not a data bit of a 9600,8E1 character (0..7)" -- run bit9.yaml
+scen bit7.yaml 'ports:\n  - host: raw\n    format: "9600,7N2"\n    faults: [{kind: flip_data_bit, bit: 7}]\n'
+expect 2 "bit7.yaml:4: 'ports[0].faults[0].bit' = 7 is not a data bit of a 9600,7N2 character (0..6)" -- run bit7.yaml
+scen cell9.yaml 'ports:\n  - host: raw\n    format: "9600,7N2"\n    faults: [{kind: flip_cell, bit: 9}]\n'
+expect 2 "cell9.yaml:4: 'ports[0].faults[0].bit' = 9 is not a cell of a 9600,7N2 character (0..8)" -- run cell9.yaml
+scen dropbit.yaml 'ports:\n  - host: protocol\n    faults: [{kind: drop, bit: 3}]\n'
+expect 2 "dropbit.yaml:3: 'ports[0].faults[0].bit' applies to flip_data_bit and flip_cell, not drop" -- run dropbit.yaml
+expect 2 "/dev/zero: is not a regular file" -- run /dev/zero
+truncate -s 5M big.yaml
+expect 2 "big.yaml: is 5242880 bytes; a scenario file is at most 4194304 bytes" -- run big.yaml
+{ printf 'ports:\n  - host: raw\n    send: [{at_ms: 0, bytes: "'; head -c 1048577 /dev/zero | tr '\0' a; printf '"}]\n'; } > sendbig.yaml
+expect 2 "sendbig.yaml:3: 'ports[0].send' holds more than 1048576 bytes in all" -- run sendbig.yaml
 
 # Unknown keys at every level.
 scen unk_top.yaml 'bogus: 1\n'
@@ -160,6 +215,26 @@ expect 2 "nope.log: cannot open the session log" -- run replay.yaml
 printf 'garbage line\n' > garbage.log
 scen replay2.yaml 'ports:\n  - host: replay\n    file: garbage.log\n'
 expect 2 "garbage.log:1: expected" -- run replay2.yaml
+# Replay logs: a regular file, times as plain unsigned decimals up to 3600 s, nothing after an event.
+replay_case() { # NAME LOG-TEXT RC MESSAGE
+    printf "$2" > "$1.log"
+    scen "$1.yaml" "duration_s: 0\nports:\n  - host: replay\n    file: $1.log\n"
+    expect "$3" "$4" -- run "$1.yaml"
+}
+replay_case r_neg 'format 9600,8E1\n-5 end\n' 2 "r_neg.log:2: expected '<time ps> <event>'"
+replay_case r_plus 'format 9600,8E1\n+5 end\n' 2 "r_plus.log:2: expected '<time ps> <event>'"
+replay_case r_exp 'format 9600,8E1\n1e3 end\n' 2 "r_exp.log:2: expected '<time ps> <event>'"
+replay_case r_far 'format 9600,8E1\n3600000000000001 end\n' 2 "r_far.log:2: time 3600000000000001 ps is beyond 3600000000000000 ps"
+replay_case r_wrap 'format 9600,8E1\n18446744073709551621 end\n' 2 "r_wrap.log:2: time 18446744073709551621 ps is beyond"
+replay_case r_extra 'format 9600,8E1\n5 in 05 P junk\n' 2 "r_extra.log:2: unexpected 'junk' at the end of the line"
+replay_case r_byte 'format 9600,8E1\n5 in +5\n' 2 "r_byte.log:2: bad byte '+5' (two hex digits)"
+replay_case r_back 'format 9600,8E1\n5 in 05\n4 end\n' 2 "r_back.log:3: time 4 ps goes backwards"
+replay_case r_ctrl 'format 9600,8E1\n5 \033[2Jx\n' 2 "r_ctrl.log:2: unknown event '\\x1B[2Jx'"
+scen r_zero.yaml 'duration_s: 0\nports:\n  - host: replay\n    file: /dev/zero\n'
+expect 2 "/dev/zero: is not a regular file (a session log)" -- run r_zero.yaml
+truncate -s 65M r_big.log
+scen r_big.yaml 'duration_s: 0\nports:\n  - host: replay\n    file: r_big.log\n'
+expect 2 "r_big.log: session log is 68157440 bytes; at most 67108864 are read" -- run r_big.yaml
 touch a_file
 scen record.yaml 'ports:\n  - host: raw\n    record: a_file/x.bin\n'
 expect 2 "a_file/x.bin: cannot open the record file for writing" -- run record.yaml
@@ -177,6 +252,42 @@ expect 2 "long.rom: ROM image is 65537 bytes" -- run ok.yaml --rom long.rom
 expect 2 "romdir: is a directory, not a ROM image" -- run ok.yaml --rom romdir
 scen romkey.yaml 'rom: nothere.rom\nduration_s: 0.001\n'
 expect 2 "nothere.rom: cannot open ROM image" -- run romkey.yaml
+# Checked before reading: a device would be read forever, a huge file into memory.
+expect 2 "--rom '': an empty path" -- run ok.yaml --rom ''
+expect 2 "/dev/zero: is not a regular file (a ROM image)" -- run ok.yaml --rom /dev/zero
+expect 2 "/dev/urandom: is not a regular file (a ROM image)" -- run ok.yaml --rom /dev/urandom
+truncate -s 3G sparse.rom
+expect 2 "sparse.rom: ROM image is 3221225472 bytes" -- run ok.yaml --rom sparse.rom
+expect 2 "/proc/self/mem: ROM image is 0 bytes" -- run ok.yaml --rom /proc/self/mem
+
+# --- exit 3: legal 8259A modes the model does not implement -----------------------------------
+# A ROM whose reset code (FFFF:0000 = offset 0xFFF0) writes ICW1 0x11 to the 8259A at I/O 0xC0:
+# IC4=1 but SNGL=0, cascade mode (8259A data sheet, ICW1 bit 1), then HLT.
+rom_with_code() { # FILE CODE-BYTES(printf escapes)
+    head -c 65520 /dev/zero | tr '\0' '\364' > "$1"
+    printf "$2" >> "$1"
+    head -c $((65536 - $(stat -c %s "$1"))) /dev/zero | tr '\0' '\364' >> "$1"
+}
+rom_with_code cascade.rom '\260\021\346\300\364'
+expect 3 "unsupported by the model: rcsim/pic8259/unsupported in bench.controller.comm.cpu.run at 2625 ns: bench.controller.comm.pic: ICW1 0x11 has SNGL=0" -- run ok.yaml --rom cascade.rom
+# ICW1 0x13 (single, IC4), ICW2 0x20, ICW4 0x00: uPM=0 selects MCS-80/85 mode.
+rom_with_code mcs80.rom '\260\023\346\300\260\040\346\302\260\000\346\302\364'
+expect 3 "unsupported by the model: rcsim/pic8259/unsupported" -- run ok.yaml --rom mcs80.rom
+
+# --- write failures: a full disk is an error naming the file, not a silent exit 0 ------------
+scen w_log.yaml 'duration_s: 0.01\nports:\n  - host: protocol\n    traffic: saturate\n    log: /dev/full\n'
+expect 2 "/dev/full: cannot write the host log: No space left on device" -- run w_log.yaml
+# The firmware answers an ENQ with ACK: one byte for the record file.
+scen w_rec.yaml 'duration_s: 0.3\nports:\n  - host: raw\n    record: /dev/full\n    send: [{at_ms: 100, bytes: "\\\\x05"}]\n'
+expect 2 "/dev/full: cannot write the file: No space left on device" -- run w_rec.yaml
+scen w_tcp.yaml 'duration_s: 0.01\nports:\n  - host: tcp\n    record: /dev/full\n'
+expect 2 "/dev/full: cannot write the session log: No space left on device" -- run w_tcp.yaml
+ln -s /dev/full full.vcd
+expect 2 "full.vcd: cannot write the VCD file: No space left on device" -- run ok.yaml --vcd full.vcd
+for f in report.json interrupts.csv report.html; do
+    mkdir -p "full_$f" && ln -s /dev/full "full_$f/$f"
+    expect 2 "full_$f/$f: cannot write" -- run ok.yaml --out "full_$f"
+done
 
 # --- command line ---------------------------------------------------------------------------
 expect 2 "unknown command 'frobnicate'" -- frobnicate
@@ -192,6 +303,8 @@ expect 2 "--out 'a_file/sub': cannot create the output directory" -- run ok.yaml
 expect 2 "a_file/x.vcd: cannot write the VCD file" -- run ok.yaml --vcd a_file/x.vcd
 expect 2 "--level: Value 7 not in range" -- cputest --level 7 .
 expect 2 "PATH is required" -- cputest
+expect 2 "--seconds: 'nan' is not in 0.1 .. 600" -- bench cpu --seconds nan
+expect 2 "--seconds: 'inf' is not in 0.1 .. 600" -- bench cpu --seconds inf
 
 # --- cputest inputs -------------------------------------------------------------------------
 printf '{"x":' | gzip > partial.json.gz
@@ -204,6 +317,9 @@ expect 2 "shape.json.gz: test 0: missing" -- cputest --level 1 shape.json.gz
 expect 2 "none.json.gz: no such file" -- cputest --level 1 none.json.gz
 mkdir -p emptydir
 expect 2 "emptydir: no SingleStepTests files" -- cputest --level 1 emptydir
+expect 2 "/dev/zero: not a regular file" -- cputest --level 1 /dev/zero
+truncate -s 65M huge.json
+expect 2 "huge.json: 68157440 bytes; a test file is at most 67108864" -- cputest --level 1 huge.json
 
 # --- the motion section ---------------------------------------------------------------------
 scen m_unk.yaml 'motion:\n  duration_s: 0.01\n  bogus: 1\n'

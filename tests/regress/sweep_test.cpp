@@ -143,7 +143,7 @@ TEST_F(SweepTest, MaterialisedScenarioIsCheckedAndNamesTheSweepLine) {
     } catch (const ConfigError& e) {
         const std::string m = e.what();
         EXPECT_NE(m.find("s.yaml:4: run 'base-rom=99': "), std::string::npos) << m; // the axis's line
-        EXPECT_NE(m.find("'board.wait_states.rom' = 99 is out of range"), std::string::npos) << m;
+        EXPECT_NE(m.find("'board.wait_states.rom' = 99 must be a whole number in [0, 64]"), std::string::npos) << m;
     }
 }
 

@@ -1,4 +1,5 @@
 // trajectory.csv and trajectory.svg from a hand-made recording (scenarios/trajectory_report.h).
+#include "models/config_error.h"
 #include "scenarios/trajectory_report.h"
 
 #include <gtest/gtest.h>
@@ -74,10 +75,12 @@ TEST(TrajectoryReport, UnwritableFileIsNamed) {
     try {
         write_trajectory_svg(l_path(), dir / "trajectory.svg", 0, 1, "t");
         FAIL() << "no error";
-    } catch (const std::runtime_error& e) {
-        EXPECT_EQ(std::string(e.what()), "cannot write " + (dir / "trajectory.svg").string());
+    } catch (const ConfigError& e) { // bad input (exit 2), naming the file
+        EXPECT_EQ(std::string(e.what()), (dir / "trajectory.svg").string() + ": cannot write the file");
     }
-    EXPECT_THROW(write_trajectory_csv(l_path(), dir / "trajectory.csv"), std::runtime_error);
+    EXPECT_THROW(write_trajectory_csv(l_path(), dir / "trajectory.csv"), ConfigError);
+    // A full disk: the open succeeds, the write fails.
+    EXPECT_THROW(write_trajectory_csv(l_path(), "/dev/full"), ConfigError);
 }
 
 } // namespace

@@ -123,3 +123,57 @@ TEST(YamlMap, MapsNameEachElementByIndex) {
     EXPECT_TRUE(m.maps("absent").empty());
     m.finish();
 }
+
+namespace {
+/// load_yaml_file() on `text`; the message it throws, "" when none.
+std::string load_error(const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() / "rcsim_yaml_map_strict.yaml";
+    std::ofstream(path) << text;
+    return message_of([&] { load_yaml_file(path.string()); });
+}
+} // namespace
+
+// yaml-cpp keeps both entries of a duplicated key and a lookup takes the first; the reader must
+// refuse the file instead, at every depth and in flow mappings too.
+TEST(YamlMap, DuplicateKeysAreErrorsAtTheSecondOccurrence) {
+    EXPECT_NE(load_error("a: 1\nb: 2\na: 3\n").find("strict.yaml:3: duplicate key 'a' (first at line 1)"),
+              std::string::npos);
+    EXPECT_NE(load_error("x:\n  - {k: 1, k: 2}\n").find("strict.yaml:2: duplicate key 'k' (twice on this line)"),
+              std::string::npos);
+    EXPECT_NE(load_error("x:\n  y:\n    z: 1\n    z: 1\n").find("strict.yaml:4: duplicate key 'z'"), std::string::npos);
+    EXPECT_EQ(load_error("a: 1\nb: {a: 2}\nc: [{a: 3}, {a: 4}]\n"), ""); // same name, different mappings
+}
+
+// An alias is its anchor's node: checked once, so a file of nested aliases stays linear.
+TEST(YamlMap, AliasesAreCheckedOnce) {
+    std::string text = "a0: &a0 {k: 1}\n";
+    for (int i = 1; i < 30; ++i)
+        text += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [*a" + std::to_string(i - 1) + ", *a" +
+                std::to_string(i - 1) + "]\n"; // 2^29 paths through the aliases
+    EXPECT_EQ(load_error(text), "");
+}
+
+TEST(YamlMap, SecondDocumentIsAnError) {
+    EXPECT_NE(load_error("a: 1\n---\na: 2\n").find("strict.yaml:3: a second YAML document"), std::string::npos);
+    EXPECT_EQ(load_error("---\na: 1\n"), ""); // one document with its start marker
+}
+
+TEST(YamlMap, InputMustBeARegularFileOfBoundedSize) {
+    EXPECT_NE(message_of([] { load_yaml_file("/dev/zero"); }).find("/dev/zero: is not a regular file"),
+              std::string::npos);
+    const auto big = std::filesystem::temp_directory_path() / "rcsim_yaml_map_big.yaml";
+    std::ofstream(big) << "a: 1\n";
+    std::filesystem::resize_file(big, kMaxYamlFileBytes + 1);
+    EXPECT_NE(message_of([&] { load_yaml_file(big.string()); }).find("a scenario file is at most 4194304 bytes"),
+              std::string::npos);
+    std::filesystem::remove(big);
+}
+
+TEST(YamlMap, IntegerRejectsFractionsAndOutOfRange) {
+    YamlMap m(YAML::Load("a: 1.7\nb: 8e3\nc: -1\nd: .nan\n"), "s.yaml", "");
+    EXPECT_EQ(message_of([&] { m.integer("a", 0, 0, 10); }), "s.yaml:1: 'a' = 1.7 must be a whole number in [0, 10]");
+    EXPECT_EQ(m.integer("b", 0, 0, 10000), 8000u); // an exponent is fine when the value is whole
+    EXPECT_NE(message_of([&] { m.integer("c", 0, 0, 10); }).find("s.yaml:3:"), std::string::npos);
+    EXPECT_NE(message_of([&] { m.integer("d", 0, 0, 10); }).find("s.yaml:4:"), std::string::npos);
+    EXPECT_EQ(m.integer("absent", 7, 0, 10), 7u);
+}
