@@ -9,7 +9,11 @@ namespace rcsim {
 namespace {
 
 Check judge(std::string name, const Figure& f, double limit, bool holds) {
-    Check c{std::move(name), Check::Status::not_measured, f, limit};
+    Check c;
+    c.name = std::move(name);
+    c.status = Check::Status::not_measured;
+    c.figure = f;
+    c.limit = limit;
     if (f.value) c.status = holds ? Check::Status::passed : Check::Status::failed;
     return c;
 }
@@ -40,6 +44,7 @@ nlohmann::json to_json(const Check& c) {
                         {"value", c.figure.value ? nlohmann::json(*c.figure.value) : nlohmann::json(nullptr)},
                         {"limit", c.limit}};
     if (!c.figure.value) j["reason"] = c.figure.reason;
+    if (!c.detail.is_null()) j["detail"] = c.detail;
     return j;
 }
 

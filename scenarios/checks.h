@@ -31,13 +31,15 @@ struct Figure {
 
 /// One verdict as report.json shows it:
 /// {"name", "passed", "status": "passed"|"failed"|"not measured", "value" (null when not
-/// measured), "limit", "reason" (not measured only)}.
+/// measured), "limit", "reason" (not measured only), "detail" (only when the check has more to
+/// say than one figure: the motion checks' wanted and seen states, positions, commands)}.
 struct Check {
     enum class Status { passed, failed, not_measured };
     std::string name;
     Status status = Status::failed;
     Figure figure;
     double limit = 0;
+    nlohmann::json detail; // null: none
 
     bool passed() const { return status == Status::passed; }
     static Check at_most(std::string name, const Figure& f, double limit);
