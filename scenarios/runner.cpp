@@ -184,6 +184,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const InterruptFigures c = measure_interrupts(bench);
     report["interrupts"] = c.interrupts;
     CheckFigures f;
+    report["bus_errors"] = to_json(bench.ctl.comm.cpu.bus_errors());
+    f.bus_errors = bench.ctl.comm.cpu.bus_errors().total();
     report["table3"] = table3_json(bench, s, c, f);
     report_bench(bench, s, opt, report, f);
 

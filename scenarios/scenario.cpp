@@ -212,6 +212,7 @@ void read_checks(YamlMap m, CheckLimits& c) {
     c.max_overruns = static_cast<std::uint64_t>(m.number("max_overruns", 0, 0, 1e15));
     c.max_frames_failed = static_cast<std::uint64_t>(m.number("max_frames_failed", 0, 0, 1e15));
     c.max_frame_mismatches = static_cast<std::uint64_t>(m.number("max_frame_mismatches", 0, 0, 1e15));
+    c.max_bus_errors = static_cast<std::uint64_t>(m.number("max_bus_errors", 0, 0, 1e15));
     c.max_char_latency_us = m.number("max_char_latency_us", -1, -1, 1e9);
     c.min_margin_us = m.number("min_margin_us", 0, -1e9, 1e9);
     if (m.has("min_worst_margin_us")) c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);

@@ -42,6 +42,19 @@ void print_motion_checks(const nlohmann::json& checks, std::ostream& os) {
     }
 }
 
+/// report.json "bus_errors": the counts, and the first cycles with address, kind and time.
+void print_bus_errors(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("bus_errors")) return;
+    const auto& b = r["bus_errors"];
+    os << "\nbus errors " << b["total"].get<std::uint64_t>() << " (unmapped " << b["unmapped"].get<std::uint64_t>()
+       << ", ROM write " << b["rom_write"].get<std::uint64_t>() << ", TLM error " << b["tlm_error"].get<std::uint64_t>()
+       << ")\n";
+    for (const auto& e : b["first"])
+        os << "  " << e["kind"].get<std::string>() << " " << e["cycle"].get<std::string>() << " "
+           << e["address"].get<std::string>() << " at " << std::fixed << std::setprecision(3)
+           << e["time_us"].get<double>() << " us\n" << std::defaultfloat;
+}
+
 void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     const auto& m = r["motion"];
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
@@ -114,6 +127,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         const auto& j = r["main_cpu"]["cycle_jitter_us"];
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
     }
+    print_bus_errors(r, os);
     for (const auto& w : r.value("warnings", nlohmann::json::array())) os << "\nwarning: " << w.get<std::string>() << "\n";
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {
