@@ -6,6 +6,11 @@
 namespace rcsim {
 using namespace sc_core;
 
+static_assert(static_cast<BusCycle>(i8086::Bus::io_write) == BusCycle::io_write &&
+                  static_cast<BusCycle>(i8086::Bus::code_fetch) == BusCycle::code_fetch &&
+                  static_cast<BusCycle>(i8086::Bus::mem_write) == BusCycle::mem_write,
+              "i8086::Bus and BusCycle share the S2..S0 encoding");
+
 Cpu8086::Cpu8086(sc_module_name name, const Clock& clock)
     : sc_module(name), io("io"), mem("mem"), inta("inta"), intr("intr"), nmi("nmi"), clock_(clock),
       quantum_(us(10)) {
@@ -121,11 +126,19 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     }
     const bool read = kind != i8086::Bus::io_write && kind != i8086::Bus::mem_write;
     if (read) data = r.ok() ? std::uint16_t(buf[0] | (width == 2 ? buf[1] << 8 : 0xFF00)) : 0xFFFF;
+    if (!r.ok())
+        bus_errors_.add(r.status == tlm::TLM_ADDRESS_ERROR_RESPONSE ? BusErrorLog::Kind::unmapped
+                                                                    : BusErrorLog::Kind::tlm_error,
+                        address, static_cast<BusCycle>(kind), t1); // the same S2..S0 encoding
     // The access may have scheduled events that change INTR/NMI: end the slice at the next
     // boundary so the lookahead is recomputed.
     core_.stop_run();
     slice_end_ = true;
     return r.wait_states;
+}
+
+void Cpu8086::write_ignored(std::uint32_t address, unsigned, i8086::cycles_t start) {
+    bus_errors_.add(BusErrorLog::Kind::rom_write, address, BusCycle::mem_write, time_of(start));
 }
 
 } // namespace rcsim

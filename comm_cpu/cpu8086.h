@@ -13,6 +13,7 @@
 
 #include "comm_cpu/i8086.h"
 #include "models/bus.h"
+#include "models/bus_error_log.h"
 #include "models/clock.h"
 #include "models/memory.h"
 
@@ -58,6 +59,11 @@ public:
 
     std::uint64_t slices() const { return slices_; }
 
+    /// The bus cycles nothing answered: a TLM access answered TLM_ADDRESS_ERROR_RESPONSE (no
+    /// device decodes the address: unmapped; the read gives 0xFFFF) or another error response
+    /// (tlm_error), and writes into a read-only mapped region (rom_write, dropped).
+    const BusErrorLog& bus_errors() const { return bus_errors_; }
+
 private:
     void run();
     void track_inputs();
@@ -67,6 +73,7 @@ private:
     void sample_inputs();
     unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                         i8086::cycles_t start) override;
+    void write_ignored(std::uint32_t address, unsigned width, i8086::cycles_t start) override;
 
     i8086::Cpu core_;
     Clock clock_;
@@ -74,6 +81,7 @@ private:
     bool lookahead_ = true;
     std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
     std::uint64_t slices_ = 0;
+    BusErrorLog bus_errors_;
     bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
 
     // INTR/NMI with the time of their last change: a boundary at time t sees the level that

@@ -47,6 +47,9 @@ public:
     virtual ~BusHandler() = default;
     virtual unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                                 cycles_t start) = 0;
+    /// A write into a read-only direct region (ROM) at T1 cycle `start`: the core drops it (the
+    /// ROM's outputs stay off during a write cycle); the handler may log it.
+    virtual void write_ignored(std::uint32_t /*address*/, unsigned /*width*/, cycles_t /*start*/) {}
 };
 
 /// One completed bus cycle, for the observation hook.

@@ -173,6 +173,7 @@ unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& dat
                     if (width == 2) p[1] = data >> 8;
                 } else {
                     ++rom_writes_;
+                    if (handler_) handler_->write_ignored(addr, width, start);
                 }
             } else {
                 data = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];

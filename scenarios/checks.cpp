@@ -9,7 +9,11 @@ namespace rcsim {
 namespace {
 
 Check judge(std::string name, const Figure& f, double limit, bool holds) {
-    Check c{std::move(name), Check::Status::not_measured, f, limit};
+    Check c;
+    c.name = std::move(name);
+    c.status = Check::Status::not_measured;
+    c.figure = f;
+    c.limit = limit;
     if (f.value) c.status = holds ? Check::Status::passed : Check::Status::failed;
     return c;
 }
@@ -40,6 +44,7 @@ nlohmann::json to_json(const Check& c) {
                         {"value", c.figure.value ? nlohmann::json(*c.figure.value) : nlohmann::json(nullptr)},
                         {"limit", c.limit}};
     if (!c.figure.value) j["reason"] = c.figure.reason;
+    if (!c.detail.is_null()) j["detail"] = c.detail;
     return j;
 }
 
@@ -52,7 +57,8 @@ const std::vector<std::string>& communication_check_names() {
     static const std::vector<std::string> names = {
         "overruns", "frames_failed", "frames_delivered_exactly_once", "main_cpu_malformed_frames",
         "frames_delivered", "char_latency_max_us", "table3_margin_us", "table3_worst_margin_us",
-        "replay_port0_matches_record", "replay_port1_matches_record", "replay_port2_matches_record"};
+        "replay_port0_matches_record", "replay_port1_matches_record", "replay_port2_matches_record",
+        "bus_errors"};
     return names;
 }
 
@@ -82,6 +88,9 @@ std::vector<Check> communication_checks(const Bench& b, const Scenario& s, const
             const std::uint64_t bad = h->counters().out_mismatched + h->out_missing();
             checks.push_back(Check::at_most("replay_port" + std::to_string(p) + "_matches_record", count(bad), 0));
         }
+    // A cycle nothing answered reads as an open bus or is dropped: firmware that makes one runs on,
+    // wrongly and silently (report.json "bus_errors" says which).
+    checks.push_back(Check::at_most("bus_errors", count(f.bus_errors), double(L.max_bus_errors)));
     checks.erase(std::remove_if(checks.begin(), checks.end(),
                                 [&L](const Check& c) { return L.off.count(c.name) != 0; }),
                  checks.end());

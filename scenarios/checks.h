@@ -31,13 +31,15 @@ struct Figure {
 
 /// One verdict as report.json shows it:
 /// {"name", "passed", "status": "passed"|"failed"|"not measured", "value" (null when not
-/// measured), "limit", "reason" (not measured only)}.
+/// measured), "limit", "reason" (not measured only), "detail" (only when the check has more to
+/// say than one figure: the motion checks' wanted and seen states, positions, commands)}.
 struct Check {
     enum class Status { passed, failed, not_measured };
     std::string name;
     Status status = Status::failed;
     Figure figure;
     double limit = 0;
+    nlohmann::json detail; // null: none
 
     bool passed() const { return status == Status::passed; }
     static Check at_most(std::string name, const Figure& f, double limit);
@@ -51,6 +53,7 @@ const char* status_name(Check::Status s);
 struct CheckFigures {
     std::uint64_t overruns = 0, frames_failed = 0, frames_delivered = 0, frame_mismatches = 0;
     std::uint64_t malformed = 0; // frames the main CPU could not decode
+    std::uint64_t bus_errors = 0; // 8086 bus cycles that found no memory or device (Cpu8086::bus_errors())
     std::uint64_t traffic_ports = 0; // ports whose host generates commands by itself
     std::array<Figure, Bench::kPorts> char_latency_max_us; // per port; only ports with a host
     Figure table3_margin_us, table3_worst_margin_us;

@@ -4,6 +4,7 @@
 #include "main_cpu/motion/motion_controller.h"
 #include "models/clock.h"
 #include "models/config_error.h"
+#include "scenarios/motion_checks.h"
 #include "scenarios/trajectory_report.h"
 #include "scenarios/yaml_map.h"
 
@@ -18,20 +19,41 @@ namespace {
 using motion::BufferMode;
 using motion::MotionController;
 
-struct TimedCommand {
-    double at_s = 0;
-    std::function<void(MotionController&, nlohmann::json&)> run;
+/// How an issued function-block command is watched: its block's outputs after every cycle.
+struct Watch {
+    const void* block = nullptr; // the block instance (nullptr: an input change, nothing to supersede)
+    std::function<std::optional<std::pair<FbOutcome, std::uint16_t>>()> poll;
 };
 
-/// A check on the finished run: appends its result to the list and clears `ok` when it fails.
-using Check = std::function<void(MotionController&, nlohmann::json&, bool&)>;
+/// A function-block command as issued: the watch, and for MC_CircleCenterMove its arc in
+/// absolute pulses (the block takes centre and end relative to where the axes are).
+struct Issued {
+    Watch watch;
+    std::optional<CommandedArc> arc;
+};
+
+struct TimedCommand {
+    double at_s = 0;
+    std::function<void(MotionController&, nlohmann::json&)> run; // tokens and faults: log entry
+    std::function<Issued(MotionController&)> issue;              // function blocks
+    FbCommand fb;                                                // function blocks: the expectation
+};
+
+/// `motion.checks`, judged after the run.
+struct CheckPlan {
+    std::string final_state; // "" = no check
+    std::vector<std::int64_t> final_positions;
+    bool has_final_positions = false;
+    double position_tolerance = 0;
+    std::optional<CircleLimits> circle;
+};
 
 /// Everything the `motion:` section asks for.
 struct MotionPlan {
     motion::MotionConfig cfg;
     double cycle_ms = 1, duration_s = 0;
     std::vector<TimedCommand> cmds;
-    std::vector<Check> checks;
+    CheckPlan checks;
 };
 
 constexpr double big = 1e9;
@@ -41,26 +63,68 @@ BufferMode buffer_of(YamlMap& f) {
                                                                                   : BufferMode::aborting;
 }
 
-/// Sets a block's inputs and raises Execute (a new edge if it was already high).
-template <typename Fb> void trigger(MotionController& mc, Fb& fb) {
+/// Watches an Execute-type block: Done, Error (with ErrorID) or CommandAborted, each visible for
+/// at least the call that set it, that is, after the control cycle in which it appeared.
+Watch watch_execute(motion::McExecuteFb& fb) {
+    return {&fb, [&fb]() -> std::optional<std::pair<FbOutcome, std::uint16_t>> {
+                if (fb.Done) return std::make_pair(FbOutcome::done, std::uint16_t{0});
+                if (fb.Error) return std::make_pair(FbOutcome::error, fb.ErrorID);
+                if (fb.CommandAborted) return std::make_pair(FbOutcome::aborted, std::uint16_t{0});
+                return std::nullopt;
+            }};
+}
+
+/// Sets a block's inputs and raises Execute (a new edge if it was already high); the token
+/// program drops Execute again once the block reports its outcome.
+template <typename Fb> Issued trigger(MotionController& mc, Fb& fb) {
     fb.Execute = false; // a falling edge first, so that Execute rises again
     fb.call();
     fb.Execute = true;
     mc.auto_release(fb);
+    return {watch_execute(fb), std::nullopt};
+}
+
+/// MC_Power: done once Status follows Enable (the drive in Operation enabled, or off), error
+/// with the block's ErrorID (power_timeout).
+Issued power_command(MotionController& mc, unsigned a, bool en) {
+    motion::MC_Power& p = mc.power(a);
+    p.Enable = en;
+    return {{&p, [&p, en]() -> std::optional<std::pair<FbOutcome, std::uint16_t>> {
+                 if (p.Error) return std::make_pair(FbOutcome::error, p.ErrorID);
+                 if (p.Status == en) return std::make_pair(FbOutcome::done, std::uint16_t{0});
+                 return std::nullopt;
+             }},
+            std::nullopt};
+}
+
+/// MC_Stop holds the axis in Stopping while Execute is high: `execute: 1` raises it (done when
+/// the axis has stopped), `execute: 0` drops it, an input change that is done at once.
+Issued stop_command(MotionController& mc, unsigned a, double dec, bool exec) {
+    motion::MC_Stop& b = mc.blocks(a).stop;
+    b.Deceleration = dec;
+    if (!exec) {
+        b.Execute = false;
+        return {{nullptr, [] { return std::make_optional(std::make_pair(FbOutcome::done, std::uint16_t{0})); }},
+                std::nullopt};
+    }
+    b.Execute = false; // a falling edge first, so that Execute rises again
+    b.call();
+    b.Execute = true;
+    return {watch_execute(b), std::nullopt};
 }
 
 /// The inputs of the PLCopen block `fb`, read from its command, applied when the command runs.
-std::function<void(MotionController&)> read_block(YamlMap& f, const std::string& fb) {
+std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::string& fb) {
     auto axis_of = [&]() { return static_cast<unsigned>(f.require_number("axis", 0, 3)); };
     auto v = [&](const char* k) { return f.require_number(k, -big, big); };
     if (fb == "MC_Power") {
         const unsigned a = axis_of();
         const bool en = f.number("enable", 1, 0, 1) != 0;
-        return [a, en](MotionController& mc) { mc.power(a).Enable = en; };
+        return [a, en](MotionController& mc) { return power_command(mc, a, en); };
     }
     if (fb == "MC_Reset") {
         const unsigned a = axis_of();
-        return [a](MotionController& mc) { trigger(mc, mc.blocks(a).reset); };
+        return [a](MotionController& mc) { return trigger(mc, mc.blocks(a).reset); };
     }
     if (fb == "MC_Home") {
         const unsigned a = axis_of();
@@ -69,7 +133,7 @@ std::function<void(MotionController&)> read_block(YamlMap& f, const std::string&
         return [a, pos, dir, vel](MotionController& mc) {
             auto& b = mc.blocks(a).home;
             b.Position = pos, b.Direction = dir < 0 ? -1 : 1, b.Velocity = vel;
-            trigger(mc, b);
+            return trigger(mc, b);
         };
     }
     if (fb == "MC_MoveAbsolute" || fb == "MC_MoveRelative") {
@@ -82,28 +146,26 @@ std::function<void(MotionController&)> read_block(YamlMap& f, const std::string&
             if (absolute) {
                 auto& b = mc.blocks(a).move_abs;
                 b.Position = p, b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
-                trigger(mc, b);
-            } else {
-                auto& b = mc.blocks(a).move_rel;
-                b.Distance = p, b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
-                trigger(mc, b);
+                return trigger(mc, b);
             }
+            auto& b = mc.blocks(a).move_rel;
+            b.Distance = p, b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
+            return trigger(mc, b);
         };
     }
-    if (fb == "MC_Halt" || fb == "MC_Stop") {
+    if (fb == "MC_Halt") {
         const unsigned a = axis_of();
         const double dec = f.number("deceleration", 0, 0, big);
-        const bool halt = fb == "MC_Halt", exec = f.number("execute", 1, 0, 1) != 0;
         return [=](MotionController& mc) {
-            if (halt) {
-                mc.blocks(a).halt.Deceleration = dec;
-                trigger(mc, mc.blocks(a).halt);
-            } else {
-                mc.blocks(a).stop.Deceleration = dec;
-                // MC_Stop keeps the axis in Stopping until the scenario drops Execute.
-                mc.blocks(a).stop.Execute = exec;
-            }
+            mc.blocks(a).halt.Deceleration = dec;
+            return trigger(mc, mc.blocks(a).halt);
         };
+    }
+    if (fb == "MC_Stop") {
+        const unsigned a = axis_of();
+        const double dec = f.number("deceleration", 0, 0, big);
+        const bool exec = f.number("execute", 1, 0, 1) != 0;
+        return [=](MotionController& mc) { return stop_command(mc, a, dec, exec); };
     }
     if (fb == "MC_LineMove2") {
         const double x = v("x"), y = v("y"), vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
@@ -111,7 +173,7 @@ std::function<void(MotionController&)> read_block(YamlMap& f, const std::string&
         return [=](MotionController& mc) {
             auto& b = mc.line_move();
             b.X = x, b.Y = y, b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
-            trigger(mc, b);
+            return trigger(mc, b);
         };
     }
     if (fb == "MC_CircleCenterMove") {
@@ -123,10 +185,24 @@ std::function<void(MotionController&)> read_block(YamlMap& f, const std::string&
             auto& b = mc.circle_move();
             b.CenterX = cx, b.CenterY = cy, b.EndX = ex, b.EndY = ey, b.Direction = cw ? motion::dir_cw : motion::dir_ccw;
             b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
-            trigger(mc, b);
+            // Centre and end are relative to the command position of axes 0/1 now.
+            const double x = double(mc.chip().command_position(0)), y = double(mc.chip().command_position(1));
+            Issued is = trigger(mc, b);
+            is.arc = CommandedArc{x, y, x + cx, y + cy, x + ex, y + ey, !cw};
+            return is;
         };
     }
     f.fail(f.child("fb"), "unknown function block '" + fb + "'");
+}
+
+/// `expect` and `error_id` of a function-block command: the outcome the scenario expects.
+void read_expectation(YamlMap& f, FbCommand& c) {
+    const std::string e = f.choice("expect", "done", {"done", "error", "aborted"});
+    c.expect = e == "done" ? FbOutcome::done : e == "error" ? FbOutcome::error : FbOutcome::aborted;
+    if (!f.has("error_id")) return;
+    if (c.expect != FbOutcome::error)
+        f.fail(f.child("error_id"), "'" + f.context() + "error_id' is the ErrorID of 'expect: error'");
+    c.expect_error_id = f.require<std::uint16_t>("error_id");
 }
 
 /// One entry of `motion.commands`: a motion token, a drive fault, or a PLCopen block.
@@ -141,7 +217,8 @@ TimedCommand read_command(YamlMap f) {
         };
     } else if (f.has("inject_fault")) {
         const unsigned axis = static_cast<unsigned>(f.require_number("inject_fault", 0, 3));
-        const auto code = static_cast<std::uint16_t>(f.number("code", 0x7500, 0, 0xFFFF));
+        // An integer, so that the hex CiA402 codes read as written: code: 0x7500.
+        const std::uint16_t code = f.get<std::uint16_t>("code", 0x7500);
         const bool clear = f.choice("clear_after", "no", {"yes", "no"}) == "yes";
         c.run = [axis, code, clear](MotionController& mc, nlohmann::json& log) {
             mc.drive(axis).inject_fault(code);
@@ -149,69 +226,44 @@ TimedCommand read_command(YamlMap f) {
             log.push_back({{"inject_fault", axis}, {"code", code}});
         };
     } else {
-        const std::string fb = f.require<std::string>("fb");
-        const std::function<void(MotionController&)> set = read_block(f, fb);
-        c.run = [fb, set](MotionController& mc, nlohmann::json& log) {
-            set(mc);
-            log.push_back({{"fb", fb}});
-        };
+        c.fb.fb = f.require<std::string>("fb");
+        c.fb.at_s = c.at_s;
+        c.issue = read_block(f, c.fb.fb);
+        read_expectation(f, c.fb);
     }
     f.finish();
     return c;
 }
 
-Check circle_check(YamlMap cc) {
-    const double cx = cc.require_number("center_x", -big, big), cy = cc.require_number("center_y", -big, big);
-    const double r = cc.require_number("radius", 0, big), lim = cc.number("max_radial_error", 1, 0, big);
+CircleLimits read_circle(YamlMap cc) {
+    CircleLimits c;
+    c.center_x = cc.require_number("center_x", -big, big);
+    c.center_y = cc.require_number("center_y", -big, big);
+    c.radius = cc.require_number("radius", 0, big);
+    c.max_radial_error = cc.number("max_radial_error", 1, 0, big);
+    c.max_end_error = cc.number("max_end_error", 0, 0, big);
     cc.finish();
-    return [=](MotionController& mc, nlohmann::json& out, bool& ok) {
-        double worst_cmd = 0, worst_act = 0, min_a = 1e300, max_a = -1e300;
-        const auto& s = mc.recorder().samples();
-        for (const auto& p : s) {
-            worst_cmd = std::max(worst_cmd, std::abs(std::hypot(p.cmd[0] - cx, p.cmd[1] - cy) - r));
-            worst_act = std::max(worst_act, std::abs(std::hypot(p.act[0] - cx, p.act[1] - cy) - r));
-            const double ang = std::atan2(p.cmd[1] - cy, p.cmd[0] - cx);
-            min_a = std::min(min_a, ang);
-            max_a = std::max(max_a, ang);
-        }
-        const bool closes = !s.empty() && s.back().cmd[0] == s.front().cmd[0] && s.back().cmd[1] == s.front().cmd[1];
-        const bool pass = worst_cmd <= lim && !s.empty();
-        ok &= pass;
-        out.push_back({{"check", "circle"}, {"max_radial_error_cmd", worst_cmd}, {"max_radial_error_act", worst_act},
-                       {"closes", closes}, {"angle_span_rad", max_a - min_a}, {"pass", pass}});
-    };
+    return c;
 }
 
-/// `motion.checks`, in report order: final_state, final_positions, circle.
-std::vector<Check> read_checks(YamlMap c) {
-    std::vector<Check> checks;
-    const std::string want_state = c.get<std::string>("final_state", "");
-    if (!want_state.empty())
-        checks.push_back([want_state](MotionController& mc, nlohmann::json& out, bool& ok) {
-            const bool pass = mc.state() == want_state;
-            ok &= pass;
-            out.push_back({{"check", "final_state"}, {"want", want_state}, {"got", mc.state()}, {"pass", pass}});
-        });
-    if (c.has("final_positions")) {
-        const std::vector<std::int64_t> want = c.list<std::int64_t>("final_positions", motion::MotionController::axes);
-        const double tol = c.number("position_tolerance", 0, 0, 1e9);
-        checks.push_back([want, tol](MotionController& mc, nlohmann::json& out, bool& ok) {
-            bool pass = true;
-            nlohmann::json got = nlohmann::json::array();
-            for (std::size_t a = 0; a < want.size(); ++a) {
-                const std::int64_t p = mc.chip().command_position(static_cast<unsigned>(a));
-                got.push_back(p);
-                pass &= std::llabs(p - want[a]) <= tol;
-            }
-            ok &= pass;
-            out.push_back({{"check", "final_positions"}, {"want", want}, {"got", got}, {"pass", pass}});
-        });
+/// `motion.checks`. `circles` is the number of MC_CircleCenterMove commands: the circle check
+/// judges one.
+CheckPlan read_checks(YamlMap c, std::size_t circles) {
+    CheckPlan p;
+    p.final_state = c.get<std::string>("final_state", "");
+    p.has_final_positions = c.has("final_positions");
+    if (p.has_final_positions) {
+        p.final_positions = c.list<std::int64_t>("final_positions", motion::MotionController::axes);
+        p.position_tolerance = c.number("position_tolerance", 0, 0, 1e9);
     }
-    const bool circle = c.has("circle");
-    YamlMap cc = c.map("circle");
-    if (circle) checks.push_back(circle_check(cc));
+    if (c.has("circle")) {
+        if (circles > 1)
+            c.fail(c.child("circle"), "'" + c.context() + "circle' judges one MC_CircleCenterMove; the scenario has " +
+                                          std::to_string(circles));
+        p.circle = read_circle(c.map("circle"));
+    }
     c.finish();
-    return checks;
+    return p;
 }
 
 /// The whole `motion:` section; throws ConfigError naming file and line.
@@ -232,40 +284,113 @@ MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
         p.cfg.switches[i++] = {opt("pelm"), opt("nelm"), opt("home")};
         a.finish();
     }
-    for (YamlMap& c : m.maps("commands")) p.cmds.push_back(read_command(c));
+    std::size_t circles = 0;
+    for (YamlMap& c : m.maps("commands")) {
+        p.cmds.push_back(read_command(c));
+        p.cmds.back().fb.index = p.cmds.size() - 1;
+        circles += p.cmds.back().fb.fb == "MC_CircleCenterMove";
+    }
     std::stable_sort(p.cmds.begin(), p.cmds.end(), [](auto& x, auto& y) { return x.at_s < y.at_s; });
-    p.checks = read_checks(m.map("checks"));
+    p.checks = read_checks(m.map("checks"), circles);
     m.finish();
     return p;
 }
 
-/// Drives the control cycle and the timed commands.
+/// Drives the control cycle and the timed commands, and watches every function-block command
+/// for its outcome after each cycle.
 struct MotionDriver : sc_core::sc_module {
     MotionController& mc;
     std::vector<TimedCommand> cmds;
     sc_core::sc_time cycle;
     std::uint64_t cycles;
     nlohmann::json log = nlohmann::json::array();
+    std::vector<FbCommand> fbs;           // every function-block command issued, in order
+    std::vector<std::size_t> fb_log;      // its entry in `log`
+    std::optional<ArcRun> arc;            // the MC_CircleCenterMove, if any
+    std::size_t arc_fb = 0;               // its entry in `fbs`
+    std::vector<std::pair<std::size_t, Watch>> pending; // fbs entries without an outcome yet
+
     SC_HAS_PROCESS(MotionDriver);
     MotionDriver(sc_core::sc_module_name n, MotionController& m, sc_core::sc_time c, std::uint64_t count)
         : sc_module(n), mc(m), cycle(c), cycles(count) {
         SC_THREAD(run);
     }
+
+    void issue(TimedCommand& c, double now) {
+        Issued is = c.issue(mc);
+        // A new command on a block instance takes it over: the block reports on it alone now.
+        for (auto it = pending.begin(); it != pending.end();)
+            if (is.watch.block && it->second.block == is.watch.block) {
+                set_outcome(it->first, FbOutcome::superseded, 0, now);
+                it = pending.erase(it);
+            } else {
+                ++it;
+            }
+        fbs.push_back(c.fb);
+        fb_log.push_back(log.size());
+        log.push_back(nullptr); // filled with the outcome after the run
+        if (is.arc) {
+            arc = ArcRun{*is.arc, now, -1};
+            arc_fb = fbs.size() - 1;
+        }
+        pending.emplace_back(fbs.size() - 1, std::move(is.watch));
+    }
+
+    void set_outcome(std::size_t i, FbOutcome o, std::uint16_t id, double now) {
+        fbs[i].outcome = o;
+        fbs[i].error_id = id;
+        fbs[i].outcome_s = now;
+    }
+
+    void poll(double now) {
+        for (auto it = pending.begin(); it != pending.end();)
+            if (const auto r = it->second.poll()) {
+                set_outcome(it->first, r->first, r->second, now);
+                it = pending.erase(it);
+            } else {
+                ++it;
+            }
+    }
+
     void run() {
         std::size_t next = 0;
         for (std::uint64_t k = 0; k <= cycles; ++k) {
             const sc_core::sc_time now = sc_core::sc_time_stamp();
-            while (next < cmds.size() && cmds[next].at_s <= now.to_seconds() + 1e-12) cmds[next++].run(mc, log);
+            while (next < cmds.size() && cmds[next].at_s <= now.to_seconds() + 1e-12) {
+                TimedCommand& c = cmds[next++];
+                if (c.issue) issue(c, now.to_seconds());
+                else c.run(mc, log);
+            }
             mc.control_cycle(now);
+            poll(now.to_seconds());
             if (k < cycles) wait(cycle);
         }
+        const double end = sc_core::sc_time_stamp().to_seconds();
+        for (std::size_t i = 0; i < fbs.size(); ++i) log[fb_log[i]] = fbs[i].to_json();
+        if (arc) arc->t1_s = fbs[arc_fb].outcome_s < 0 ? end : fbs[arc_fb].outcome_s;
         sc_core::sc_stop();
     }
 };
 
+/// The verdicts of the finished run, in report order.
+std::vector<Check> judge(const CheckPlan& p, MotionController& mc, const MotionDriver& d) {
+    std::vector<Check> checks{fb_outcome_check(d.fbs)};
+    if (!p.final_state.empty()) checks.push_back(final_state_check(p.final_state, mc.state()));
+    if (p.has_final_positions) {
+        std::vector<std::int64_t> got;
+        for (unsigned a = 0; a < MotionController::axes; ++a) got.push_back(mc.chip().command_position(a));
+        checks.push_back(final_positions_check(p.final_positions, got, p.position_tolerance));
+    }
+    if (p.circle)
+        for (Check& c : circle_checks(*p.circle, d.arc, mc.recorder().samples(),
+                                      "the scenario has no MC_CircleCenterMove command"))
+            checks.push_back(std::move(c));
+    return checks;
+}
+
 /// The figures of the finished run into `rep`.
-void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& driver, nlohmann::json results,
-                bool ok, nlohmann::json& rep) {
+void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& driver,
+                const std::vector<Check>& checks, nlohmann::json& rep) {
     std::vector<std::int64_t> cmd(4), act(4);
     double max_follow = 0;
     for (const auto& s : mc.recorder().samples())
@@ -282,8 +407,8 @@ void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& d
     rep["max_following_error_pulses"] = max_follow;
     rep["samples"] = mc.recorder().samples().size();
     rep["commands"] = driver.log;
-    rep["checks"] = std::move(results);
-    rep["pass"] = ok;
+    rep["checks"] = nlohmann::json::array();
+    for (const Check& c : checks) rep["checks"].push_back(to_json(c));
 }
 
 } // namespace
@@ -310,10 +435,9 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     driver.cmds = std::move(plan.cmds);
     sc_core::sc_start();
 
-    bool ok = true;
-    nlohmann::json results = nlohmann::json::array();
-    for (auto& c : plan.checks) c(mc, results, ok);
-    report_run(mc, plan, driver, std::move(results), ok, rep);
+    const std::vector<Check> checks = judge(plan.checks, mc, driver);
+    const bool ok = std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed(); });
+    report_run(mc, plan, driver, checks, rep);
     try {
         std::filesystem::create_directories(out_dir);
         write_trajectory_csv(mc.recorder(), out_dir / "trajectory.csv");

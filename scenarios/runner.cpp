@@ -53,17 +53,16 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     // The error names the file and line already (scenarios/motion_scenario.h).
     if (rc == 2) throw ConfigError(m.value("error", s.file + ": bad motion section"));
     report = run_header(s, opt, wall);
+    nlohmann::json motion = m;
     if (opt.reproducible) {
         // Output paths depend on where the run was started: keep the file names only.
-        nlohmann::json clean = m;
         for (const char* k : {"trajectory_csv", "trajectory_svg"})
-            if (clean.contains(k)) clean[k] = std::filesystem::path(clean[k].get<std::string>()).filename().string();
-        report["motion"] = clean;
-    } else {
-        report["motion"] = m;
+            if (motion.contains(k)) motion[k] = std::filesystem::path(motion[k].get<std::string>()).filename().string();
     }
-    report["checks"] = nlohmann::json::array();
-    for (const auto& c : m.value("checks", nlohmann::json::array())) report["checks"].push_back(c);
+    // The motion checks are report.json "checks", in the one schema of every run (checks.h).
+    report["checks"] = motion.value("checks", nlohmann::json::array());
+    motion.erase("checks");
+    report["motion"] = motion;
     report["passed"] = rc == 0;
     if (!opt.out_dir.empty()) write_report_json(out, report);
     return exit_code(rc == 0);
@@ -193,6 +192,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const InterruptFigures c = measure_interrupts(bench);
     report["interrupts"] = c.interrupts;
     CheckFigures f;
+    report["bus_errors"] = to_json(bench.ctl.comm.cpu.bus_errors());
+    f.bus_errors = bench.ctl.comm.cpu.bus_errors().total();
     report["table3"] = table3_json(bench, s, c, f);
     report_bench(bench, s, opt, report, f);
 

@@ -260,6 +260,7 @@ void read_checks(YamlMap m, CheckLimits& c) {
     c.max_overruns = m.integer("max_overruns", 0, 0, 1000000000000000);
     c.max_frames_failed = m.integer("max_frames_failed", 0, 0, 1000000000000000);
     c.max_frame_mismatches = m.integer("max_frame_mismatches", 0, 0, 1000000000000000);
+    c.max_bus_errors = m.integer("max_bus_errors", 0, 0, 1000000000000000);
     c.max_char_latency_us = optional_number(m, "max_char_latency_us", 0, 1e9);
     c.min_margin_us = m.number("min_margin_us", 0, -1e9, 1e9);
     if (m.has("min_worst_margin_us")) c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);

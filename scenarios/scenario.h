@@ -46,6 +46,7 @@ struct CheckLimits {
     std::uint64_t max_overruns = 0;
     std::uint64_t max_frames_failed = 0;
     std::uint64_t max_frame_mismatches = 0;  // host-delivered vs main-CPU-received frames
+    std::uint64_t max_bus_errors = 0;        // 8086 cycles nothing answered (unmapped, ROM write, TLM error)
     double max_char_latency_us = -1;         // stop bit -> RXD read; < 0: per port, its RX FIFO's
                                              // depth in that port's character times
     double min_margin_us = 0;                // Table 3: budget - (RS-232 ISR mean + DP-RAM byte)

@@ -16,6 +16,53 @@ std::string interrupted_note(const nlohmann::json& r) {
     return os.str();
 }
 
+/// The function-block commands with their outcomes (docs/motion.md "Checks").
+void print_motion_commands(const nlohmann::json& m, std::ostream& os) {
+    os << "\n\nfunction blocks        at ms  expect   outcome\n";
+    for (const auto& c : m.value("commands", nlohmann::json::array())) {
+        if (!c.contains("outcome")) continue; // tokens and faults: no outcome of their own
+        os << "  " << std::left << std::setw(20) << c["fb"].get<std::string>() << std::right << std::setw(7)
+           << c["at_ms"].get<double>() << "  " << std::left << std::setw(8) << c["expect"].get<std::string>() << " "
+           << c["outcome"].get<std::string>() << std::right;
+        if (c.contains("error_id")) os << " (ErrorID " << c["error_id"].get<unsigned>() << ")";
+        if (c["outcome_ms"].is_number()) os << " at " << c["outcome_ms"].get<double>() << " ms";
+        os << "\n";
+    }
+}
+
+/// One line per check as in the communication summary, its detail below it.
+void print_motion_checks(const nlohmann::json& checks, std::ostream& os) {
+    // Seven significant digits: a swept angle one pulse of arc short of 2 pi still shows.
+    auto num = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::setprecision(7) << v.get<double>();
+        return s.str();
+    };
+    os << "\nchecks\n";
+    for (const auto& c : checks) {
+        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(28)
+           << c["name"].get<std::string>() << std::right << " value " << num(c["value"]) << "  limit "
+           << num(c["limit"]);
+        if (c.value("status", "") == "not measured") os << "  NOT MEASURED: " << c.value("reason", "");
+        os << "\n";
+        if (c.contains("detail")) os << "        " << c["detail"].dump() << "\n";
+    }
+}
+
+/// report.json "bus_errors": the counts, and the first cycles with address, kind and time.
+void print_bus_errors(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("bus_errors")) return;
+    const auto& b = r["bus_errors"];
+    os << "\nbus errors " << b["total"].get<std::uint64_t>() << " (unmapped " << b["unmapped"].get<std::uint64_t>()
+       << ", ROM write " << b["rom_write"].get<std::uint64_t>() << ", TLM error " << b["tlm_error"].get<std::uint64_t>()
+       << ")\n";
+    for (const auto& e : b["first"])
+        os << "  " << e["kind"].get<std::string>() << " " << e["cycle"].get<std::string>() << " "
+           << e["address"].get<std::string>() << " at " << std::fixed << std::setprecision(3)
+           << e["time_us"].get<double>() << " us\n" << std::defaultfloat;
+}
+
 void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     const auto& m = r["motion"];
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
@@ -27,8 +74,8 @@ void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     if (m.contains("final_act_pulses")) os << ", final actual " << m["final_act_pulses"].dump();
     if (m.contains("max_following_error_pulses"))
         os << "\nmax following error " << m["max_following_error_pulses"].get<double>() << " pulses";
-    os << "\n\nchecks\n";
-    for (const auto& c : r["checks"]) os << "  " << c.dump() << "\n";
+    print_motion_commands(m, os);
+    print_motion_checks(r["checks"], os);
     if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
     os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
 }
@@ -88,6 +135,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         const auto& j = r["main_cpu"]["cycle_jitter_us"];
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
     }
+    print_bus_errors(r, os);
     for (const auto& w : r.value("warnings", nlohmann::json::array())) os << "\nwarning: " << w.get<std::string>() << "\n";
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {

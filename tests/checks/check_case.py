@@ -1,26 +1,46 @@
 #!/usr/bin/env python3
 """Runs one scenario through the real rcsim binary and asserts its verdict.
 
-usage: check_case.py RCSIM SCENARIO OUTDIR EXIT [FAILING_CHECK[=STATUS] ...]
+usage: check_case.py [--rom ROM] [--report KEY=JSON ...] RCSIM SCENARIO OUTDIR EXIT
+                     [FAILING_CHECK[=STATUS] ...]
 
 EXIT is the expected exit code (0 every check holds, 1 a check failed). The FAILING_CHECKs are
 exactly the checks that must fail (all others must pass), each optionally with the status it must
 report ("failed" or "not measured"; default "failed"). The verdict is asserted in all three places a
 user reads it: the exit code, report.json (`passed`, each check's `passed` and `status`) and the
-printed summary (a FAIL line naming the check, and the last line PASSED/FAILED)."""
+printed summary (a FAIL line naming the check, and the last line PASSED/FAILED).
+
+--rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
+KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value."""
 import json
 import os
 import subprocess
 import sys
 
 
+def report_value(report, key):
+    v = report
+    for part in key.split("."):
+        v = v[int(part)] if isinstance(v, list) else v[part]
+    return v
+
+
 def main():
-    rcsim, scenario, out, want_exit = sys.argv[1:5]
+    args = sys.argv[1:]
+    extra, report_wants = [], []
+    while args and args[0] in ("--rom", "--report"):
+        if args[0] == "--rom":
+            extra += ["--rom", args[1]]
+        else:
+            key, _, value = args[1].partition("=")
+            report_wants.append((key, json.loads(value)))
+        args = args[2:]
+    rcsim, scenario, out, want_exit = args[:4]
     want = {}
-    for arg in sys.argv[5:]:
+    for arg in args[4:]:
         name, _, status = arg.partition("=")
         want[name] = status or "failed"
-    run = subprocess.run([rcsim, "run", scenario, "--out", out, "--reproducible"],
+    run = subprocess.run([rcsim, "run", scenario, "--out", out, "--reproducible"] + extra,
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
     problems = []
     if run.returncode != int(want_exit):
@@ -48,6 +68,13 @@ def main():
             problems.append(f"check {name} failed too ({failing[name]}): {checks[name]}")
     if report["passed"] != (not want):
         problems.append(f"report.json passed = {report['passed']}")
+    for key, value in report_wants:
+        try:
+            got = report_value(report, key)
+        except (KeyError, IndexError, ValueError, TypeError):
+            got = "(missing)"
+        if got != value:
+            problems.append(f"report.json {key} = {got!r}, expected {value!r}")
     verdict = [l for l in run.stdout.splitlines() if l in ("PASSED", "FAILED")]
     if verdict != ["FAILED" if want else "PASSED"]:
         problems.append(f"the summary's verdict lines are {verdict}")

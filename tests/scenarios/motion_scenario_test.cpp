@@ -5,12 +5,23 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 using rcsim::run_motion_scenario;
 
 namespace {
+
+const double kPi = std::acos(-1.0);
+
+/// The check `name` of a motion report (report["motion"]["checks"]), or an empty object.
+nlohmann::json check_named(const nlohmann::json& report, const std::string& name) {
+    for (const auto& c : report["motion"]["checks"])
+        if (c["name"] == name) return c;
+    ADD_FAILURE() << "no check " << name << " in " << report["motion"]["checks"].dump();
+    return nlohmann::json::object();
+}
 
 TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     const std::string file = std::string(RCSIM_SOURCE_DIR) + "/scenarios/xy_plotter_circle.yaml";
@@ -23,9 +34,30 @@ TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     EXPECT_EQ(m["state"], "STANDSTILL");
     EXPECT_EQ(m["final_cmd_pulses"][0], 0);
     EXPECT_EQ(m["final_cmd_pulses"][1], 0);
-    EXPECT_LE(m["checks"][2]["max_radial_error_cmd"].get<double>(), 1.0);
-    EXPECT_TRUE(m["checks"][2]["closes"].get<bool>());
-    EXPECT_GT(m["checks"][2]["angle_span_rad"].get<double>(), 6.0); // went all the way round
+    // Every check in the one schema (scenarios/checks.h), in report order.
+    std::vector<std::string> names;
+    for (const auto& c : m["checks"]) {
+        names.push_back(c["name"]);
+        EXPECT_TRUE(c["passed"].get<bool>()) << c.dump();
+        EXPECT_EQ(c["status"], "passed");
+        EXPECT_TRUE(c["value"].is_number() && c["limit"].is_number()) << c.dump();
+    }
+    EXPECT_EQ(names, (std::vector<std::string>{"fb_outcomes_as_expected", "final_state", "final_positions",
+                                               "circle_radial_error_pulses", "circle_swept_angle_rad",
+                                               "circle_end_error_pulses"}));
+    EXPECT_LE(check_named(report, "circle_radial_error_pulses")["value"].get<double>(), 1.0);
+    // A full circle of R = 5000: 2 pi, at least 2 pi less one pulse of arc (1/5000 rad).
+    const auto sweep = check_named(report, "circle_swept_angle_rad");
+    EXPECT_NEAR(sweep["value"].get<double>(), 2 * kPi, 1.0 / 5000);
+    EXPECT_DOUBLE_EQ(sweep["limit"].get<double>(), 2 * kPi - 1.0 / 5000);
+    EXPECT_EQ(check_named(report, "circle_end_error_pulses")["value"].get<double>(), 0.0);
+    // The circle command's outcome is in the command log: Done, once the chip's BUSY fell.
+    const auto& circle = m["commands"][1];
+    EXPECT_EQ(circle["fb"], "MC_CircleCenterMove");
+    EXPECT_EQ(circle["expect"], "done");
+    EXPECT_EQ(circle["outcome"], "done");
+    EXPECT_GT(circle["outcome_ms"].get<double>(), 10);
+    EXPECT_LT(circle["outcome_ms"].get<double>(), 2500);
     std::ifstream csv(out / "trajectory.csv");
     std::string header;
     std::getline(csv, header);
@@ -65,6 +97,29 @@ TEST(MotionScenario, FailingCheckReturnsOne) {
     EXPECT_EQ(report["motion"]["final_cmd_pulses"][0], 1000);
 }
 
+TEST(MotionScenario, ExpectedErrorWithItsErrorIdPasses) {
+    // MC_MoveAbsolute on axis 0 with no MC_Power: refused, ErrorID 0x7001 (Disabled), written in
+    // hex as in docs/motion.md. Expected, so the run passes; expecting another ErrorID fails it.
+    const std::string move = "motion:\n  duration_s: 0.02\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0,"
+                             " position: 1, velocity: 1, acceleration: 1, deceleration: 1, expect: error, error_id: ";
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_expect";
+    nlohmann::json report;
+    ASSERT_EQ(run_motion_scenario(YAML::Load(move + "0x7001}\n"), "e.yaml", out, 0, report), 0) << report.dump(2);
+    EXPECT_EQ(report["motion"]["commands"][0]["outcome"], "error");
+    EXPECT_EQ(report["motion"]["commands"][0]["error_id"], 0x7001);
+    EXPECT_EQ(report["motion"]["commands"][0]["outcome_ms"], 0.0);
+}
+
+TEST(MotionScenario, UnexpectedErrorIdFails) {
+    const std::string move = "motion:\n  duration_s: 0.02\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0,"
+                             " position: 1, velocity: 1, acceleration: 1, deceleration: 1, expect: error, error_id: ";
+    nlohmann::json report;
+    EXPECT_EQ(run_motion_scenario(YAML::Load(move + "0x7002}\n"), "e.yaml",
+                                  std::filesystem::temp_directory_path() / "rcsim_motion_expect2", 0, report),
+              1);
+    EXPECT_FALSE(check_named(report, "fb_outcomes_as_expected")["passed"].get<bool>());
+}
+
 /// The error run_motion_scenario() reports for the scenario text `yaml` (file "m.yaml"), or
 /// "(exit N)" when it did not return 2.
 std::string error_of(const std::string& yaml) {
@@ -86,6 +141,8 @@ TEST(MotionScenario, BadSectionErrorsNameFileLineAndKeyPath) {
     EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0,"
                        " position: 1, velocity: 1, acceleration: 1, deceleration: 1, buffer: later}\n"),
               "m.yaml:4: 'motion.commands[0].buffer' must be 'aborting' or 'buffered', got 'later'");
+    EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, inject_fault: 0, code: 0x10000}\n"),
+              "m.yaml:4: bad value for 'motion.commands[0].code': '0x10000'");
     EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, inject_fault: 0, clear_after: maybe}\n"),
               "m.yaml:4: 'motion.commands[0].clear_after' must be 'yes' or 'no', got 'maybe'");
     EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, token: SV, fb: MC_Power}\n"),
@@ -101,6 +158,23 @@ TEST(MotionScenario, BadSectionErrorsNameFileLineAndKeyPath) {
               "m.yaml:4: bad value for 'motion.checks.final_positions[1]': 'a'");
     EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  checks:\n    circle: {center_x: 0, center_y: 0}\n"),
               "m.yaml:4: missing required key 'motion.checks.circle.radius'");
+    // Expected outcomes: done, error or aborted; an ErrorID only with expect: error.
+    const std::string move = "motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0,"
+                             " position: 1, velocity: 1, acceleration: 1, deceleration: 1, ";
+    EXPECT_EQ(error_of(move + "expect: fine}\n"),
+              "m.yaml:4: 'motion.commands[0].expect' must be 'done', 'error' or 'aborted', got 'fine'");
+    EXPECT_EQ(error_of(move + "error_id: 4113}\n"),
+              "m.yaml:4: 'motion.commands[0].error_id' is the ErrorID of 'expect: error'");
+    EXPECT_EQ(error_of(move + "expect: error, error_id: 70000}\n"),
+              "m.yaml:4: bad value for 'motion.commands[0].error_id': '70000'");
+    EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, token: SV, data: '1', expect: done}\n"),
+              "m.yaml:4: unknown key 'motion.commands[0].expect'");
+    // The circle check judges one circle.
+    const std::string circle = "    - {at_ms: 0, fb: MC_CircleCenterMove, center_x: -10, center_y: 0, end_x: 0, end_y: 0,"
+                               " velocity: 1, acceleration: 1, deceleration: 1}\n";
+    EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  commands:\n" + circle + circle +
+                       "  checks:\n    circle: {center_x: -10, center_y: 0, radius: 10}\n"),
+              "m.yaml:7: 'motion.checks.circle' judges one MC_CircleCenterMove; the scenario has 2");
     EXPECT_EQ(error_of("motion:\n  duration_s: 0.01\n  checks:\n    position_tolerance: 3\n"),
               "m.yaml:4: unknown key 'motion.checks.position_tolerance'");
 }

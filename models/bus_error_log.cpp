@@ -1,0 +1,41 @@
+// rcsim — the log of bus cycles nothing answered. See bus_error_log.h.
+#include "models/bus_error_log.h"
+
+#include "models/clock.h"
+
+#include <cstdio>
+
+namespace rcsim {
+
+void BusErrorLog::add(Kind kind, std::uint32_t address, BusCycle cycle, const sc_core::sc_time& time) {
+    ++counts_[static_cast<std::size_t>(kind)];
+    if (first_.size() < kFirst) first_.push_back({kind, address, cycle, time});
+}
+
+const char* to_string(BusErrorLog::Kind kind) {
+    switch (kind) {
+    case BusErrorLog::Kind::unmapped: return "unmapped";
+    case BusErrorLog::Kind::rom_write: return "rom_write";
+    case BusErrorLog::Kind::tlm_error: return "tlm_error";
+    }
+    return "?";
+}
+
+nlohmann::json to_json(const BusErrorLog& log) {
+    using Kind = BusErrorLog::Kind;
+    nlohmann::json first = nlohmann::json::array();
+    for (const auto& r : log.first()) {
+        // I/O ports are 16 bits, memory addresses 20: four or five hex digits.
+        char a[16];
+        std::snprintf(a, sizeof a, is_io(r.cycle) ? "0x%04X" : "0x%05X", static_cast<unsigned>(r.address));
+        first.push_back({{"kind", to_string(r.kind)}, {"address", a}, {"cycle", to_string(r.cycle)},
+                         {"time_us", to_us(r.time)}});
+    }
+    return {{"total", log.total()},
+            {"unmapped", log.count(Kind::unmapped)},
+            {"rom_write", log.count(Kind::rom_write)},
+            {"tlm_error", log.count(Kind::tlm_error)},
+            {"first", first}};
+}
+
+} // namespace rcsim
