@@ -275,6 +275,7 @@ RS232_ENTRY(2,0xA0,0xAC00)
 ! serves after the other ports).  GIR is read before every character, so an error status (Rx
 ! machine, latched when its character arrived, ranks above the Rx FIFO) is seen before the
 ! character.  Changes AX, BX.
+.even
 _rs232_isr:
 	push	cx
 	push	dx
@@ -331,6 +332,7 @@ rs_out:
 	ret
 
 ! One source: CL = its GIR vector, DX = the 82510's I/O address.
+.even
 rs_source:
 	cmp	cl,#GIR_RXF
 	jne	rs_s1
@@ -369,6 +371,7 @@ rs_s5:
 	ret
 
 ! One character from the per-port entry: AL = c, BX = port.  Changes AX, BX.
+.even
 rx_char_entry:
 	push	cx
 	push	dx
@@ -387,6 +390,7 @@ rx_char_entry:
 
 ! ---- the per-character state machine (steps 0, 1, 10, 11, 13; 2, 3, 12 busy) ---------------
 ! AL = the character.
+.even
 rx_char:
 	mov	cl,_step[bx]
 	cmp	cl,#ST_RECV
@@ -499,6 +503,7 @@ st_end:
 
 ! ETX seen: at least MIN_FRAME bytes, no line error or bad character, B1 B2 and C1 C2
 ! uppercase hex, (sum - C1 - C2) & 0xFF = C1C2 -> EOT and step 2, else NAK and step 3.
+.even
 rx_end:
 	cmp	byte ptr _rx_bad[bx],#0
 	jne	re_bad
@@ -566,6 +571,7 @@ send:
 
 ! ENQ from the host: ACK and start receiving if the port's DP-RAM area is free (pflag[p] = 0,
 ! claimed here with EXT_USE), else NAK.  Returns ZF = 0 when accepted, ZF = 1 on NAK.
+.even
 accept_enq:
 	test	byte ptr _rx_bad[bx],#BAD_LINE
 	jnz	ae_nak
@@ -643,6 +649,7 @@ ls_ret:
 ! GER from the port's state: the receiver's sources unless quenched, the tick on TICK_PORT, the
 ! Tx FIFO while a frame goes out (step 12), the Tx machine while a timer waits for the
 ! transmitter to be idle.  Bank 0, GER, back to bank 1.  IF = 0.  Changes AX, DX.
+.even
 ger_update_r:
 	xor	al,al
 	cmp	bx,*TICK_PORT
@@ -692,6 +699,7 @@ txq_len_r:
 ! while sending, threshold 0 = empty) asks for the next ones while the last is still in the
 ! shifter.  With the last byte (ETX) in the FIFO: step 13, the Tx FIFO interrupt off and the Tx
 ! machine on (T1 starts when ETX has left the line, tx_idle).  IF = 0.
+.even
 tx_fill_r:
 	cmp	byte ptr _step[bx],#ST_SEND
 	jne	tf_ret
@@ -833,6 +841,7 @@ mb_post_r:
 ! Reads int2ext (clears INT_L), empties it (the mailbox is free again), sends the
 ! rotate-on-non-specific EOI and handles the word with IF = 1, so that the RS-232 interrupts (and
 ! the next mailbox word) are served during a chunk copy (docs/firmware.md "Interrupts").
+.even
 _isr_dpram:
 	push	ax
 	push	bx
@@ -904,6 +913,7 @@ tc_full:
 	mov	byte ptr _chunk_pending[bx],#1  ! no room: the chunk waits (the main loop retries)
 	popf
 	ret
+.even
 take_chunk_r:
 	pushf
 	cli
