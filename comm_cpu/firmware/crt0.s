@@ -10,7 +10,7 @@
 ! bcc calling convention: arguments pushed right to left as words, caller pops; result in AX;
 ! a C function preserves BP, SI, DI (and DS, SS); AX, BX, CX, DX, ES and flags are scratch.
 ! bcc's code never uses ES (no string instructions), so dp_rd/dp_wr leave ES = DP_SEG.
-! DS = SS = DATA_SEG from the `call _main' on; nothing loads DS again (isr.s relies on it).
+! DS = SS = DATA_SEG from the `call _main' on; nothing changes DS again (isr.s relies on it).
 
 DATA_SEG  = 0x0040
 STACK_TOP = 0x0C00

@@ -13,7 +13,7 @@
 ! cycle budget of the common path.
 !
 ! Conventions
-! * DS = SS = DATA_SEG from start-up on: no code ever loads DS (the DP-RAM is reached through
+! * DS = SS = DATA_SEG from start-up on: nothing changes DS (the DP-RAM is reached through
 !   ES), so the entries do not reload it.  ES is scratch; the entries save it where they use it.
 ! * IF = 0 in the RS-232 paths.  The DP-RAM handler sends its EOI and runs with IF = 1.
 ! * Inside, a port's routines take BX = port and SI = 2 * port (the index of byte and of word
