@@ -9,22 +9,18 @@
 !
 ! bcc calling convention: arguments pushed right to left as words, caller pops; result in AX;
 ! a C function preserves BP, SI, DI (and DS, SS); AX, BX, CX, DX, ES and flags are scratch.
-! bcc's code never uses ES (no string instructions), so dp_rd/dp_wr leave ES = DP_SEG; the
-! interrupt entries save ES and reload it.
+! bcc's code never uses ES (no string instructions), so dp_rd/dp_wr leave ES = DP_SEG.
+! DS = SS = DATA_SEG from the `call _main' on; nothing changes DS again (isr.s relies on it).
 
 DATA_SEG  = 0x0040
 STACK_TOP = 0x0C00
 DP_SEG    = 0xD000
-PIC_A0    = 0xC0
-EOI_ROT   = 0xA0
 
 .globl start
 .globl __segoff
 .globl __edata
 .globl __end
 .globl _main
-.globl _rs232_isr
-.globl _dpram_isr
 .globl _unexpected
 .globl _ticks
 .globl _isr_port0
@@ -38,7 +34,6 @@ EOI_ROT   = 0xA0
 .globl _dp_wr
 .globl _irq_off
 .globl _mul_div_up
-.globl _uart_ger
 .globl _irq_restore
 .globl _irq_on
 
@@ -96,88 +91,7 @@ halt_forever:
 	jmp	halt_forever
 
 ! ---- interrupt entries ---------------------------------------------------------------------
-! IR0..IR2: 82510 #0..#2.  The C handler does the work; the entry ends with the OCW2
-! rotate-on-non-specific EOI and IRET.  Runs with IF = 0 throughout (no nesting).
-! IR0 also carries the 1 ms tick (BRGB of 82510 #0).  Fast path for a tick alone: GIR reads
-! exactly 0x2A (bank 1 selected, timer pending); read TMST (clears TBEx; BRGB reloads itself),
-! count, EOI.  Anything else pending goes on to the C handler.
-GIR0      = 0x84
-TMST0     = 0x86
-GIR_TICK  = 0x2A
-_isr_port0:
-	push	ax
-	in	al,GIR0
-	cmp	al,#GIR_TICK
-	jne	port0_slow
-	in	al,TMST0
-	push	ds
-	mov	ax,#DATA_SEG
-	mov	ds,ax
-	inc	word ptr [_ticks]
-	pop	ds
-	in	al,GIR0
-	test	al,#1
-	jz	port0_slow
-	mov	al,#EOI_ROT
-	out	PIC_A0,al
-	pop	ax
-	iret
-port0_slow:
-	xor	ax,ax
-	jmp	rs232_entry
-_isr_port1:
-	push	ax
-	mov	ax,#1
-	jmp	rs232_entry
-_isr_port2:
-	push	ax
-	mov	ax,#2
-rs232_entry:
-	push	bx
-	push	cx
-	push	dx
-	push	ds
-	push	es
-	mov	bx,#DATA_SEG
-	mov	ds,bx
-	mov	es,bx
-	cld
-	push	ax
-	call	_rs232_isr
-	inc	sp
-	inc	sp
-	mov	al,#EOI_ROT
-	out	PIC_A0,al
-	pop	es
-	pop	ds
-	pop	dx
-	pop	cx
-	pop	bx
-	pop	ax
-	iret
-
-! IR3: IDT7130 INT_L.  _dpram_isr reads and empties the mailbox, issues the EOI itself and
-! re-enables interrupts while it copies a chunk (see docs/firmware.md), and returns with IF = 0.
-_isr_dpram:
-	push	ax
-	push	bx
-	push	cx
-	push	dx
-	push	ds
-	push	es
-	mov	ax,#DATA_SEG
-	mov	ds,ax
-	mov	es,ax
-	cld
-	call	_dpram_isr
-	pop	es
-	pop	ds
-	pop	dx
-	pop	cx
-	pop	bx
-	pop	ax
-	iret
-
+! IR0..IR3 (_isr_port0..2, _isr_dpram) are in isr.s.
 ! Any other vector (CPU exceptions, the 8259A's spurious IR7 = vector 0x27): count and return.
 ! No EOI: a spurious IR7 sets no in-service bit.
 _isr_unexpected:
@@ -204,25 +118,6 @@ _outb:
 	mov	bx,sp
 	mov	dx,2[bx]
 	mov	al,4[bx]
-	out	dx,al
-	ret
-
-! void uart_ger(unsigned base, unsigned char ger): GER of the 82510 at I/O `base' -- bank 0,
-! GER (offset 1), back to bank 1 -- in one place and without three outb calls (the Tx FIFO and
-! Tx machine interrupts are switched on and off for every frame).  Call with IF = 0.
-_uart_ger:
-	mov	bx,sp
-	mov	dx,2[bx]
-	add	dx,#4
-	xor	al,al
-	out	dx,al
-	dec	dx
-	dec	dx
-	mov	al,4[bx]
-	out	dx,al
-	inc	dx
-	inc	dx
-	mov	al,#0x20
 	out	dx,al
 	ret
 

@@ -1,7 +1,8 @@
 /*
  * rcsim communication firmware -- shared definitions.
  *
- * Target: Intel 8086-2 @ 8 MHz, compiled with Debian bcc (-0 -ansi), 16-bit int.
+ * Target: Intel 8086-2 @ 8 MHz, compiled with Debian bcc (-0 -ansi), 16-bit int; the interrupt
+ * paths are in isr.s, whose constants repeat the ones below (the build checks they agree).
  * Memory model: one data segment DS = SS = ES = DATA_SEG (physical 0x00400) holding the
  * variables, the stack and the three 20 KB port buffers; code runs from ROM at F000:0000.
  * See docs/firmware.md for the memory map, the state machine and the register contract.
@@ -179,7 +180,6 @@
 /* ---- assembly helpers (crt0.s) -------------------------------------------------------- */
 unsigned char inb(unsigned port);
 void outb(unsigned port, unsigned char value);
-void uart_ger(unsigned base, unsigned char ger);   /* BANK 0, GER, BANK 1; IF = 0 */
 unsigned char dp_rd(unsigned offset);
 void dp_wr(unsigned offset, unsigned char value);
 unsigned mul_div_up(unsigned a, unsigned b, unsigned c);   /* ceil(a * b / c), 0xFFFF if larger */
@@ -233,15 +233,11 @@ extern unsigned n_sent[NO_PORT], n_retry[NO_PORT], n_fail[NO_PORT], n_coll[NO_PO
 extern unsigned n_lerr[NO_PORT], n_break[NO_PORT], n_reset[NO_PORT], n_badmb;
 extern unsigned n_stale[NO_PORT], n_quench[NO_PORT], n_deferred[NO_PORT];
 
-/* isr.c */
-void rs232_isr(int port);
-void tx_fill(int port);
-void dpram_isr(void);
-void rx_char(int port, unsigned char c);
-void dp_event(unsigned char word);
-void take_chunk(int port);
-void tx_retry(int port);
-void ger_update(int port);
+/* isr.s: the interrupt paths (IR0..IR3) and what the main loop shares with them */
+void tx_fill(int port);               /* step 12: fill the TX FIFO; IF = 0 */
+void tx_retry(int port);              /* NAK / T1 while sending: back off or give up; IF = 0 */
+void ger_update(int port);            /* GER from the port's state; IF = 0 */
+void take_chunk(int port);            /* a chunk from the main CPU into the transmit ring; any IF */
 /* hw.c */
 void pic_init(void);
 void uart_init(int port);

@@ -72,24 +72,6 @@ void uart_init(int port)
 }
 
 /*
- * GER of one 82510 (bank 0, from bank 1 and back), from the port's state: the receiver's
- * sources unless it is quenched, the tick on TICK_PORT, the Tx FIFO while a frame goes out
- * (step 12), the Tx machine while a timer waits for the transmitter to be idle.  IF = 0.
- */
-void ger_update(int port)
-{
-    unsigned g = port == TICK_PORT ? GER_TIMER : 0;  /* words: a byte local makes SP odd */
-
-    if (!quenched[port])
-        g |= GER_RX;
-    if (step[port] == ST_SEND)
-        g |= GER_TXF;
-    if (txe_wait[port])
-        g |= GER_TXM;
-    uart_ger(UART_BASE(port), g);
-}
-
-/*
  * Port reset: re-initialise the 82510 channel, drop both buffers and the state, free pflag[p].
  * `notify' also tells the main CPU with a 0x3p word in int2rbt.
  */

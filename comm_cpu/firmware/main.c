@@ -63,7 +63,7 @@ unsigned n_implicit;                 /* last chunks taken as ACKed through pflag
 void mb_post(unsigned char word)
 {
     unsigned f = irq_off();
-    unsigned char next = (mb_tail + 1) & (MBQ - 1);
+    unsigned next = (mb_tail + 1) & (MBQ - 1);
 
     if (next != mb_head) {
         mbq[mb_tail] = word;
@@ -78,8 +78,7 @@ void mb_post(unsigned char word)
  * MB_WAIT_MS after the previous word if it never does. */
 static void mb_pump(void)
 {
-    unsigned f;
-    unsigned char w;
+    unsigned f, w;
 
     if (mb_head == mb_tail)
         return;
@@ -101,8 +100,7 @@ static void mb_pump(void)
 static void to_dpram(int port)
 {
     unsigned char *b;
-    unsigned a, have, n, i, f;
-    unsigned char s, g;
+    unsigned a, have, n, i, f, s, g;
 
     if (chunk_out[port]) {
         /* The main CPU frees pflag before it ACKs the last chunk: if that ACK word got lost
@@ -354,7 +352,7 @@ void main_loop(void)
  */
 static unsigned t1_ticks(int port)
 {
-    unsigned char lcr = port_lcr[port];
+    unsigned lcr = port_lcr[port];
     unsigned bits = 1 + 5 + (lcr & 0x03) + ((lcr & 0x08) ? 1 : 0) + ((lcr & 0x04) ? 2 : 1);
 
     return T1_MS + mul_div_up(bits * 16, port_div[port], tick_div);
