@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The firmware team's loop in miniature (docs/regression.md): the built ROM and the same ROM with
+# The firmware team's loop in miniature (docs/regression.md): a ROM (the frozen C firmware) and the same ROM with
 # a delay loop of LOOPS iterations in the RS-232 interrupt entry (slow_isr_rom), one short
 # two-port run each; `rcsim compare` must exit 1 and name table3.rs232_isr_us as a regression,
 # slower by at least what the loop costs.
@@ -23,7 +23,7 @@ name: mini
 base: $SRC/scenarios/regress/grid_base.yaml
 set: {duration_s: 0.3, drain_s: 0.5}
 YAML
-"$RCSIM" sweep mini.yaml --out built --jobs 2 > /dev/null 2>&1
+"$RCSIM" sweep mini.yaml --out built --jobs 2 --rom "$ROM" > /dev/null 2>&1
 "$RCSIM" sweep mini.yaml --out slow --jobs 2 --rom slow.rom > /dev/null 2>&1
 [ -f built/mini/report.json ] && [ -f slow/mini/report.json ] || { echo "FAIL: a run has no report"; exit 1; }
 
