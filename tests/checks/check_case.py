@@ -1,13 +1,17 @@
 #!/usr/bin/env python3
 """Runs one scenario through the real rcsim binary and asserts its verdict.
 
-usage: check_case.py RCSIM SCENARIO OUTDIR EXIT [FAILING_CHECK[=STATUS] ...]
+usage: check_case.py RCSIM SCENARIO OUTDIR EXIT [FAILING_CHECK[=STATUS] ...] [--expect=EXPR ...]
 
 EXIT is the expected exit code (0 every check holds, 1 a check failed). The FAILING_CHECKs are
 exactly the checks that must fail (all others must pass), each optionally with the status it must
 report ("failed" or "not measured"; default "failed"). The verdict is asserted in all three places a
 user reads it: the exit code, report.json (`passed`, each check's `passed` and `status`) and the
-printed summary (a FAIL line naming the check, and the last line PASSED/FAILED)."""
+printed summary (a FAIL line naming the check, and the last line PASSED/FAILED).
+
+Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
+`ports` (report["ports"]) and `main` (report["main_cpu"]["ports"]) in scope: it states what the
+figures must be from the scenario's design, e.g. that two independent counters agree."""
 import json
 import os
 import subprocess
@@ -17,7 +21,11 @@ import sys
 def main():
     rcsim, scenario, out, want_exit = sys.argv[1:5]
     want = {}
+    expects = []
     for arg in sys.argv[5:]:
+        if arg.startswith("--expect="):
+            expects.append(arg[len("--expect="):])
+            continue
         name, _, status = arg.partition("=")
         want[name] = status or "failed"
     run = subprocess.run([rcsim, "run", scenario, "--out", out, "--reproducible"],
@@ -48,6 +56,16 @@ def main():
             problems.append(f"check {name} failed too ({failing[name]}): {checks[name]}")
     if report["passed"] != (not want):
         problems.append(f"report.json passed = {report['passed']}")
+    scope = {"report": report, "ports": report.get("ports", []),
+             "main": report.get("main_cpu", {}).get("ports", [])}
+    for expr in expects:
+        try:
+            ok = eval(expr, {"__builtins__": {"all": all, "any": any, "sum": sum, "len": len, "range": range}}, scope)
+        except Exception as e:  # a key the report lacks is a failure, not a crash
+            ok = False
+            expr += f"  ({type(e).__name__}: {e})"
+        if not ok:
+            problems.append(f"expected: {expr}")
     verdict = [l for l in run.stdout.splitlines() if l in ("PASSED", "FAILED")]
     if verdict != ["FAILED" if want else "PASSED"]:
         problems.append(f"the summary's verdict lines are {verdict}")
