@@ -294,6 +294,7 @@ void SerialLine::set_break(Side from, bool active) {
     if (!rx) return;
     if (d.break_detected) {
         d.break_detected = false;
+        if (on_deliver) on_deliver(Delivered{from, Delivered::break_off, {}});
         rx->rx_break(false);
     }
     // Not yet detected: the pending break_check turns the short SPACE into a character.
@@ -409,6 +410,7 @@ void SerialLine::deliver_char(Side from, const Pending& p) {
     rx.stop = p.due;
     ++d.stats.delivered;
     if (cut) ++d.stats.cut;
+    if (on_deliver) on_deliver(Delivered{from, Delivered::character, rx});
     ends_[other(from)]->rx_char(rx);
 }
 
@@ -417,6 +419,7 @@ void SerialLine::deliver_break_check(Side from, const Pending& p) {
     SerialEndpoint* rx = ends_[other(from)];
     if (p.gen == d.break_gen && d.break_level > 0) { // at SPACE for a whole receiver frame
         d.break_detected = true;
+        if (on_deliver) on_deliver(Delivered{from, Delivered::break_on, {}});
         rx->rx_break(true);
         return;
     }
@@ -431,6 +434,7 @@ void SerialLine::deliver_break_check(Side from, const Pending& p) {
     c.start = p.start;
     c.stop = p.due;
     ++d.stats.delivered;
+    if (on_deliver) on_deliver(Delivered{from, Delivered::character, c});
     rx->rx_char(c);
 }
 

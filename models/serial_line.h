@@ -184,6 +184,17 @@ public:
 
     /// Called for every transmitted character (e.g. a bit-level trace); empty by default.
     std::function<void(const Traced&)> on_transmit;
+
+    /// What a receiver was handed, for passive observers (a protocol analyser on the line).
+    struct Delivered {
+        enum Kind : std::uint8_t { character, break_on, break_off };
+        Side from;   // the transmitting side; the receiver is other(from)
+        Kind kind;
+        SerialRx rx; // character: as the receiver decoded it (its format, its errors)
+    };
+    /// Called for every character and break event the far receiver gets, just before it gets it,
+    /// so an observer sees exactly what the endpoint sees; empty (no cost) by default.
+    std::function<void(const Delivered&)> on_deliver;
     /// Writes one line per character and break (time, side, cells) to `os` (nullptr: off).
     void trace_to(std::ostream* os) { trace_ = os; }
 

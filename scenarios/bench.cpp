@@ -39,6 +39,7 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
             char_reads[p].push_back(c.read);
             char_latency_us[p].add(to_us(c.read - c.stop));
         };
+        lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
     }
     if (s.main_motion) {
         motion = std::make_unique<motion::MotionController>("motion");
@@ -114,9 +115,52 @@ void Bench::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
         ch.last = t;
         ++ch.writes;
         ch.bytes += r.width;
-    } else if (off == L::int2rbt && L::word_kind(r.data & 0xFF) == L::kind_chunk && L::word_port(r.data & 0xFF) < kPorts) {
-        open_chunk_[L::word_port(r.data & 0xFF)] = -1;
+        return;
     }
+    sync_main_side();
+    const std::uint8_t word = r.data & 0xFF;
+    if (off != L::int2rbt || L::word_port(word) >= kPorts) return;
+    const unsigned port = L::word_port(word);
+    switch (L::word_kind(word)) {
+    case L::kind_chunk: open_chunk_[port] = -1; break;
+    case L::kind_reset: observers[port].port_reset(); break;
+    case L::kind_gave_up:
+    case L::kind_gave_up_sent: observers[port].response_given_up(); break;
+    default: break;
+    }
+}
+
+// Side a of every line is the controller's 82510, side b the host.
+void Bench::observe_line(unsigned p, const SerialLine::Delivered& d) {
+    sync_main_side();
+    const auto dir = d.from == SerialLine::a ? LineObserver::controller_to_host : LineObserver::host_to_controller;
+    if (d.kind == SerialLine::Delivered::character)
+        observers[p].line_char(dir, static_cast<std::uint8_t>(d.rx.data & 0xFF), d.rx.parity_error || d.rx.framing_error);
+    else if (d.kind == SerialLine::Delivered::break_on)
+        observers[p].line_break(dir);
+}
+
+// Cheap when nothing changed (two sizes and three counters); called on every line character and
+// every DP-RAM write of the comm CPU, so the observers learn of the main CPU's frames within one
+// character time or one mailbox word.
+void Bench::sync_main_side() {
+    const MainCpu& m = ctl.main;
+    for (; main_received_seen_ < m.received().size(); ++main_received_seen_) {
+        const FrameRecord& f = m.received()[main_received_seen_];
+        if (f.port < kPorts) observers[f.port].main_received(frame_key(f.token, f.bch, f.data));
+    }
+    for (; main_sent_seen_ < m.sent().size(); ++main_sent_seen_) {
+        const FrameRecord& f = m.sent()[main_sent_seen_];
+        if (f.port < kPorts) observers[f.port].main_handed(frame_key(f.token, f.bch, f.data));
+    }
+    // A reset the main CPU asks for (0x3p in int2ext) drops the comm CPU's transmit ring too.
+    for (unsigned p = 0; p < kPorts; ++p)
+        for (; main_resets_seen_[p] < m.port_stats(p).resets_sent; ++main_resets_seen_[p]) observers[p].port_reset();
+}
+
+void Bench::finish_observers() {
+    sync_main_side();
+    for (LineObserver& o : observers) o.finish();
 }
 
 void Bench::drain(double drain_s) {
@@ -124,9 +168,19 @@ void Bench::drain(double drain_s) {
         if (h) h->stop_traffic();
     const sc_time step = us(10000);
     const sc_time end = sc_core::sc_time_stamp() + ps(static_cast<std::uint64_t>(drain_s * 1e12 + 0.5));
+    // In flight: a protocol host's command or awaited response, or a response the main CPU owes
+    // or has handed to DP-RAM and the comm CPU has not finished (EOT, given up or reset). Every
+    // command the main CPU dispatched is answered by one response (main_cpu/README.md).
     auto busy = [this] {
         for (auto& h : protocol)
             if (h && !h->idle()) return true;
+        sync_main_side();
+        for (unsigned p = 0; p < kPorts; ++p) {
+            const MainCpuPortStats& m = ctl.main.port_stats(p);
+            if (observers[p].responses_in_flight() > 0 ||
+                m.frames_received > m.frames_sent + m.tx_aborted + m.ack_timeouts)
+                return true;
+        }
         return false;
     };
     while (busy() && sc_core::sc_time_stamp() < end && stop_signal() == 0)

@@ -6,6 +6,7 @@
 
 #include "scenarios/controller.h"
 #include "scenarios/interrupt_probe.h"
+#include "scenarios/line_observer.h"
 #include "scenarios/scenario.h"
 #include "scenarios/host/protocol_host.h"
 #include "scenarios/host/raw_host.h"
@@ -48,6 +49,9 @@ public:
     std::array<std::vector<sc_core::sc_time>, kPorts> char_reads; // each RXD read of a character
     std::array<Samples, kPorts> char_latency_us;                  // stop bit -> RXD read
     std::vector<DpramChunk> chunks;
+    /// The independent observer of each line, fed by the line's receivers and the main CPU's
+    /// DP-RAM side (line_observer.h).
+    std::array<LineObserver, kPorts> observers;
     std::unique_ptr<motion::MotionController> motion;
 
     SC_HAS_PROCESS(Bench);
@@ -57,10 +61,14 @@ public:
     const char* host_kind(unsigned p) const;
     const Scenario& scenario() const { return scenario_; }
 
-    /// The drain phase: the hosts start no new command; the run goes on in 10 ms steps until every
-    /// host is idle (its last command answered) or `drain_s` has passed, so that frames in flight
-    /// at the end are not counted as lost.
+    /// The drain phase: the hosts start no new command; the run goes on in 10 ms steps until
+    /// nothing is in flight — every host idle (its last command answered), every response the
+    /// main CPU owes handed and finished by the comm CPU — or `drain_s` has passed, so that frames
+    /// in flight at the end are not counted as lost.
     void drain(double drain_s);
+    /// Hands the observers what the main CPU received and sent since the last call, then closes
+    /// their comparisons. Call once, after the run.
+    void finish_observers();
 
     /// After the run: ends the hosts' logs and record files and throws ConfigError naming the
     /// first that could not be written completely (a full disk), so a truncated file never
@@ -75,6 +83,13 @@ private:
     void attach_host(unsigned p, const PortScenario& ps);
     void inject_breaks();
     void watch_dpram(const i8086::BusRecord& r, const sc_core::sc_time& t);
+
+    // The main CPU's side for the observers, read incrementally: frames past these cursors and
+    // port resets it asked for since the last look are new.
+    std::size_t main_received_seen_ = 0, main_sent_seen_ = 0;
+    std::array<std::uint64_t, kPorts> main_resets_seen_{};
+    void observe_line(unsigned p, const SerialLine::Delivered& d);
+    void sync_main_side();
 };
 
 } // namespace rcsim

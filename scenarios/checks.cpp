@@ -55,7 +55,8 @@ double char_latency_limit_us(const Bench& b, const Scenario& s, unsigned p) {
 
 const std::vector<std::string>& communication_check_names() {
     static const std::vector<std::string> names = {
-        "overruns", "frames_failed", "frames_delivered_exactly_once", "main_cpu_malformed_frames",
+        "overruns", "frames_failed", "commands_delivered_exactly_once", "responses_delivered_exactly_once",
+        "main_cpu_malformed_frames",
         "frames_delivered", "char_latency_max_us", "table3_margin_us", "table3_worst_margin_us",
         "replay_port0_matches_record", "replay_port1_matches_record", "replay_port2_matches_record",
         "bus_errors"};
@@ -70,7 +71,10 @@ std::vector<Check> communication_checks(const Bench& b, const Scenario& s, const
     std::vector<Check> checks;
     checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
-    checks.push_back(Check::at_most("frames_delivered_exactly_once", count(f.frame_mismatches),
+    // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
+    checks.push_back(Check::at_most("commands_delivered_exactly_once", count(f.command_mismatches),
+                                    double(L.max_frame_mismatches)));
+    checks.push_back(Check::at_most("responses_delivered_exactly_once", count(f.response_mismatches),
                                     double(L.max_frame_mismatches)));
     checks.push_back(Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));

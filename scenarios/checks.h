@@ -51,7 +51,9 @@ const char* status_name(Check::Status s);
 
 /// The figures the communication checks judge, gathered from the bench and the report.
 struct CheckFigures {
-    std::uint64_t overruns = 0, frames_failed = 0, frames_delivered = 0, frame_mismatches = 0;
+    std::uint64_t overruns = 0, frames_failed = 0, frames_delivered = 0;
+    // The line observers' sequence comparisons, all ports (LineObserver, SequenceMatcher).
+    std::uint64_t command_mismatches = 0, response_mismatches = 0;
     std::uint64_t malformed = 0; // frames the main CPU could not decode
     std::uint64_t bus_errors = 0; // 8086 bus cycles that found no memory or device (Cpu8086::bus_errors())
     std::uint64_t traffic_ports = 0; // ports whose host generates commands by itself

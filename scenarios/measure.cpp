@@ -104,6 +104,7 @@ nlohmann::json port_json(const Bench& b, unsigned p) {
         naks = c.naks, retries = c.retries;
         j["responses_received"] = c.responses_received;
         j["timeouts"] = c.timeouts;
+        j["response_timeouts"] = c.response_timeouts;
         j["collisions"] = c.collisions;
         j["delivery_us"] = samples_json(h->delivery_us());
         j["response_us"] = samples_json(h->response_us());
@@ -140,18 +141,35 @@ nlohmann::json port_json(const Bench& b, unsigned p) {
     j["char_latency_us"] = samples_json(b.char_latency_us[p]);
     j["main_cpu_frames_received"] = b.ctl.main.port_stats(p).frames_received;
     j["main_cpu_frames_sent"] = b.ctl.main.port_stats(p).frames_sent;
+    j["responses_dropped"] = b.ctl.main.port_stats(p).responses_dropped;
+    j["responses_dropped_sent"] = b.ctl.main.port_stats(p).responses_dropped_sent;
+    j.update(observer_json(b.observers[p]));
     return j;
 }
 
-std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, unsigned port) {
-    std::vector<const FrameRecord*> got;
-    for (const auto& r : main.received())
-        if (r.port == port) got.push_back(&r);
-    const auto& sent = host.delivered();
-    std::uint64_t bad = sent.size() > got.size() ? sent.size() - got.size() : got.size() - sent.size();
-    for (std::size_t i = 0; i < std::min(sent.size(), got.size()); ++i)
-        if (sent[i].token != got[i]->token || sent[i].bch != got[i]->bch || sent[i].data != got[i]->data) ++bad;
-    return bad;
+nlohmann::json observer_json(const LineObserver& o) {
+    auto dir = [&o](LineObserver::Dir d) {
+        const auto& c = o.counts(d);
+        return nlohmann::json{{"enqs", c.enqs},           {"frames_offered", c.frames_offered},
+                              {"frames_bad", c.frames_bad}, {"frames_eot", c.frames_eot},
+                              {"naks", c.naks},           {"retries", c.retries},
+                              {"abandoned", c.abandoned}};
+    };
+    auto seq = [](const SequenceMatcher::Counts& c, const char* sent, const char* received) {
+        return nlohmann::json{{sent, c.sent},           {received, c.received},   {"matched", c.matched},
+                              {"lost", c.lost},         {"duplicates", c.duplicates}, {"unexpected", c.unexpected},
+                              {"reordered", c.reordered},
+                              {"mismatches", c.mismatches()}};
+    };
+    nlohmann::json responses = seq(o.responses(), "main_cpu_handed", "host_received");
+    responses["dropped"] = {{"gave_up", o.responses().dropped_gave_up},
+                            {"port_reset", o.responses().dropped_port_reset}};
+    return {{"line", {{"host_to_controller", dir(LineObserver::host_to_controller)},
+                      {"controller_to_host", dir(LineObserver::controller_to_host)},
+                      {"enq_collisions", o.enq_collisions()},
+                      {"breaks", o.breaks()}}},
+            {"commands", seq(o.commands(), "host_eot", "main_cpu_received")},
+            {"responses", responses}};
 }
 
 } // namespace rcsim

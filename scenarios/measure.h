@@ -37,11 +37,12 @@ double controller_char_us(const Bench& b, unsigned p);
 /// a host is attached; with none, all three count.
 double budget_us(const Bench& b, const Scenario& s);
 
-/// report.json "ports[p]": the host's counters, the 82510's, the main CPU's.
+/// report.json "ports[p]": the host's counters, the 82510's, the main CPU's, and the line
+/// observer's (call Bench::finish_observers() first).
 nlohmann::json port_json(const Bench& b, unsigned p);
 
-/// Frames the host saw EOT for that the main CPU did not receive intact, in order, exactly once.
-std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, unsigned port);
+/// report.json "ports[p].line", ".commands", ".responses": what the observer of port p counted.
+nlohmann::json observer_json(const LineObserver& o);
 
 /// The probe's records for interrupts.csv and report.html, with the rs232_rx classification.
 std::vector<report::InterruptRow> interrupt_rows(const Bench& b);

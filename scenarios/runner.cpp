@@ -126,7 +126,8 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
         f.overruns += pj["overruns"].get<std::uint64_t>();
         f.frames_failed += pj["frames_failed"].get<std::uint64_t>();
         f.frames_delivered += pj["frames_delivered"].get<std::uint64_t>();
-        if (bench.protocol[p]) f.frame_mismatches += frame_mismatches(*bench.protocol[p], bench.ctl.main, p);
+        f.command_mismatches += bench.observers[p].commands().mismatches();
+        f.response_mismatches += bench.observers[p].responses().mismatches();
         f.malformed += bench.ctl.main.port_stats(p).malformed;
         const Samples& lat = bench.char_latency_us[p];
         f.char_latency_max_us[p] = lat.count() ? Figure::of(lat.summary().max)
@@ -179,6 +180,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     if (stop_signal() == 0) bench.drain(s.drain_s);
+    bench.finish_observers();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
     bench.finish_files();

@@ -79,6 +79,62 @@ void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
     os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
 }
+std::uint64_t u(const nlohmann::json& j, const char* k) { return j.value(k, std::uint64_t{0}); }
+
+// Per port, for every host kind: the 82510's counters, then what the line observer saw in each
+// direction, then both exactly-once comparisons (docs/scenarios.md "How each figure is measured").
+void print_ports(const nlohmann::json& ports, std::ostream& os) {
+    auto fixed1 = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(1) << v.get<double>();
+        return s.str();
+    };
+    os << "\nport  host      overruns  parity  framing  fifo-hw  char-latency max us\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        const auto& j = ports[p];
+        os << "  " << p << "   " << std::left << std::setw(9) << j.value("host", std::string("?")) << std::right
+           << std::setw(9) << u(j, "overruns") << std::setw(8) << u(j, "parity_errors") << std::setw(9)
+           << u(j, "framing_errors") << std::setw(9) << u(j, "rx_fifo_high_water") << std::setw(12)
+           << fixed1(j["char_latency_us"]["max"]) << "\n";
+        if (j.value("host", std::string()) == "protocol")
+            os << "      protocol host: sent " << u(j, "frames_sent") << ", delivered " << u(j, "frames_delivered")
+               << ", failed " << u(j, "frames_failed") << ", timeouts " << u(j, "timeouts") << ", responses "
+               << u(j, "responses_received") << ", response timeouts " << u(j, "response_timeouts") << "\n";
+    }
+    os << "\nline observer, per port and direction\n"
+       << "  port  from          enq  offered   bad   eot   nak  retry  abandoned\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        if (!ports[p].contains("line")) continue;
+        const auto& l = ports[p]["line"];
+        for (const char* d : {"host_to_controller", "controller_to_host"}) {
+            const auto& c = l[d];
+            os << "  " << std::setw(4) << p << "  " << std::left << std::setw(10)
+               << (d[0] == 'h' ? "host" : "controller") << std::right << std::setw(7) << u(c, "enqs") << std::setw(9)
+               << u(c, "frames_offered") << std::setw(6) << u(c, "frames_bad") << std::setw(6) << u(c, "frames_eot")
+               << std::setw(6) << u(c, "naks") << std::setw(7) << u(c, "retries") << std::setw(11)
+               << u(c, "abandoned") << "\n";
+        }
+    }
+    // sent: commands the host got EOT for / responses the main CPU handed to DP-RAM;
+    // received: valid frames the main CPU reassembled / responses that reached the host intact.
+    os << "\nexactly once (docs/scenarios.md)\n"
+       << "  port  frames        sent  received  matched  lost  dropped  dup  unexp  reord\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        if (!ports[p].contains("commands")) continue;
+        for (const char* k : {"commands", "responses"}) {
+            const auto& c = ports[p][k];
+            const bool cmd = k[0] == 'c';
+            const std::uint64_t dropped = cmd ? 0 : u(c["dropped"], "gave_up") + u(c["dropped"], "port_reset");
+            os << "  " << std::setw(4) << p << "  " << std::left << std::setw(10) << k << std::right << std::setw(7)
+               << u(c, cmd ? "host_eot" : "main_cpu_handed") << std::setw(10)
+               << u(c, cmd ? "main_cpu_received" : "host_received") << std::setw(9) << u(c, "matched") << std::setw(6)
+               << u(c, "lost") << std::setw(9) << dropped << std::setw(5) << u(c, "duplicates") << std::setw(7)
+               << u(c, "unexpected") << std::setw(7) << u(c, "reordered") << "\n";
+        }
+    }
+}
+
 } // namespace
 
 void print_summary(const nlohmann::json& r, std::ostream& os) {
@@ -120,17 +176,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
        << f(t["worst_margin_us"], 3) << " us)\n";
     if (t.contains("not_measured"))
         for (const auto& [k, why] : t["not_measured"].items()) os << "  not measured: " << k << ": " << why.get<std::string>() << "\n";
-    os << "\nport  sent  delivered  failed  naks  retries  overruns  parity  framing  fifo-hw  char-latency max us\n";
-    for (std::size_t p = 0; p < r["ports"].size(); ++p) {
-        const auto& j = r["ports"][p];
-        os << "  " << p << std::setw(7) << j["frames_sent"].get<std::uint64_t>() << std::setw(11)
-           << j["frames_delivered"].get<std::uint64_t>() << std::setw(8) << j["frames_failed"].get<std::uint64_t>()
-           << std::setw(6) << j["naks"].get<std::uint64_t>() << std::setw(9) << j["retries"].get<std::uint64_t>()
-           << std::setw(10) << j["overruns"].get<std::uint64_t>() << std::setw(8)
-           << j["parity_errors"].get<std::uint64_t>() << std::setw(9) << j["framing_errors"].get<std::uint64_t>()
-           << std::setw(9) << j["rx_fifo_high_water"].get<unsigned>() << std::setw(12)
-           << f(j["char_latency_us"]["max"]) << "\n";
-    }
+    print_ports(r["ports"], os);
     if (r.contains("main_cpu") && r["main_cpu"].contains("cycle_jitter_us")) {
         const auto& j = r["main_cpu"]["cycle_jitter_us"];
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
@@ -140,7 +186,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {
         const bool unmeasured = c.value("status", "") == "not measured";
-        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(32)
+        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(33)
            << c["name"].get<std::string>() << std::right << " value " << f(c["value"], 3) << "  limit "
            << f(c["limit"], 3);
         if (unmeasured) os << "  NOT MEASURED: " << c.value("reason", "");

@@ -2,7 +2,7 @@
 """Runs one scenario through the real rcsim binary and asserts its verdict.
 
 usage: check_case.py [--rom ROM] [--report KEY=JSON ...] RCSIM SCENARIO OUTDIR EXIT
-                     [FAILING_CHECK[=STATUS] ...]
+                     [FAILING_CHECK[=STATUS] ...] [--expect=EXPR ...]
 
 EXIT is the expected exit code (0 every check holds, 1 a check failed). The FAILING_CHECKs are
 exactly the checks that must fail (all others must pass), each optionally with the status it must
@@ -11,7 +11,10 @@ user reads it: the exit code, report.json (`passed`, each check's `passed` and `
 printed summary (a FAIL line naming the check, and the last line PASSED/FAILED).
 
 --rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
-KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value."""
+KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
+Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
+`ports` (report["ports"]) and `main` (report["main_cpu"]["ports"]) in scope: it states what the
+figures must be from the scenario's design, e.g. that two independent counters agree."""
 import json
 import os
 import subprocess
@@ -37,7 +40,11 @@ def main():
         args = args[2:]
     rcsim, scenario, out, want_exit = args[:4]
     want = {}
+    expects = []
     for arg in args[4:]:
+        if arg.startswith("--expect="):
+            expects.append(arg[len("--expect="):])
+            continue
         name, _, status = arg.partition("=")
         want[name] = status or "failed"
     run = subprocess.run([rcsim, "run", scenario, "--out", out, "--reproducible"] + extra,
@@ -75,6 +82,16 @@ def main():
             got = "(missing)"
         if got != value:
             problems.append(f"report.json {key} = {got!r}, expected {value!r}")
+    scope = {"report": report, "ports": report.get("ports", []),
+             "main": report.get("main_cpu", {}).get("ports", [])}
+    for expr in expects:
+        try:
+            ok = eval(expr, {"__builtins__": {"all": all, "any": any, "sum": sum, "len": len, "range": range}}, scope)
+        except Exception as e:  # a key the report lacks is a failure, not a crash
+            ok = False
+            expr += f"  ({type(e).__name__}: {e})"
+        if not ok:
+            problems.append(f"expected: {expr}")
     verdict = [l for l in run.stdout.splitlines() if l in ("PASSED", "FAILED")]
     if verdict != ["FAILED" if want else "PASSED"]:
         problems.append(f"the summary's verdict lines are {verdict}")

@@ -42,14 +42,23 @@ TEST(SystemScenario, ThreePortsSaturatedFor2sDeliverEveryFrameExactlyOnce) {
     EXPECT_LT(report["interrupts"]["rs232_rx"]["latency_us"]["max"].get<double>(), 4 * 1145.83);
     EXPECT_GT(report["table3"]["rs232_isr_us"].get<double>(), 0.0);
     EXPECT_GT(report["table3"]["dpram_byte_us"].get<double>(), 0.0);
-    bool found = false;
+    unsigned found = 0;
     for (const auto& c : report["checks"]) {
-        if (c["name"] == "frames_delivered_exactly_once") {
-            found = true;
+        if (c["name"] == "commands_delivered_exactly_once" || c["name"] == "responses_delivered_exactly_once") {
+            ++found;
             EXPECT_EQ(c["value"].get<double>(), 0.0) << c.dump();
             EXPECT_EQ(c["passed"], true);
         }
         EXPECT_EQ(c["passed"], true) << c.dump();
     }
-    EXPECT_TRUE(found) << "check frames_delivered_exactly_once missing";
+    EXPECT_EQ(found, 2u) << "an exactly-once check is missing";
+    // The line observers saw every command EOT'd and every response reach its host, once.
+    for (unsigned p = 0; p < 3; ++p) {
+        SCOPED_TRACE("port " + std::to_string(p));
+        const auto& port = report["ports"][p];
+        EXPECT_EQ(port["commands"]["host_eot"], port["frames_delivered"]);
+        EXPECT_EQ(port["commands"]["main_cpu_received"], port["main_cpu_frames_received"]);
+        EXPECT_EQ(port["responses"]["main_cpu_handed"], port["main_cpu_frames_sent"]);
+        EXPECT_EQ(port["responses"]["host_received"], port["responses_received"]);
+    }
 }
