@@ -33,7 +33,7 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         ctl.comm.uart[p].connect(lines[p], SerialLine::a);
         attach_host(p, s.ports[p]);
         ctl.comm.uart[p].on_char_read = [this, p](const Uart82510::CharTiming& c) {
-            char_reads[p].push_back(c.read);
+            recent_reads_[p].push_back(c.read);
             char_latency_us[p].add(to_us(c.read - c.stop));
         };
     }
@@ -41,6 +41,9 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         motion = std::make_unique<motion::MotionController>("motion");
         ctl.set_motion(motion.get());
     }
+    probe.keep_records(false);
+    probe.on_record = [this](const InterruptRecord& r) { on_record(r); };
+    probe.on_settled = [this](const sc_time& h) { on_settled(h); };
     probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
     bool any_tcp = false;
     for (const auto& h : tcp) any_tcp = any_tcp || h;
@@ -101,19 +104,43 @@ void Bench::inject_breaks() {
 void Bench::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
     namespace L = dpram_layout;
     const std::uint32_t off = r.address - scenario_.board.comm.dpram_base;
-    if (off < kDpramDataBytes && off % L::area_size != L::chunk_size) {
-        const unsigned port = off / L::area_size;
-        if (open_chunk_[port] < 0) {
-            open_chunk_[port] = static_cast<int>(chunks.size());
-            chunks.push_back({port, t, t, 0, 0});
-        }
-        DpramChunk& ch = chunks[open_chunk_[port]];
-        ch.last = t;
-        ++ch.writes;
-        ch.bytes += r.width;
-    } else if (off == L::int2rbt && L::word_kind(r.data & 0xFF) == L::kind_chunk && L::word_port(r.data & 0xFF) < kPorts) {
-        open_chunk_[L::word_port(r.data & 0xFF)] = -1;
+    if (off < kDpramDataBytes && off % L::area_size != L::chunk_size)
+        dpram_.data_write(off / L::area_size, t, r.width);
+    else if (off == L::int2rbt && L::word_kind(r.data & 0xFF) == L::kind_chunk && L::word_port(r.data & 0xFF) < kPorts)
+        dpram_.chunk_closed(L::word_port(r.data & 0xFF));
+}
+
+// A completed interrupt, in entry order. It is an rs232_rx interrupt when its port's RXD was
+// read between its first instruction and its IRET. Those reads came after the probe last settled
+// (the handler was entered after that), and are in time order.
+void Bench::on_record(const InterruptRecord& r) {
+    bool rx = false;
+    if (r.level < kPorts) {
+        const auto& reads = recent_reads_[r.level];
+        const auto it = std::lower_bound(reads.begin(), reads.end(), r.first_isr);
+        rx = it != reads.end() && *it <= r.iret_done;
     }
+    if (rx) {
+        rx_service_.add(r.service_us());
+        if (r.has_rise) rx_latency_.add(r.latency_us());
+    }
+    if (r.depth == 0) dpram_.interrupt(r.inta1, r.iret_done);
+    interrupts.add(report::row_of(r, rx));
+}
+
+// Every later record was entered after now: reads before now are of no more use to on_record.
+void Bench::on_settled(const sc_time& horizon) {
+    const sc_time now = sc_core::sc_time_stamp();
+    for (auto& reads : recent_reads_)
+        while (!reads.empty() && reads.front() < now) reads.pop_front();
+    dpram_.settle();
+    interrupts.settled(report::exact_us(horizon));
+}
+
+void Bench::finish() {
+    probe.flush();
+    dpram_.finish();
+    interrupts.finish();
 }
 
 void Bench::drain(double drain_s) {

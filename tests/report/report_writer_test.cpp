@@ -187,7 +187,7 @@ TEST(ReportHtml, HasEverySectionAndAnSvgPerChart) {
 
 TEST(ReportHtml, EmptyRunStillRenders) {
     nlohmann::json r = synthetic_report(true);
-    const std::string html = render_html(r, {});
+    const std::string html = render_html(r, std::vector<InterruptRow>{});
     EXPECT_NE(html.find("No interrupt completed"), std::string::npos);
     EXPECT_NE(html.find("no samples"), std::string::npos);
 }
