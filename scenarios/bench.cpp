@@ -42,6 +42,10 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         ctl.set_motion(motion.get());
     }
     probe.keep_records(false);
+    ctl.main.keep_history(false);
+    ctl.main.on_received = [this](const FrameRecord& r) {
+        if (r.port < kPorts) frames_[r.port].main_received(proto::Frame{r.token, r.bch, r.data});
+    };
     probe.on_record = [this](const InterruptRecord& r) { on_record(r); };
     probe.on_settled = [this](const sc_time& h) { on_settled(h); };
     probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
@@ -61,6 +65,8 @@ void Bench::attach_host(unsigned p, const PortScenario& ps) {
     if (ps.host == PortScenario::Host::protocol) {
         protocol[p] = std::make_unique<ProtocolHost>(n.c_str(), ps.protocol);
         protocol[p]->connect(lines[p], SerialLine::b);
+        protocol[p]->keep_history(false);
+        protocol[p]->on_delivered = [this, p](const proto::Frame& f) { frames_[p].host_delivered(f); };
         if (!ps.log_path.empty()) {
             logs_[p].open(ps.log_path);
             if (!logs_[p]) throw ConfigError(ps.log_path, 0, "cannot write the host log");

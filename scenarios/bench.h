@@ -65,6 +65,9 @@ public:
     const Samples& rs232_rx_service_us() const { return rx_service_; }
     const Samples& rs232_rx_latency_us() const { return rx_latency_; }
     const DpramByteTime& dpram_time() const { return dpram_; }
+    /// Frames port p's protocol host saw EOT for that the main CPU did not receive intact, in
+    /// order, exactly once.
+    std::uint64_t frame_mismatches(unsigned p) const { return frames_[p].mismatches(); }
 
 private:
     const Scenario& scenario_;
@@ -74,6 +77,7 @@ private:
     std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
     Samples rx_service_, rx_latency_;
     DpramByteTime dpram_;
+    std::array<FrameMatch, kPorts> frames_;
 
     void attach_host(unsigned p, const PortScenario& ps);
     void inject_breaks();

@@ -171,15 +171,19 @@ nlohmann::json port_json(const Bench& b, unsigned p) {
     return j;
 }
 
-std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, unsigned port) {
-    std::vector<const FrameRecord*> got;
-    for (const auto& r : main.received())
-        if (r.port == port) got.push_back(&r);
-    const auto& sent = host.delivered();
-    std::uint64_t bad = sent.size() > got.size() ? sent.size() - got.size() : got.size() - sent.size();
-    for (std::size_t i = 0; i < std::min(sent.size(), got.size()); ++i)
-        if (sent[i].token != got[i]->token || sent[i].bch != got[i]->bch || sent[i].data != got[i]->data) ++bad;
-    return bad;
+void FrameMatch::host_delivered(const proto::Frame& f) {
+    host_.push_back(f);
+    match();
+}
+
+void FrameMatch::main_received(const proto::Frame& f) {
+    main_.push_back(f);
+    match();
+}
+
+void FrameMatch::match() {
+    for (; !host_.empty() && !main_.empty(); host_.pop_front(), main_.pop_front())
+        if (!(host_.front() == main_.front())) ++bad_;
 }
 
 } // namespace rcsim

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "models/dpram_layout.h"
+#include "models/frame_codec.h"
 #include "models/stats.h"
 
 #include <systemc>
@@ -81,6 +82,22 @@ private:
     void sum_front();
 };
 
+/// The exactly-once comparison of one port, online: the frames the host saw EOT for against the
+/// valid frames the main CPU received, in order. Mismatches = the difference of the two counts
+/// plus the pairs (i-th sent, i-th received) that differ. A pair is compared as soon as both
+/// frames are in, so only the frames of one side not yet matched are kept (those in flight).
+class FrameMatch {
+public:
+    void host_delivered(const proto::Frame& f);
+    void main_received(const proto::Frame& f);
+    std::uint64_t mismatches() const { return bad_ + host_.size() + main_.size(); }
+
+private:
+    std::deque<proto::Frame> host_, main_; // one of them is empty
+    std::uint64_t bad_ = 0;
+    void match();
+};
+
 // The paper's Table 3 (HP 8086 emulator measurements).
 constexpr double kPaperRs232IsrUs = 82.0;
 constexpr double kPaperDpramByteUs = 52.553;
@@ -108,8 +125,6 @@ double budget_us(const Bench& b, const Scenario& s);
 /// report.json "ports[p]": the host's counters, the 82510's, the main CPU's.
 nlohmann::json port_json(const Bench& b, unsigned p);
 
-/// Frames the host saw EOT for that the main CPU did not receive intact, in order, exactly once.
-std::uint64_t frame_mismatches(const ProtocolHost& host, const MainCpu& main, unsigned port);
 
 nlohmann::json samples_json(const Samples& s);
 

@@ -123,7 +123,7 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
         f.overruns += pj["overruns"].get<std::uint64_t>();
         f.frames_failed += pj["frames_failed"].get<std::uint64_t>();
         f.frames_delivered += pj["frames_delivered"].get<std::uint64_t>();
-        if (bench.protocol[p]) f.frame_mismatches += frame_mismatches(*bench.protocol[p], bench.ctl.main, p);
+        if (bench.protocol[p]) f.frame_mismatches += bench.frame_mismatches(p);
         f.malformed += bench.ctl.main.port_stats(p).malformed;
         const Samples& lat = bench.char_latency_us[p];
         f.char_latency_max_us[p] = lat.count() ? Figure::of(lat.summary().max)

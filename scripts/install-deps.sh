@@ -7,6 +7,7 @@ PACKAGES=(
   libsystemc-dev libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev zlib1g-dev
   bcc bin86 nasm
+  time
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
