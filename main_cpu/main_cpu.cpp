@@ -216,7 +216,9 @@ void MainCpu::finish_frame(unsigned p) {
     } else {
         ++port.stats.frames_received;
         port.stats.bytes_received += port.rx.size();
-        received_.push_back(FrameRecord{p, sc_time_stamp(), f.token, f.bch, f.data});
+        const FrameRecord rec{p, sc_time_stamp(), f.token, f.bch, f.data};
+        if (on_received) on_received(rec);
+        if (keep_history_) received_.push_back(rec);
         rx_frames_.push_back(Received{p, f});
         rx_frame_event_.notify(sc_core::SC_ZERO_TIME);
     }
@@ -316,7 +318,8 @@ void MainCpu::tx_thread(unsigned p) {
         ++port.stats.frames_sent;
         port.stats.bytes_sent += out.bytes.size();
         out.record.time = sc_time_stamp();
-        sent_.push_back(out.record);
+        if (on_sent) on_sent(out.record);
+        if (keep_history_) sent_.push_back(out.record);
     }
 }
 

@@ -28,6 +28,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,15 @@ public:
     const MainCpuConfig& config() const { return config_; }
     const Dispatcher& dispatcher() const { return dispatcher_; }
     const MainCpuPortStats& port_stats(unsigned port) const { return ports_.at(port).stats; }
+    /// received() and sent() keep every frame while `keep_history` is on (the default, for
+    /// tests); a long run turns it off and listens to on_received and on_sent.
+    void keep_history(bool on) { keep_history_ = on; }
     const std::vector<FrameRecord>& received() const { return received_; }
     const std::vector<FrameRecord>& sent() const { return sent_; }
+    /// Called with each valid frame received, in order.
+    std::function<void(const FrameRecord&)> on_received;
+    /// Called with each response frame as it is handed to DP-RAM, in order.
+    std::function<void(const FrameRecord&)> on_sent;
     const std::vector<MalformedRecord>& malformed() const { return malformed_; }
 
     /// Control-cycle start jitter (actual start - ideal start), microseconds, one per cycle.
@@ -203,6 +211,7 @@ private:
     sc_core::sc_time int_r_rise_;
     sc_core::sc_time next_mailbox_slot_;
 
+    bool keep_history_ = true;
     std::vector<FrameRecord> received_;
     std::vector<FrameRecord> sent_;
     std::vector<MalformedRecord> malformed_;

@@ -36,7 +36,7 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         ctl.comm.uart[p].connect(lines[p], SerialLine::a);
         attach_host(p, s.ports[p]);
         ctl.comm.uart[p].on_char_read = [this, p](const Uart82510::CharTiming& c) {
-            char_reads[p].push_back(c.read);
+            recent_reads_[p].push_back(c.read);
             char_latency_us[p].add(to_us(c.read - c.stop));
         };
         lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
@@ -45,6 +45,16 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         motion = std::make_unique<motion::MotionController>("motion");
         ctl.set_motion(motion.get());
     }
+    probe.keep_records(false);
+    ctl.main.keep_history(false);
+    ctl.main.on_received = [this](const FrameRecord& f) {
+        if (f.port < kPorts) observers[f.port].main_received(frame_key(f.token, f.bch, f.data));
+    };
+    ctl.main.on_sent = [this](const FrameRecord& f) {
+        if (f.port < kPorts) observers[f.port].main_handed(frame_key(f.token, f.bch, f.data));
+    };
+    probe.on_record = [this](const InterruptRecord& r) { on_record(r); };
+    probe.on_settled = [this](const sc_time& h) { on_settled(h); };
     probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
     bool any_tcp = false;
     for (const auto& h : tcp) any_tcp = any_tcp || h;
@@ -62,6 +72,7 @@ void Bench::attach_host(unsigned p, const PortScenario& ps) {
     if (ps.host == PortScenario::Host::protocol) {
         protocol[p] = std::make_unique<ProtocolHost>(n.c_str(), ps.protocol);
         protocol[p]->connect(lines[p], SerialLine::b);
+        protocol[p]->keep_history(false);
         if (!ps.log_path.empty()) {
             logs_[p].open(ps.log_path);
             if (!logs_[p]) throw ConfigError(ps.log_path, 0, "cannot write the host log");
@@ -106,15 +117,7 @@ void Bench::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
     namespace L = dpram_layout;
     const std::uint32_t off = r.address - scenario_.board.comm.dpram_base;
     if (off < kDpramDataBytes && off % L::area_size != L::chunk_size) {
-        const unsigned port = off / L::area_size;
-        if (open_chunk_[port] < 0) {
-            open_chunk_[port] = static_cast<int>(chunks.size());
-            chunks.push_back({port, t, t, 0, 0});
-        }
-        DpramChunk& ch = chunks[open_chunk_[port]];
-        ch.last = t;
-        ++ch.writes;
-        ch.bytes += r.width;
+        dpram_.data_write(off / L::area_size, t, r.width);
         return;
     }
     sync_main_side();
@@ -122,7 +125,7 @@ void Bench::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
     if (off != L::int2rbt || L::word_port(word) >= kPorts) return;
     const unsigned port = L::word_port(word);
     switch (L::word_kind(word)) {
-    case L::kind_chunk: open_chunk_[port] = -1; break;
+    case L::kind_chunk: dpram_.chunk_closed(port); break;
     case L::kind_reset: observers[port].port_reset(); break;
     case L::kind_gave_up:
     case L::kind_gave_up_sent: observers[port].response_given_up(); break;
@@ -140,20 +143,12 @@ void Bench::observe_line(unsigned p, const SerialLine::Delivered& d) {
         observers[p].line_break(dir);
 }
 
-// Cheap when nothing changed (two sizes and three counters); called on every line character and
-// every DP-RAM write of the comm CPU, so the observers learn of the main CPU's frames within one
-// character time or one mailbox word.
+// The main CPU's frames reach the observers through on_received/on_sent as they happen; a reset
+// it asks for (0x3p in int2ext) is read from its counter. Cheap when nothing changed; called on
+// every line character and every DP-RAM write of the comm CPU.
 void Bench::sync_main_side() {
     const MainCpu& m = ctl.main;
-    for (; main_received_seen_ < m.received().size(); ++main_received_seen_) {
-        const FrameRecord& f = m.received()[main_received_seen_];
-        if (f.port < kPorts) observers[f.port].main_received(frame_key(f.token, f.bch, f.data));
-    }
-    for (; main_sent_seen_ < m.sent().size(); ++main_sent_seen_) {
-        const FrameRecord& f = m.sent()[main_sent_seen_];
-        if (f.port < kPorts) observers[f.port].main_handed(frame_key(f.token, f.bch, f.data));
-    }
-    // A reset the main CPU asks for (0x3p in int2ext) drops the comm CPU's transmit ring too.
+    // A reset the main CPU asks for drops the comm CPU's transmit ring too.
     for (unsigned p = 0; p < kPorts; ++p)
         for (; main_resets_seen_[p] < m.port_stats(p).resets_sent; ++main_resets_seen_[p]) observers[p].port_reset();
 }
@@ -161,6 +156,39 @@ void Bench::sync_main_side() {
 void Bench::finish_observers() {
     sync_main_side();
     for (LineObserver& o : observers) o.finish();
+}
+
+// A completed interrupt, in entry order. It is an rs232_rx interrupt when its port's RXD was
+// read between its first instruction and its IRET. Those reads came after the probe last settled
+// (the handler was entered after that), and are in time order.
+void Bench::on_record(const InterruptRecord& r) {
+    bool rx = false;
+    if (r.level < kPorts) {
+        const auto& reads = recent_reads_[r.level];
+        const auto it = std::lower_bound(reads.begin(), reads.end(), r.first_isr);
+        rx = it != reads.end() && *it <= r.iret_done;
+    }
+    if (rx) {
+        rx_service_.add(r.service_us());
+        if (r.has_rise) rx_latency_.add(r.latency_us());
+    }
+    if (r.depth == 0) dpram_.interrupt(r.inta1, r.iret_done);
+    interrupts.add(report::row_of(r, rx));
+}
+
+// Every later record was entered after now: reads before now are of no more use to on_record.
+void Bench::on_settled(const sc_time& horizon) {
+    const sc_time now = sc_core::sc_time_stamp();
+    for (auto& reads : recent_reads_)
+        while (!reads.empty() && reads.front() < now) reads.pop_front();
+    dpram_.settle();
+    interrupts.settled(report::exact_us(horizon));
+}
+
+void Bench::finish() {
+    probe.flush();
+    dpram_.finish();
+    interrupts.finish();
 }
 
 void Bench::drain(double drain_s) {

@@ -1,12 +1,15 @@
 // rcsim — the simulated world of one communication run: the controller, three serial lines, the
 // host attached to each, and the probes that watch them (docs/scenarios.md "How each figure is
-// measured"). Assembling it is all this file does; scenarios/measure.h turns what the probes saw
-// into figures, scenarios/checks.h judges them.
+// measured"). It assembles the world and feeds the online figures as the probes report (the
+// interrupt records, the DP-RAM time per byte, the characters' latency: nothing here grows with
+// the length of the run); scenarios/measure.h reads the figures, scenarios/checks.h judges them.
 #pragma once
 
 #include "scenarios/controller.h"
 #include "scenarios/interrupt_probe.h"
 #include "scenarios/line_observer.h"
+#include "scenarios/measure.h"
+#include "scenarios/report_html.h"
 #include "scenarios/scenario.h"
 #include "scenarios/host/protocol_host.h"
 #include "scenarios/host/raw_host.h"
@@ -19,20 +22,12 @@
 #include <systemc>
 
 #include <array>
+#include <deque>
 #include <fstream>
 #include <memory>
 #include <vector>
 
 namespace rcsim {
-
-/// One chunk the comm CPU wrote into DP-RAM: its data-byte writes, closed by its 0x1p mailbox
-/// word. The time per byte is measured over the data writes only (first to last), so waiting for
-/// the mailbox to be free is not counted as processing.
-struct DpramChunk {
-    unsigned port = 0;
-    sc_core::sc_time first, last; // T1 of the first and of the last data write
-    std::uint64_t writes = 0, bytes = 0;
-};
 
 class Bench : public sc_core::sc_module {
 public:
@@ -46,9 +41,10 @@ public:
     std::array<std::unique_ptr<ReplayHost>, kPorts> replay;
     std::unique_ptr<RealtimePacer> pacer; // with a tcp host, or `realtime:` set
     InterruptProbe probe;
-    std::array<std::vector<sc_core::sc_time>, kPorts> char_reads; // each RXD read of a character
-    std::array<Samples, kPorts> char_latency_us;                  // stop bit -> RXD read
-    std::vector<DpramChunk> chunks;
+    std::array<Samples, kPorts> char_latency_us; // stop bit -> RXD read
+    /// The probe's records as rows: interrupts.csv (streamed, write_csv_to) and report.html's
+    /// histograms and timeline windows.
+    report::InterruptLog interrupts;
     /// The independent observer of each line, fed by the line's receivers and the main CPU's
     /// DP-RAM side (line_observer.h).
     std::array<LineObserver, kPorts> observers;
@@ -75,21 +71,34 @@ public:
     /// passes as a complete one.
     void finish_files();
 
+    /// The end of the run: the records the probe still holds, the open DP-RAM chunks and the
+    /// timeline windows become final. Call once, before reading the figures.
+    void finish();
+
+    /// RS-232 interrupts that took a character out of the RX FIFO (the `rs232_rx` set).
+    const Samples& rs232_rx_service_us() const { return rx_service_; }
+    const Samples& rs232_rx_latency_us() const { return rx_latency_; }
+    const DpramByteTime& dpram_time() const { return dpram_; }
+
 private:
     const Scenario& scenario_;
-    std::array<int, kPorts> open_chunk_{-1, -1, -1};
     std::array<std::ofstream, kPorts> logs_;
+    // RXD reads of each port since the probe last settled: enough to tell whether an interrupt
+    // read a character, since its handler ran after that (see on_record).
+    std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
+    Samples rx_service_, rx_latency_;
+    DpramByteTime dpram_;
 
     void attach_host(unsigned p, const PortScenario& ps);
     void inject_breaks();
     void watch_dpram(const i8086::BusRecord& r, const sc_core::sc_time& t);
 
-    // The main CPU's side for the observers, read incrementally: frames past these cursors and
-    // port resets it asked for since the last look are new.
-    std::size_t main_received_seen_ = 0, main_sent_seen_ = 0;
+    // Port resets the main CPU asked for that the observers have been told of.
     std::array<std::uint64_t, kPorts> main_resets_seen_{};
     void observe_line(unsigned p, const SerialLine::Delivered& d);
     void sync_main_side();
+    void on_record(const InterruptRecord& r);
+    void on_settled(const sc_core::sc_time& horizon);
 };
 
 } // namespace rcsim

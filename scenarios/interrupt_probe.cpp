@@ -2,6 +2,8 @@
 
 #include "comm_cpu/cpu8086.h"
 
+#include <algorithm>
+
 namespace rcsim {
 
 using i8086::Bus;
@@ -85,12 +87,41 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
 }
 
 void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
-    Open& o = stack_.back();
-    o.rec.iret_done = iret_done;
-    o.rec.done = true;
-    done_.push_back(o.rec);
+    InterruptRecord rec = stack_.back().rec;
     stack_.pop_back();
+    rec.iret_done = iret_done;
+    rec.done = true;
+    const unsigned level = rec.level & 7;
+    ++count_[level];
+    if (rec.has_rise) latency_[level].add(rec.latency_us());
+    service_[level].add(rec.service_us());
+    if (keep_) done_.push_back(rec);
+    held_.push_back(rec);
+    // Back in the main program: everything entered so far has completed.
+    if (stack_.empty()) hand_over(start_horizon());
 }
+
+void InterruptProbe::hand_over(const sc_core::sc_time& horizon) {
+    // Nested records completed before the one they interrupted: entry order is by first INTA.
+    std::sort(held_.begin(), held_.end(),
+              [](const InterruptRecord& a, const InterruptRecord& b) { return a.inta1 < b.inta1; });
+    if (on_record)
+        for (const InterruptRecord& r : held_) on_record(r);
+    held_.clear();
+    if (on_settled) on_settled(horizon);
+}
+
+sc_core::sc_time InterruptProbe::start_horizon() const {
+    // A later record is entered after now (its INTA is still to come, at or after the kernel's
+    // time) and starts at that INTA or at its IR rise: one pending now, or one still to come.
+    sc_core::sc_time h = sc_core::sc_time_stamp();
+    for (const Open& o : stack_) h = std::min(h, o.rec.has_rise ? o.rec.ir_rise : o.rec.inta1);
+    for (std::size_t level = 0; level < 8; ++level)
+        if (rise_pending_[level]) h = std::min(h, rise_[level]);
+    return h;
+}
+
+void InterruptProbe::flush() { hand_over(sc_core::sc_max_time()); }
 
 bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::sc_time& t) {
     if (o.rec.inta2 == sc_core::SC_ZERO_TIME) return false;
@@ -170,19 +201,6 @@ std::vector<const InterruptRecord*> InterruptProbe::of_level(unsigned level) con
     for (const auto& r : done_)
         if (r.level == level) out.push_back(&r);
     return out;
-}
-
-Samples InterruptProbe::latency_us(unsigned level) const {
-    Samples s;
-    for (const auto* r : of_level(level))
-        if (r->has_rise) s.add(r->latency_us());
-    return s;
-}
-
-Samples InterruptProbe::service_us(unsigned level) const {
-    Samples s;
-    for (const auto* r : of_level(level)) s.add(r->service_us());
-    return s;
 }
 
 } // namespace rcsim

@@ -12,6 +12,10 @@
 // latency = first_isr - ir_rise; service = iret_done - first_isr. Nested interrupts are tracked
 // with a stack. The handler address and return address come from the entry's own bus cycles
 // (vector-table reads and the pushes of CS and IP).
+//
+// Memory stays flat over any run length: per level the probe keeps a count and the latency and
+// service sample sets (models/stats.h), and hands each completed record to `on_record` instead
+// of keeping it. Keeping every record (`keep_records`) is for short tests.
 #pragma once
 
 #include "comm_cpu/i8086.h"
@@ -23,7 +27,6 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <string>
 #include <vector>
 
 namespace rcsim {
@@ -53,11 +56,28 @@ public:
     InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
                    std::uint16_t pic_io_base, std::uint32_t dpram_base, std::uint32_t dpram_data_size);
 
+    /// Completed interrupts of one level, and their latency (those with an IR rise) and service.
+    std::uint64_t count(unsigned level) const { return level < 8 ? count_[level] : 0; }
+    const Samples& latency_us(unsigned level) const { return latency_[level & 7]; }
+    const Samples& service_us(unsigned level) const { return service_[level & 7]; }
+
+    /// Every completed record, in completion order, and those of one level: kept only while
+    /// `keep_records` is on (the default, for tests of a few seconds; a long run turns it off and
+    /// listens to `on_record`).
+    void keep_records(bool on) { keep_ = on; }
     const std::vector<InterruptRecord>& records() const { return done_; }
-    /// Completed interrupts of one level.
     std::vector<const InterruptRecord*> of_level(unsigned level) const;
-    Samples latency_us(unsigned level) const;
-    Samples service_us(unsigned level) const;
+
+    /// Completed records, in entry order (first INTA), each once it and every interrupt entered
+    /// before it have completed: the probe holds a record back while an interrupt it is nested
+    /// in still runs (the nested one completes first), and hands the lot over when the CPU is
+    /// back in the main program. `on_settled(h)` follows each such batch: every record handed over
+    /// later starts (IR rise, or first INTA without one) at h or after.
+    std::function<void(const InterruptRecord&)> on_record;
+    std::function<void(const sc_core::sc_time&)> on_settled;
+    /// The end of the run: hands over the completed records still held back (their outer
+    /// interrupt never returned) and settles at the end of time. Records still open stay out.
+    void flush();
 
     /// Called for every memory write into the DP-RAM window [dpram_base, dpram_base + 1 KB) with
     /// the write's T1 time (for per-byte DP-RAM measurements). Other cycles are not passed on, so
@@ -89,6 +109,10 @@ private:
         bool popped = false;                // the return IP was read back
     };
     std::vector<Open> stack_;
+    std::vector<InterruptRecord> held_; // completed, some interrupt entered before them still open
+    std::array<std::uint64_t, 8> count_{};
+    std::array<Samples, 8> latency_, service_;
+    bool keep_ = true;
     std::vector<InterruptRecord> done_;
 
     void sample_lines();
@@ -98,6 +122,8 @@ private:
     bool on_entry_cycle(Open& o, const i8086::BusRecord& r, const sc_core::sc_time& t);
     void on_handler_cycle(const i8086::BusRecord& r, const sc_core::sc_time& t);
     void close_top(const sc_core::sc_time& iret_done);
+    void hand_over(const sc_core::sc_time& horizon);
+    sc_core::sc_time start_horizon() const;
 };
 
 } // namespace rcsim

@@ -1,30 +1,14 @@
 #include "scenarios/measure.h"
 
+#include "scenarios/bench.h"
+
 #include <algorithm>
 
 namespace rcsim {
 
 namespace {
-
 using sc_core::sc_time;
 constexpr unsigned kPorts = Bench::kPorts;
-
-/// Interrupt handler time that falls inside [a, b] (the part of a chunk copy spent in ISRs).
-double isr_time_inside_us(const InterruptProbe& probe, const sc_time& a, const sc_time& b) {
-    double sum = 0;
-    for (const auto& r : probe.records()) {
-        if (r.depth != 0) continue; // nested time is already inside its parent
-        const sc_time lo = std::max(a, r.inta1), hi = std::min(b, r.iret_done);
-        if (hi > lo) sum += to_us(hi - lo);
-    }
-    return sum;
-}
-
-bool read_char_inside(const std::vector<sc_time>& reads, const sc_time& a, const sc_time& b) {
-    auto it = std::lower_bound(reads.begin(), reads.end(), a);
-    return it != reads.end() && *it <= b;
-}
-
 } // namespace
 
 nlohmann::json samples_json(const Samples& s) {
@@ -35,45 +19,96 @@ nlohmann::json samples_json(const Samples& s) {
     return j;
 }
 
-std::vector<report::InterruptRow> interrupt_rows(const Bench& b) {
-    std::vector<report::InterruptRow> rows;
-    for (const auto& r : b.probe.records())
-        rows.push_back(report::row_of(r, r.level < kPorts && read_char_inside(b.char_reads[r.level], r.first_isr, r.iret_done)));
-    return rows;
+// ---------------------------------------------------------------------------------------------
+// DP-RAM time per byte
+
+namespace {
+/// The part of [a, b] inside [first, end], added to `sum`: one term of the handler time.
+void add_inside(double& sum, const sc_time& first, const sc_time& end, const sc_time& a, const sc_time& b) {
+    const sc_time lo = std::max(first, a), hi = std::min(end, b);
+    if (hi > lo) sum += to_us(hi - lo);
 }
+} // namespace
+
+void DpramByteTime::data_write(unsigned port, const sc_time& t, unsigned width) {
+    Chunk*& open = open_[port];
+    if (!open) {
+        chunks_.push_back(Chunk{port, t, t});
+        open = &chunks_.back(); // a deque keeps its elements in place as it grows at either end
+    } else {
+        // Every interrupt completed since the last write ended before this one (bus order).
+        open->isr_us = open->isr_more_us;
+    }
+    open->last = t;
+    ++open->writes;
+    open->bytes += width;
+    if (chunks_.size() > kMaxPending && !chunks_.front().closed) {
+        chunk_closed(chunks_.front().port);
+        settle();
+    }
+}
+
+void DpramByteTime::chunk_closed(unsigned port) {
+    if (!open_[port]) return;
+    open_[port]->closed = true; // isr_us already ends the span at the last write
+    open_[port] = nullptr;
+}
+
+void DpramByteTime::interrupt(const sc_time& inta1, const sc_time& iret_done) {
+    for (Chunk& c : chunks_) {
+        add_inside(c.isr_us, c.first, c.last, inta1, iret_done);
+        if (!c.closed) add_inside(c.isr_more_us, c.first, sc_core::sc_max_time(), inta1, iret_done);
+    }
+}
+
+void DpramByteTime::sum_front() {
+    const Chunk& c = chunks_.front();
+    if (c.writes >= 2) {
+        time_us_ += to_us(c.last - c.first) - c.isr_us;
+        gaps_ += c.writes - 1;
+        bytes_ += c.bytes;
+    }
+    chunks_.pop_front();
+}
+
+void DpramByteTime::settle() {
+    // Summed in the order the chunks began: an open chunk holds back the closed ones behind it.
+    while (!chunks_.empty() && chunks_.front().closed) sum_front();
+}
+
+void DpramByteTime::finish() {
+    for (unsigned p = 0; p < kPorts; ++p) chunk_closed(p);
+    settle();
+}
+
+std::optional<double> DpramByteTime::per_byte_us() const {
+    if (!gaps_) return std::nullopt;
+    return time_us_ / static_cast<double>(gaps_);
+}
+
+// ---------------------------------------------------------------------------------------------
+// figures of the finished bench
+
 
 InterruptFigures measure_interrupts(const Bench& b) {
     InterruptFigures c;
     static const char* names[] = {"rs232_0", "rs232_1", "rs232_2", "dpram"};
     for (unsigned level = 0; level < 4; ++level) {
         nlohmann::json j;
-        j["count"] = b.probe.of_level(level).size();
+        j["count"] = b.probe.count(level);
         j["latency_us"] = samples_json(b.probe.latency_us(level));
         j["service_us"] = samples_json(b.probe.service_us(level));
         c.interrupts[names[level]] = j;
     }
     // RS-232 interrupts that took at least one character out of the RX FIFO (the paper's
     // "RS-232 interrupt"; the others are the firmware's timer tick and transmit interrupts).
-    for (unsigned p = 0; p < kPorts; ++p)
-        for (const auto* r : b.probe.of_level(p))
-            if (read_char_inside(b.char_reads[p], r->first_isr, r->iret_done)) {
-                c.rs232_rx_service.add(r->service_us());
-                if (r->has_rise) c.rs232_rx_latency.add(r->latency_us());
-            }
+    c.rs232_rx_service = b.rs232_rx_service_us();
+    c.rs232_rx_latency = b.rs232_rx_latency_us();
     c.interrupts["rs232_rx"] = {{"count", c.rs232_rx_service.count()},
                                 {"latency_us", samples_json(c.rs232_rx_latency)},
                                 {"service_us", samples_json(c.rs232_rx_service)}};
-    // Per byte: the span of a chunk's data writes over the writes it holds (n writes, n-1 gaps),
-    // less the interrupt handlers that ran inside it.
-    double time_us = 0;
-    std::uint64_t gaps = 0;
-    for (const DpramChunk& ch : b.chunks) {
-        if (ch.writes < 2) continue;
-        time_us += to_us(ch.last - ch.first) - isr_time_inside_us(b.probe, ch.first, ch.last);
-        gaps += ch.writes - 1;
-        c.dpram_bytes += ch.bytes;
-    }
-    if (gaps) c.dpram_byte_us = time_us / static_cast<double>(gaps);
+    c.dpram_byte_us = b.dpram_time().per_byte_us();
+    c.dpram_bytes = b.dpram_time().bytes();
     return c;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -30,18 +31,19 @@ std::string source_name(unsigned level) {
     return "ir" + std::to_string(level);
 }
 
+double exact_us(const sc_core::sc_time& t) {
+    // sc_time is an integer count of picoseconds: value() / 1e6 keeps every digit.
+    return sc_core::sc_get_time_resolution() == sc_core::sc_time(1, sc_core::SC_PS)
+               ? static_cast<double>(t.value()) / 1e6
+               : t.to_seconds() * 1e6;
+}
+
 InterruptRow row_of(const InterruptRecord& r, bool rx) {
-    auto us = [](const sc_core::sc_time& t) { return t.to_seconds() * 1e6; };
+    const auto exact = exact_us;
     InterruptRow row;
     row.source = source_name(r.level);
     row.level = r.level;
     row.vector = r.vector;
-    // sc_time is an integer count of picoseconds: value() / 1e6 keeps every digit.
-    auto exact = [&us](const sc_core::sc_time& t) {
-        return sc_core::sc_get_time_resolution() == sc_core::sc_time(1, sc_core::SC_PS)
-                   ? static_cast<double>(t.value()) / 1e6
-                   : us(t);
-    };
     row.ir_rise_us = r.has_rise ? exact(r.ir_rise) : 0;
     row.inta1_us = exact(r.inta1);
     row.inta2_us = exact(r.inta2);
@@ -63,18 +65,24 @@ void sort_rows(std::vector<InterruptRow>& rows) {
                      [](const InterruptRow& a, const InterruptRow& b) { return a.inta1_us < b.inta1_us; });
 }
 
-void write_interrupts_csv(const std::vector<InterruptRow>& rows, std::ostream& os) {
+void write_csv_header(std::ostream& os) {
     os << "source,level,vector,ir_rise_us,inta1_us,inta2_us,first_isr_us,eoi_us,iret_done_us,latency_us,"
           "service_us,depth,rx,dpram_read_bytes,dpram_write_bytes,handler\n";
-    for (const InterruptRow& r : rows) {
-        char handler[16];
-        std::snprintf(handler, sizeof handler, "%05X", static_cast<unsigned>(r.handler));
-        os << r.source << ',' << r.level << ',' << r.vector << ',' << (r.has_rise ? num(r.ir_rise_us, 6) : "")
-           << ',' << num(r.inta1_us, 6) << ',' << num(r.inta2_us, 6) << ',' << num(r.first_isr_us, 6) << ','
-           << (r.has_eoi ? num(r.eoi_us, 6) : "") << ',' << num(r.iret_done_us, 6) << ','
-           << (r.has_rise ? num(r.latency_us(), 6) : "") << ',' << num(r.service_us(), 6) << ',' << r.depth
-           << ',' << (r.rx ? 1 : 0) << ',' << r.dpram_reads << ',' << r.dpram_writes << ',' << handler << '\n';
-    }
+}
+
+void write_csv_row(const InterruptRow& r, std::ostream& os) {
+    char handler[16];
+    std::snprintf(handler, sizeof handler, "%05X", static_cast<unsigned>(r.handler));
+    os << r.source << ',' << r.level << ',' << r.vector << ',' << (r.has_rise ? num(r.ir_rise_us, 6) : "")
+       << ',' << num(r.inta1_us, 6) << ',' << num(r.inta2_us, 6) << ',' << num(r.first_isr_us, 6) << ','
+       << (r.has_eoi ? num(r.eoi_us, 6) : "") << ',' << num(r.iret_done_us, 6) << ','
+       << (r.has_rise ? num(r.latency_us(), 6) : "") << ',' << num(r.service_us(), 6) << ',' << r.depth
+       << ',' << (r.rx ? 1 : 0) << ',' << r.dpram_reads << ',' << r.dpram_writes << ',' << handler << '\n';
+}
+
+void write_interrupts_csv(const std::vector<InterruptRow>& rows, std::ostream& os) {
+    write_csv_header(os);
+    for (const InterruptRow& r : rows) write_csv_row(r, os);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -86,21 +94,37 @@ std::uint64_t Histogram::total() const {
     return n;
 }
 
-Histogram make_histogram(const std::vector<double>& v, unsigned target_bins) {
+namespace {
+/// Bins over [mn, mx]; then put(x, n) for every value.
+Histogram empty_bins(double mn, double mx, unsigned target_bins) {
     Histogram h;
-    if (v.empty()) return h;
-    const auto [mn, mx] = std::minmax_element(v.begin(), v.end());
-    const double span = *mx - *mn;
+    const double span = mx - mn;
     h.width = span > 0 ? svg::nice_step(span, static_cast<int>(std::max(1u, target_bins))) : 1.0;
-    h.lo = std::floor(*mn / h.width) * h.width;
-    const auto n = static_cast<std::size_t>(std::floor((*mx - h.lo) / h.width)) + 1;
-    h.counts.assign(n, 0);
-    for (double x : v) {
-        auto i = static_cast<long long>(std::floor((x - h.lo) / h.width));
-        i = std::clamp<long long>(i, 0, static_cast<long long>(n) - 1);
-        ++h.counts[static_cast<std::size_t>(i)];
-    }
+    h.lo = std::floor(mn / h.width) * h.width;
+    h.counts.assign(static_cast<std::size_t>(std::floor((mx - h.lo) / h.width)) + 1, 0);
     // A last bin that only the rounding of max fills is kept: max must lie inside the bins.
+    return h;
+}
+void put(Histogram& h, double x, std::uint64_t n) {
+    auto i = static_cast<long long>(std::floor((x - h.lo) / h.width));
+    i = std::clamp<long long>(i, 0, static_cast<long long>(h.counts.size()) - 1);
+    h.counts[static_cast<std::size_t>(i)] += n;
+}
+} // namespace
+
+Histogram make_histogram(const std::vector<double>& v, unsigned target_bins) {
+    if (v.empty()) return {};
+    const auto [mn, mx] = std::minmax_element(v.begin(), v.end());
+    Histogram h = empty_bins(*mn, *mx, target_bins);
+    for (double x : v) put(h, x, 1);
+    return h;
+}
+
+Histogram make_histogram(const Samples& s, unsigned target_bins) {
+    const auto& v = s.values();
+    if (v.empty()) return {};
+    Histogram h = empty_bins(v.front().first, v.back().first, target_bins);
+    for (const auto& [x, n] : v) put(h, x, n);
     return h;
 }
 
@@ -120,6 +144,111 @@ TimeWindow busiest_window(const std::vector<InterruptRow>& rows, double width_us
         if (j - i > best.interrupts) best = {starts[i], starts[i] + width_us, j - i};
     }
     return best;
+}
+
+// ---------------------------------------------------------------------------------------------
+// the online windows and the log
+
+TimelineWindows::TimelineWindows(double window_us, double zoom_us)
+    : window_us_(window_us), zoom_us_(zoom_us), keep_us_(std::max(window_us, 2.5 * zoom_us)) {}
+
+namespace {
+bool overlaps(const InterruptRow& r, double t0, double t1) { return !(r.iret_done_us < t0 || r.start_us() > t1); }
+} // namespace
+
+void TimelineWindows::add(const InterruptRow& r) {
+    ++rows_;
+    levels_ = std::max(levels_, r.level + 1);
+    const bool nested = open_until_ > r.iret_done_us;
+    open_until_ = std::max(open_until_, r.iret_done_us);
+    recent_.push_back({r, nested});
+    unordered_starts_.push(r.start_us());
+    // The zoom: the first row of the longest latency so far, else the first row.
+    if (rows_ == 1 || (r.has_rise && (!worst_has_rise_ || r.latency_us() > worst_.latency_us()))) {
+        choose_zoom(r);
+    } else if (overlaps(r, z0_, z0_ + zoom_)) {
+        zoom_rows_.push_back(recent_.back());
+    }
+}
+
+void TimelineWindows::choose_zoom(const InterruptRow& r) {
+    worst_ = r;
+    worst_has_rise_ = r.has_rise;
+    // The whole interrupt when its wait fits, else its entry and service with the IR rise named
+    // at the left edge.
+    zoom_ = zoom_us_;
+    const double whole = (r.iret_done_us - r.start_us()) / 0.85;
+    if (whole <= 2.5 * zoom_) {
+        zoom_ = std::max(zoom_, whole);
+        z0_ = r.start_us() - 0.05 * zoom_;
+    } else {
+        zoom_ = std::max(zoom_, (r.iret_done_us - r.inta1_us) / 0.6);
+        z0_ = r.inta1_us - 0.3 * zoom_;
+    }
+    z0_ = std::max(0.0, z0_);
+    zoom_rows_.clear();
+    for (const TimelineRow& t : recent_)
+        if (overlaps(t.row, z0_, z0_ + zoom_)) zoom_rows_.push_back(t);
+}
+
+void TimelineWindows::settled(double horizon_us) {
+    while (!unordered_starts_.empty() && unordered_starts_.top() < horizon_us) {
+        next_start(unordered_starts_.top());
+        unordered_starts_.pop();
+    }
+    // A row is needed while it ends at or after the earliest start of a window still to be
+    // counted, or while a later zoom may reach back to it.
+    double needed_from = horizon_us - keep_us_;
+    if (!starts_.empty()) needed_from = std::min(needed_from, starts_.front());
+    if (!unordered_starts_.empty()) needed_from = std::min(needed_from, unordered_starts_.top());
+    while (!recent_.empty() && recent_.front().row.iret_done_us < needed_from) recent_.pop_front();
+}
+
+void TimelineWindows::next_start(double start) {
+    starts_.push_back(start);
+    // The window from the first start is complete once a start at or past its end is in.
+    while (starts_.front() + window_us_ <= start) count_first_window();
+}
+
+void TimelineWindows::count_first_window() {
+    const double t0 = starts_.front();
+    // A repeated start opens the same window with fewer rows after it: never the busiest.
+    if (!counted_any_ || t0 != last_counted_) {
+        const double t1 = t0 + window_us_;
+        const auto n = static_cast<std::size_t>(std::lower_bound(starts_.begin(), starts_.end(), t1) - starts_.begin());
+        if (!counted_any_ || n > best_.interrupts) {
+            best_ = {t0, t1, n};
+            best_rows_.clear();
+            for (const TimelineRow& t : recent_)
+                if (overlaps(t.row, t0, t1)) best_rows_.push_back(t);
+        }
+        counted_any_ = true;
+        last_counted_ = t0;
+    }
+    starts_.pop_front();
+}
+
+void TimelineWindows::finish() {
+    settled(std::numeric_limits<double>::infinity());
+    while (!starts_.empty()) count_first_window();
+}
+
+InterruptLog::InterruptLog(double window_us, double zoom_us) : timeline_(window_us, zoom_us) {}
+
+void InterruptLog::write_csv_to(std::ostream* os) {
+    csv_ = os;
+    if (csv_) write_csv_header(*csv_);
+}
+
+void InterruptLog::add(const InterruptRow& r) {
+    if (csv_) write_csv_row(r, *csv_);
+    auto put = [&r](Samples& latency, Samples& service) {
+        if (r.has_rise) latency.add(r.latency_us());
+        service.add(r.service_us());
+    };
+    if (r.level < 4) put(latency_[r.level], service_[r.level]);
+    if (r.rx) put(latency_[4], service_[4]);
+    timeline_.add(r);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -159,17 +288,6 @@ std::string hex(unsigned v, int digits) {
     return b;
 }
 
-struct Stats {
-    std::size_t count = 0;
-    double min = 0, mean = 0, p99 = 0, max = 0;
-};
-Stats stats_of(const std::vector<double>& v) {
-    Samples s;
-    for (double x : v) s.add(x);
-    const Summary m = s.summary();
-    return {m.count, m.min, m.mean, m.p99, m.max};
-}
-
 const char* kCss = R"(
 body{font-family:-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;font-size:14px;color:#222;margin:0 auto;max-width:1200px;padding:0 16px 40px}
 h1{font-size:22px;margin:0}
@@ -198,7 +316,7 @@ code{background:#f4f4f4;padding:0 3px}
 // charts
 
 /// A histogram of `v` with min, mean, p99 and max marked.
-std::string histogram_svg(const std::string& title, const std::vector<double>& v, const std::string& xlabel,
+std::string histogram_svg(const std::string& title, const Samples& v, const std::string& xlabel,
                           const std::string& colour) {
     const double W = 570, H = 260, L = 62, R = 16, T = 48, B = 58;
     svg::Doc d(W, H, title);
@@ -208,7 +326,7 @@ std::string histogram_svg(const std::string& title, const std::vector<double>& v
         return d.str();
     }
     const Histogram h = make_histogram(v, 30);
-    const Stats st = stats_of(v);
+    const Summary st = v.summary();
     std::uint64_t maxc = 0, minnz = ~0ull;
     for (auto c : h.counts) {
         maxc = std::max(maxc, c);
@@ -336,12 +454,11 @@ std::string char_latency_svg(const json& ports, double limit) {
 
 /// The logic-analyser picture of [t0, t1]: one row per IR level, a thin bar from IR rise to the
 /// first ISR instruction (waiting), a thick bar from there to IRET done (in service), ticks at
-/// the INTA cycles and at the EOI. The x axis is (t - origin_us) / unit_us.
-std::string timeline_svg(const std::vector<InterruptRow>& rows, const std::vector<bool>& nested, double t0,
-                         double t1, double origin_us, double unit_us, const std::string& xlabel,
-                         const InterruptRow* mark, const std::string& aria) {
-    unsigned levels = 4;
-    for (const auto& r : rows) levels = std::max(levels, r.level + 1);
+/// the INTA cycles and at the EOI. The x axis is (t - origin_us) / unit_us. `rows` are those that
+/// reach into [t0, t1], in entry order; `levels` IR rows are drawn.
+std::string timeline_svg(const std::vector<TimelineRow>& rows, unsigned levels, double t0, double t1,
+                         double origin_us, double unit_us, const std::string& xlabel, const InterruptRow* mark,
+                         const std::string& aria) {
     const double W = 1160, L = 118, R = 14, row = 46, B = 52;
     const double T = 62 + (mark ? 58 : 0); // room above the rows for the marked interrupt's labels
     const double H = T + row * levels + B;
@@ -377,8 +494,9 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, const std::vecto
         d.text(L - 8, mid + 12, source_name(lv), "end", 11, "fill=\"#555\"");
     }
     const double min_w = 1.0;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const InterruptRow& r = rows[i];
+    for (const TimelineRow& tr : rows) {
+        const InterruptRow& r = tr.row;
+        const bool nested = tr.nested;
         if (r.iret_done_us < t0 || r.start_us() > t1) continue;
         const double mid = T + row * r.level + row / 2;
         const std::string c = colour_of(r.level);
@@ -386,9 +504,9 @@ std::string timeline_svg(const std::vector<InterruptRow>& rows, const std::vecto
         if (r.has_rise) d.rect(xs, mid - 3, std::max(xi - xs, 0.0), 6, c, "fill-opacity=\"0.35\"");
         const bool strong = r.level >= 3 || r.rx;
         std::string extra = strong ? "" : " fill-opacity=\"0.4\"";
-        if (nested[i]) extra += " stroke=\"#000\" stroke-width=\"1.5\"";
+        if (nested) extra += " stroke=\"#000\" stroke-width=\"1.5\"";
         std::string tip = "IR" + std::to_string(r.level) + " " + r.source + ", vector 0x" + hex(r.vector, 2) +
-                          (r.rx ? ", RX" : "") + (nested[i] ? ", nested" : "") + ", probe depth " + std::to_string(r.depth) +
+                          (r.rx ? ", RX" : "") + (nested ? ", nested" : "") + ", probe depth " + std::to_string(r.depth) +
                           "\nIR rise " + (r.has_rise ? num(r.ir_rise_us, 3) + " us" : "-") + "\nINTA1 " +
                           num(r.inta1_us, 3) + " us, INTA2 " + num(r.inta2_us, 3) + " us\nfirst ISR " +
                           num(r.first_isr_us, 3) + " us\nEOI " + (r.has_eoi ? num(r.eoi_us, 3) + " us" : "-") +
@@ -484,7 +602,7 @@ void section_table3(std::ostream& o, const json& r) {
       << "</td><td></td><td></td></tr>\n</table>\n<div class=\"chart\">" << table3_svg(t) << "</div></section>\n";
 }
 
-void section_interrupts(std::ostream& o, const json& r, const std::vector<InterruptRow>& rows) {
+void section_interrupts(std::ostream& o, const json& r, const InterruptLog& log) {
     o << "<section id=\"interrupts\"><h2>Interrupt latency and service time</h2>\n"
       << "<p class=\"note\">Latency = first ISR instruction &minus; IR rise; service = IRET done &minus; first ISR "
          "instruction. <b>rs232_rx</b> are the RS-232 interrupts that took at least one character out of an RX "
@@ -502,17 +620,12 @@ void section_interrupts(std::ostream& o, const json& r, const std::vector<Interr
           << "</td><td>" << num(jd(s, "p99"), 1) << "</td><td>" << num(jd(s, "max"), 1) << "</td></tr>\n";
     }
     o << "</table>\n";
-    for (int k = 0; k < 5; ++k) {
+    for (unsigned k = 0; k < InterruptLog::kHistograms; ++k) {
         const bool rx = k == 4;
-        std::vector<double> lat, svc;
-        for (const auto& row : rows) {
-            if (rx ? !row.rx : row.level != static_cast<unsigned>(k)) continue;
-            if (row.has_rise) lat.push_back(row.latency_us());
-            svc.push_back(row.service_us());
-        }
+        const Samples &lat = log.latency(k), &svc = log.service(k);
         const std::string label = rx ? "rs232_rx (RS-232 interrupts that read a character)"
-                                      : "IR" + std::to_string(k) + " " + source_name(static_cast<unsigned>(k));
-        const std::string colour = colour_of(rx ? 0u : static_cast<unsigned>(k));
+                                      : "IR" + std::to_string(k) + " " + source_name(k);
+        const std::string colour = colour_of(rx ? 0u : k);
         o << "<h3>" << esc(label) << "</h3>\n<div class=\"grid\">"
           << histogram_svg(names[k] + std::string(": latency"), lat, "latency: IR rise to first ISR instruction [us]",
                            colour)
@@ -523,49 +636,28 @@ void section_interrupts(std::ostream& o, const json& r, const std::vector<Interr
     o << "</section>\n";
 }
 
-void section_timeline(std::ostream& o, const std::vector<InterruptRow>& rows, const HtmlOptions& opt) {
+void section_timeline(std::ostream& o, const TimelineWindows& tl) {
     o << "<section id=\"timeline\"><h2>Timeline</h2>\n";
-    if (rows.empty()) {
+    if (tl.rows() == 0) {
         o << "<p>No interrupt completed in this run.</p></section>\n";
         return;
     }
-    const TimeWindow w = busiest_window(rows, opt.window_us);
-    // Nested: entered while an earlier interrupt's handler was still running (it returns after
-    // this one), from the times alone. Rows are in entry order.
-    std::vector<bool> nested(rows.size(), false);
-    double open_until = -1;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        nested[i] = open_until > rows[i].iret_done_us;
-        open_until = std::max(open_until, rows[i].iret_done_us);
-    }
-    o << "<h3>Busiest " << num(opt.window_us / 1000, 0) << " ms: " << num(w.start_us / 1000, 3) << " .. "
+    const TimeWindow& w = tl.busiest();
+    o << "<h3>Busiest " << num(tl.window_us() / 1000, 0) << " ms: " << num(w.start_us / 1000, 3) << " .. "
       << num(w.end_us / 1000, 3) << " ms (" << w.interrupts << " interrupts start in it)</h3>\n"
       << "<p class=\"note\">The window of the run in which the most interrupts start (the earliest such window on "
          "a tie). Hover over a bar for its times.</p>\n<div class=\"chart\">"
-      << timeline_svg(rows, nested, w.start_us, w.end_us, 0, 1000, "simulation time [ms]", nullptr, "busiest window")
+      << timeline_svg(tl.busiest_rows(), tl.levels(), w.start_us, w.end_us, 0, 1000, "simulation time [ms]", nullptr,
+                      "busiest window")
       << "</div>\n";
-    const InterruptRow* worst = nullptr;
-    for (const auto& r : rows)
-        if (r.has_rise && (!worst || r.latency_us() > worst->latency_us())) worst = &r;
-    if (!worst) worst = &rows.front();
-    // The zoom shows the whole interrupt when its wait fits, else its entry and service with the
-    // IR rise named at the left edge.
-    double zoom = opt.zoom_us, z0 = 0;
-    const double whole = (worst->iret_done_us - worst->start_us()) / 0.85;
-    if (whole <= 2.5 * zoom) {
-        zoom = std::max(zoom, whole);
-        z0 = worst->start_us() - 0.05 * zoom;
-    } else {
-        zoom = std::max(zoom, (worst->iret_done_us - worst->inta1_us) / 0.6);
-        z0 = worst->inta1_us - 0.3 * zoom;
-    }
-    z0 = std::max(0.0, z0);
-    o << "<h3>Zoom on the longest latency: IR" << worst->level << " " << esc(worst->source) << " entered at "
-      << num(worst->inta1_us / 1000, 3) << " ms, latency "
-      << (worst->has_rise ? num(worst->latency_us(), 1) : std::string("-")) << " us, service "
-      << num(worst->service_us(), 1) << " us</h3>\n<div class=\"chart\">"
-      << timeline_svg(rows, nested, z0, z0 + zoom, z0, 1, "time after " + num(z0 / 1000, 3) + " ms [us]", worst,
-                      "zoom on the longest latency")
+    const InterruptRow& worst = tl.worst();
+    const double z0 = tl.zoom_start_us(), zoom = tl.zoom_width_us();
+    o << "<h3>Zoom on the longest latency: IR" << worst.level << " " << esc(worst.source) << " entered at "
+      << num(worst.inta1_us / 1000, 3) << " ms, latency "
+      << (worst.has_rise ? num(worst.latency_us(), 1) : std::string("-")) << " us, service "
+      << num(worst.service_us(), 1) << " us</h3>\n<div class=\"chart\">"
+      << timeline_svg(tl.zoom_rows(), tl.levels(), z0, z0 + zoom, z0, 1, "time after " + num(z0 / 1000, 3) + " ms [us]",
+                      &worst, "zoom on the longest latency")
       << "</div></section>\n";
 }
 
@@ -635,9 +727,7 @@ void section_main_cpu(std::ostream& o, const json& r) {
 // ---------------------------------------------------------------------------------------------
 // the page
 
-std::string render_html(const json& r, const std::vector<InterruptRow>& unsorted, const HtmlOptions& opt) {
-    std::vector<InterruptRow> rows = unsorted;
-    sort_rows(rows);
+std::string render_html(const json& r, const InterruptLog& log, const HtmlOptions& opt) {
     std::ostringstream o;
     const std::string name = js(r, "scenario", "?");
     const bool passed = r.value("passed", false);
@@ -661,7 +751,7 @@ std::string render_html(const json& r, const std::vector<InterruptRow>& unsorted
       << "</td></tr>\n"
       << "<tr><td>comm CPU</td><td>" << num(jd(cpu, "clock_hz") / 1e6, 3) << " MHz 8086, " << ju(cpu, "cycles")
       << " cycles, " << ju(cpu, "instructions") << " instructions</td></tr>\n"
-      << "<tr><td>interrupts recorded</td><td>" << rows.size() << "</td></tr>\n"
+      << "<tr><td>interrupts recorded</td><td>" << log.rows() << "</td></tr>\n"
       << "<tr><td>checks</td><td>" << (jo(r, "checks").size() - failed) << " of " << jo(r, "checks").size()
       << " hold</td></tr>\n</table>\n";
     o << "<nav><a href=\"#checks\">Checks</a><a href=\"#table3\">Table 3</a><a href=\"#interrupts\">Interrupts</a>"
@@ -669,8 +759,8 @@ std::string render_html(const json& r, const std::vector<InterruptRow>& unsorted
       << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>") << "</nav></header>\n";
     section_checks(o, r);
     section_table3(o, r);
-    section_interrupts(o, r, rows);
-    section_timeline(o, rows, opt);
+    section_interrupts(o, r, log);
+    section_timeline(o, log.timeline());
     section_ports(o, r);
     section_main_cpu(o, r);
     if (!opt.trajectory_svg.empty()) {
@@ -690,16 +780,16 @@ std::string render_html(const json& r, const std::vector<InterruptRow>& unsorted
     return o.str();
 }
 
-void write_report_files(const std::filesystem::path& dir, const json& report, std::vector<InterruptRow> rows) {
+std::string render_html(const json& report, const std::vector<InterruptRow>& unsorted, const HtmlOptions& opt) {
+    std::vector<InterruptRow> rows = unsorted;
     sort_rows(rows);
-    {
-        const auto f = dir / "interrupts.csv";
-        std::ofstream out(f);
-        if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
-        write_interrupts_csv(rows, out);
-        out.flush();
-        if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
-    }
+    InterruptLog log(opt.window_us, opt.zoom_us);
+    for (const InterruptRow& row : rows) log.add(row);
+    log.finish();
+    return render_html(report, log, opt);
+}
+
+void write_report_html(const std::filesystem::path& dir, const json& report, const InterruptLog& log) {
     HtmlOptions opt;
     const auto traj = dir / "trajectory.svg";
     if (report.contains("motion") && std::filesystem::exists(traj)) {
@@ -711,7 +801,7 @@ void write_report_files(const std::filesystem::path& dir, const json& report, st
     const auto f = dir / "report.html";
     std::ofstream out(f);
     if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
-    out << render_html(report, rows, opt);
+    out << render_html(report, log, opt);
     out.flush();
     if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
 }

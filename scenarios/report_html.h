@@ -9,16 +9,27 @@
 //
 // Both are pure functions of their inputs (fixed number formatting, no clock, no host path), so
 // two --reproducible runs of the same scenario, seed and ROM give byte-identical files.
+//
+// A run hands its rows to an InterruptLog as the probe completes them: it writes each CSV line at
+// once and keeps only what the page shows (the histograms as sample sets, the rows of the two
+// timeline windows), so its memory does not grow with the length of the run. The functions on
+// whole row lists below are the same definitions for tests and small tools.
 #pragma once
 
 #include "scenarios/interrupt_probe.h"
+#include "models/stats.h"
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
+#include <queue>
 #include <string>
 #include <vector>
 
@@ -36,14 +47,22 @@ struct InterruptRow {
     std::uint64_t dpram_reads = 0, dpram_writes = 0;
     std::uint32_t handler = 0;
 
-    double latency_us() const { return first_isr_us - ir_rise_us; } // only when has_rise
-    double service_us() const { return iret_done_us - first_isr_us; }
+    // Differences of the exact picosecond times, so that they are the probe's figures to the bit
+    // (a difference of the two rounded doubles is not) and repeat as often as those do.
+    double latency_us() const { return difference_us(first_isr_us, ir_rise_us); } // only when has_rise
+    double service_us() const { return difference_us(iret_done_us, first_isr_us); }
+    /// a - b of two times in microseconds, taken in whole picoseconds.
+    static double difference_us(double a, double b) {
+        return static_cast<double>(std::llround(a * 1e6) - std::llround(b * 1e6)) / 1e6;
+    }
     /// Where the interrupt starts on a timeline: IR rise, or the first INTA without a rise.
     double start_us() const { return has_rise ? ir_rise_us : inta1_us; }
 };
 
 /// The source name of an 8259A level on the communication board.
 std::string source_name(unsigned level);
+/// A simulated time in microseconds with every picosecond kept (sc_time counts picoseconds).
+double exact_us(const sc_core::sc_time& t);
 InterruptRow row_of(const InterruptRecord& r, bool rx);
 /// Sorts rows into entry order (first INTA), stable.
 void sort_rows(std::vector<InterruptRow>& rows);
@@ -51,6 +70,8 @@ void sort_rows(std::vector<InterruptRow>& rows);
 /// interrupts.csv: header line, then one line per row. Empty fields for ir_rise/latency without a
 /// rise and for eoi without an EOI.
 void write_interrupts_csv(const std::vector<InterruptRow>& rows, std::ostream& os);
+void write_csv_header(std::ostream& os);
+void write_csv_row(const InterruptRow& r, std::ostream& os);
 
 /// Equal-width bins [lo + i*width, lo + (i+1)*width); every sample falls into exactly one bin.
 struct Histogram {
@@ -61,6 +82,8 @@ struct Histogram {
 };
 /// Bin width 1, 2 or 5 x 10^k giving at most about `target_bins` bins over [min, max].
 Histogram make_histogram(const std::vector<double>& samples, unsigned target_bins = 30);
+/// The same over a sample set's kept values (the same bins while it is exact).
+Histogram make_histogram(const Samples& samples, unsigned target_bins = 30);
 
 /// A window [start_us, start_us + width) of the timeline.
 struct TimeWindow {
@@ -71,19 +94,110 @@ struct TimeWindow {
 /// interrupt start; ties go to the earliest. Rows must be sorted (sort_rows).
 TimeWindow busiest_window(const std::vector<InterruptRow>& rows, double width_us);
 
+/// A row as a timeline draws it: nested = entered while an earlier interrupt's handler was still
+/// running (that one returns after this one), from the times alone.
+struct TimelineRow {
+    InterruptRow row;
+    bool nested = false;
+};
+
+/// The two timelines of report.html, found online from rows given in entry order:
+///   the busiest window: busiest_window() over all rows;
+///   the zoom: around the row of the longest latency (the first in entry order of those; without
+///   any IR rise, the first row), wide enough to hold it.
+/// Each keeps the rows drawn in it. Besides those it holds the starts not yet in order and the rows
+/// that may still fall into a later candidate window: those ending after the earliest start of a
+/// busiest window still to be counted, or within keep_us = max(window_us, 2.5 zoom_us) before
+/// the settled horizon. The zoom's rows are complete whenever the zoomed interrupt's INTA-to-IRET
+/// span is at most 2 keep_us (a zoom reaches back half of that span).
+class TimelineWindows {
+public:
+    explicit TimelineWindows(double window_us = 20000, double zoom_us = 1000);
+
+    /// The next row in entry order.
+    void add(const InterruptRow& r);
+    /// No row added from now on starts before `horizon_us`.
+    void settled(double horizon_us);
+    /// No more rows.
+    void finish();
+
+    std::uint64_t rows() const { return rows_; }
+    /// IR rows drawn: 4, or more when a higher level was seen.
+    unsigned levels() const { return levels_; }
+    double window_us() const { return window_us_; }
+    const TimeWindow& busiest() const { return best_; }
+    const std::vector<TimelineRow>& busiest_rows() const { return best_rows_; }
+    /// The zoomed row (only when rows() > 0) and the zoom [start, start + width].
+    const InterruptRow& worst() const { return worst_; }
+    double zoom_start_us() const { return z0_; }
+    double zoom_width_us() const { return zoom_; }
+    const std::vector<TimelineRow>& zoom_rows() const { return zoom_rows_; }
+    /// Rows and starts held for windows still to be decided (the memory it needs).
+    std::size_t held() const { return recent_.size() + unordered_starts_.size() + starts_.size(); }
+
+private:
+    double window_us_, zoom_us_, keep_us_;
+    std::uint64_t rows_ = 0;
+    unsigned levels_ = 4;
+    double open_until_ = -1; // the latest IRET of the rows so far
+    std::deque<TimelineRow> recent_; // entry order
+    std::priority_queue<double, std::vector<double>, std::greater<double>> unordered_starts_;
+    std::deque<double> starts_; // in order, from the first window start not yet counted
+    bool counted_any_ = false;
+    double last_counted_ = 0;
+    TimeWindow best_;
+    std::vector<TimelineRow> best_rows_;
+    bool worst_has_rise_ = false;
+    InterruptRow worst_;
+    double z0_ = 0, zoom_ = 0;
+    std::vector<TimelineRow> zoom_rows_;
+
+    void next_start(double start);
+    void count_first_window();
+    void choose_zoom(const InterruptRow& r);
+};
+
+/// What a run keeps of its interrupt rows: interrupts.csv as it goes, the histograms and the
+/// timeline windows of report.html.
+class InterruptLog {
+public:
+    explicit InterruptLog(double window_us = 20000, double zoom_us = 1000);
+
+    /// Writes the CSV header to `os` now and every row as it is added; nullptr: no CSV.
+    void write_csv_to(std::ostream* os);
+    void add(const InterruptRow& r); // entry order
+    void settled(double horizon_us) { timeline_.settled(horizon_us); }
+    void finish() { timeline_.finish(); }
+
+    std::uint64_t rows() const { return timeline_.rows(); }
+    /// Histogram k: IR0..IR3 by level, 4 = rs232_rx. Latency only of rows with an IR rise.
+    static constexpr unsigned kHistograms = 5;
+    const Samples& latency(unsigned k) const { return latency_[k]; }
+    const Samples& service(unsigned k) const { return service_[k]; }
+    const TimelineWindows& timeline() const { return timeline_; }
+
+private:
+    std::ostream* csv_ = nullptr;
+    std::array<Samples, kHistograms> latency_, service_;
+    TimelineWindows timeline_;
+};
+
 struct HtmlOptions {
-    double window_us = 20000;   // the busiest-window timeline
+    double window_us = 20000;   // the busiest-window timeline (rows version of render_html)
     double zoom_us = 1000;      // the zoom around the worst latency (widened to hold it)
     std::string trajectory_svg; // trajectory.svg's text, "" = none
 };
 
-/// The whole report.html page for `report` (report.json's content) and the probe rows.
+/// The whole report.html page for `report` (report.json's content) and the run's interrupt log
+/// (finished). The timeline widths are the log's.
+std::string render_html(const nlohmann::json& report, const InterruptLog& log, const HtmlOptions& options = {});
+/// The same from a list of rows (any order): they go through an InterruptLog with the options'
+/// window and zoom widths.
 std::string render_html(const nlohmann::json& report, const std::vector<InterruptRow>& rows,
                         const HtmlOptions& options = {});
 
-/// Writes dir/interrupts.csv and dir/report.html (embedding dir/trajectory.svg when the report has
-/// a motion section and the file exists). Throws std::runtime_error naming a file it cannot write.
-void write_report_files(const std::filesystem::path& dir, const nlohmann::json& report,
-                        std::vector<InterruptRow> rows);
+/// Writes dir/report.html (embedding dir/trajectory.svg when the report has a motion section and
+/// the file exists). Throws std::runtime_error naming a file it cannot write.
+void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log);
 
 } // namespace rcsim::report

@@ -13,8 +13,12 @@
 #include "scenarios/trajectory_report.h"
 #include "models/config_error.h"
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 
 #ifndef RCSIM_COMM_FW_ROM
 #define RCSIM_COMM_FW_ROM ""
@@ -175,12 +179,21 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     Bench bench("bench", s);
     bench.ctl.comm.load_rom(rom);
     sc_core::sc_trace_file* vcd = trace_lines(bench, opt.vcd);
+    // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
+    std::ofstream csv;
+    const std::filesystem::path csv_file = std::filesystem::path(opt.out_dir) / "interrupts.csv";
+    if (!opt.out_dir.empty()) {
+        csv.open(csv_file);
+        if (!csv) throw ConfigError(csv_file.string(), 0, "cannot write the file");
+        bench.interrupts.write_csv_to(&csv);
+    }
 
     const auto wall0 = std::chrono::steady_clock::now();
     if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     if (stop_signal() == 0) bench.drain(s.drain_s);
     bench.finish_observers();
+    bench.finish();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
     bench.finish_files();
@@ -211,7 +224,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
 
     if (!opt.out_dir.empty()) {
         write_report_json(opt.out_dir, report);
-        report::write_report_files(opt.out_dir, report, interrupt_rows(bench));
+        csv.close();
+        if (!csv) throw ConfigError(csv_file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+        report::write_report_html(opt.out_dir, report, bench.interrupts);
     }
     return exit_code(passed);
 }

@@ -8,6 +8,7 @@ PACKAGES=(
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev zlib1g-dev
   bcc bin86 nasm python3
   parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
+  time                     # peak RSS of the memory tests (/usr/bin/time)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

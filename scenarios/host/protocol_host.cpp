@@ -115,7 +115,7 @@ void ProtocolHost::send_bytes(const std::string& bytes) {
 }
 
 void ProtocolHost::note(const std::string& text) {
-    log_.push_back(LogEntry{sc_core::sc_time_stamp(), text});
+    if (keep_history_) log_.push_back(LogEntry{sc_core::sc_time_stamp(), text});
     if (log_os_) *log_os_ << std::setw(14) << ms(sc_core::sc_time_stamp()) << "  " << name() << ": " << text << '\n';
 }
 
@@ -217,7 +217,8 @@ void ProtocolHost::do_command(const Frame& f) {
             r = await_reply(EOT, "EOT/NAK");
             if (r == Reply::positive) {
                 ++counters_.frames_delivered;
-                delivered_.push_back(f);
+                if (keep_history_) delivered_.push_back(f);
+                if (on_delivered) on_delivered(f);
                 delivery_us_.add(to_us(sc_core::sc_time_stamp() - command_start_));
                 awaiting_response_ = cfg_.traffic.wait_response;
                 response_deadline_ = sc_core::sc_time_stamp() + cfg_.traffic.response_timeout;
@@ -293,7 +294,7 @@ void ProtocolHost::serve_controller() {
         note("frame " + f.token + " BCH " + hex2(f.bch) + " with " + std::to_string(f.data.size()) +
              " data bytes; > EOT");
         ++counters_.responses_received;
-        responses_.push_back(f);
+        if (keep_history_) responses_.push_back(f);
         if (awaiting_response_) {
             awaiting_response_ = false;
             response_us_.add(to_us(b.at - command_start_));

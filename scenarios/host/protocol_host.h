@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -107,9 +108,14 @@ public:
     void send(const proto::Frame& f);
 
     const Counters& counters() const { return counters_; }
+    /// responses(), delivered() and log() keep every entry while `keep_history` is on (the
+    /// default, for tests); a long run turns it off and listens to on_delivered.
+    void keep_history(bool on) { keep_history_ = on; }
     const std::vector<proto::Frame>& responses() const { return responses_; }
     /// The commands that got EOT, in order (what the controller accepted).
     const std::vector<proto::Frame>& delivered() const { return delivered_; }
+    /// Called with each command that got EOT, in order.
+    std::function<void(const proto::Frame&)> on_delivered;
     /// Generates no further commands; what is queued or in progress still completes (a scenario's
     /// drain phase).
     void stop_traffic() { stopped_ = true; }
@@ -170,6 +176,7 @@ private:
         return !stopped_ && (cfg_.traffic.count == 0 || generated_ < cfg_.traffic.count);
     }
     bool stopped_ = false;
+    bool keep_history_ = true;
     std::vector<proto::Frame> delivered_;
     proto::Frame make_command();
     std::uint64_t next_random();

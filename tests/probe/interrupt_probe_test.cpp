@@ -7,6 +7,10 @@
 #include "scenarios/host/protocol_host.h"
 #include "tests/support/sc_test.h"
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 using namespace rcsim;
 
 namespace {
@@ -81,4 +85,55 @@ TEST(InterruptProbe, RecordsFollowTheAcknowledgeSequenceAndNameTheRealHandlers) 
     EXPECT_EQ(per_level[2], 0u);   // nothing on port 2
     EXPECT_EQ(b.probe.latency_us(2).count(), 0u);
     EXPECT_EQ(b.probe.service_us(1).count(), per_level[1]);
+}
+
+TEST(InterruptProbe, HandsEveryRecordOverOnceInEntryOrderAndNoneStartsBeforeTheHorizon) {
+    Bench b;
+    std::vector<InterruptRecord> handed;
+    std::vector<std::pair<std::size_t, sc_core::sc_time>> settled; // records handed so far, horizon
+    b.probe.on_record = [&](const InterruptRecord& r) { handed.push_back(r); };
+    b.probe.on_settled = [&](const sc_core::sc_time& h) { settled.emplace_back(handed.size(), h); };
+    sc_core::sc_start(us(400000));
+    b.probe.flush();
+    ASSERT_EQ(b.host.counters().frames_delivered, 3u);
+    // The same records as the kept list (which is in completion order), each once.
+    const auto& kept = b.probe.records();
+    ASSERT_EQ(handed.size(), kept.size());
+    auto by_entry = [](const InterruptRecord& x, const InterruptRecord& y) { return x.inta1 < y.inta1; };
+    std::vector<InterruptRecord> sorted = kept;
+    std::sort(sorted.begin(), sorted.end(), by_entry);
+    EXPECT_TRUE(std::is_sorted(handed.begin(), handed.end(), by_entry)) << "entry order";
+    for (std::size_t i = 0; i < handed.size(); ++i) {
+        EXPECT_EQ(handed[i].inta1, sorted[i].inta1) << i;
+        EXPECT_EQ(handed[i].iret_done, sorted[i].iret_done) << i;
+    }
+    std::size_t nested = 0;
+    for (const auto& r : kept) nested += r.depth > 0;
+    EXPECT_GT(nested, 0u) << "the test's premise: some were held back behind the DP-RAM handler";
+    // Every record handed over after a settle starts at its horizon or later.
+    ASSERT_FALSE(settled.empty());
+    for (const auto& [from, h] : settled)
+        for (std::size_t i = from; i < handed.size(); ++i) {
+            const sc_core::sc_time start = handed[i].has_rise ? handed[i].ir_rise : handed[i].inta1;
+            ASSERT_GE(start, h) << "record " << i << " after the settle at record " << from;
+        }
+    // Per level the online counts and sample sets are those of the records.
+    for (unsigned level = 0; level < 4; ++level) {
+        EXPECT_EQ(b.probe.count(level), b.probe.of_level(level).size());
+        EXPECT_EQ(b.probe.service_us(level).count(), b.probe.of_level(level).size());
+    }
+}
+
+TEST(InterruptProbe, KeepsNoRecordWhenToldNot) {
+    Bench b;
+    b.probe.keep_records(false);
+    std::uint64_t handed = 0;
+    b.probe.on_record = [&](const InterruptRecord&) { ++handed; };
+    sc_core::sc_start(us(100000));
+    b.probe.flush();
+    EXPECT_TRUE(b.probe.records().empty());
+    EXPECT_GT(handed, 50u); // the 1 ms tick alone in 100 ms
+    std::uint64_t counted = 0;
+    for (unsigned level = 0; level < 8; ++level) counted += b.probe.count(level);
+    EXPECT_EQ(handed, counted);
 }

@@ -5,6 +5,7 @@
 #include "tests/support/sc_test.h"
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -187,7 +188,7 @@ TEST(ReportHtml, HasEverySectionAndAnSvgPerChart) {
 
 TEST(ReportHtml, EmptyRunStillRenders) {
     nlohmann::json r = synthetic_report(true);
-    const std::string html = render_html(r, {});
+    const std::string html = render_html(r, std::vector<InterruptRow>{});
     EXPECT_NE(html.find("No interrupt completed"), std::string::npos);
     EXPECT_NE(html.find("no samples"), std::string::npos);
 }
@@ -204,4 +205,143 @@ TEST(ReportSvg, NumbersAreFixedAndTextIsEscaped) {
     ASSERT_FALSE(t.empty());
     EXPECT_DOUBLE_EQ(t.front(), 0);
     EXPECT_DOUBLE_EQ(t.back(), 300);
+}
+
+namespace {
+
+// A long random run in entry order: depth-0 interrupts one after another, some with a nested one
+// inside (entered later, returning first), IR rises up to 1.5 ms before their INTA (so starts
+// are out of entry order), a few without a rise.
+std::vector<InterruptRow> random_run(std::uint64_t seed, int n) {
+    std::mt19937_64 rng(seed);
+    std::vector<InterruptRow> rows;
+    double t = 100;
+    for (int i = 0; i < n; ++i) {
+        t += 20 + static_cast<double>(rng() % 3000) / 4;
+        InterruptRow r = make_row(static_cast<unsigned>(rng() % 4), 0, 0, 0);
+        r.inta1_us = t;
+        r.inta2_us = t + 1;
+        r.first_isr_us = t + 5;
+        r.has_rise = rng() % 10 != 0;
+        r.ir_rise_us = r.has_rise ? t - static_cast<double>(rng() % 6000) / 4 : 0;
+        r.iret_done_us = r.first_isr_us + 30 + static_cast<double>(rng() % 800) / 4;
+        rows.push_back(r);
+        if (rng() % 5 == 0) { // a nested interrupt inside this one
+            InterruptRow q = r;
+            q.level = 3;
+            q.source = source_name(3);
+            q.depth = 1;
+            q.inta1_us = r.first_isr_us + 10;
+            q.inta2_us = q.inta1_us + 1;
+            q.first_isr_us = q.inta1_us + 5;
+            q.ir_rise_us = q.inta1_us - 2;
+            q.iret_done_us = r.iret_done_us - 3;
+            rows.push_back(q);
+        }
+        t = r.iret_done_us;
+    }
+    return rows;
+}
+
+std::vector<TimelineRow> drawn_in(const std::vector<InterruptRow>& rows, double t0, double t1) {
+    std::vector<TimelineRow> out;
+    double open_until = -1;
+    for (const auto& r : rows) {
+        const bool nested = open_until > r.iret_done_us;
+        open_until = std::max(open_until, r.iret_done_us);
+        if (!(r.iret_done_us < t0 || r.start_us() > t1)) out.push_back({r, nested});
+    }
+    return out;
+}
+
+void expect_same(const std::vector<TimelineRow>& got, const std::vector<TimelineRow>& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].row.inta1_us, want[i].row.inta1_us) << i;
+        EXPECT_EQ(got[i].nested, want[i].nested) << i;
+    }
+}
+
+} // namespace
+
+TEST(ReportTimeline, OnlineWindowsAreThoseOfTheWholeRowList) {
+    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+        SCOPED_TRACE("seed " + std::to_string(seed));
+        const auto rows = random_run(seed, 3000);
+        // Settled after each row with the earliest start still to come, as the probe does.
+        std::vector<double> later_start(rows.size() + 1, std::numeric_limits<double>::infinity());
+        for (std::size_t i = rows.size(); i-- > 0;) later_start[i] = std::min(later_start[i + 1], rows[i].start_us());
+        TimelineWindows tl(5000, 1000);
+        std::size_t most_held = 0;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            tl.add(rows[i]);
+            if (i % 3 == 0) tl.settled(later_start[i + 1]);
+            most_held = std::max(most_held, tl.held());
+        }
+        tl.finish();
+        EXPECT_EQ(tl.rows(), rows.size());
+        const TimeWindow w = busiest_window(rows, 5000);
+        EXPECT_EQ(tl.busiest().start_us, w.start_us);
+        EXPECT_EQ(tl.busiest().interrupts, w.interrupts);
+        expect_same(tl.busiest_rows(), drawn_in(rows, w.start_us, w.end_us));
+        // The zoom: the first row of the longest latency.
+        const InterruptRow* worst = nullptr;
+        for (const auto& r : rows)
+            if (r.has_rise && (!worst || r.latency_us() > worst->latency_us())) worst = &r;
+        ASSERT_NE(worst, nullptr);
+        EXPECT_EQ(tl.worst().inta1_us, worst->inta1_us);
+        EXPECT_GE(tl.zoom_start_us(), worst->start_us() - 0.3 * tl.zoom_width_us());
+        EXPECT_LE(tl.zoom_start_us(), worst->start_us());
+        expect_same(tl.zoom_rows(), drawn_in(rows, tl.zoom_start_us(), tl.zoom_start_us() + tl.zoom_width_us()));
+        // Held: the rows of a few windows, not the run (3000 rows over about 2.5 s).
+        EXPECT_LT(most_held, 300u);
+    }
+}
+
+TEST(ReportLog, StreamsTheCsvOfTheRowsAndKeepsTheirHistograms) {
+    const auto rows = synthetic_rows();
+    std::ostringstream streamed, whole;
+    InterruptLog log;
+    log.write_csv_to(&streamed);
+    for (const auto& r : rows) log.add(r);
+    log.finish();
+    write_interrupts_csv(rows, whole);
+    EXPECT_EQ(streamed.str(), whole.str());
+    EXPECT_EQ(log.rows(), rows.size());
+    std::size_t level0 = 0, rx = 0;
+    for (const auto& r : rows) {
+        level0 += r.level == 0;
+        rx += r.rx;
+    }
+    EXPECT_EQ(log.service(0).count(), level0);
+    EXPECT_EQ(log.service(4).count(), rx) << "histogram 4 is rs232_rx";
+    // A histogram of a sample set bins like one of the samples themselves.
+    std::vector<double> svc;
+    for (const auto& r : rows)
+        if (r.level == 0) svc.push_back(r.service_us());
+    EXPECT_EQ(make_histogram(log.service(0)).counts, make_histogram(svc).counts);
+}
+
+TEST(ReportTimeline, TheZoomReachesBackToALongInterruptThatEndedBeforeIt) {
+    // L runs 6 ms (longer than the 5 ms window); when M's start is in, no busiest window needs L
+    // any more. The longest latency comes after them, with a service of 9.9 ms: its zoom
+    // (case "entry and service": width 9.9 / 0.6 = 16.5 ms, from 0.3 of it before its INTA,
+    // 10.8 - 4.95 = 5.85 ms) still shows the end of L at 6 ms.
+    auto row = [](double rise, double inta1, double iret) {
+        InterruptRow r = make_row(0, rise, inta1 + 5 - rise, iret - inta1 - 5);
+        r.inta1_us = inta1;
+        r.inta2_us = inta1 + 1;
+        return r;
+    };
+    const InterruptRow l = row(0, 100, 6000), m = row(10600, 10600, 10620), w = row(10650, 10800, 20700);
+    TimelineWindows tl(5000, 1000);
+    tl.add(l);
+    tl.add(m);
+    tl.settled(10650); // the probe's horizon: w's IR rise is pending
+    tl.add(w);
+    tl.finish();
+    ASSERT_EQ(tl.worst().inta1_us, w.inta1_us);
+    EXPECT_NEAR(tl.zoom_start_us(), 5850, 1e-6);
+    ASSERT_EQ(tl.zoom_rows().size(), 3u) << "L, M and the zoomed interrupt";
+    EXPECT_EQ(tl.zoom_rows()[0].row.inta1_us, l.inta1_us);
 }
