@@ -25,6 +25,16 @@ const char* to_string(TState t) {
 
 Cpu::Cpu() { reset(); }
 
+void Cpu::map_memory(const MemRegion& region) {
+    mem_.add(region);
+    // Adding may move the regions: rebuild the whole page table.
+    for (std::uint32_t p = 0; p < page_.size(); ++p) {
+        const std::uint32_t first = p << kPageBits, last = first + (1u << kPageBits) - 1;
+        const MemRegion* r = mem_.find(first);
+        page_[p] = r && r->contains(last) ? r : nullptr;
+    }
+}
+
 void Cpu::reset() {
     r_ = Registers{};
     r_.s[CS] = 0xFFFF;
@@ -65,73 +75,46 @@ void Cpu::set_nmi(bool level) {
 // ---------------------------------------------------------------------------------------------
 // One clock.
 
-void Cpu::clk() {
-    if (trace_) record_cycle();
-
-    switch (t_) {
-    case TState::Ti:
-        break;
-    case TState::T1:
-        // LOCK runs from T2 of the first INTA cycle to T2 of the second (data sheet).
-        if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
-        t_ = TState::T2;
-        break;
-    case TState::T2:
-        // The decision to prefetch right after this cycle is taken in T2.
-        fetch_next_ = !eu_claim_ && !fetch_suspended_ && q_len_ + (cur_.fetch ? cur_.width : 0) <= 4;
-        t_ = TState::T3;
-        break;
-    case TState::T3:
-    case TState::Tw:
-        if (waits_left_) {
-            --waits_left_;
-            t_ = TState::Tw;
+// The T4 clock: fetched bytes enter the queue, then the next cycle is decided (clk() in
+// i8086.h runs the simple transitions inline).
+void Cpu::clk_t4() {
+    if (cur_.fetch && !cur_.discard) {
+        // The fetched bytes enter the queue at the end of T4.
+        unsigned tail = q_head_ + q_len_;
+        if (tail >= 6) tail -= 6;
+        if (cur_.width == 2) {
+            q_[tail] = data_bus_ & 0xFF;
+            q_[tail == 5 ? 0 : tail + 1] = data_bus_ >> 8;
+            q_len_ += 2;
         } else {
-            t_ = TState::T4;
+            q_[tail] = data_bus_ >> 8; // odd address: high lane
+            q_len_ += 1;
         }
-        break;
-    case TState::T4:
-        if (cur_.fetch && !cur_.discard) {
-            // The fetched bytes enter the queue at the end of T4.
-            if (cur_.width == 2) {
-                q_[(q_head_ + q_len_) % 6] = data_bus_ & 0xFF;
-                q_[(q_head_ + q_len_ + 1) % 6] = data_bus_ >> 8;
-                q_len_ += 2;
-            } else {
-                q_[(q_head_ + q_len_) % 6] = data_bus_ >> 8; // odd address: high lane
-                q_len_ += 1;
-            }
-            fetch_ip_ = static_cast<std::uint16_t>(fetch_ip_ + cur_.width);
-        }
-        t_ = TState::Ti;
-        cur_.kind = Bus::passive;
-        if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
-            fetch_next_ = false;
-            fetch_sched_ = false;
-            fetch_after_t4_ = false;
-            start_fetch();
-        } else if (fetch_after_t4_) {
-            // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
-            fetch_after_t4_ = false;
-            fetch_sched_ = true;
-            fetch_delay_ = 4;
-        }
+        fetch_ip_ = static_cast<std::uint16_t>(fetch_ip_ + cur_.width);
+    }
+    t_ = TState::Ti;
+    cur_.kind = Bus::passive;
+    if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
         fetch_next_ = false;
-        break;
+        fetch_sched_ = false;
+        fetch_after_t4_ = false;
+        start_fetch();
+    } else if (fetch_after_t4_) {
+        // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
+        fetch_after_t4_ = false;
+        fetch_sched_ = true;
+        fetch_delay_ = 4;
     }
+    fetch_next_ = false;
+}
 
-    if (fetch_sched_) {
-        if (fetch_delay_) --fetch_delay_;
-        if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
-            fetch_sched_ = false;
-            if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
-        }
+// A prefetch scheduled once the bus is idle and its delay has passed.
+void Cpu::fetch_tick() {
+    if (fetch_delay_) --fetch_delay_;
+    if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
+        fetch_sched_ = false;
+        if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
     }
-
-    last_qop_ = qop_;
-    last_qbyte_ = qbyte_;
-    qop_ = QueueOp::idle;
-    ++cycle_;
 }
 
 void Cpu::record_cycle() {
@@ -164,7 +147,8 @@ unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& dat
                                 cycles_t start) {
     const bool write = kind == Bus::mem_write;
     if (kind == Bus::mem_read || kind == Bus::code_fetch || write) {
-        const MemRegion* r = mem_.find(addr);
+        const MemRegion* r = page_[addr >> kPageBits];
+        if (!r) r = mem_.find(addr);
         if (r && (width == 1 || r->contains(addr + 1))) {
             std::uint8_t* p = r->data + (addr - r->base);
             if (write) {
@@ -207,14 +191,30 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
 }
 
 void Cpu::start_fetch() {
-    BusOp op;
-    op.kind = Bus::code_fetch;
-    op.seg = SegStatus::CS;
-    op.addr = linear(r_.s[CS], fetch_ip_);
+    const std::uint32_t addr = linear(r_.s[CS], fetch_ip_);
     // The 8086 fetches a word from an even address, a single byte from an odd one.
-    op.width = (op.addr & 1) ? 1 : 2;
-    op.fetch = true;
-    bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+    const std::uint8_t width = (addr & 1) ? 1 : 2;
+    const MemRegion* r = page_[addr >> kPageBits];
+    if (!r || (width == 2 && !r->contains(addr + 1))) {
+        BusOp op;
+        op.kind = Bus::code_fetch;
+        op.seg = SegStatus::CS;
+        op.addr = addr;
+        op.width = width;
+        op.fetch = true;
+        bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+        return;
+    }
+    // The common case, from RAM/ROM by direct pointer: bus_start() without the general path.
+    cur_ = BusOp{Bus::code_fetch, SegStatus::CS, addr, 0, width, true, false, false};
+    t_ = TState::T1;
+    latch_ = addr;
+    cur_start_ = cycle_ + 1;
+    const std::uint8_t* p = r->data + (addr - r->base);
+    const std::uint16_t d = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+    data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
+    cur_waits_ = waits_left_ = r->wait_states;
+    if (hook_) hook_(hook_ctx_, BusRecord{Bus::code_fetch, addr, d, width, cur_waits_, cur_start_});
 }
 
 std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
@@ -262,7 +262,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
 std::uint8_t Cpu::q_read(QueueOp op) {
     while (q_len_ == 0) clk();
     const std::uint8_t b = q_[q_head_];
-    q_head_ = (q_head_ + 1) % 6;
+    q_head_ = q_head_ == 5 ? 0 : q_head_ + 1;
     --q_len_;
     qop_ = op;
     qbyte_ = b;
