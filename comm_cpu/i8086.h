@@ -230,6 +230,9 @@ private:
         last_qbyte_ = qbyte_;
         qop_ = QueueOp::idle;
     }
+    void to_t4();
+    void to_last_transfer();
+    void wait_queue();
     void record_cycle();
     void bus_start(const BusOp& op, cycles_t t1);
     void bus_transfer();

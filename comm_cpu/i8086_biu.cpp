@@ -232,7 +232,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
             clks(fetch_sched_ && fetch_delay_ >= 2 ? 4 : 3);
         } else {
             const bool early = t_ == TState::T1 || t_ == TState::T2;
-            while (t_ != TState::T4) clk();
+            to_t4();
             clks(early ? 1 : 3);
         }
     }
@@ -249,18 +249,62 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
     clk(); // T1
     clk(); // T2
     if (last) {
-        while (waits_left_) clk(); // return on T3 / the last Tw: the next clock moves the data
+        to_last_transfer(); // return on T3 / the last Tw: the next clock moves the data
         return eu_data_;
     }
-    while (t_ != TState::T4) clk();
+    to_t4();
     return eu_data_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Runs of clocks in which only the BIU moves (the EU waits for the bus or the queue). With a
+// trace every clock is recorded; without one the T-states are advanced in one step, to the
+// state the same clocks one by one would leave (tests/comm_cpu/sst_trace_skip_test.cpp).
+
+// From T1, T2, T3 or Tw to T4 of the cycle on the bus (T4 itself not yet clocked).
+void Cpu::to_t4() {
+    if (trace_) {
+        while (t_ != TState::T4) clk();
+        return;
+    }
+    if (t_ == TState::T4) return;
+    if (t_ == TState::T1) clk();
+    if (t_ == TState::T2) clk();
+    // T3 and every Tw: a clock each, none of them Ti, so a scheduled prefetch only counts down.
+    const unsigned rest = waits_left_ + 1;
+    waits_left_ = 0;
+    t_ = TState::T4;
+    quiet(rest);
+}
+
+// From T2 (just clocked) to the clock before the transfer: T3, or the last Tw.
+void Cpu::to_last_transfer() {
+    if (trace_ || waits_left_ == 0) {
+        while (waits_left_) clk();
+        return;
+    }
+    const unsigned k = waits_left_;
+    waits_left_ = 0;
+    t_ = TState::Tw;
+    quiet(k);
+}
+
+// The EU needs a queue byte and there is none: clocks until a prefetch delivers one.
+void Cpu::wait_queue() {
+    while (q_len_ == 0) {
+        if (!trace_) {
+            if (t_ == TState::Ti && fetch_sched_ && !eu_claim_ && fetch_delay_ > 1) quiet(fetch_delay_ - 1);
+            else if (t_ != TState::Ti && t_ != TState::T4) to_t4();
+        }
+        clk();
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Queue.
 
 std::uint8_t Cpu::q_read(QueueOp op) {
-    while (q_len_ == 0) clk();
+    if (q_len_ == 0) wait_queue();
     const std::uint8_t b = q_[q_head_];
     q_head_ = q_head_ == 5 ? 0 : q_head_ + 1;
     --q_len_;
@@ -303,11 +347,8 @@ void Cpu::suspend_fetch() {
 // the micro-instruction completes in that clock (one clock when the bus is idle).
 void Cpu::susp() {
     suspend_fetch();
-    for (;;) {
-        const bool done = t_ == TState::Ti || t_ == TState::T4;
-        clk();
-        if (done) break;
-    }
+    if (t_ != TState::Ti && t_ != TState::T4) to_t4();
+    clk();
 }
 
 // The RELJMP tail shared by the near jumps: SUSP, three clocks (CORR, the addition), then the
