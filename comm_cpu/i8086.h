@@ -131,6 +131,10 @@ public:
     /// only if `burn_halt`; otherwise it returns at once.
     void run_until(cycles_t limit, bool burn_halt = true);
     void stop_run() { stop_ = true; }
+    /// Lowers the limit of the run_until() in progress (never raises it).
+    void shorten_run(cycles_t limit) {
+        if (limit < limit_) limit_ = limit;
+    }
     /// One step() that parks a REP run between elements once `limit` is reached.
     void step_within(cycles_t limit) {
         limit_ = limit;

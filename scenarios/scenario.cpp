@@ -176,9 +176,10 @@ void read_board(YamlMap m, ControllerConfig& b) {
     CommBoardConfig& c = b.comm;
     c.cpu_hz = static_cast<std::uint64_t>(m.number("cpu_hz", static_cast<double>(c.cpu_hz), 1e5, 1e8));
     c.uart_clock_hz = static_cast<std::uint64_t>(m.number("uart_clock_hz", static_cast<double>(c.uart_clock_hz), 1e5, 1e8));
-    c.quantum = us_value(m, "quantum_us", 10, 1e6);
+    c.quantum = us_value(m, "quantum_us", to_us(c.quantum), 1e6);
     if (c.quantum == sc_core::SC_ZERO_TIME) m.fail(m.child("quantum_us"), "'board.quantum_us' must be > 0");
     c.lookahead = m.get<bool>("lookahead", true);
+    c.fast_sync = m.get<bool>("fast_sync", true); // speed-ups: off gives the same results, slower
     YamlMap w = m.map("wait_states");
     c.ram_wait = static_cast<unsigned>(w.number("ram", c.ram_wait, 0, 64));
     c.rom_wait = static_cast<unsigned>(w.number("rom", c.rom_wait, 0, 64));
