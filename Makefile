@@ -39,7 +39,7 @@ test-asan: deps $(ASAN_BUILD)/CMakeCache.txt
 SST_DIR ?= $(if $(RCSIM_SST_DIR),$(RCSIM_SST_DIR),../shared/sst8086/v1)
 
 bench: build
-	$(BUILD)/rcsim bench cpu $(if $(wildcard $(SST_DIR)),--sst $(SST_DIR))
+	$(BUILD)/rcsim bench cpu --anchor $(if $(wildcard $(SST_DIR)),--sst $(SST_DIR))
 	$(BUILD)/rcsim bench serial
 	$(BUILD)/rcsim bench motion
 	$(BUILD)/rcsim bench system

@@ -1,9 +1,12 @@
 // rcsim — `rcsim bench cpu`: emulated 8086 cycles per host second, trace off, one core.
 // (a) the SingleStepTests instruction streams (parsed first, not timed);
-// (b) a protocol-like loop: IN, compare, branch, string moves, ISR entry and IRET.
+// (b) a protocol-like loop: IN, compare, branch, string moves, ISR entry and IRET;
+// (c) with --anchor, the core against libx86emu on the same image (bench/protocol_loop.asm),
+//     side by side in one run: the ratio of their instruction rates.
 // Host time is measured here only, for the report; nothing of it enters the model.
 #include "comm_cpu/i8086.h"
 #include "comm_cpu/sst.h"
+#include "comm_cpu/x86emu_anchor.h"
 
 #include <CLI/CLI.hpp>
 
@@ -11,7 +14,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <stdexcept>
 
 namespace rcsim {
 namespace {
@@ -99,6 +105,39 @@ double bench_sst(const std::string& dir, double min_seconds, std::uint64_t* cycl
     return double(cycles) / s;
 }
 
+std::vector<std::uint8_t> read_image(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open the bench image " + path);
+    return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Rounds alternate between the two emulators so that both see the same host load; the best
+// round of each is compared (the least disturbed one). Returns false when the runs disagree.
+bool bench_anchor(const std::string& image_path, unsigned rounds) {
+    const std::vector<std::uint8_t> image = read_image(image_path);
+    anchor::Outcome core, ref;
+    double core_best = 0, ref_best = 0;
+    for (unsigned i = 0; i < rounds; ++i) {
+        core = anchor::run_core(image);
+        ref = anchor::run_x86emu(image);
+        if (i == 0 || core.cpu_seconds < core_best) core_best = core.cpu_seconds;
+        if (i == 0 || ref.cpu_seconds < ref_best) ref_best = ref.cpu_seconds;
+    }
+    const double n = double(core.instructions);
+    std::printf("anchor program: %s, %.2f M instructions\n", image_path.c_str(), n / 1e6);
+    std::printf("rcsim core    : %8.1f M instructions/s  (cycle-exact; best of %u, host CPU time)\n",
+                n / core_best / 1e6, rounds);
+    std::printf("libx86emu     : %8.1f M instructions/s  (instruction level)\n", n / ref_best / 1e6);
+    std::printf("ratio         : %8.2fx  (rcsim core / libx86emu, same image, same run)\n", ref_best / core_best);
+    if (!(core == ref)) {
+        std::printf("error: the two runs disagree (instructions %llu vs %llu, AX %04X vs %04X, checksum sum %u vs %u)\n",
+                    static_cast<unsigned long long>(core.instructions), static_cast<unsigned long long>(ref.instructions),
+                    core.ax, ref.ax, core.out_sum, ref.out_sum);
+        return false;
+    }
+    return true;
+}
+
 } // namespace
 
 void add_bench_cpu(CLI::App& bench) {
@@ -114,7 +153,15 @@ void add_bench_cpu(CLI::App& bench) {
                 return v >= 0.1 && v <= 600.0 ? std::string() : "'" + text + "' is not in 0.1 .. 600";
             },
             "0.1 .. 600"));
-    cmd->callback([dir, secs] {
+    auto anchor = std::make_shared<bool>(false);
+    auto rounds = std::make_shared<unsigned>(3);
+    auto image = std::make_shared<std::string>(RCSIM_BENCH_LOOP_IMAGE);
+    cmd->add_flag("--anchor", *anchor, "Also run the core and libx86emu side by side on the same image; print the ratio");
+    cmd->add_option("--rounds", *rounds, "Alternating rounds of the anchor comparison (best of each)")
+        ->check(CLI::Range(1u, 100u));
+    cmd->add_option("--image", *image, "8086 image for the anchor comparison (loaded at 1000:0000, ends with HLT)")
+        ->capture_default_str();
+    cmd->callback([dir, secs, anchor, rounds, image] {
         std::uint64_t cycles = 0;
         const double loop = bench_loop(*secs, &cycles);
         std::printf("protocol loop : %8.1f M cycles/s  (%llu cycles, %.1fx real time at 8 MHz)\n", loop / 1e6,
@@ -125,6 +172,7 @@ void add_bench_cpu(CLI::App& bench) {
             std::printf("SST streams   : %8.1f M cycles/s  (%llu cycles over %zu files; includes per-test set-up)\n",
                         sst / 1e6, static_cast<unsigned long long>(cycles), files);
         }
+        if (*anchor && !bench_anchor(*image, *rounds)) throw CLI::RuntimeError(1);
     });
 }
 

@@ -87,9 +87,10 @@ void Cpu8086::run() {
         }
         ++slices_;
         slice_end_ = false;
+        slice_limit_ = limit;
         if (boundary_log_) {
-            while (core_.cycles() < limit && !slice_end_) {
-                core_.step_within(limit);
+            while (core_.cycles() < slice_limit_ && !slice_end_) {
+                core_.step_within(slice_limit_);
                 boundary_log_->push_back(core_.cycles());
                 if (core_.halted()) break;
             }
@@ -130,11 +131,26 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
         bus_errors_.add(r.status == tlm::TLM_ADDRESS_ERROR_RESPONSE ? BusErrorLog::Kind::unmapped
                                                                     : BusErrorLog::Kind::tlm_error,
                         address, static_cast<BusCycle>(kind), t1); // the same S2..S0 encoding
-    // The access may have scheduled events that change INTR/NMI: end the slice at the next
-    // boundary so the lookahead is recomputed.
-    core_.stop_run();
-    slice_end_ = true;
+    after_access();
     return r.wait_states;
+}
+
+// Kernel time is the access's T1. Activity left at the current time (a signal write, an
+// immediate or delta notification) may change INTR/NMI: the slice ends at the next boundary
+// and the kernel runs it. Otherwise nothing can change before the next timed event, which the
+// access may have moved closer: the slice goes on with its limit lowered to that event, the
+// same limit a fresh slice would compute.
+void Cpu8086::after_access() {
+    if (!fast_sync_ || !lookahead_ || sc_pending_activity_at_current_time()) {
+        core_.stop_run();
+        slice_end_ = true;
+        return;
+    }
+    if (!sc_pending_activity()) return;
+    const std::uint64_t event_ps = to_ps(sc_time_stamp()) + to_ps(sc_time_to_pending_activity());
+    const i8086::cycles_t limit = event_ps / clock_.period_ps() + 1;
+    if (limit < slice_limit_) slice_limit_ = limit;
+    core_.shorten_run(limit);
 }
 
 void Cpu8086::write_ignored(std::uint32_t address, unsigned, i8086::cycles_t start) {

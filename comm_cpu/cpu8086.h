@@ -43,6 +43,11 @@ public:
     const sc_core::sc_time& quantum() const { return quantum_; }
     /// With lookahead off, every slice is one quantum regardless of pending events.
     void set_lookahead(bool on) { lookahead_ = on; }
+    /// With fast sync on (the default), a slice goes on after a TLM access unless the access
+    /// left kernel activity at the current time (a signal or event it changed, which may move
+    /// INTR/NMI); the slice limit is lowered to any event the access scheduled. Off: every
+    /// access ends the slice (the reference behaviour; the results are the same).
+    void set_fast_sync(bool on) { fast_sync_ = on; }
 
     i8086::Cpu& core() { return core_; }
     const Clock& clock() const { return clock_; }
@@ -71,6 +76,7 @@ private:
         return changed < at ? now : prev;
     }
     void sample_inputs();
+    void after_access();
     unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                         i8086::cycles_t start) override;
     void write_ignored(std::uint32_t address, unsigned width, i8086::cycles_t start) override;
@@ -79,10 +85,12 @@ private:
     Clock clock_;
     sc_core::sc_time quantum_;
     bool lookahead_ = true;
+    bool fast_sync_ = true;
     std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
     std::uint64_t slices_ = 0;
     BusErrorLog bus_errors_;
     bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
+    i8086::cycles_t slice_limit_ = 0; // the cycle the current slice runs to
 
     // INTR/NMI with the time of their last change: a boundary at time t sees the level that
     // held before t.

@@ -99,7 +99,7 @@ public:
     Cpu();
 
     // --- configuration ---
-    void map_memory(const MemRegion& region) { mem_.add(region); }
+    void map_memory(const MemRegion& region);
     const MemoryMap& memory() const { return mem_; }
     void set_bus_handler(BusHandler* handler) { handler_ = handler; }
     void set_bus_hook(BusHook hook, void* context) { hook_ = hook; hook_ctx_ = context; }
@@ -134,6 +134,10 @@ public:
     /// only if `burn_halt`; otherwise it returns at once.
     void run_until(cycles_t limit, bool burn_halt = true);
     void stop_run() { stop_ = true; }
+    /// Lowers the limit of the run_until() in progress (never raises it).
+    void shorten_run(cycles_t limit) {
+        if (limit < limit_) limit_ = limit;
+    }
     /// One step() that parks a REP run between elements once `limit` is reached.
     void step_within(cycles_t limit) {
         limit_ = limit;
@@ -166,21 +170,76 @@ private:
         bool inta_first = false; // the first of the two INTA cycles: LOCK from its T2
     };
 
-    void clk();
+    /// One CLK: the T-state transition of the BIU, the scheduled prefetch, the QS lines.
+    void clk() {
+        if (trace_) record_cycle();
+        switch (t_) {
+        case TState::Ti: break;
+        case TState::T1:
+            // LOCK runs from T2 of the first INTA cycle to T2 of the second (data sheet).
+            if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
+            t_ = TState::T2;
+            break;
+        case TState::T2:
+            // The decision to prefetch right after this cycle is taken in T2.
+            fetch_next_ = !eu_claim_ && !fetch_suspended_ && q_len_ + (cur_.fetch ? cur_.width : 0) <= 4;
+            t_ = TState::T3;
+            break;
+        case TState::T3:
+        case TState::Tw:
+            if (waits_left_) {
+                --waits_left_;
+                t_ = TState::Tw;
+            } else {
+                t_ = TState::T4;
+            }
+            break;
+        case TState::T4: clk_t4(); break;
+        }
+        if (fetch_sched_) fetch_tick();
+        last_qop_ = qop_;
+        last_qbyte_ = qbyte_;
+        qop_ = QueueOp::idle;
+        ++cycle_;
+    }
+    void clk_t4();
+    void fetch_tick();
+    /// n clocks of the EU's own (no queue read, no bus request of its own). Without a trace,
+    /// runs of clocks in which the BIU only counts down are taken in one step (clks_quiet).
     void clks(unsigned n) {
         while (n) {
-            if (t_ == TState::Ti && !fetch_sched_ && !trace_) {
-                // Nothing can happen on an idle bus with no prefetch scheduled: skip ahead.
-                cycle_ += n;
-                last_qop_ = n >= 2 ? QueueOp::idle : qop_;
-                last_qbyte_ = qbyte_;
-                qop_ = QueueOp::idle;
-                return;
+            if (t_ == TState::Ti && !trace_) {
+                // On an idle bus nothing happens until a scheduled prefetch starts: in the clock
+                // its delay runs out (at once when none is left), never while the EU claims the bus.
+                if (!fetch_sched_ || eu_claim_) {
+                    quiet(n);
+                    return;
+                }
+                const unsigned starts = fetch_delay_ ? fetch_delay_ : 1;
+                if (n < starts) {
+                    quiet(n);
+                    return;
+                }
+                quiet(starts - 1);
+                n -= starts - 1;
             }
             clk();
             --n;
         }
     }
+    /// k idle clocks at once (trace off, bus idle, no prefetch starting within them): the same
+    /// state as k calls of clk().
+    void quiet(unsigned k) {
+        if (k == 0) return;
+        cycle_ += k;
+        if (fetch_sched_) fetch_delay_ = fetch_delay_ > k ? fetch_delay_ - k : 0;
+        last_qop_ = k >= 2 ? QueueOp::idle : qop_;
+        last_qbyte_ = qbyte_;
+        qop_ = QueueOp::idle;
+    }
+    void to_t4();
+    void to_last_transfer();
+    void wait_queue();
     void record_cycle();
     void bus_start(const BusOp& op, cycles_t t1);
     void bus_transfer();
@@ -285,6 +344,10 @@ private:
     // state
     Registers r_;
     MemoryMap mem_;
+    // The region covering each whole 4 KB page of the 1 MB space (nullptr: none, or a page that
+    // is not covered by one region alone): the direct path's lookup without a search.
+    static constexpr unsigned kPageBits = 12;
+    std::array<const MemRegion*, ((1u << 20) >> kPageBits)> page_{};
     BusHandler* handler_ = nullptr;
     BusHook hook_ = nullptr;
     void* hook_ctx_ = nullptr;

@@ -25,6 +25,16 @@ const char* to_string(TState t) {
 
 Cpu::Cpu() { reset(); }
 
+void Cpu::map_memory(const MemRegion& region) {
+    mem_.add(region);
+    // Adding may move the regions: rebuild the whole page table.
+    for (std::uint32_t p = 0; p < page_.size(); ++p) {
+        const std::uint32_t first = p << kPageBits, last = first + (1u << kPageBits) - 1;
+        const MemRegion* r = mem_.find(first);
+        page_[p] = r && r->contains(last) ? r : nullptr;
+    }
+}
+
 void Cpu::reset() {
     r_ = Registers{};
     r_.s[CS] = 0xFFFF;
@@ -65,73 +75,46 @@ void Cpu::set_nmi(bool level) {
 // ---------------------------------------------------------------------------------------------
 // One clock.
 
-void Cpu::clk() {
-    if (trace_) record_cycle();
-
-    switch (t_) {
-    case TState::Ti:
-        break;
-    case TState::T1:
-        // LOCK runs from T2 of the first INTA cycle to T2 of the second (data sheet).
-        if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
-        t_ = TState::T2;
-        break;
-    case TState::T2:
-        // The decision to prefetch right after this cycle is taken in T2.
-        fetch_next_ = !eu_claim_ && !fetch_suspended_ && q_len_ + (cur_.fetch ? cur_.width : 0) <= 4;
-        t_ = TState::T3;
-        break;
-    case TState::T3:
-    case TState::Tw:
-        if (waits_left_) {
-            --waits_left_;
-            t_ = TState::Tw;
+// The T4 clock: fetched bytes enter the queue, then the next cycle is decided (clk() in
+// i8086.h runs the simple transitions inline).
+void Cpu::clk_t4() {
+    if (cur_.fetch && !cur_.discard) {
+        // The fetched bytes enter the queue at the end of T4.
+        unsigned tail = q_head_ + q_len_;
+        if (tail >= 6) tail -= 6;
+        if (cur_.width == 2) {
+            q_[tail] = data_bus_ & 0xFF;
+            q_[tail == 5 ? 0 : tail + 1] = data_bus_ >> 8;
+            q_len_ += 2;
         } else {
-            t_ = TState::T4;
+            q_[tail] = data_bus_ >> 8; // odd address: high lane
+            q_len_ += 1;
         }
-        break;
-    case TState::T4:
-        if (cur_.fetch && !cur_.discard) {
-            // The fetched bytes enter the queue at the end of T4.
-            if (cur_.width == 2) {
-                q_[(q_head_ + q_len_) % 6] = data_bus_ & 0xFF;
-                q_[(q_head_ + q_len_ + 1) % 6] = data_bus_ >> 8;
-                q_len_ += 2;
-            } else {
-                q_[(q_head_ + q_len_) % 6] = data_bus_ >> 8; // odd address: high lane
-                q_len_ += 1;
-            }
-            fetch_ip_ = static_cast<std::uint16_t>(fetch_ip_ + cur_.width);
-        }
-        t_ = TState::Ti;
-        cur_.kind = Bus::passive;
-        if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
-            fetch_next_ = false;
-            fetch_sched_ = false;
-            fetch_after_t4_ = false;
-            start_fetch();
-        } else if (fetch_after_t4_) {
-            // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
-            fetch_after_t4_ = false;
-            fetch_sched_ = true;
-            fetch_delay_ = 4;
-        }
+        fetch_ip_ = static_cast<std::uint16_t>(fetch_ip_ + cur_.width);
+    }
+    t_ = TState::Ti;
+    cur_.kind = Bus::passive;
+    if (fetch_next_ && !eu_claim_ && !fetch_suspended_ && q_len_ <= 4) {
         fetch_next_ = false;
-        break;
+        fetch_sched_ = false;
+        fetch_after_t4_ = false;
+        start_fetch();
+    } else if (fetch_after_t4_) {
+        // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
+        fetch_after_t4_ = false;
+        fetch_sched_ = true;
+        fetch_delay_ = 4;
     }
+    fetch_next_ = false;
+}
 
-    if (fetch_sched_) {
-        if (fetch_delay_) --fetch_delay_;
-        if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
-            fetch_sched_ = false;
-            if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
-        }
+// A prefetch scheduled once the bus is idle and its delay has passed.
+void Cpu::fetch_tick() {
+    if (fetch_delay_) --fetch_delay_;
+    if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
+        fetch_sched_ = false;
+        if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
     }
-
-    last_qop_ = qop_;
-    last_qbyte_ = qbyte_;
-    qop_ = QueueOp::idle;
-    ++cycle_;
 }
 
 void Cpu::record_cycle() {
@@ -164,7 +147,8 @@ unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& dat
                                 cycles_t start) {
     const bool write = kind == Bus::mem_write;
     if (kind == Bus::mem_read || kind == Bus::code_fetch || write) {
-        const MemRegion* r = mem_.find(addr);
+        const MemRegion* r = page_[addr >> kPageBits];
+        if (!r) r = mem_.find(addr);
         if (r && (width == 1 || r->contains(addr + 1))) {
             std::uint8_t* p = r->data + (addr - r->base);
             if (write) {
@@ -208,14 +192,30 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
 }
 
 void Cpu::start_fetch() {
-    BusOp op;
-    op.kind = Bus::code_fetch;
-    op.seg = SegStatus::CS;
-    op.addr = linear(r_.s[CS], fetch_ip_);
+    const std::uint32_t addr = linear(r_.s[CS], fetch_ip_);
     // The 8086 fetches a word from an even address, a single byte from an odd one.
-    op.width = (op.addr & 1) ? 1 : 2;
-    op.fetch = true;
-    bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+    const std::uint8_t width = (addr & 1) ? 1 : 2;
+    const MemRegion* r = page_[addr >> kPageBits];
+    if (!r || (width == 2 && !r->contains(addr + 1))) {
+        BusOp op;
+        op.kind = Bus::code_fetch;
+        op.seg = SegStatus::CS;
+        op.addr = addr;
+        op.width = width;
+        op.fetch = true;
+        bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+        return;
+    }
+    // The common case, from RAM/ROM by direct pointer: bus_start() without the general path.
+    cur_ = BusOp{Bus::code_fetch, SegStatus::CS, addr, 0, width, true, false, false};
+    t_ = TState::T1;
+    latch_ = addr;
+    cur_start_ = cycle_ + 1;
+    const std::uint8_t* p = r->data + (addr - r->base);
+    const std::uint16_t d = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+    data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
+    cur_waits_ = waits_left_ = r->wait_states;
+    if (hook_) hook_(hook_ctx_, BusRecord{Bus::code_fetch, addr, d, width, cur_waits_, cur_start_});
 }
 
 std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
@@ -233,7 +233,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
             clks(fetch_sched_ && fetch_delay_ >= 2 ? 4 : 3);
         } else {
             const bool early = t_ == TState::T1 || t_ == TState::T2;
-            while (t_ != TState::T4) clk();
+            to_t4();
             clks(early ? 1 : 3);
         }
     }
@@ -250,20 +250,64 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
     clk(); // T1
     clk(); // T2
     if (last) {
-        while (waits_left_) clk(); // return on T3 / the last Tw: the next clock moves the data
+        to_last_transfer(); // return on T3 / the last Tw: the next clock moves the data
         return eu_data_;
     }
-    while (t_ != TState::T4) clk();
+    to_t4();
     return eu_data_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Runs of clocks in which only the BIU moves (the EU waits for the bus or the queue). With a
+// trace every clock is recorded; without one the T-states are advanced in one step, to the
+// state the same clocks one by one would leave (tests/comm_cpu/sst_trace_skip_test.cpp).
+
+// From T1, T2, T3 or Tw to T4 of the cycle on the bus (T4 itself not yet clocked).
+void Cpu::to_t4() {
+    if (trace_) {
+        while (t_ != TState::T4) clk();
+        return;
+    }
+    if (t_ == TState::T4) return;
+    if (t_ == TState::T1) clk();
+    if (t_ == TState::T2) clk();
+    // T3 and every Tw: a clock each, none of them Ti, so a scheduled prefetch only counts down.
+    const unsigned rest = waits_left_ + 1;
+    waits_left_ = 0;
+    t_ = TState::T4;
+    quiet(rest);
+}
+
+// From T2 (just clocked) to the clock before the transfer: T3, or the last Tw.
+void Cpu::to_last_transfer() {
+    if (trace_ || waits_left_ == 0) {
+        while (waits_left_) clk();
+        return;
+    }
+    const unsigned k = waits_left_;
+    waits_left_ = 0;
+    t_ = TState::Tw;
+    quiet(k);
+}
+
+// The EU needs a queue byte and there is none: clocks until a prefetch delivers one.
+void Cpu::wait_queue() {
+    while (q_len_ == 0) {
+        if (!trace_) {
+            if (t_ == TState::Ti && fetch_sched_ && !eu_claim_ && fetch_delay_ > 1) quiet(fetch_delay_ - 1);
+            else if (t_ != TState::Ti && t_ != TState::T4) to_t4();
+        }
+        clk();
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Queue.
 
 std::uint8_t Cpu::q_read(QueueOp op) {
-    while (q_len_ == 0) clk();
+    if (q_len_ == 0) wait_queue();
     const std::uint8_t b = q_[q_head_];
-    q_head_ = (q_head_ + 1) % 6;
+    q_head_ = q_head_ == 5 ? 0 : q_head_ + 1;
     --q_len_;
     qop_ = op;
     qbyte_ = b;
@@ -304,11 +348,8 @@ void Cpu::suspend_fetch() {
 // the micro-instruction completes in that clock (one clock when the bus is idle).
 void Cpu::susp() {
     suspend_fetch();
-    for (;;) {
-        const bool done = t_ == TState::Ti || t_ == TState::T4;
-        clk();
-        if (done) break;
-    }
+    if (t_ != TState::Ti && t_ != TState::T4) to_t4();
+    clk();
 }
 
 // The RELJMP tail shared by the near jumps: SUSP, three clocks (CORR, the addition), then the

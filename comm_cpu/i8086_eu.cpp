@@ -469,10 +469,10 @@ void Cpu::run_until(cycles_t limit, bool burn_halt) {
         cycles_t& l;
         ~Reset() { l = ~cycles_t(0); }
     } reset_limit{limit_};
-    while (cycle_ < limit && !stop_) {
+    while (cycle_ < limit_ && !stop_) {
         if (halted_ && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
             if (!burn_halt) return;
-            skip_to(limit);
+            skip_to(limit_);
             return;
         }
         step();

@@ -221,8 +221,9 @@ void read_board(YamlMap m, ControllerConfig& b) {
            << clock_us << " us at " << c.cpu_hz << " Hz) and at most 1e6";
         m.fail(m.child("quantum_us"), os.str());
     }
-    c.quantum = us_value(m, "quantum_us", 10, 1e6);
+    c.quantum = us_value(m, "quantum_us", to_us(c.quantum), 1e6);
     c.lookahead = m.get<bool>("lookahead", true);
+    c.fast_sync = m.get<bool>("fast_sync", true); // speed-ups: off gives the same results, slower
     YamlMap w = m.map("wait_states");
     c.ram_wait = static_cast<unsigned>(w.integer("ram", c.ram_wait, 0, 64));
     c.rom_wait = static_cast<unsigned>(w.integer("rom", c.rom_wait, 0, 64));

@@ -6,7 +6,7 @@ PACKAGES=(
   cmake g++ make pkg-config git
   libsystemc-dev libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev zlib1g-dev
-  bcc bin86 nasm python3
+  bcc bin86 nasm python3 libx86emu-dev
   parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
   time                     # peak RSS of the memory tests (/usr/bin/time)
 )

@@ -172,6 +172,30 @@ TEST(Cpu8086Module, LookaheadMatchesCycleByCycleReference) {
     EXPECT_LT(top.cpu.slices(), top.log.size()) << "lookahead should run several instructions per slice";
 }
 
+// Fast sync off: every TLM access ends its slice (the reference behaviour) and the boundaries
+// are the same.
+TEST(Cpu8086Module, FastSyncOffMatchesReference) {
+    Top top;
+    top.cpu.set_quantum(us(50));
+    top.cpu.set_fast_sync(false);
+    check_against_reference(top);
+    // Each of the program's I/O accesses ended a slice.
+    EXPECT_GE(top.cpu.slices(), top.per.io_times.size());
+}
+
+// Fast sync on: an I/O access that leaves no kernel activity (this target only answers) does
+// not end the slice, so the program's accesses (an OUT and an IN per loop of 4 instructions)
+// share slices; the boundaries stay those of the reference. What still ends slices: the five INTR
+// raises (timed events), the INTA pairs (the second writes INTR: activity at the current time)
+// and the 50 us quantum over 400 us, about 5 x 3 + 8, far fewer than the accesses (over 100).
+TEST(Cpu8086Module, FastSyncKeepsTheSliceAcrossQuietAccesses) {
+    Top top;
+    top.cpu.set_quantum(us(50));
+    check_against_reference(top);
+    ASSERT_GT(top.per.io_times.size(), 100u);
+    EXPECT_LT(top.cpu.slices() * 4, top.per.io_times.size());
+}
+
 TEST(Cpu8086Module, OneClockQuantumMatchesReference) {
     Top top;
     top.cpu.set_lookahead(false);
