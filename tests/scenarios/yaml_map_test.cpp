@@ -127,7 +127,11 @@ TEST(YamlMap, MapsNameEachElementByIndex) {
 namespace {
 /// load_yaml_file() on `text`; the message it throws, "" when none.
 std::string load_error(const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() / "rcsim_yaml_map_strict.yaml";
+    // One directory per test: CTest runs the tests of this file in parallel processes.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("rcsim_yaml_map_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::create_directories(dir);
+    const auto path = dir / "strict.yaml";
     std::ofstream(path) << text;
     return message_of([&] { load_yaml_file(path.string()); });
 }
