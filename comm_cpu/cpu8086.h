@@ -59,6 +59,8 @@ public:
     /// Bus-cycle observation: called once per bus cycle with the cycle's record; convert the
     /// start cycle with time_of(). nullptr turns it off (the default; free when unused).
     void set_bus_observer(i8086::BusHook hook, void* context) { core_.set_bus_hook(hook, context); }
+    /// Instruction-boundary hook of the core (debugger, profiler); see i8086::StepHook.
+    void set_step_observer(i8086::StepHook hook, void* context) { core_.set_step_hook(hook, context); }
     /// Records the cycle number of every instruction boundary into `log` (nullptr: off).
     void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
 

@@ -63,6 +63,13 @@ struct BusRecord {
 };
 using BusHook = void (*)(void* context, const BusRecord& record);
 
+class Cpu;
+/// Called at each instruction boundary, before the instruction at cpu.pc() executes (its opcode
+/// byte is already read from the queue; prefixes count as part of it). Returning true stops the
+/// run_until() in progress before that instruction; the next step() executes it without calling
+/// the hook again, so a debugger can resume from a breakpoint without removing it.
+using StepHook = bool (*)(void* context, const Cpu& cpu);
+
 /// One clock of the per-cycle trace (the fields of the SingleStepTests cycle lists).
 struct CycleRecord {
     bool ale;
@@ -103,6 +110,8 @@ public:
     const MemoryMap& memory() const { return mem_; }
     void set_bus_handler(BusHandler* handler) { handler_ = handler; }
     void set_bus_hook(BusHook hook, void* context) { hook_ = hook; hook_ctx_ = context; }
+    /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
+    void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
     /// Per-cycle trace into `out` (nullptr turns it off).
     void set_cycle_trace(std::vector<CycleRecord>* out) { trace_ = out; }
 
@@ -351,6 +360,9 @@ private:
     BusHandler* handler_ = nullptr;
     BusHook hook_ = nullptr;
     void* hook_ctx_ = nullptr;
+    StepHook step_hook_ = nullptr;
+    void* step_hook_ctx_ = nullptr;
+    bool step_hook_done_ = false; // the hook already saw (and stopped at) the current boundary
     std::vector<CycleRecord>* trace_ = nullptr;
 
     cycles_t cycle_ = 0;

@@ -421,6 +421,12 @@ void Cpu::step() {
         opcode_ = q_read(QueueOp::first);
         return;
     }
+    if (step_hook_ && !step_hook_done_ && step_hook_(step_hook_ctx_, *this)) {
+        step_hook_done_ = true;
+        stop_ = true;
+        return;
+    }
+    step_hook_done_ = false;
     instr_ip_ = r_.ip;
     seg_override_ = -1;
     rep_ = 0;

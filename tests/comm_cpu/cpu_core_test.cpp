@@ -314,3 +314,41 @@ TEST(Cpu8086Core, RomWritesAreIgnoredAndCounted) {
     EXPECT_EQ(cpu.rom_writes(), 1u);
     EXPECT_EQ(rom[0], 0x90);
 }
+
+namespace {
+struct StepSpy {
+    std::vector<std::uint32_t> seen;
+    std::uint32_t stop_at = 0xFFFFFFFF;
+    static bool hook(void* ctx, const Cpu& cpu) {
+        auto* spy = static_cast<StepSpy*>(ctx);
+        spy->seen.push_back(cpu.pc());
+        return cpu.pc() == spy->stop_at;
+    }
+};
+} // namespace
+
+TEST(Cpu8086Core, StepHookSeesEveryInstructionOnceWithPrefixesAsPartOfIt) {
+    Board b;
+    // NOP ; ES: MOV AL,[0] (prefix + 3 bytes) ; INC AX ; HLT
+    b.load({0x90, 0x26, 0xA0, 0x00, 0x00, 0x40, 0xF4});
+    StepSpy spy;
+    b.cpu.set_step_hook(&StepSpy::hook, &spy);
+    b.cpu.run_until(b.cpu.cycles() + 200, false);
+    EXPECT_EQ(spy.seen, (std::vector<std::uint32_t>{0x10000, 0x10001, 0x10005, 0x10006}));
+}
+
+TEST(Cpu8086Core, StepHookStopsBeforeTheInstructionAndResumesWithoutStoppingAgain) {
+    Board b;
+    b.load({0x40, 0x40, 0x40, 0xF4}); // INC AX x3 ; HLT
+    StepSpy spy;
+    spy.stop_at = 0x10001;
+    b.cpu.set_step_hook(&StepSpy::hook, &spy);
+    b.cpu.regs().r[AX] = 0;
+    b.cpu.run_until(b.cpu.cycles() + 200, false);
+    EXPECT_EQ(b.pc(), 0x10001u);
+    EXPECT_EQ(b.cpu.regs().r[AX], 1); // the second INC has not run
+    b.cpu.run_until(b.cpu.cycles() + 200, false);
+    EXPECT_EQ(b.cpu.regs().r[AX], 3);
+    EXPECT_TRUE(b.cpu.halted());
+    EXPECT_EQ(spy.seen, (std::vector<std::uint32_t>{0x10000, 0x10001, 0x10002, 0x10003}));
+}
