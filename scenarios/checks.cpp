@@ -76,7 +76,17 @@ std::vector<Check> communication_checks(const Bench& b, const Scenario& s, const
                                     double(L.max_frame_mismatches)));
     checks.push_back(Check::at_most("responses_delivered_exactly_once", count(f.response_mismatches),
                                     double(L.max_frame_mismatches)));
-    checks.push_back(Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0));
+    Check malformed = Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0);
+    // Which frame and why: the first few the main CPU dropped (the log has them all).
+    const auto& dropped = b.ctl.main.malformed();
+    if (!dropped.empty()) {
+        malformed.detail = nlohmann::json::array();
+        for (std::size_t i = 0; i < dropped.size() && i < 3; ++i)
+            malformed.detail.push_back({{"port", dropped[i].port},
+                                        {"time_us", dropped[i].time.to_seconds() * 1e6},
+                                        {"reason", dropped[i].reason}});
+    }
+    checks.push_back(std::move(malformed));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
     if (!L.off.count("char_latency_max_us"))
         for (unsigned p = 0; p < Bench::kPorts; ++p)
