@@ -295,6 +295,7 @@ h2{font-size:18px;border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:34p
 h3{font-size:15px;margin:18px 0 6px}
 .banner{display:flex;justify-content:space-between;align-items:center;padding:14px 18px;margin:16px 0 10px;border-radius:6px;color:#fff}
 .banner.pass{background:#1e7e34}.banner.fail{background:#c82333}
+.interrupted{background:#fff3cd;border:1px solid #e0a800;padding:8px 12px;font-weight:bold}
 .verdict{font-size:26px;font-weight:bold;letter-spacing:1px}
 table{border-collapse:collapse;margin:6px 0 10px}
 th,td{border:1px solid #ccc;padding:3px 7px;text-align:right;white-space:nowrap}
@@ -735,6 +736,9 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
       << (passed ? " PASSED" : " FAILED") << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
     o << "<header id=\"header\"><div class=\"banner " << (passed ? "pass" : "fail") << "\"><h1>rcsim run: "
       << esc(name) << "</h1><div class=\"verdict\">" << (passed ? "PASSED" : "FAILED") << "</div></div>\n";
+    if (r.value("interrupted", false)) // a signal stopped the run: every figure covers only this far
+        o << "<p class=\"interrupted\" id=\"interrupted\">INTERRUPTED at " << num(jd(r, "sim_time_s"), 6)
+          << " s simulated: the run was stopped by a signal before its end</p>\n";
     const json& cpu = jo(r, "comm_cpu");
     const double wall = jd(r, "wall_time_s"), rtf = jd(r, "rtf");
     std::uint64_t failed = 0;

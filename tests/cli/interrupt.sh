@@ -48,6 +48,7 @@ run() {
     done
     grep -q '"interrupted": true' "$out/report.json" || fail "$sig: report.json lacks \"interrupted\": true"
     grep -q 'INTERRUPTED at' "$out.txt" || fail "$sig: the summary does not say INTERRUPTED"
+    grep -q 'id="interrupted">INTERRUPTED at' "$out/report.html" || fail "$sig: report.html does not say INTERRUPTED"
     local sim
     sim=$(sed -n 's/^ *"sim_time_s": \([0-9.e+-]*\),*$/\1/p' "$out/report.json" | head -1)
     # Stopped early (not at 3600 s), after a visible stretch of simulated time.

@@ -193,6 +193,15 @@ TEST(ReportHtml, EmptyRunStillRenders) {
     EXPECT_NE(html.find("no samples"), std::string::npos);
 }
 
+TEST(ReportHtml, AnInterruptedRunSaysSoAndWhereItStopped) {
+    nlohmann::json r = synthetic_report(true);
+    EXPECT_EQ(render_html(r, synthetic_rows()).find("id=\"interrupted\""), std::string::npos);
+    r["interrupted"] = true;
+    r["sim_time_s"] = 1.25;
+    const std::string html = render_html(r, synthetic_rows());
+    EXPECT_NE(html.find("id=\"interrupted\">INTERRUPTED at 1.250000 s simulated"), std::string::npos);
+}
+
 TEST(ReportSvg, NumbersAreFixedAndTextIsEscaped) {
     EXPECT_EQ(svg::num(-0.0001, 2), "0.00");
     EXPECT_EQ(svg::num(1.005, 1), "1.0");
