@@ -662,6 +662,36 @@ void section_timeline(std::ostream& o, const TimelineWindows& tl) {
       << "</div></section>\n";
 }
 
+/// Both directions for every port kind, as the exactly-once checks count them: what the line
+/// observer saw acknowledged on the wire against what the main CPU took from or handed to DP-RAM.
+void exactly_once_table(std::ostream& o, const json& ports) {
+    o << "<h3>Frames both ways (line observer against the main CPU, every host kind)</h3>\n<table><tr>"
+         "<th>port</th><th class=\"l\">host</th><th>commands EOT'd</th><th>main CPU got</th><th>lost</th>"
+         "<th>dup</th><th>reordered</th><th>unexpected</th><th>responses handed</th><th>host got</th>"
+         "<th>lost</th><th>dropped</th><th>dup</th><th>reordered</th><th>unexpected</th>"
+         "<th>response timeouts</th></tr>\n";
+    auto cell = [&o](std::uint64_t v, bool bad_if_nonzero) {
+        o << "<td" << (bad_if_nonzero && v ? " class=\"bad\"" : "") << ">" << v << "</td>";
+    };
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        const json& cmd = jo(ports[p], "commands");
+        const json& rsp = jo(ports[p], "responses");
+        const json& dropped = jo(rsp, "dropped");
+        o << "<tr><td>" << p << "</td><td class=\"l\">" << esc(js(ports[p], "host")) << "</td>";
+        cell(ju(cmd, "host_eot"), false);
+        cell(ju(cmd, "main_cpu_received"), false);
+        for (const char* k : {"lost", "duplicates", "reordered", "unexpected"}) cell(ju(cmd, k), true);
+        cell(ju(rsp, "main_cpu_handed"), false);
+        cell(ju(rsp, "host_received"), false);
+        cell(ju(rsp, "lost"), true);
+        cell(ju(dropped, "gave_up") + ju(dropped, "port_reset"), true);
+        for (const char* k : {"duplicates", "reordered", "unexpected"}) cell(ju(rsp, k), true);
+        cell(ju(ports[p], "response_timeouts"), false);
+        o << "</tr>\n";
+    }
+    o << "</table>\n";
+}
+
 void section_ports(std::ostream& o, const json& r) {
     const json& ports = jo(r, "ports");
     o << "<section id=\"ports\"><h2>Ports</h2>\n<table><tr><th>port</th><th class=\"l\">host</th>"
@@ -693,6 +723,7 @@ void section_ports(std::ostream& o, const json& r) {
           << num(jd(c, "max"), 1) << "</td></tr>\n";
     }
     o << "</table>\n";
+    exactly_once_table(o, ports);
     double limit = -1;
     for (const auto& c : jo(r, "checks"))
         if (js(c, "name") == "char_latency_max_us") limit = jd(c, "limit");

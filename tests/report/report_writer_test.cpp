@@ -193,6 +193,24 @@ TEST(ReportHtml, EmptyRunStillRenders) {
     EXPECT_NE(html.find("no samples"), std::string::npos);
 }
 
+TEST(ReportHtml, FramesBothWaysShowEveryHostKindWithLossesMarked) {
+    nlohmann::json r = synthetic_report(false);
+    r["ports"][1]["host"] = "raw";
+    r["ports"][1]["commands"] = {{"host_eot", 5}, {"main_cpu_received", 3}, {"lost", 2}};
+    r["ports"][1]["responses"] = {{"main_cpu_handed", 4}, {"host_received", 3},
+                                  {"dropped", {{"gave_up", 1}, {"port_reset", 0}}}};
+    const std::string html = render_html(r, synthetic_rows());
+    const auto table = html.find("Frames both ways");
+    ASSERT_NE(table, std::string::npos);
+    const auto row = html.find("<td class=\"l\">raw</td>", table);
+    ASSERT_NE(row, std::string::npos) << "the raw port has its row";
+    EXPECT_EQ(html.compare(row, 146,
+                           "<td class=\"l\">raw</td><td>5</td><td>3</td><td class=\"bad\">2</td><td>0</td><td>0</td>"
+                           "<td>0</td><td>4</td><td>3</td><td>0</td><td class=\"bad\">1</td>"),
+              0)
+        << html.substr(row, 200);
+}
+
 TEST(ReportHtml, AnInterruptedRunSaysSoAndWhereItStopped) {
     nlohmann::json r = synthetic_report(true);
     EXPECT_EQ(render_html(r, synthetic_rows()).find("id=\"interrupted\""), std::string::npos);
