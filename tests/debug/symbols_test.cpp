@@ -2,12 +2,16 @@
 // named by file:line.
 #include "scenarios/debug/symbols.h"
 
+#include "scenarios/debug/elf_symbols.h"
+
 #include "comm_fw_symbols.h" // generated from the same map by comm_fw_mkrom
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <fstream>
 #include <string>
 #include <unistd.h>
@@ -198,6 +202,48 @@ TEST(Symbols, TextFormatErrorsNameTheLine) {
     EXPECT_THAT(error_of("", &load_any), HasSubstr("(no error)")); // an empty file is an empty table
     EXPECT_THAT(error_of("", [](const std::string&) { return SymbolTable::load("/nonexistent/x.sym"); }),
                 HasSubstr("/nonexistent/x.sym: cannot open"));
+}
+
+// ---- the ELF file for gdb ----
+
+std::uint32_t u32(const std::vector<std::uint8_t>& b, std::size_t at) {
+    return b.at(at) | b.at(at + 1) << 8 | b.at(at + 2) << 16 | std::uint32_t(b.at(at + 3)) << 24;
+}
+std::uint16_t u16(const std::vector<std::uint8_t>& b, std::size_t at) { return std::uint16_t(b.at(at) | b.at(at + 1) << 8); }
+
+TEST(Symbols, ElfImageHoldsEverySymbolAsTheSystemVAbiLaysItOut) {
+    const auto table = SymbolTable::load(write("isr 0xF0100 0x20\nrx_len 0x488 2\n"));
+    const auto elf = elf_image(table);
+    // ELF32 header: magic, class 1 (32-bit), data 1 (little-endian), e_type 2 (EXEC) at 16,
+    // e_machine 3 (i386) at 18, e_shoff at 32, e_shentsize 40 at 46, e_shnum at 48.
+    ASSERT_GE(elf.size(), 52u);
+    EXPECT_EQ(std::string(elf.begin(), elf.begin() + 4), "\x7f" "ELF");
+    EXPECT_EQ(elf[4], 1);
+    EXPECT_EQ(elf[5], 1);
+    EXPECT_EQ(u16(elf, 16), 2);
+    EXPECT_EQ(u16(elf, 18), 3);
+    const std::uint32_t shoff = u32(elf, 32);
+    ASSERT_EQ(u16(elf, 46), 40);
+    const unsigned shnum = u16(elf, 48);
+    // The SHT_SYMTAB (2) section: entries of 16 bytes (name, value, size, info, other, shndx),
+    // names in the section sh_link points to.
+    std::map<std::string, std::array<std::uint32_t, 3>> found; // value, size, type
+    std::vector<std::uint16_t> shndx;
+    for (unsigned i = 0; i < shnum; ++i) {
+        const std::size_t sh = shoff + 40 * i;
+        if (u32(elf, sh + 4) != 2) continue;
+        const std::uint32_t off = u32(elf, sh + 16), size = u32(elf, sh + 20), link = u32(elf, sh + 24);
+        const std::uint32_t strtab = u32(elf, shoff + 40 * link + 16);
+        for (std::uint32_t e = off + 16; e < off + size; e += 16) { // entry 0 is the null symbol
+            const char* name = reinterpret_cast<const char*>(elf.data() + strtab + u32(elf, e));
+            found[name] = {u32(elf, e + 4), u32(elf, e + 8), std::uint32_t(elf[e + 12] & 0xF)};
+            shndx.push_back(u16(elf, e + 14));
+        }
+    }
+    ASSERT_EQ(found.size(), 2u);
+    EXPECT_EQ(found["isr"], (std::array<std::uint32_t, 3>{0xF0100, 0x20, 2}));  // STT_FUNC
+    EXPECT_EQ(found["rx_len"], (std::array<std::uint32_t, 3>{0x488, 2, 1}));    // STT_OBJECT
+    EXPECT_NE(shndx[0], shndx[1]); // .text and .data
 }
 
 } // namespace
