@@ -7,7 +7,8 @@ usage: gdb_garbage.py RCSIM SCENARIO FW_JSON WORKDIR
    a retransmission request) and still answers the next good packet ('?': the stop reply T05).
    It sets a breakpoint at rs232_isr and drops the connection while the board is stopped.
 2. A third of the run later a second client connects (the board stops for it), holds the board
-   for HOLD_S, continues, sends 20 KB of garbage and disconnects while the board runs. The breakpoint of the first client must be gone: no stop
+   for HOLD_S, continues, stops it with Ctrl-C (0x03: the stop reply T02, SIGINT), continues,
+   sends 20 KB of garbage and disconnects while the board runs. The breakpoint of the first client must be gone: no stop
    reply may arrive before the run ends.
 The run must end by itself (exit 0), say on stderr what it ignored, and write the same
 report.json as a run without gdb. The scenario is paced to real time: the held time must be left
@@ -101,6 +102,12 @@ def main():
     got = read_for(s, 20, until=b"#")
     assert b"$T05" in got, "FAIL: the second client got no stop reply: %r" % got
     time.sleep(HOLD_S)
+    s.sendall(frame(b"c"))
+    got = read_for(s, 0.2)
+    assert b"$T05" not in got, "FAIL: the first client's breakpoint survived its disconnect: %r" % got
+    s.sendall(b"\x03")
+    got = read_for(s, 20, until=b"#")
+    assert b"$T02#" in got, "FAIL: no stop reply T02 to Ctrl-C: %r" % got
     s.sendall(frame(b"c"))
     s.sendall(b"$" + b"x" * 20000)
     got = read_for(s, duration / 3)
