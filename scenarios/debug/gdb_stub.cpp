@@ -316,26 +316,26 @@ void GdbStub::halt(const StopReason& why, bool report) {
     if (pacer_) pacer_->exclude_wall(std::chrono::steady_clock::now() - t0);
 }
 
-bool GdbStub::serve(const RspDecoder::Event& e) {
+void GdbStub::serve(const RspDecoder::Event& e) {
     using K = RspDecoder::Event::Kind;
-    if (e.kind == K::interrupt) return false; // already stopped
+    if (e.kind == K::interrupt) return; // already stopped
     if (e.kind == K::bad_packet) {
+        // '-' asks for a retransmission; gdb resends, anything else is noise we outlast.
         log_ << "gdb: ignored " << e.payload << " from the debugger" << std::endl;
         send_raw("-");
-        return false;
+        return;
     }
     send_raw("+");
     const GdbSession::Reply r = session_.handle(e.payload);
     if (!r.silent) send(r.payload);
     switch (r.resume) {
-    case GdbSession::Resume::none: return false;
+    case GdbSession::Resume::none: return;
     case GdbSession::Resume::step: stepping_ = true; break;
     case GdbSession::Resume::cont: break;
     case GdbSession::Resume::detach: drop_client("the debugger detached"); break;
     case GdbSession::Resume::kill: drop_client("the debugger killed the target (the simulation is not ended by gdb)"); break;
     }
     resume_ = true;
-    return true;
 }
 
 void GdbStub::finish(int exit_code) {

@@ -69,7 +69,7 @@ private:
     static void on_bus(void* self, const i8086::BusRecord& record);
     void boundary(const i8086::Cpu& cpu);
     void halt(const StopReason& why, bool report);
-    bool serve(const RspDecoder::Event& e);
+    void serve(const RspDecoder::Event& e);
     void send(const std::string& payload);
     void send_raw(const std::string& bytes);
     void arm_accept();

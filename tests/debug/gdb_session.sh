@@ -11,7 +11,8 @@
 # segment the ROM is linked for), tick_div = TICK_DIV = 9216 = 0x2400 (fw.h), and rs232_isr's
 # first instruction `push cx` (isr.s; opcode 51, one byte: IP + 1, SP - 2). In rs232_isr, called
 # from port 0's handler (the only port with a host), the 8259A has IR0 in service (ISR 01) and
-# IMR = PIC_OCW1 = F0 (fw.h); the 82510 #0 runs 9600,8E1 with LCR = 1B (8 bits, even parity, 1
+# IMR = PIC_OCW1 = F0, vector base PIC_ICW2 = 20, edge triggered, normal EOI (PIC_ICW1 LTIM = 0,
+# PIC_ICW4 AEOI = 0; fw.h); the 82510 #0 runs 9600,8E1 with LCR = 1B (8 bits, even parity, 1
 # stop: the firmware's set-up).
 set -euo pipefail
 rcsim=$1 gdb=$2 scenario=$3 fw_json=$4 work=$5
@@ -59,6 +60,7 @@ printf "AT-ISR pc=%x cs=%x sp=%x\n", (unsigned) \$pc, (unsigned) \$cs, (unsigned
 x/i \$pc
 printf "TICK-DIV %x\n", *(unsigned short *) &tick_div
 monitor irq
+monitor pic
 monitor uart 0
 monitor time
 stepi
@@ -79,6 +81,7 @@ grep -q "^AT-ISR pc=$isr cs=$cs " "$work/gdb.log" || fail "not stopped at rs232_
 sp=$(sed -n 's/^AT-ISR .* sp=\([0-9a-f]*\)$/\1/p' "$work/gdb.log")
 grep -Eq "^=> 0x$isr <rs232_isr>:[[:space:]]+push +%cx$" "$work/gdb.log" || fail "x/i \$pc is not 16-bit push cx"
 grep -q "^8259A IRR [0-9A-F]* ISR 01 IMR F0" "$work/gdb.log" || fail "monitor irq: want ISR 01, IMR F0"
+grep -q "^8259A: [a-z ]*, vector base 20, edge triggered$" "$work/gdb.log" || fail "monitor pic: mode"
 grep -q "^82510 #0 (I/O 0080): bank [0-3], 9600,8E1," "$work/gdb.log" || fail "monitor uart 0: format"
 grep -q "^bank 0: RXD=[0-9A-F]* GER=[0-9A-F]* GIR=[0-9A-F]* LCR=1B " "$work/gdb.log" || fail "monitor uart 0: LCR"
 grep -Eq "^simulated time [0-9]+\.[0-9]{3} us \(kernel [0-9.]+ us\)$" "$work/gdb.log" || fail "monitor time"
