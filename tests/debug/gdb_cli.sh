@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Bad input to `rcsim run --gdb` (docs/tools.md "gdb"): each gets one line naming the value or
-# FILE:LINE and exit code 2 (docs/scenarios.md, exit codes), before anything runs.
+# FILE:LINE and exit code 2 (docs/scenarios.md, exit codes), before anything runs. And the good
+# case: a --symbols file of your own becomes OUT/symbols.elf, and a run nobody connects to runs
+# to its end.
 # usage: gdb_cli.sh RCSIM SCENARIO WORKDIR
 set -u
 rcsim=$1 scenario=$2 work=$3
@@ -30,5 +32,12 @@ sleeper=$!
 read -r busy <&3
 expect "--gdb 127.0.0.1:$busy: cannot listen" --gdb "127.0.0.1:$busy"
 kill "$sleeper" 2>/dev/null
+
+printf '# my ROM\nmy_entry F000:0000 16\nmy_counter 0x400 2\n' > "$work/good.sym"
+if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/good.sym" --out "$work/o" > "$work/out" 2> "$work/err"; then
+  echo "FAIL: a run with --gdb and nobody connecting did not pass:"; cat "$work/err"; failed=1
+elif ! grep -q "^gdb: symbols in $work/o/symbols.elf" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
+  echo "FAIL: --symbols did not become $work/o/symbols.elf"; cat "$work/out"; failed=1
+fi
 [ $failed -eq 0 ] && echo "bad --gdb input: exit 2 with the value named"
 exit $failed
