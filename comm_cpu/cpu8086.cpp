@@ -153,6 +153,44 @@ void Cpu8086::after_access() {
     core_.shorten_run(limit);
 }
 
+void Cpu8086::install_bus_observers() {
+    if (!debug_bus_observer_.hook) core_.set_bus_hook(bus_observer_.hook, bus_observer_.context);
+    else if (!bus_observer_.hook) core_.set_bus_hook(debug_bus_observer_.hook, debug_bus_observer_.context);
+    else core_.set_bus_hook(&Cpu8086::bus_fanout, this);
+}
+
+void Cpu8086::bus_fanout(void* self, const i8086::BusRecord& record) {
+    const auto* cpu = static_cast<Cpu8086*>(self);
+    cpu->bus_observer_.hook(cpu->bus_observer_.context, record);
+    cpu->debug_bus_observer_.hook(cpu->debug_bus_observer_.context, record);
+}
+
+bool Cpu8086::debug_read(std::uint32_t linear, std::uint8_t* out, std::size_t n) {
+    return debug_access(linear, out, n, false);
+}
+
+bool Cpu8086::debug_write(std::uint32_t linear, const std::uint8_t* in, std::size_t n) {
+    return debug_access(linear, const_cast<std::uint8_t*>(in), n, true); // only read from when writing
+}
+
+bool Cpu8086::debug_access(std::uint32_t linear, std::uint8_t* data, std::size_t n, bool write) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t a = (linear + std::uint32_t(i)) & 0xFFFFF; // the 8086 wraps at 1 MB
+        if (const MemRegion* r = core_.memory().find(a)) {
+            if (write) r->data[a - r->base] = data[i];
+            else data[i] = r->data[a - r->base];
+            continue;
+        }
+        tlm::tlm_generic_payload gp;
+        gp.set_command(write ? tlm::TLM_WRITE_COMMAND : tlm::TLM_READ_COMMAND);
+        gp.set_address(a);
+        gp.set_data_ptr(data + i);
+        gp.set_data_length(1);
+        if (mem->transport_dbg(gp) != 1) return false;
+    }
+    return true;
+}
+
 void Cpu8086::write_ignored(std::uint32_t address, unsigned, i8086::cycles_t start) {
     bus_errors_.add(BusErrorLog::Kind::rom_write, address, BusCycle::mem_write, time_of(start));
 }

@@ -21,6 +21,7 @@
 #include <tlm>
 #include <tlm_utils/simple_initiator_socket.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -58,13 +59,28 @@ public:
 
     /// Bus-cycle observation: called once per bus cycle with the cycle's record; convert the
     /// start cycle with time_of(). nullptr turns it off (the default; free when unused).
-    void set_bus_observer(i8086::BusHook hook, void* context) { core_.set_bus_hook(hook, context); }
+    void set_bus_observer(i8086::BusHook hook, void* context) {
+        bus_observer_ = {hook, context};
+        install_bus_observers();
+    }
+    /// A second bus-cycle observer beside set_bus_observer's, called after it (the debugger's
+    /// watchpoints, while the interrupt probe keeps the first). nullptr removes it.
+    void set_debug_bus_observer(i8086::BusHook hook, void* context) {
+        debug_bus_observer_ = {hook, context};
+        install_bus_observers();
+    }
     /// Instruction-boundary hook of the core (debugger, profiler); see i8086::StepHook.
     void set_step_observer(i8086::StepHook hook, void* context) { core_.set_step_hook(hook, context); }
     /// Records the cycle number of every instruction boundary into `log` (nullptr: off).
     void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
 
     std::uint64_t slices() const { return slices_; }
+
+    /// Debugger memory access (no bus cycle, no time, no device side effect): RAM and ROM
+    /// through the direct map (ROM writable here), everything else through the memory socket's
+    /// debug transport (the DP-RAM's array). False when a byte of the range is neither.
+    bool debug_read(std::uint32_t linear, std::uint8_t* out, std::size_t n);
+    bool debug_write(std::uint32_t linear, const std::uint8_t* in, std::size_t n);
 
     /// The bus cycles nothing answered: a TLM access answered TLM_ADDRESS_ERROR_RESPONSE (no
     /// device decodes the address: unmapped; the read gives 0xFFFF) or another error response
@@ -82,6 +98,15 @@ private:
     unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                         i8086::cycles_t start) override;
     void write_ignored(std::uint32_t address, unsigned width, i8086::cycles_t start) override;
+    bool debug_access(std::uint32_t linear, std::uint8_t* data, std::size_t n, bool write);
+    struct Observer {
+        i8086::BusHook hook = nullptr;
+        void* context = nullptr;
+    };
+    /// The core has one hook: the first observer directly, or both through bus_fanout.
+    void install_bus_observers();
+    static void bus_fanout(void* self, const i8086::BusRecord& record);
+    Observer bus_observer_, debug_bus_observer_;
 
     i8086::Cpu core_;
     Clock clock_;

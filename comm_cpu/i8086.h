@@ -156,6 +156,13 @@ public:
     /// Moves the cycle counter forward without simulating clocks (only while halted: the
     /// bus is idle).
     void skip_to(cycles_t c);
+    /// Debugger: the next instruction is the one at cs:ip. Call only from the step hook (an
+    /// instruction boundary): the queue is flushed and the opcode read from cs:ip, as a far
+    /// jump would (the refetch takes its bus cycles; nothing else of a jump happens).
+    void debug_jump(std::uint16_t cs, std::uint16_t ip) {
+        jump_far(cs, ip);
+        opcode_ = q_read(QueueOp::first);
+    }
 
     cycles_t cycles() const { return cycle_; }
     std::uint64_t instructions() const { return instructions_; }

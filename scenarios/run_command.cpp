@@ -1,5 +1,7 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE]
+//           [--gdb [HOST:]PORT [--gdb-wait] [--symbols FILE]]
 #include "models/config_error.h"
+#include "scenarios/debug/gdb_run.h"
 #include "scenarios/failure.h"
 #include "scenarios/runner.h"
 #include "scenarios/stop_signal.h"
@@ -31,6 +33,7 @@ void add_run_command(CLI::App& app) {
         std::string scenario, out, rom, vcd, seed;
         bool reproducible = false;
         bool verbose = false;
+        debug::GdbOptions gdb;
     };
     auto args = std::make_shared<Args>();
     cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
@@ -40,7 +43,12 @@ void add_run_command(CLI::App& app) {
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
-    cmd->callback([args, seed, rom] {
+    auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
+                                "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");
+    auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
+    auto* symbols = cmd->add_option("--symbols", args->gdb.symbols,
+                                    "With --gdb: the ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS lines; docs/tools.md)");
+    cmd->callback([args, seed, rom, gdb, gdb_wait, symbols] {
         RunOptions opt;
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
@@ -54,9 +62,14 @@ void add_run_command(CLI::App& app) {
         try {
             if (*seed) opt.seed = parse_seed(args->seed);
             if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
+            if (!*gdb && (*gdb_wait || *symbols)) throw ConfigError(std::string(*gdb_wait ? "--gdb-wait" : "--symbols") + " needs --gdb");
             install_stop_handlers();
             nlohmann::json report;
-            code = run_scenario(load_scenario(args->scenario), opt, report);
+            Scenario scenario = load_scenario(args->scenario);
+            std::unique_ptr<debug::GdbRun> debugger; // outlives the run: it tells gdb how it ended
+            if (*gdb) debugger = std::make_unique<debug::GdbRun>(args->gdb, scenario, opt, std::cout, std::cerr);
+            code = run_scenario(std::move(scenario), opt, report);
+            if (debugger) debugger->finish(code);
             print_summary(report, std::cout);
             if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
             if (!args->out.empty() && report.contains("interrupts"))

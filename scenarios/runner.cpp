@@ -178,6 +178,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
 
     Bench bench("bench", s);
     bench.ctl.comm.load_rom(rom);
+    if (opt.on_bench) opt.on_bench(bench);
     sc_core::sc_trace_file* vcd = trace_lines(bench, opt.vcd);
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::ofstream csv;

@@ -10,11 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
 
 namespace rcsim {
+
+class Bench;
 
 struct RunOptions {
     std::string out_dir;                // "" = write no files
@@ -22,6 +25,9 @@ struct RunOptions {
     std::optional<std::string> rom;     // overrides the scenario's and the built firmware
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
+    /// Called with the assembled bench (ROM loaded) just before the simulation starts: the gdb
+    /// stub attaches here (scenarios/debug/gdb_run.h). Empty: nothing.
+    std::function<void(Bench&)> on_bench;
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.

@@ -156,6 +156,15 @@ std::uint8_t Uart82510::read(unsigned offset) { return read_reg(offset & 7, true
 std::uint8_t Uart82510::peek(unsigned offset) const {
     return const_cast<Uart82510*>(this)->read_reg(offset & 7, false);
 }
+std::uint8_t Uart82510::peek(unsigned bank, unsigned offset) const {
+    // read_reg without effects changes nothing; only the bank it decodes is switched round it.
+    auto* self = const_cast<Uart82510*>(this);
+    const unsigned saved = self->bank_;
+    self->bank_ = bank & 3;
+    const std::uint8_t v = self->read_reg(offset & 7, false);
+    self->bank_ = saved;
+    return v;
+}
 
 std::uint8_t Uart82510::read_reg(unsigned off, bool effects) {
     if (off == GIR) return gir();

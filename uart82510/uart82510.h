@@ -112,6 +112,9 @@ public:
     void write(unsigned offset, std::uint8_t value);
     /// Register value without side effects (debug transport, traces).
     std::uint8_t peek(unsigned offset) const;
+    /// The same for a register of any bank (a debugger's register dump): the bank pointer is
+    /// left as it is.
+    std::uint8_t peek(unsigned bank, unsigned offset) const;
 
     /// The RESET pin: every register, FIFO, timer and the bank pointer (not the Stats).
     void reset();

@@ -168,8 +168,13 @@ public:
                   std::chrono::microseconds max_nap = std::chrono::milliseconds(10));
 
     const Stats& stats() const { return stats_; }
+    /// Wall time that does not count: the debugger held the whole board still this long (the
+    /// simulation resumes paced from where it stopped instead of racing to catch up). Call from
+    /// the simulation's thread.
+    void exclude_wall(std::chrono::steady_clock::duration d) { excluded_ += d; }
 
 private:
+    std::chrono::steady_clock::duration excluded_{};
     sc_core::sc_time step_;
     std::chrono::microseconds max_nap_;
     Stats stats_;

@@ -369,6 +369,27 @@ TEST(Uart82510Serial, ReceivesIntoTheFifoWithLevels) {
     EXPECT_EQ(b.uart.stats().rx_fifo_high_water, 4u);
 }
 
+TEST(Uart82510Serial, PeekOfAnyBankHasNoSideEffect) {
+    // The debugger's register dump (peek(bank, offset)): bank 0's LCR and RXD read from bank 1
+    // without switching banks, and RXD without taking the character out of the FIFO.
+    Bench b;
+    run([&] {
+        b.cpu.setup_9600_8e1();
+        b.cpu.bank(2);
+        b.cpu.wr(IMD, 0x00); // 4-byte RX FIFO
+        b.cpu.bank(1);
+        b.host.send("ab");
+        sc_core::wait(k_char * 3.0);
+        EXPECT_EQ(b.uart.peek(0, LCR), 0x1B);
+        EXPECT_EQ(b.uart.peek(0, RXD), 'a');
+        EXPECT_EQ(b.uart.peek(1, FLR) >> 4, 2); // RX FIFO level
+        EXPECT_EQ(b.uart.bank(), 1u);
+        EXPECT_EQ(b.uart.rx_level(), 2u);
+        EXPECT_EQ(b.cpu.rd(RXD), 'a'); // the FIFO still starts with 'a'
+        EXPECT_EQ(b.uart.rx_level(), 1u);
+    });
+}
+
 TEST(Uart82510Serial, TxFifoFillsWhileTheShifterWorks) {
     Bench b;
     run([&] {

@@ -1,0 +1,356 @@
+// rcsim — the gdb remote stub on the communication board (gdb_stub.h).
+#include "scenarios/debug/gdb_stub.h"
+
+#include "comm_cpu/comm_board.h"
+#include "models/config_error.h"
+#include "scenarios/host/tcp_host.h"
+#include "scenarios/stop_signal.h"
+
+#include <cstdarg>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+
+namespace rcsim::debug {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+
+void GdbStubConfig::set_listen(const std::string& text) {
+    // A bare PORT listens on the loopback interface, as ":PORT" does.
+    TcpHostConfig t;
+    try {
+        t.set_listen(text.find(':') == std::string::npos ? ":" + text : text);
+    } catch (const std::invalid_argument& e) {
+        throw ConfigError("--gdb '" + text + "': " + e.what());
+    }
+    address = t.address;
+    port = t.port;
+}
+
+// ---- the board as gdb sees it ----
+
+class GdbStub::BoardTarget : public DebugTarget {
+public:
+    explicit BoardTarget(CommBoard& b) : b_(b) {}
+
+    i8086::Registers registers() const override { return b_.cpu.core().regs(); }
+
+    void set_registers(const i8086::Registers& r) override {
+        auto& core = b_.cpu.core();
+        const bool moved = r.s[i8086::CS] != core.regs().s[i8086::CS] || r.ip != core.regs().ip;
+        core.regs() = r;
+        // The 8086's flags: bits 12-15 and 1 read as 1, 3 and 5 as 0 (as at reset).
+        core.regs().flags = std::uint16_t((r.flags & 0x0FD5) | 0xF002);
+        // A new CS:IP: the prefetched opcode belongs to the old stream.
+        if (moved) core.debug_jump(r.s[i8086::CS], r.ip);
+    }
+
+    bool read_memory(std::uint32_t a, std::uint8_t* out, std::size_t n) override { return b_.cpu.debug_read(a, out, n); }
+    bool write_memory(std::uint32_t a, const std::uint8_t* in, std::size_t n) override {
+        return b_.cpu.debug_write(a, in, n);
+    }
+
+    std::string monitor(const std::string& command) override;
+
+private:
+    std::string time() const;
+    std::string pending() const;
+    std::string pic() const;
+    std::string uart(unsigned port) const;
+
+    CommBoard& b_;
+};
+
+namespace {
+std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* f, ...) {
+    char buf[256];
+    va_list ap;
+    va_start(ap, f);
+    std::vsnprintf(buf, sizeof buf, f, ap);
+    va_end(ap);
+    return buf;
+}
+} // namespace
+
+std::string GdbStub::BoardTarget::time() const {
+    // The core runs ahead of kernel time by at most one slice that no event falls into
+    // (docs/architecture.md "Time model"): its time is the board's.
+    const double core_us = b_.cpu.time_of(b_.cpu.cycles()).to_seconds() * 1e6;
+    return fmt("simulated time %.3f us (kernel %.3f us)\n", core_us, sc_core::sc_time_stamp().to_seconds() * 1e6);
+}
+
+std::string GdbStub::BoardTarget::pending() const {
+    const auto& pic = b_.pic;
+    const int level = pic.pending_level();
+    std::string s = fmt("8259A IRR %02X ISR %02X IMR %02X; next to acknowledge: ", pic.irr(), pic.isr(), pic.imr());
+    s += level < 0 ? std::string("none") : fmt("IR%d (vector %02X)", level, unsigned(pic.vector_base() + level));
+    s += fmt("\nINTR %s, IF %d\n", b_.intr.read() ? "high" : "low",
+             (b_.cpu.core().regs().flags & i8086::flag::IF) ? 1 : 0);
+    return s;
+}
+
+std::string GdbStub::BoardTarget::pic() const {
+    const auto& p = b_.pic;
+    std::string s = fmt("8259A: %s, vector base %02X, %s triggered%s%s\n", to_string(p.init_state()),
+                        p.vector_base(), p.level_triggered() ? "level" : "edge", p.auto_eoi() ? ", auto EOI" : "",
+                        p.special_mask_mode() ? ", special mask" : "");
+    s += fmt("IRR %02X  ISR %02X  IMR %02X  lowest priority IR%u\n", p.irr(), p.isr(), p.imr(), p.lowest_priority());
+    s += "acknowledged:";
+    for (unsigned l = 0; l < 8; ++l) s += fmt(" IR%u=%llu", l, static_cast<unsigned long long>(p.acks(l)));
+    return s + fmt(" spurious=%llu\n", static_cast<unsigned long long>(p.spurious_acks()));
+}
+
+std::string GdbStub::BoardTarget::uart(unsigned port) const {
+    const auto& u = b_.uart[port];
+    // Every register as a read would return it, bank by bank, without the read's side effects
+    // (a read of RXD would take a character out of the FIFO).
+    std::string s = fmt("82510 #%u (I/O %04X): bank %u, %s, RX FIFO %u, TX FIFO %u\n", port,
+                        unsigned(b_.uart_io_address(port, 0)), u.bank(), u.tx_format().describe().c_str(),
+                        u.rx_level(), u.tx_level());
+    const char* names[4][8] = {{"RXD", "GER", "GIR", "LCR", "MCR", "LSR", "MSR", "ACR0"},
+                               {"RXF", "TXF", "GIR", "TMST", "FLR", "RST", "TCM", "GSR"},
+                               {"-", "FMD", "GIR", "TMD", "IMD", "ACR1", "RIE", "RMD"},
+                               {"CLCF", "BACF", "GIR", "BBCF", "PMD", "MIE", "TMIE", "-"}};
+    for (unsigned bank = 0; bank < 4; ++bank) {
+        s += fmt("bank %u:", bank);
+        for (unsigned off = 0; off < 8; ++off) s += fmt(" %s=%02X", names[bank][off], u.peek(bank, off));
+        s += "\n";
+    }
+    return s;
+}
+
+std::string GdbStub::BoardTarget::monitor(const std::string& command) {
+    std::istringstream in(command);
+    std::string word, arg;
+    in >> word >> arg;
+    if (word == "time") return time();
+    if (word == "cycles")
+        return fmt("cycles %llu, instructions %llu\n", static_cast<unsigned long long>(b_.cpu.cycles()),
+                   static_cast<unsigned long long>(b_.cpu.instructions()));
+    if (word == "irq") return pending();
+    if (word == "pic") return pic();
+    if (word == "uart") {
+        if (arg.size() == 1 && arg[0] >= '0' && arg[0] < char('0' + CommBoard::kPorts)) return uart(unsigned(arg[0] - '0'));
+        return "monitor uart N: N is 0, 1 or 2\n";
+    }
+    return "rcsim monitor commands:\n"
+           "  time      simulated time\n"
+           "  cycles    8086 clock cycles and instructions so far\n"
+           "  irq       pending interrupts (8259A IRR/ISR/IMR, INTR, IF)\n"
+           "  pic       8259A registers and counters\n"
+           "  uart N    82510 #N registers, all four banks (N = 0..2)\n";
+}
+
+// ---- the stub ----
+
+GdbStub::GdbStub(const GdbStubConfig& config, CommBoard& board, RealtimePacer* pacer, std::ostream& log)
+    : config_(config), board_(board), pacer_(pacer), log_(log), target_(std::make_unique<BoardTarget>(board)),
+      session_(*target_), acceptor_(io_) {
+    boost::system::error_code ec;
+    const auto addr = asio::ip::make_address(config_.address, ec);
+    if (ec) throw ConfigError("--gdb: bad address '" + config_.address + "'");
+    const tcp::endpoint ep(addr, static_cast<unsigned short>(config_.port));
+    acceptor_.open(ep.protocol(), ec);
+    if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
+    if (!ec) acceptor_.bind(ep, ec);
+    if (!ec) acceptor_.listen(1, ec);
+    if (ec) throw ConfigError("--gdb " + config_.address + ":" + std::to_string(config_.port) + ": cannot listen: " + ec.message());
+    arm_accept();
+    waiting_first_ = config_.wait;
+    board_.cpu.set_step_observer(&GdbStub::on_step, this);
+    board_.cpu.set_debug_bus_observer(&GdbStub::on_bus, this);
+}
+
+GdbStub::~GdbStub() {
+    boost::system::error_code ec;
+    if (socket_) socket_->close(ec);
+    acceptor_.close(ec);
+}
+
+std::string GdbStub::endpoint() const {
+    boost::system::error_code ec;
+    const auto ep = acceptor_.local_endpoint(ec);
+    return ep.address().to_string() + ":" + std::to_string(ep.port());
+}
+
+void GdbStub::arm_accept() {
+    if (accepting_ || !acceptor_.is_open()) return;
+    accepting_ = true;
+    acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket s) {
+        accepting_ = false;
+        if (ec) return;
+        socket_.emplace(std::move(s));
+        boost::system::error_code ignore;
+        socket_->set_option(tcp::no_delay(true), ignore);
+        closed_ = false;
+        fresh_client_ = true;
+        decoder_ = RspDecoder();
+        events_.clear();
+        log_ << "gdb: debugger connected" << std::endl;
+        arm_read();
+    });
+}
+
+void GdbStub::arm_read() {
+    socket_->async_read_some(asio::buffer(rx_), [this](const boost::system::error_code& ec, std::size_t n) {
+        if (n) decoder_.feed(rx_.data(), n, events_);
+        if (ec) {
+            closed_ = true;
+            return;
+        }
+        arm_read();
+    });
+}
+
+void GdbStub::poll() {
+    io_.restart();
+    io_.poll();
+}
+
+void GdbStub::wait_for(std::chrono::milliseconds timeout) {
+    io_.restart();
+    io_.run_for(timeout);
+}
+
+void GdbStub::drop_client(const std::string& why) {
+    log_ << "gdb: " << why << "; the run continues" << std::endl;
+    boost::system::error_code ec;
+    socket_->close(ec);
+    poll(); // lets the cancelled read finish before the socket goes
+    socket_.reset();
+    session_.clear_points();
+    stepping_ = false;
+    watch_hit_.reset();
+    events_.clear();
+    arm_accept();
+}
+
+void GdbStub::send_raw(const std::string& bytes) {
+    if (!socket_ || closed_) return;
+    boost::system::error_code ec;
+    asio::write(*socket_, asio::buffer(bytes), ec);
+    if (ec) closed_ = true;
+}
+
+void GdbStub::send(const std::string& payload) { send_raw(rsp_frame(payload)); }
+
+bool GdbStub::on_step(void* self, const i8086::Cpu& cpu) {
+    static_cast<GdbStub*>(self)->boundary(cpu);
+    return false; // never end the core's slice: the run stays cycle-identical to one without gdb
+}
+
+void GdbStub::on_bus(void* self, const i8086::BusRecord& r) {
+    auto* stub = static_cast<GdbStub*>(self);
+    if (r.kind != i8086::Bus::mem_read && r.kind != i8086::Bus::mem_write) return;
+    if (stub->watch_hit_ || !stub->session_.has_watchpoints()) return;
+    stub->watch_hit_ = stub->session_.watch_hit(r.address, r.width, r.kind == i8086::Bus::mem_write);
+}
+
+void GdbStub::boundary(const i8086::Cpu& cpu) {
+    if (waiting_first_) {
+        log_ << "gdb: waiting for the debugger on " << endpoint() << std::endl;
+        while (!socket_ && stop_signal() == 0) wait_for(std::chrono::milliseconds(100));
+        waiting_first_ = false;
+    }
+    if (--countdown_ == 0) {
+        countdown_ = kPollEvery;
+        poll();
+    }
+    if (!socket_) return;
+    if (closed_) {
+        drop_client("the debugger disconnected");
+        return;
+    }
+    if (fresh_client_) { // gdb expects a stopped target when it connects
+        fresh_client_ = false;
+        halt(StopReason{StopReason::Kind::step}, false);
+        return;
+    }
+    std::optional<StopReason> why;
+    if (watch_hit_) {
+        why = watch_hit_;
+        watch_hit_.reset();
+    } else if (stepping_) {
+        why = StopReason{StopReason::Kind::step};
+    } else if (const int b = session_.breakpoint_at(cpu.pc())) {
+        why = StopReason{StopReason::Kind::breakpoint};
+        why->hardware = b == 2;
+    } else {
+        for (const auto& e : events_)
+            if (e.kind == RspDecoder::Event::Kind::interrupt) why = StopReason{StopReason::Kind::interrupt};
+    }
+    if (why) halt(*why, true);
+}
+
+// Serves gdb until it resumes the target (or goes away); the kernel stands still meanwhile.
+void GdbStub::halt(const StopReason& why, bool report) {
+    const auto t0 = std::chrono::steady_clock::now();
+    stepping_ = false;
+    session_.set_last_stop(why);
+    // Interrupt requests that made (or raced) this stop are answered by it.
+    std::vector<RspDecoder::Event> pending;
+    for (auto& e : events_)
+        if (e.kind != RspDecoder::Event::Kind::interrupt) pending.push_back(std::move(e));
+    events_ = std::move(pending);
+    if (report) send(GdbSession::stop_reply(why));
+    resume_ = false;
+    while (!resume_) {
+        while (!events_.empty() && !resume_) {
+            const auto e = events_.front();
+            events_.erase(events_.begin());
+            serve(e);
+        }
+        if (resume_) break;
+        if (closed_) {
+            drop_client("the debugger disconnected");
+            break;
+        }
+        if (stop_signal() != 0) {
+            drop_client("the run was asked to stop while the debugger held it");
+            break;
+        }
+        wait_for(std::chrono::milliseconds(100));
+    }
+    if (pacer_) pacer_->exclude_wall(std::chrono::steady_clock::now() - t0);
+}
+
+void GdbStub::serve(const RspDecoder::Event& e) {
+    using K = RspDecoder::Event::Kind;
+    if (e.kind == K::interrupt) return; // already stopped
+    if (e.kind == K::bad_packet) {
+        // '-' asks for a retransmission; gdb resends, anything else is noise we outlast.
+        log_ << "gdb: ignored " << e.payload << " from the debugger" << std::endl;
+        send_raw("-");
+        return;
+    }
+    send_raw("+");
+    const GdbSession::Reply r = session_.handle(e.payload);
+    if (!r.silent) send(r.payload);
+    switch (r.resume) {
+    case GdbSession::Resume::none: return;
+    case GdbSession::Resume::step: stepping_ = true; break;
+    case GdbSession::Resume::cont: break;
+    case GdbSession::Resume::detach: drop_client("the debugger detached"); break;
+    case GdbSession::Resume::kill: drop_client("the debugger killed the target (the simulation is not ended by gdb)"); break;
+    }
+    resume_ = true;
+}
+
+void GdbStub::finish(int exit_code) {
+    if (!socket_) return;
+    if (!closed_) {
+        StopReason end;
+        end.kind = StopReason::Kind::exited;
+        end.exit_code = exit_code;
+        send(GdbSession::stop_reply(end));
+        log_ << "gdb: the run ended; told the debugger (exit code " << exit_code << ")" << std::endl;
+    }
+    boost::system::error_code ec;
+    socket_->close(ec);
+    poll();
+    socket_.reset();
+}
+
+} // namespace rcsim::debug

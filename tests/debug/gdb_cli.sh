@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Bad input to `rcsim run --gdb` (docs/tools.md "gdb"): each gets one line naming the value or
+# FILE:LINE and exit code 2 (docs/scenarios.md, exit codes), before anything runs. And the good
+# case: a --symbols file of your own becomes OUT/symbols.elf, and a run nobody connects to runs
+# to its end.
+# usage: gdb_cli.sh RCSIM SCENARIO WORKDIR
+set -u
+rcsim=$1 scenario=$2 work=$3
+rm -rf "$work" && mkdir -p "$work"
+failed=0
+expect() { # expect "MESSAGE PART" ARGS...
+  local want=$1; shift
+  "$rcsim" run "$scenario" "$@" > "$work/out" 2> "$work/err"
+  local rc=$?
+  if [ $rc -ne 2 ] || ! grep -qF -- "$want" "$work/err"; then
+    echo "FAIL: rcsim run $* -> exit $rc, stderr:"; cat "$work/err"; echo "(wanted exit 2 and: $want)"
+    failed=1
+  fi
+}
+printf 'ok 0xF0000\nx F0000\n' > "$work/bad.sym"
+expect "$work/bad.sym:2: bad address 'F0000'" --gdb 0 --symbols "$work/bad.sym"
+expect "$work/none.sym: cannot open the symbol file" --gdb 0 --symbols "$work/none.sym"
+expect "--gdb-wait needs --gdb" --gdb-wait
+expect "--symbols needs --gdb" --symbols "$work/bad.sym"
+expect "--gdb '127.0.0.1:99999': port 99999 out of range" --gdb 127.0.0.1:99999
+expect "--gdb 'foo:12': bad address 'foo'" --gdb foo:12
+# A port another program listens on.
+exec 3< <(python3 -c 'import socket, sys, time
+s = socket.socket(); s.bind(("127.0.0.1", 0)); s.listen(1)
+print(s.getsockname()[1], flush=True); time.sleep(30)')
+sleeper=$!
+read -r busy <&3
+expect "--gdb 127.0.0.1:$busy: cannot listen" --gdb "127.0.0.1:$busy"
+kill "$sleeper" 2>/dev/null
+
+printf '# my ROM\nmy_entry F000:0000 16\nmy_counter 0x400 2\n' > "$work/good.sym"
+if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/good.sym" --out "$work/o" > "$work/out" 2> "$work/err"; then
+  echo "FAIL: a run with --gdb and nobody connecting did not pass:"; cat "$work/err"; failed=1
+elif ! grep -q "^gdb: symbols in $work/o/symbols.elf" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
+  echo "FAIL: --symbols did not become $work/o/symbols.elf"; cat "$work/out"; failed=1
+fi
+[ $failed -eq 0 ] && echo "bad --gdb input: exit 2 with the value named"
+exit $failed

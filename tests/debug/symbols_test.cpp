@@ -1,0 +1,250 @@
+// Symbol tables (scenarios/debug/symbols.h): the three formats, lookups, and every malformed line
+// named by file:line.
+#include "scenarios/debug/symbols.h"
+
+#include "scenarios/debug/elf_symbols.h"
+
+#include "comm_fw_symbols.h" // generated from the same map by comm_fw_mkrom
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+namespace rcsim::debug {
+namespace {
+
+using testing::HasSubstr;
+using Kind = Symbol::Kind;
+
+// One file per test (CTest runs the tests of this file in parallel processes).
+std::string write(const std::string& text) {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    const std::string path = testing::TempDir() + "rcsim_sym_" + info->name() + "_" + std::to_string(getpid());
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string error_of(const std::string& text, SymbolTable (*load)(const std::string&)) {
+    const std::string path = write(text);
+    try {
+        load(path);
+    } catch (const SymbolError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+SymbolTable load_any(const std::string& p) { return SymbolTable::load(p); }
+SymbolTable load_ld86(const std::string& p) { return SymbolTable::load_ld86_map(p); }
+SymbolTable load_nasm(const std::string& p) { return SymbolTable::load_nasm_map(p); }
+
+// ---- the built firmware's ld86 map against comm_fw_mkrom's independent reading of it ----
+
+TEST(Symbols, Ld86MapOfTheBuiltFirmwareMatchesTheGeneratedHeader) {
+    const auto table = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
+    ASSERT_EQ(table.size(), std::size(comm_fw::symbols));
+    for (const auto& s : comm_fw::symbols) {
+        const Symbol* got = table.find(s.name);
+        ASSERT_NE(got, nullptr) << s.name;
+        EXPECT_EQ(got->address, s.linear) << s.name;
+        EXPECT_EQ(got->kind, s.code ? Kind::code : Kind::data) << s.name;
+    }
+    // rs232_isr runs to the next global code symbol (its local labels do not cut it).
+    std::uint32_t next = comm_fw::rom_base + comm_fw::code_bytes;
+    for (const auto& s : comm_fw::symbols)
+        if (s.code && s.linear > comm_fw::code::rs232_isr) next = std::min(next, s.linear);
+    const Symbol* isr = table.find("rs232_isr");
+    ASSERT_NE(isr, nullptr);
+    EXPECT_EQ(isr->size, next - comm_fw::code::rs232_isr);
+    EXPECT_EQ(table.containing(comm_fw::code::rs232_isr), isr);
+    EXPECT_EQ(table.containing(next - 1), isr);
+    EXPECT_NE(table.containing(next), isr);
+    EXPECT_EQ(table.find("_rs232_isr"), nullptr); // bcc's underscore is dropped
+    EXPECT_EQ(table.find("__segoff"), nullptr);   // linker symbols bound regions, name nothing
+}
+
+// ---- ld86 -M by hand ----
+
+// Code at F0000 + value; DATA_SEG = 0x40 puts segment 3 at 0x400 + value. Sizes: start to _f
+// (0x10), _f to the end of code (__segoff 0x2 paragraphs = 0x20: 0x20 - 0x10); _v to _w (4), _w
+// to __end (0xA - 4 = 6). Locals (r) and absolutes (a) are not symbols.
+const char* const ld86_map =
+    "                crt0                 start  0  00000000  R\n"
+    "                crt0              DATA_SEG  0  00000040  a\n"
+    "                crt0                 local  0  00000004  r\n"
+    "                main                    _f  0  00000010  R\n"
+    "                crt0              __segoff  0  00000002  R\n"
+    "                main                    _v  3  00000000  R\n"
+    "                main                    _w  3  00000004  R C\n"
+    "                crt0                 __end  3  0000000a  R\n"
+    "Total memory used: 00000100\n";
+
+TEST(Symbols, Ld86MapPlacesCodeAndDataAndSizesThem) {
+    const auto table = SymbolTable::load(write(ld86_map));
+    ASSERT_EQ(table.size(), 4u);
+    EXPECT_EQ(table.find("start")->address, 0xF0000u);
+    EXPECT_EQ(table.find("start")->size, 0x10u);
+    EXPECT_EQ(table.find("f")->address, 0xF0010u);
+    EXPECT_EQ(table.find("f")->size, 0x10u);
+    EXPECT_EQ(table.find("v")->address, 0x400u);
+    EXPECT_EQ(table.find("v")->kind, Kind::data);
+    EXPECT_EQ(table.find("v")->size, 4u);
+    EXPECT_EQ(table.find("w")->size, 6u);
+    EXPECT_EQ(table.find("local"), nullptr);
+    EXPECT_EQ(table.containing(0xF0004)->name, "start");
+    EXPECT_EQ(table.containing(0x409)->name, "w");
+    EXPECT_EQ(table.containing(0x40A), nullptr);
+    EXPECT_EQ(table.containing(0xF0020), nullptr);
+}
+
+TEST(Symbols, Ld86MapWithoutDataSegLoadsCodeOnlyUnlessTheLayoutSaysWhere) {
+    std::string map = ld86_map;
+    map.erase(map.find("                crt0              DATA_SEG"), 60);
+    const std::string path = write(map);
+    EXPECT_EQ(SymbolTable::load_ld86_map(path).find("v"), nullptr);
+    Ld86Layout layout;
+    layout.data_base = 0x2000;
+    EXPECT_EQ(SymbolTable::load_ld86_map(path, layout).find("v")->address, 0x2000u);
+}
+
+TEST(Symbols, Ld86MapErrorsNameTheLine) {
+    auto ld = [](const std::string& line) {
+        return error_of(std::string("  crt0 start 0 00000000 R\n") + line + "\n", &load_ld86);
+    };
+    EXPECT_THAT(ld("  m x 0 0000zz10 R"), HasSubstr(":2: bad value '0000zz10'"));
+    EXPECT_THAT(ld("  m x 03 00000010 R"), HasSubstr(":2: bad segment '03'"));
+    EXPECT_THAT(ld("  m x 0 00000010 Q"), HasSubstr(":2: bad flags 'Q'"));
+    EXPECT_THAT(ld("  m x 0 00000010"), HasSubstr(":2: not an ld86 -M line"));
+    EXPECT_THAT(ld("  m x 1 00000010 R"), HasSubstr(":2: symbol 'x' in segment 1"));
+    EXPECT_THAT(ld("  m start 0 00000010 R"), HasSubstr(":2: duplicate symbol 'start'"));
+}
+
+// ---- nasm's map, from a real nasm run (symbols_sample.asm) ----
+
+TEST(Symbols, NasmMapFromARealAssembly) {
+    const auto table = SymbolTable::load(RCSIM_SYMBOLS_SAMPLE_MAP);
+    ASSERT_EQ(table.size(), 5u);
+    // The sizes from the source's comments: entry 3 bytes, helper 4, table 5 (to the section's
+    // end at offset 0xC); counter resw 1, flags resb 1 (to the end of .bss, 0x403).
+    const struct { const char* name; std::uint32_t address, size; Kind kind; } want[] = {
+        {"entry", 0xF0000, 3, Kind::code},  {"helper", 0xF0003, 4, Kind::code},
+        {"table", 0xF0007, 5, Kind::code},  {"counter", 0x400, 2, Kind::data},
+        {"flags", 0x402, 1, Kind::data},
+    };
+    for (const auto& w : want) {
+        const Symbol* s = table.find(w.name);
+        ASSERT_NE(s, nullptr) << w.name;
+        EXPECT_EQ(s->address, w.address) << w.name;
+        EXPECT_EQ(s->size, w.size) << w.name;
+        EXPECT_EQ(s->kind, w.kind) << w.name;
+    }
+    EXPECT_EQ(table.containing(0xF0006)->name, "helper");
+    EXPECT_EQ(table.containing(0xF000C), nullptr);
+}
+
+TEST(Symbols, NasmMapErrorsNameTheLine) {
+    const std::string head = "- NASM Map file ---\n\n-- Symbols ---\n\n---- Section .text ---\n\nReal Virtual Name\n";
+    EXPECT_THAT(error_of(head + "  0  0  a b\n", &load_nasm), HasSubstr(":8: not a 'Real Virtual Name'"));
+    EXPECT_THAT(error_of(head + "  g  0  a\n", &load_nasm), HasSubstr(":8: bad address 'g'"));
+    EXPECT_THAT(error_of(head + "  0  0  9a\n", &load_nasm), HasSubstr(":8: bad symbol name '9a'"));
+    EXPECT_THAT(error_of("hello\n", &load_nasm), HasSubstr(":1: not a nasm map file"));
+}
+
+// ---- the simple text format ----
+
+TEST(Symbols, TextFormatAddressesSizesAndKinds) {
+    const auto table = SymbolTable::load(write(
+        "# rcsim symbols\n"
+        "reset    0xFFFF0  5          # the reset stub\n"
+        "main     F000:0100           # F0000 + 0100, runs to `work`\n"
+        "work     F010:0010  0x20     # F0100 + 0010 = F0110, 32 bytes\n"
+        "counter  0040:0002           # data (outside the ROM), the last data symbol: a label\n"
+        "buffer   0x1000     16  data\n"
+        "\n"
+        "vec      0xF0200    2   data # a table in the ROM\n"));
+    ASSERT_EQ(table.size(), 6u);
+    EXPECT_EQ(table.find("main")->address, 0xF0100u);
+    EXPECT_EQ(table.find("main")->size, 0x10u);
+    EXPECT_EQ(table.find("work")->address, 0xF0110u);
+    EXPECT_EQ(table.find("work")->size, 0x20u);
+    EXPECT_EQ(table.find("reset")->size, 5u);
+    EXPECT_EQ(table.find("counter")->address, 0x402u);
+    EXPECT_EQ(table.find("counter")->kind, Kind::data);
+    EXPECT_EQ(table.find("counter")->size, 0x1000u - 0x402u); // up to `buffer`
+    EXPECT_EQ(table.find("buffer")->size, 16u);
+    EXPECT_EQ(table.find("vec")->kind, Kind::data);
+    EXPECT_EQ(table.containing(0xF012F)->name, "work");
+    EXPECT_EQ(table.containing(0xF0130), nullptr);
+    EXPECT_EQ(table.containing(0xFFFF4)->name, "reset");
+    // symbols() is sorted by address
+    EXPECT_TRUE(std::is_sorted(table.symbols().begin(), table.symbols().end(),
+                               [](const Symbol& a, const Symbol& b) { return a.address < b.address; }));
+}
+
+TEST(Symbols, TextFormatErrorsNameTheLine) {
+    auto text = [](const std::string& line) { return error_of("ok 0xF0000\n" + line + "\n", &load_any); };
+    EXPECT_THAT(text("x"), HasSubstr(":2: missing ADDRESS"));
+    EXPECT_THAT(text("x 0xF0000 1 code extra"), HasSubstr(":2: too many fields"));
+    EXPECT_THAT(text("9x 0xF0000"), HasSubstr(":2: bad symbol name '9x'"));
+    EXPECT_THAT(text("x F0000"), HasSubstr(":2: bad address 'F0000'"));
+    EXPECT_THAT(text("x F0000:0"), HasSubstr(":2: bad address 'F0000:0'"));
+    EXPECT_THAT(text("x 0x1000000"), HasSubstr(":2: bad address '0x1000000'"));
+    EXPECT_THAT(text("x 0x110000"), HasSubstr(":2: address '0x110000' beyond"));
+    EXPECT_THAT(text("x 0xF0010 -1"), HasSubstr(":2: bad size '-1'"));
+    EXPECT_THAT(text("x 0xF0010 4 text"), HasSubstr(":2: bad kind 'text'"));
+    EXPECT_THAT(text("ok 0xF0010"), HasSubstr(":2: duplicate symbol 'ok'"));
+    EXPECT_THAT(error_of("", &load_any), HasSubstr("(no error)")); // an empty file is an empty table
+    EXPECT_THAT(error_of("", [](const std::string&) { return SymbolTable::load("/nonexistent/x.sym"); }),
+                HasSubstr("/nonexistent/x.sym: cannot open"));
+}
+
+// ---- the ELF file for gdb ----
+
+std::uint32_t u32(const std::vector<std::uint8_t>& b, std::size_t at) {
+    return b.at(at) | b.at(at + 1) << 8 | b.at(at + 2) << 16 | std::uint32_t(b.at(at + 3)) << 24;
+}
+std::uint16_t u16(const std::vector<std::uint8_t>& b, std::size_t at) { return std::uint16_t(b.at(at) | b.at(at + 1) << 8); }
+
+TEST(Symbols, ElfImageHoldsEverySymbolAsTheSystemVAbiLaysItOut) {
+    const auto table = SymbolTable::load(write("isr 0xF0100 0x20\nrx_len 0x488 2\n"));
+    const auto elf = elf_image(table);
+    // ELF32 header: magic, class 1 (32-bit), data 1 (little-endian), e_type 2 (EXEC) at 16,
+    // e_machine 3 (i386) at 18, e_shoff at 32, e_shentsize 40 at 46, e_shnum at 48.
+    ASSERT_GE(elf.size(), 52u);
+    EXPECT_EQ(std::string(elf.begin(), elf.begin() + 4), "\x7f" "ELF");
+    EXPECT_EQ(elf[4], 1);
+    EXPECT_EQ(elf[5], 1);
+    EXPECT_EQ(u16(elf, 16), 2);
+    EXPECT_EQ(u16(elf, 18), 3);
+    const std::uint32_t shoff = u32(elf, 32);
+    ASSERT_EQ(u16(elf, 46), 40);
+    const unsigned shnum = u16(elf, 48);
+    // The SHT_SYMTAB (2) section: entries of 16 bytes (name, value, size, info, other, shndx),
+    // names in the section sh_link points to.
+    std::map<std::string, std::array<std::uint32_t, 3>> found; // value, size, type
+    std::vector<std::uint16_t> shndx;
+    for (unsigned i = 0; i < shnum; ++i) {
+        const std::size_t sh = shoff + 40 * i;
+        if (u32(elf, sh + 4) != 2) continue;
+        const std::uint32_t off = u32(elf, sh + 16), size = u32(elf, sh + 20), link = u32(elf, sh + 24);
+        const std::uint32_t strtab = u32(elf, shoff + 40 * link + 16);
+        for (std::uint32_t e = off + 16; e < off + size; e += 16) { // entry 0 is the null symbol
+            const char* name = reinterpret_cast<const char*>(elf.data() + strtab + u32(elf, e));
+            found[name] = {u32(elf, e + 4), u32(elf, e + 8), std::uint32_t(elf[e + 12] & 0xF)};
+            shndx.push_back(u16(elf, e + 14));
+        }
+    }
+    ASSERT_EQ(found.size(), 2u);
+    EXPECT_EQ(found["isr"], (std::array<std::uint32_t, 3>{0xF0100, 0x20, 2}));  // STT_FUNC
+    EXPECT_EQ(found["rx_len"], (std::array<std::uint32_t, 3>{0x488, 2, 1}));    // STT_OBJECT
+    EXPECT_NE(shndx[0], shndx[1]); // .text and .data
+}
+
+} // namespace
+} // namespace rcsim::debug
