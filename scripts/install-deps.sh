@@ -9,6 +9,8 @@ PACKAGES=(
   bcc bin86 nasm python3 libx86emu-dev
   parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
   time                     # peak RSS of the memory tests (/usr/bin/time)
+  python3-serial           # pyserial: the pty backend's end-to-end tests (tests/pty)
+  gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
