@@ -268,6 +268,7 @@ void SerialLine::set_break(Side from, bool active) {
         d.break_detected = false;
         d.holds.push_back(Hold{now, sc_core::sc_max_time()});
         if (trace_) *trace_ << now << ' ' << (from == a ? "a>b" : "b>a") << " BREAK on\n";
+        if (on_break_level) on_break_level(from, true);
         if (!rx) return;
         // A START sent at this same instant falls with the BREAK: one edge, the BREAK's (the
         // order of two calls at one time must not matter).
@@ -291,6 +292,7 @@ void SerialLine::set_break(Side from, bool active) {
     if (d.break_level == 0 || --d.break_level > 0) return;
     d.holds.back().end = now;
     if (trace_) *trace_ << now << ' ' << (from == a ? "a>b" : "b>a") << " BREAK off\n";
+    if (on_break_level) on_break_level(from, false);
     if (!rx) return;
     if (d.break_detected) {
         d.break_detected = false;

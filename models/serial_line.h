@@ -184,6 +184,10 @@ public:
 
     /// Called for every transmitted character (e.g. a bit-level trace); empty by default.
     std::function<void(const Traced&)> on_transmit;
+    /// Called when a side's BREAK starts holding its wire at SPACE (held = true) and when the
+    /// wire is let go (false): with on_transmit, the wire's level at every instant (a waveform
+    /// trace). Empty by default.
+    std::function<void(Side from, bool held)> on_break_level;
 
     /// What a receiver was handed, for passive observers (a protocol analyser on the line).
     struct Delivered {

@@ -58,13 +58,14 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
     probe.on_dpram_write = [this](const i8086::BusRecord& r, const sc_time& t) { watch_dpram(r, t); };
     bool any_tcp = false;
     for (const auto& h : tcp) any_tcp = any_tcp || h;
+    for (const auto& h : pty) any_tcp = any_tcp || h; // a terminal's timeouts are wall-clock too
     const double rtf = s.realtime >= 0 ? s.realtime : any_tcp ? 1.0 : 0.0;
     if (rtf > 0) pacer = std::make_unique<RealtimePacer>("pacer", rtf);
     SC_THREAD(inject_breaks);
 }
 
 const char* Bench::host_kind(unsigned p) const {
-    return protocol[p] ? "protocol" : raw[p] ? "raw" : tcp[p] ? "tcp" : replay[p] ? "replay" : "none";
+    return protocol[p] ? "protocol" : raw[p] ? "raw" : tcp[p] ? "tcp" : replay[p] ? "replay" : pty[p] ? "pty" : "none";
 }
 
 void Bench::attach_host(unsigned p, const PortScenario& ps) {
@@ -88,6 +89,11 @@ void Bench::attach_host(unsigned p, const PortScenario& ps) {
     } else if (ps.host == PortScenario::Host::replay) {
         replay[p] = std::make_unique<ReplayHost>(n.c_str(), ps.replay);
         replay[p]->connect(lines[p], SerialLine::b);
+    } else if (ps.host == PortScenario::Host::pty) {
+        pty[p] = std::make_unique<PtyHost>(n.c_str(), ps.pty);
+        pty[p]->connect(lines[p], SerialLine::b);
+        std::cout << "port " << p << ": pty host at " << pty[p]->slave_path()
+                  << (ps.pty.link.empty() ? "" : " (link " + ps.pty.link + ")") << std::endl;
     }
     if (ps.noise_per_bit > 0) lines[p].set_noise(ps.noise_per_bit, scenario_.seed * 7919 + p);
     for (const LineFault& f : ps.faults) {

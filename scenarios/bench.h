@@ -12,6 +12,7 @@
 #include "scenarios/report_html.h"
 #include "scenarios/scenario.h"
 #include "scenarios/host/protocol_host.h"
+#include "scenarios/host/pty_host.h"
 #include "scenarios/host/raw_host.h"
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
@@ -39,7 +40,8 @@ public:
     std::array<std::unique_ptr<RawHost>, kPorts> raw;
     std::array<std::unique_ptr<TcpHost>, kPorts> tcp;
     std::array<std::unique_ptr<ReplayHost>, kPorts> replay;
-    std::unique_ptr<RealtimePacer> pacer; // with a tcp host, or `realtime:` set
+    std::array<std::unique_ptr<PtyHost>, kPorts> pty;
+    std::unique_ptr<RealtimePacer> pacer; // with a tcp or pty host, or `realtime:` set
     InterruptProbe probe;
     std::array<Samples, kPorts> char_latency_us; // stop bit -> RXD read
     /// The probe's records as rows: interrupts.csv (streamed, write_csv_to) and report.html's
@@ -53,7 +55,7 @@ public:
     SC_HAS_PROCESS(Bench);
     Bench(sc_core::sc_module_name name, const Scenario& s);
 
-    /// The name of the host kind on port p ("protocol", "raw", "tcp", "replay", "none").
+    /// The name of the host kind on port p ("protocol", "raw", "tcp", "replay", "pty", "none").
     const char* host_kind(unsigned p) const;
     const Scenario& scenario() const { return scenario_; }
 

@@ -153,6 +153,21 @@ nlohmann::json port_json(const Bench& b, unsigned p) {
         j["tcp"] = {{"listen", h->endpoint()},   {"connections", c.connections}, {"bytes_in", c.bytes_in},
                     {"bytes_sent", c.bytes_sent}, {"bytes_received", c.bytes_received}, {"bytes_out", c.bytes_out},
                     {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped}};
+        if (b.scenario().ports[p].tcp.telnet) j["tcp"]["breaks_sent"] = c.breaks_sent;
+    }
+    if (const auto& h = b.pty[p]) {
+        const auto c = h->counters();
+        j["pty"] = {{"path", h->path()},
+                    {"client_format", h->client_format().describe()},
+                    {"bytes_in", c.bytes_in},
+                    {"bytes_sent", c.bytes_sent},
+                    {"breaks_sent", c.breaks_sent},
+                    {"bytes_received", c.bytes_received},
+                    {"bytes_out", c.bytes_out},
+                    {"bytes_dropped", c.bytes_dropped},
+                    {"unknown_speed", c.unknown_speed},
+                    {"connections", c.connections},
+                    {"disconnects", c.disconnects}};
     }
     if (const auto& h = b.replay[p]) {
         const auto& c = h->counters();

@@ -11,6 +11,7 @@
 #include "scenarios/stop_signal.h"
 #include "scenarios/motion_scenario.h"
 #include "scenarios/trajectory_report.h"
+#include "scenarios/vcd_trace.h"
 #include "models/config_error.h"
 
 #include <cerrno>
@@ -18,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 
 #ifndef RCSIM_COMM_FW_ROM
@@ -70,18 +72,6 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     report["passed"] = rc == 0;
     if (!opt.out_dir.empty()) write_report_json(out, report);
     return exit_code(rc == 0);
-}
-
-/// The interrupt lines in a VCD trace (--vcd).
-sc_core::sc_trace_file* trace_lines(Bench& bench, const std::string& path) {
-    if (path.empty()) return nullptr;
-    sc_core::sc_trace_file* vcd = open_vcd(path);
-    for (unsigned p = 0; p < kPorts; ++p)
-        sc_core::sc_trace(vcd, bench.ctl.comm.uart_int[p], "ir" + std::to_string(p));
-    sc_core::sc_trace(vcd, bench.ctl.int_l, "ir3_int_l");
-    sc_core::sc_trace(vcd, bench.ctl.int_r, "int_r");
-    sc_core::sc_trace(vcd, bench.ctl.comm.intr, "intr");
-    return vcd;
 }
 
 /// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
@@ -179,7 +169,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     Bench bench("bench", s);
     bench.ctl.comm.load_rom(rom);
     if (opt.on_bench) opt.on_bench(bench);
-    sc_core::sc_trace_file* vcd = trace_lines(bench, opt.vcd);
+    std::unique_ptr<VcdTrace> vcd; // --vcd (vcd_trace.h)
+    if (!opt.vcd.empty()) vcd = std::make_unique<VcdTrace>("vcd", bench, opt.vcd);
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::ofstream csv;
     const std::filesystem::path csv_file = std::filesystem::path(opt.out_dir) / "interrupts.csv";
@@ -196,7 +187,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     bench.finish_observers();
     bench.finish();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
+    if (vcd) vcd->close();
     bench.finish_files();
 
     report = run_header(s, opt, wall);

@@ -4,7 +4,11 @@
 
 #include "scenarios/yaml_map.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -126,6 +130,28 @@ std::string path_value(YamlMap& m, const std::string& key, const std::filesystem
     return f.is_absolute() ? f.string() : (dir / f).string();
 }
 
+/// A pty host's `link:`: a symlink rcsim may make there. Checked now, so that the error names
+/// the scenario line: a symlink must be possible in its folder, and the path, if it exists, must be
+/// a symlink (a stale link of an earlier run is replaced; a file or folder is never).
+std::string pty_link_value(YamlMap& m, const std::filesystem::path& dir) {
+    const std::string link = path_value(m, "link", dir);
+    const std::filesystem::path folder = std::filesystem::path(link).parent_path();
+    std::error_code ec;
+    const auto st = std::filesystem::symlink_status(link, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_symlink(st))
+        m.fail(m.child("link"), "'link' " + link + " exists and is not a symlink (rcsim replaces only a symlink)");
+    if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+        m.fail(m.child("link"), "'link' " + link + ": no folder " + folder.string());
+    // Whether a symlink can be made there (permissions, a read-only or special file system) is
+    // known only by making one: a probe beside the link, removed at once.
+    const std::string probe = link + ".probe" + std::to_string(::getpid());
+    const std::string where = folder.empty() ? "." : folder.string();
+    if (::symlink("/dev/null", probe.c_str()) != 0)
+        m.fail(m.child("link"), "'link' " + link + ": cannot make a symlink in " + where + ": " + std::strerror(errno));
+    ::unlink(probe.c_str());
+    return link;
+}
+
 PortScenario read_port(const YAML::Node& n, const std::string& file, const std::string& ctx,
                        const std::filesystem::path& dir, std::uint64_t seed) {
     YamlMap m(n, file, ctx);
@@ -182,13 +208,26 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
         }
         if (m.has("record")) p.tcp.record_path = path_value(m, "record", dir);
         if (m.has("port_file")) p.tcp.port_file = path_value(m, "port_file", dir);
+        p.tcp.telnet = m.get<bool>("telnet", false);
+        if (m.has("break_ms") && !p.tcp.telnet)
+            m.fail(m.child("break_ms"), "'" + ctx + "break_ms' is the length of a telnet IAC BRK: it needs 'telnet: true'");
+        p.tcp.break_duration = ms_value(m, "break_ms", 250, 10000);
+        // Shorter than one of the port's characters, the SPACE is no BREAK to the receiver but a
+        // character read from the wire (docs/serial.md "BREAK").
+        if (p.tcp.telnet && !(p.tcp.break_duration > fmt.receive_time()))
+            m.fail(m.child("break_ms"), "'" + ctx + "break_ms' must be longer than one " + fmt.describe() +
+                                            " character (" + std::to_string(to_us(fmt.receive_time()) / 1000) + " ms)");
     } else if (host == "replay") {
         p.host = PortScenario::Host::replay;
         p.replay.file = path_value(m, "file", dir);
         if (m.has("format")) p.replay.format = fmt;
         if (m.has("record")) p.replay.record_path = path_value(m, "record", dir);
+    } else if (host == "pty") {
+        p.host = PortScenario::Host::pty;
+        p.pty.format = fmt;
+        if (m.has("link")) p.pty.link = pty_link_value(m, dir);
     } else if (host != "none") {
-        m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw, tcp, replay or none)");
+        m.fail(m.child("host"), "unknown host '" + host + "' (protocol, raw, tcp, replay, pty or none)");
     }
     if (m.has("log")) {
         if (p.host != PortScenario::Host::protocol)
@@ -284,6 +323,7 @@ SerialFormat PortScenario::format() const {
     case Host::raw: return raw.format;
     case Host::tcp: return tcp.format;
     case Host::replay: return replay.format ? *replay.format : SerialFormat::rs232(9600);
+    case Host::pty: return pty.format;
     default: return protocol.format;
     }
 }
@@ -325,12 +365,15 @@ Scenario load_scenario(const std::string& path) {
     }
     bool interactive = false; // a tcp or replay host can end the run by itself
     for (auto& p : s.ports) {
-        if (p.host == PortScenario::Host::tcp || p.host == PortScenario::Host::replay) interactive = true;
+        if (p.host == PortScenario::Host::tcp || p.host == PortScenario::Host::replay ||
+            p.host == PortScenario::Host::pty)
+            interactive = true;
         p.tcp.end_on_disconnect = s.duration_s == 0;
+        p.pty.end_on_disconnect = s.duration_s == 0;
         p.replay.end_at_log_end = s.duration_s == 0;
     }
     if (s.duration_s == 0 && !interactive)
-        top.fail(top.child("duration_s"), "'duration_s: 0' (run until the session ends) needs a tcp or replay host");
+        top.fail(top.child("duration_s"), "'duration_s: 0' (run until the session ends) needs a tcp, pty or replay host");
     if (s.duration_s > 0 && s.duration_s < 1e-6) top.fail(top.child("duration_s"), "'duration_s' must be 0 or >= 1e-6");
     s.has_motion = top.has("motion");
     top.child("motion"); // read by the motion layer

@@ -4,6 +4,7 @@
 
 #include "scenarios/controller.h"
 #include "scenarios/host/protocol_host.h"
+#include "scenarios/host/pty_host.h"
 #include "scenarios/host/raw_host.h"
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
@@ -29,11 +30,12 @@ struct LineFault {
 };
 
 struct PortScenario {
-    enum class Host { none, protocol, raw, tcp, replay } host = Host::none;
+    enum class Host { none, protocol, raw, tcp, replay, pty } host = Host::none;
     ProtocolHostConfig protocol;
     RawHostConfig raw;
     TcpHostConfig tcp;       // host: tcp (docs/serial.md "Connecting your own tools")
     ReplayHostConfig replay; // host: replay (a session log recorded by a tcp host)
+    PtyHostConfig pty;       // host: pty (docs/serial.md "A pty as the serial port")
     /// The host's line format (a replay host without `format:` uses the 9600,8E1 default here).
     SerialFormat format() const;
     std::string log_path; // protocol host: transaction log ("" = none)
@@ -61,7 +63,7 @@ struct Scenario {
     std::string file;
     std::string name;
     double duration_s = 1.0; // 0 (tcp/replay hosts only): until the client disconnects / the log ends
-    double realtime = -1;    // pace simulated to wall time x this; < 0: 1.0 with a tcp host, else off
+    double realtime = -1;    // pace simulated to wall time x this; < 0: 1.0 with a tcp or pty host, else off
     double drain_s = 1.0; // after duration_s: no new commands; what is in flight completes
     std::uint64_t seed = 1;
     std::string rom; // "" = the built firmware

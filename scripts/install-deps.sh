@@ -10,6 +10,8 @@ PACKAGES=(
   parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
   time                     # peak RSS of the memory tests (/usr/bin/time)
   gdb                      # the gdb stub's test drives Debian's gdb (tests/debug)
+  python3-serial           # pyserial: the pty backend's end-to-end tests (tests/pty)
+  gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -145,6 +145,15 @@ void TcpHost::run() {
             rec_.event(sc_core::sc_time_stamp(), SessionEvent::Kind::disconnect);
             disconnected = true;
             break;
+        case Item::brk:
+            // The wire at SPACE for the break's length; the next character starts after it.
+            line_->insert_break(side_, cfg_.break_duration);
+            {
+                std::lock_guard<std::mutex> lock(mu_);
+                ++counters_.breaks_sent;
+            }
+            wait(cfg_.break_duration);
+            break;
         case Item::byte:
             // One character per frame time: the pace of a real terminal at this baud.
             line_->transmit(side_, SerialWord::encode(item->value, cfg_.format));
@@ -203,6 +212,7 @@ void TcpHost::start_accept() {
         boost::system::error_code ignored;
         s.set_option(tcp::no_delay(true), ignored);
         sock_.emplace(std::move(s));
+        telnet_ = TelnetDecoder{};
         {
             std::lock_guard<std::mutex> lock(mu_);
             connected_ = true;
@@ -224,7 +234,18 @@ void TcpHost::start_read() {
         }
         {
             std::lock_guard<std::mutex> lock(mu_);
-            for (std::size_t i = 0; i < n; ++i) in_.push_back({Item::byte, rbuf_[i]});
+            for (std::size_t i = 0; i < n; ++i) {
+                if (!cfg_.telnet) {
+                    in_.push_back({Item::byte, rbuf_[i]});
+                    continue;
+                }
+                std::uint8_t data = 0;
+                switch (telnet_.feed(rbuf_[i], data)) {
+                case TelnetDecoder::Out::byte: in_.push_back({Item::byte, data}); break;
+                case TelnetDecoder::Out::brk: in_.push_back({Item::brk, 0}); break;
+                case TelnetDecoder::Out::none: break;
+                }
+            }
             counters_.bytes_in += n;
         }
         inbox_.async_request_update();
@@ -240,6 +261,7 @@ void TcpHost::start_write() {
         wbuf_.assign(out_.begin(), out_.end());
         out_.clear();
     }
+    if (cfg_.telnet) wbuf_ = telnet_escape(wbuf_);
     writing_ = true;
     asio::async_write(*sock_, asio::buffer(wbuf_), [this](const boost::system::error_code& ec, std::size_t n) {
         writing_ = false;

@@ -30,6 +30,7 @@
 #include "models/serial_line.h"
 #include "scenarios/host/host_line.h"
 #include "scenarios/host/replay_host.h"
+#include "scenarios/host/telnet.h"
 
 #include <boost/asio.hpp>
 #include <systemc>
@@ -55,6 +56,10 @@ struct TcpHostConfig {
     std::string port_file;             // write the bound port number here ("" = none)
     bool end_on_disconnect = false;    // sc_pause() when the client goes away (duration_s: 0)
     std::size_t max_buffer = 1u << 20; // controller bytes held for an absent client
+    /// The stream is telnet-style (telnet.h): IAC BRK from the client is a BREAK of
+    /// `break_duration` on the line, a 255 byte is IAC IAC both ways. Off: a plain byte stream.
+    bool telnet = false;
+    sc_core::sc_time break_duration = sc_core::sc_time(250, sc_core::SC_MS); // tcsendbreak's 0.25 s
 
     /// Parses "HOST:PORT" ("127.0.0.1:5510", "[::1]:0", ":5510" = 127.0.0.1); throws
     /// std::invalid_argument.
@@ -72,6 +77,7 @@ public:
         std::uint64_t bytes_dropped = 0;   // beyond max_buffer
         std::uint64_t line_errors = 0;     // controller bytes with a parity/framing error
         std::uint64_t breaks = 0;          // BREAKs from the controller (not forwarded)
+        std::uint64_t breaks_sent = 0;     // BREAKs put on the line (telnet IAC BRK)
         std::uint64_t connections = 0;
         std::uint64_t disconnects = 0;
     };
@@ -110,7 +116,7 @@ private:
         void update() override { arrived.notify(sc_core::SC_ZERO_TIME); }
     };
     struct Item {
-        enum Kind : std::uint8_t { byte, connected, disconnected } kind;
+        enum Kind : std::uint8_t { byte, connected, disconnected, brk } kind;
         std::uint8_t value;
     };
 
@@ -134,6 +140,7 @@ private:
     std::optional<boost::asio::ip::tcp::socket> sock_;
     std::array<std::uint8_t, 1024> rbuf_{};
     std::vector<std::uint8_t> wbuf_;
+    TelnetDecoder telnet_; // with cfg_.telnet; reset for each client
     bool writing_ = false;
     std::atomic<bool> stopping_{false};
     unsigned short port_ = 0;
