@@ -11,6 +11,7 @@
 #include "scenarios/stop_signal.h"
 #include "scenarios/motion_scenario.h"
 #include "scenarios/trajectory_report.h"
+#include "scenarios/trace/perfetto_trace.h"
 #include "models/config_error.h"
 
 #include <cerrno>
@@ -18,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 
 #ifndef RCSIM_COMM_FW_ROM
@@ -179,6 +181,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     Bench bench("bench", s);
     bench.ctl.comm.load_rom(rom);
     sc_core::sc_trace_file* vcd = trace_lines(bench, opt.vcd);
+    std::unique_ptr<trace::PerfettoTrace> perfetto;
+    if (!opt.trace.empty()) perfetto = std::make_unique<trace::PerfettoTrace>(bench, opt.trace);
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::ofstream csv;
     const std::filesystem::path csv_file = std::filesystem::path(opt.out_dir) / "interrupts.csv";
@@ -194,6 +198,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (stop_signal() == 0) bench.drain(s.drain_s);
     bench.finish_observers();
     bench.finish();
+    if (perfetto) perfetto->finish();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
     bench.finish_files();

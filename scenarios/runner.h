@@ -22,6 +22,7 @@ struct RunOptions {
     std::optional<std::string> rom;     // overrides the scenario's and the built firmware
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
+    std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.
