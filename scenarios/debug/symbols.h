@@ -1,0 +1,81 @@
+// rcsim — the symbol table of a communication-board ROM, for the debugger and the profiler.
+//
+// Addresses are linear (20-bit physical, CS*16+IP), the form the bus cycles and the gdb stub use.
+// Three sources (docs/tools.md "Symbols"):
+//   - the `ld86 -M` map of the built firmware (build/comm_fw.map): global symbols of segment 0
+//     (code, linked at offset 0 of the ROM) and segment 3 (data/bss, at DS:offset);
+//   - nasm's map file (`[map all FILE]` in the source) of a ROM assembled with `-f bin`;
+//   - a simple text format, one symbol a line: `NAME ADDRESS [SIZE [code|data]]`.
+// A symbol without a size extends to the next symbol of its kind (code or data) or to the end of
+// its region, so that containing() finds the function an instruction belongs to.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace rcsim::debug {
+
+struct Symbol {
+    enum class Kind { code, data };
+    std::string name;          // without bcc's leading underscore (`rs232_isr`, not `_rs232_isr`)
+    std::uint32_t address = 0; // linear
+    std::uint32_t size = 0;    // bytes; 0 = a label that contains no address
+    Kind kind = Kind::code;
+};
+
+/// A malformed symbol file; what() is "FILE:LINE: reason" (or "FILE: reason").
+class SymbolError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Where an ld86 map's segments sit in the 8086's address space.
+struct Ld86Layout {
+    std::uint32_t code_base = 0xF0000; // segment 0 at ROM offset 0 (CS = F000)
+    /// Segment 3 (data and bss) at data_base + offset. < 0: DATA_SEG*16 from the map's absolute
+    /// symbol DATA_SEG (the firmware's crt0.s defines it); a map without one loads code only.
+    std::int64_t data_base = -1;
+};
+
+class SymbolTable {
+public:
+    /// The ROM of the communication board: 64 KB at F0000-FFFFF (docs/system.md §3.1).
+    static constexpr std::uint32_t rom_base = 0xF0000;
+    static constexpr std::uint32_t rom_end = 0x100000;
+
+    /// Reads FILE in whichever of the three formats it is in (detected from its first line).
+    static SymbolTable load(const std::string& path);
+    static SymbolTable load_ld86_map(const std::string& path, const Ld86Layout& layout = {});
+    /// `base` is where the image's first byte sits (the ROM: F0000).
+    static SymbolTable load_nasm_map(const std::string& path, std::uint32_t base = rom_base);
+    static SymbolTable load_text(const std::string& path);
+
+    /// Adds a symbol (throws SymbolError on a duplicate name); sizes of 0 stay 0 until
+    /// fill_sizes() runs.
+    void add(Symbol symbol, const std::string& where = "");
+    /// Gives every symbol of size 0 the distance to the next symbol of its kind, or for the last
+    /// one the distance to `code_end` / `data_end` (0 leaves it a label).
+    void fill_sizes(std::uint32_t code_end, std::uint32_t data_end);
+
+    const Symbol* find(std::string_view name) const;
+    /// The symbol whose [address, address + size) holds `linear` (the function an instruction
+    /// belongs to, the variable a byte belongs to); nullptr when none does.
+    const Symbol* containing(std::uint32_t linear) const;
+    /// All symbols, sorted by address (then name).
+    const std::vector<Symbol>& symbols() const { return symbols_; }
+    bool empty() const { return symbols_.empty(); }
+    std::size_t size() const { return symbols_.size(); }
+
+private:
+    void sort();
+
+    std::vector<Symbol> symbols_;
+    std::unordered_map<std::string, std::size_t> by_name_; // index into symbols_
+    std::uint32_t max_size_ = 0; // the longest symbol, bounds the search of containing()
+};
+
+} // namespace rcsim::debug

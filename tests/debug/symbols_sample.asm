@@ -1,0 +1,16 @@
+; A tiny ROM whose nasm map the symbol-table tests read (symbols_test.cpp). The layout is chosen so
+; that each address can be worked out by hand: org 0, `entry` at image offset 0, a 3-byte
+; instruction before `helper` (offset 3), 4 bytes of code before `table` (offset 7), 5 data
+; bytes; `.bss` is nobits at linear 0x400 with `counter` (2 bytes) then `flags`.
+[map all symbols_sample.map]
+        org 0
+section .text
+entry:  mov ax, 0x1234          ; B8 34 12: 3 bytes
+helper: inc ax                  ; 40
+        inc ax                  ; 40
+        ret                     ; C3
+        nop                     ; 90: helper is 4 bytes
+table:  db 1, 2, 3, 4, 5
+section .bss nobits vstart=0x400
+counter: resw 1
+flags:   resb 1
