@@ -1,4 +1,5 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
+//           [--profile [--symbols FILE]]
 #include "models/config_error.h"
 #include "scenarios/failure.h"
 #include "scenarios/runner.h"
@@ -28,9 +29,10 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd, seed, trace;
+        std::string scenario, out, rom, vcd, seed, trace, symbols;
         bool reproducible = false;
         bool verbose = false;
+        bool profile = false;
     };
     auto args = std::make_shared<Args>();
     cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
@@ -40,6 +42,10 @@ void add_run_command(CLI::App& app) {
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
     auto* trace = cmd->add_option("--trace", args->trace, "Write a Trace Event Format file (ui.perfetto.dev, chrome://tracing)");
+    cmd->add_flag("--profile", args->profile,
+                  "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
+    cmd->add_option("--symbols", args->symbols,
+                    "The ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS lines; default: the built firmware's)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
     cmd->callback([args, seed, rom, trace] {
         RunOptions opt;
@@ -50,6 +56,8 @@ void add_run_command(CLI::App& app) {
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
         opt.trace = args->trace;
+        opt.profile = args->profile;
+        opt.symbols = args->symbols;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);

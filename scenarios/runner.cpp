@@ -12,6 +12,7 @@
 #include "scenarios/motion_scenario.h"
 #include "scenarios/trajectory_report.h"
 #include "scenarios/trace/perfetto_trace.h"
+#include "scenarios/trace/profile_run.h"
 #include "models/config_error.h"
 
 #include <cerrno>
@@ -183,6 +184,11 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     sc_core::sc_trace_file* vcd = trace_lines(bench, opt.vcd);
     std::unique_ptr<trace::PerfettoTrace> perfetto;
     if (!opt.trace.empty()) perfetto = std::make_unique<trace::PerfettoTrace>(bench, opt.trace);
+    std::unique_ptr<trace::ProfileRun> profile;
+    if (opt.profile) {
+        if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
+        profile = std::make_unique<trace::ProfileRun>(bench, trace::run_symbols(opt.symbols, rom));
+    }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::ofstream csv;
     const std::filesystem::path csv_file = std::filesystem::path(opt.out_dir) / "interrupts.csv";
@@ -199,6 +205,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     bench.finish_observers();
     bench.finish();
     if (perfetto) perfetto->finish();
+    const std::string flame_svg = profile ? profile->finish(opt.out_dir) : std::string();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) sc_core::sc_close_vcd_trace_file(vcd);
     bench.finish_files();
@@ -231,7 +238,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         write_report_json(opt.out_dir, report);
         csv.close();
         if (!csv) throw ConfigError(csv_file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
-        report::write_report_html(opt.out_dir, report, bench.interrupts);
+        report::write_report_html(opt.out_dir, report, bench.interrupts, flame_svg);
     }
     return exit_code(passed);
 }

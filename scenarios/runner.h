@@ -23,6 +23,8 @@ struct RunOptions {
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
     std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
+    bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
+    std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.
