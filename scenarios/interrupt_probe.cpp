@@ -38,7 +38,9 @@ void InterruptProbe::sample_lines() {
 }
 
 void InterruptProbe::bus_hook(void* self, const BusRecord& r) {
-    static_cast<InterruptProbe*>(self)->on_cycle(r);
+    auto* probe = static_cast<InterruptProbe*>(self);
+    if (probe->forward_) probe->forward_(probe->forward_ctx_, r);
+    probe->on_cycle(r);
 }
 
 void InterruptProbe::on_cycle(const BusRecord& r) {

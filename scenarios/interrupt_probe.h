@@ -84,8 +84,17 @@ public:
     /// the hook costs nothing on the hot path of code fetches and RAM accesses.
     std::function<void(const i8086::BusRecord&, const sc_core::sc_time&)> on_dpram_write;
 
+    /// Another observer of every bus cycle (the CPU has one observer slot and the probe holds
+    /// it): called for each cycle before the probe looks at it; nullptr (the default) for none.
+    void forward_cycles(i8086::BusHook hook, void* context) {
+        forward_ = hook;
+        forward_ctx_ = context;
+    }
+
 private:
     Cpu8086& cpu_;
+    i8086::BusHook forward_ = nullptr;
+    void* forward_ctx_ = nullptr;
     std::vector<IrqLine*> ir_;
     std::uint16_t pic_io_base_;
     std::uint32_t dpram_base_, dpram_size_;

@@ -186,6 +186,17 @@ void LineObserver::frame_done(Dir d, bool good) {
     s.await = Await::frame;
     // The responses' record: what reached the host intact, EOT or not.
     if (key && d == controller_to_host) responses_.received(*key);
+    if (on_frame) on_frame(d, good, s.decoder.frame());
+}
+
+LineObserver::SenderState LineObserver::state(Dir d) const {
+    const Sender& s = dir_[d];
+    if (s.collecting) return SenderState::frame_on_line;
+    switch (s.await) {
+    case Await::enq: return SenderState::enq_sent;
+    case Await::frame: return SenderState::awaiting_eot;
+    default: return SenderState::idle;
+    }
 }
 
 // The other side answered side d's frame with EOT.

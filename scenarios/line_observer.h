@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 
 namespace rcsim {
@@ -140,6 +141,14 @@ public:
     /// Responses handed to DP-RAM that the comm CPU has neither had EOT for nor dropped yet.
     std::size_t responses_in_flight() const { return in_ring_.size(); }
     const DirCounts& counts(Dir d) const { return dir_[d].counts; }
+
+    /// Where the sender of direction d stands in the protocol (trace counters; the values are
+    /// the counter's, docs/tools.md "Perfetto trace").
+    enum class SenderState : std::uint8_t { idle = 0, enq_sent = 1, frame_on_line = 2, awaiting_eot = 3 };
+    SenderState state(Dir d) const;
+    /// Called when a frame from direction d is complete on the line (valid or not; `frame` is
+    /// the decoded frame when valid); empty (no cost) by default.
+    std::function<void(Dir d, bool valid, const proto::Frame& frame)> on_frame;
     std::uint64_t enq_collisions() const { return enq_collisions_; }
     std::uint64_t breaks() const { return breaks_; }
     const SequenceMatcher::Counts& commands() const { return commands_.counts(); }

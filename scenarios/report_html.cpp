@@ -791,7 +791,8 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
       << " hold</td></tr>\n</table>\n";
     o << "<nav><a href=\"#checks\">Checks</a><a href=\"#table3\">Table 3</a><a href=\"#interrupts\">Interrupts</a>"
          "<a href=\"#timeline\">Timeline</a><a href=\"#ports\">Ports</a><a href=\"#main-cpu\">Main CPU</a>"
-      << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>") << "</nav></header>\n";
+      << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>")
+      << (opt.flame_svg.empty() ? "" : "<a href=\"#profile\">Profile</a>") << "</nav></header>\n";
     section_checks(o, r);
     section_table3(o, r);
     section_interrupts(o, r, log);
@@ -807,6 +808,12 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
           << ", " << ju(m, "samples") << " samples (<code>trajectory.csv</code>, <code>trajectory.svg</code>)</p>\n"
           << "<div class=\"chart\">" << s << "</div></section>\n";
     }
+    if (!opt.flame_svg.empty())
+        o << "<section id=\"profile\"><h2>Comm CPU profile</h2>\n<p class=\"note\">Clocks of the comm CPU by call "
+             "path (--profile): the whole run at the bottom, the contexts above it, each function above its caller; "
+             "hover a box for its clocks. The table is <code>profile.txt</code>, the stacks <code>profile.folded</code> "
+             "(docs/tools.md \"Profiler\").</p>\n<div class=\"chart\">"
+          << opt.flame_svg << "</div></section>\n";
     o << "<footer><p class=\"note\">Files: <code>report.json</code> (every figure of this page), "
          "<code>interrupts.csv</code> (one row per interrupt). Times are measured from bus cycles and pins: IR rise "
          "(8259A input), INTA 1/2 (T1 of the INTA cycles), first ISR instruction (end of the first code fetch at the "
@@ -824,8 +831,10 @@ std::string render_html(const json& report, const std::vector<InterruptRow>& uns
     return render_html(report, log, opt);
 }
 
-void write_report_html(const std::filesystem::path& dir, const json& report, const InterruptLog& log) {
+void write_report_html(const std::filesystem::path& dir, const json& report, const InterruptLog& log,
+                       const std::string& flame_svg) {
     HtmlOptions opt;
+    opt.flame_svg = flame_svg;
     const auto traj = dir / "trajectory.svg";
     if (report.contains("motion") && std::filesystem::exists(traj)) {
         std::ifstream in(traj);

@@ -186,6 +186,7 @@ struct HtmlOptions {
     double window_us = 20000;   // the busiest-window timeline (rows version of render_html)
     double zoom_us = 1000;      // the zoom around the worst latency (widened to hold it)
     std::string trajectory_svg; // trajectory.svg's text, "" = none
+    std::string flame_svg;      // the cycle profile's flame graph (scenarios/trace/flame_graph.h), "" = none
 };
 
 /// The whole report.html page for `report` (report.json's content) and the run's interrupt log
@@ -198,6 +199,8 @@ std::string render_html(const nlohmann::json& report, const std::vector<Interrup
 
 /// Writes dir/report.html (embedding dir/trajectory.svg when the report has a motion section and
 /// the file exists). Throws std::runtime_error naming a file it cannot write.
-void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log);
+/// `flame_svg`: the --profile flame graph for a "Profile" section ("" = none).
+void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log,
+                       const std::string& flame_svg = "");
 
 } // namespace rcsim::report

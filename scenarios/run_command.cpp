@@ -1,5 +1,5 @@
-// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE]
-//           [--gdb [HOST:]PORT [--gdb-wait] [--symbols FILE]]
+// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
+//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE]
 #include "models/config_error.h"
 #include "scenarios/debug/gdb_run.h"
 #include "scenarios/failure.h"
@@ -30,10 +30,11 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd, seed;
+        std::string scenario, out, rom, vcd, seed, trace, symbols;
         bool reproducible = false;
         bool verbose = false;
         debug::GdbOptions gdb;
+        bool profile = false;
     };
     auto args = std::make_shared<Args>();
     cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
@@ -42,13 +43,17 @@ void add_run_command(CLI::App& app) {
     auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
+    auto* trace = cmd->add_option("--trace", args->trace, "Write a Trace Event Format file (ui.perfetto.dev, chrome://tracing)");
+    cmd->add_flag("--profile", args->profile,
+                  "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
+    auto* symbols = cmd->add_option("--symbols", args->symbols,
+                                    "For --profile and --gdb: the ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS "
+                                    "lines; default: the built firmware's; docs/tools.md)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
     auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
                                 "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");
     auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
-    auto* symbols = cmd->add_option("--symbols", args->gdb.symbols,
-                                    "With --gdb: the ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS lines; docs/tools.md)");
-    cmd->callback([args, seed, rom, gdb, gdb_wait, symbols] {
+    cmd->callback([args, seed, rom, trace, gdb, gdb_wait, symbols] {
         RunOptions opt;
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
@@ -56,13 +61,19 @@ void add_run_command(CLI::App& app) {
         const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
+        opt.trace = args->trace;
+        opt.profile = args->profile;
+        opt.symbols = args->symbols;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         try {
             if (*seed) opt.seed = parse_seed(args->seed);
+            if (*trace && args->trace.empty()) throw ConfigError("--trace '': an empty path (leave --trace out for no trace)");
             if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
-            if (!*gdb && (*gdb_wait || *symbols)) throw ConfigError(std::string(*gdb_wait ? "--gdb-wait" : "--symbols") + " needs --gdb");
+            if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
+            if (*symbols && !*gdb && !args->profile) throw ConfigError("--symbols needs --gdb or --profile");
+            args->gdb.symbols = args->symbols;
             install_stop_handlers();
             nlohmann::json report;
             Scenario scenario = load_scenario(args->scenario);

@@ -12,6 +12,8 @@
 #include "scenarios/motion_scenario.h"
 #include "scenarios/trajectory_report.h"
 #include "scenarios/vcd_trace.h"
+#include "scenarios/trace/perfetto_trace.h"
+#include "scenarios/trace/profile_run.h"
 #include "models/config_error.h"
 
 #include <cerrno>
@@ -171,6 +173,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.on_bench) opt.on_bench(bench);
     std::unique_ptr<VcdTrace> vcd; // --vcd (vcd_trace.h)
     if (!opt.vcd.empty()) vcd = std::make_unique<VcdTrace>("vcd", bench, opt.vcd);
+    std::unique_ptr<trace::PerfettoTrace> perfetto;
+    if (!opt.trace.empty()) perfetto = std::make_unique<trace::PerfettoTrace>(bench, opt.trace);
+    std::unique_ptr<trace::ProfileRun> profile;
+    if (opt.profile) {
+        if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
+        profile = std::make_unique<trace::ProfileRun>(bench, trace::run_symbols(opt.symbols, rom));
+    }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::ofstream csv;
     const std::filesystem::path csv_file = std::filesystem::path(opt.out_dir) / "interrupts.csv";
@@ -186,6 +195,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (stop_signal() == 0) bench.drain(s.drain_s);
     bench.finish_observers();
     bench.finish();
+    if (perfetto) perfetto->finish();
+    const std::string flame_svg = profile ? profile->finish(opt.out_dir) : std::string();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) vcd->close();
     bench.finish_files();
@@ -218,7 +229,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         write_report_json(opt.out_dir, report);
         csv.close();
         if (!csv) throw ConfigError(csv_file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
-        report::write_report_html(opt.out_dir, report, bench.interrupts);
+        report::write_report_html(opt.out_dir, report, bench.interrupts, flame_svg);
     }
     return exit_code(passed);
 }

@@ -651,6 +651,8 @@ void Uart82510::on_timer(unsigned t) {
 // Interrupt output
 
 void Uart82510::update_int() {
+    // Every change of the FIFOs' levels ends in update_int() (their thresholds are sources).
+    if (on_fifo_change) on_fifo_change();
     const bool pending = gsr() & ger_;
     bool want;
     if (imd_ & IMD_IAM) {

@@ -135,6 +135,9 @@ public:
 
     /// Called for every character the CPU reads from the RX FIFO (character latency probe).
     std::function<void(const CharTiming&)> on_char_read;
+    /// Called after anything that may have changed rx_level() or tx_level() (trace counters);
+    /// the levels may also be unchanged.
+    std::function<void()> on_fifo_change;
 
 private:
     struct RxEntry {

@@ -1,0 +1,85 @@
+#include "scenarios/trace/profile_run.h"
+
+#include "models/config_error.h"
+#include "scenarios/bench.h"
+#include "scenarios/trace/flame_graph.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#ifndef RCSIM_COMM_FW_ROM
+#define RCSIM_COMM_FW_ROM ""
+#endif
+#ifndef RCSIM_COMM_FW_MAP
+#define RCSIM_COMM_FW_MAP ""
+#endif
+
+namespace rcsim::trace {
+
+namespace {
+
+/// A frame's function: the code symbol starting at `linear`; an entry point inside a symbol (a
+/// local label called as a helper: the maps list global symbols only) is "symbol+0xOFF"; an
+/// address no code symbol holds is its linear address "F1234".
+std::string function_name(const debug::SymbolTable& symbols, std::uint32_t linear) {
+    char buf[24];
+    const debug::Symbol* s = symbols.containing(linear);
+    if (!s || s->kind != debug::Symbol::Kind::code) {
+        std::snprintf(buf, sizeof buf, "%05X", static_cast<unsigned>(linear));
+        return buf;
+    }
+    if (s->address == linear) return s->name;
+    std::snprintf(buf, sizeof buf, "+0x%X", static_cast<unsigned>(linear - s->address));
+    return s->name + buf;
+}
+
+/// Writes `body` into dir/name; ConfigError naming the file when it cannot.
+template <class F>
+void write_file(const std::filesystem::path& file, F body) {
+    std::ofstream out(file);
+    if (!out) throw ConfigError(file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+    body(out);
+    out.flush();
+    if (!out) throw ConfigError(file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+}
+
+} // namespace
+
+ProfileRun::ProfileRun(Bench& bench, debug::SymbolTable symbols)
+    : bench_(bench), symbols_(std::move(symbols)),
+      profiler_([this](std::uint32_t linear) { return function_name(symbols_, linear); }) {
+    bench.ctl.comm.cpu.set_step_observer(&ProfileRun::on_step, this);
+    bench.probe.forward_cycles(&ProfileRun::on_bus, this);
+}
+
+bool ProfileRun::on_step(void* self, const i8086::Cpu& cpu) {
+    static_cast<ProfileRun*>(self)->profiler_.step(cpu);
+    return false; // never stops the CPU
+}
+
+void ProfileRun::on_bus(void* self, const i8086::BusRecord& r) { static_cast<ProfileRun*>(self)->profiler_.bus(r); }
+
+std::string ProfileRun::finish(const std::filesystem::path& dir) {
+    profiler_.finish(bench_.ctl.comm.cpu.cycles());
+    const double hz = bench_.scenario().board.comm.cpu_hz;
+    write_file(dir / "profile.txt", [&](std::ostream& o) { profiler_.write_table(o, hz); });
+    write_file(dir / "profile.folded", [&](std::ostream& o) { profiler_.write_folded(o); });
+    return flame_graph_svg(profiler_, hz);
+}
+
+debug::SymbolTable run_symbols(const std::string& file, const std::string& rom) {
+    try {
+        if (!file.empty()) return debug::SymbolTable::load(file);
+        const std::string built = RCSIM_COMM_FW_ROM, map = RCSIM_COMM_FW_MAP;
+        if (!map.empty() && std::filesystem::exists(map) && std::filesystem::exists(rom) && std::filesystem::exists(built) &&
+            std::filesystem::equivalent(rom, built))
+            return debug::SymbolTable::load_ld86_map(map);
+    } catch (const debug::SymbolError& e) {
+        throw ConfigError(e.what());
+    }
+    return debug::SymbolTable();
+}
+
+} // namespace rcsim::trace
