@@ -163,6 +163,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.seed) s.seed = *opt.seed;
     prepare_out_dir(opt.out_dir);
     StopPoller stop("stop");
+    if (s.has_motion && (!opt.trace.empty() || opt.profile))
+        throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
     if (s.has_motion) return run_motion_only(s, opt, report);
     for (unsigned p = 0; p < kPorts; ++p) s.ports[p].protocol.traffic.seed = s.seed * 1000 + p;
     std::string rom = opt.rom ? *opt.rom : s.rom;

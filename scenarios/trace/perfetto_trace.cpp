@@ -8,6 +8,11 @@ namespace rcsim::trace {
 
 namespace {
 
+static_assert(PerfettoTrace::ports() == Bench::kPorts, "one 82510 per port");
+
+constexpr const char* kBusyLeft = "BUSY left (comm CPU)";
+constexpr const char* kBusyRight = "BUSY right (main CPU)";
+
 std::uint64_t ps_of(const sc_core::sc_time& t) { return t.value(); } // the kernel's resolution is 1 ps
 std::uint64_t now_ps() { return ps_of(sc_core::sc_time_stamp()); }
 
@@ -44,8 +49,7 @@ PerfettoTrace::PerfettoTrace(Bench& bench, const std::string& path) : bench_(ben
     InterruptProbe& probe = bench.probe;
     // The bench's own listeners run first: the trace only reads what they leave.
     probe.on_record = chain(probe.on_record, [this](const InterruptRecord& r) { on_record(r); });
-    probe.on_settled = chain(probe.on_settled,
-                                                      [this](const sc_core::sc_time& h) { flush_before(ps_of(h)); });
+    probe.on_settled = chain(probe.on_settled, [this](const sc_core::sc_time& h) { flush_before(ps_of(h)); });
     for (unsigned p = 0; p < kPorts; ++p) {
         Uart82510& uart = bench.ctl.comm.uart[p];
         uart.on_fifo_change = chain(uart.on_fifo_change, [this, p] { sample_fifos(p); });
@@ -58,24 +62,21 @@ PerfettoTrace::PerfettoTrace(Bench& bench, const std::string& path) : bench_(ben
             }
             sample_states(p);
         });
-        bench.observers[p].on_frame = [this, p](LineObserver::Dir d, bool valid, const proto::Frame& f) {
+        LineObserver& observer = bench.observers[p];
+        observer.on_frame = chain(observer.on_frame, [this, p](LineObserver::Dir d, bool valid, const proto::Frame& f) {
             on_frame(p, d, valid, f.token);
-        };
+        });
         sample_fifos(p);
         sample_states(p);
     }
     Idt7130& dpram = bench.ctl.dpram;
+    for (const char* name : {kBusyLeft, kBusyRight}) out_.counter(pid_dpram, name, 0, 0); // released at reset
     dpram.on_busy = chain(dpram.on_busy, [this](const Idt7130::BusyEvent& e) {
-        const std::string name = e.port == Idt7130::left_port ? "BUSY left (comm CPU)" : "BUSY right (main CPU)";
         // One port's BUSY episodes come in order and do not overlap: each is written whole.
-        std::int64_t ignored = -1;
-        counter(pid_dpram, name, ignored, 1, ps_of(e.busy_low));
-        counter(pid_dpram, name, ignored, 0, ps_of(e.busy_high));
+        const char* name = e.port == Idt7130::left_port ? kBusyLeft : kBusyRight;
+        out_.counter(pid_dpram, name, ps_of(e.busy_low), 1);
+        out_.counter(pid_dpram, name, ps_of(e.busy_high), 0);
     });
-    std::int64_t zero = -1;
-    counter(pid_dpram, "BUSY left (comm CPU)", zero, 0, 0);
-    zero = -1;
-    counter(pid_dpram, "BUSY right (main CPU)", zero, 0, 0);
 }
 
 void PerfettoTrace::name_tracks() {

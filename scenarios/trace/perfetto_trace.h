@@ -49,6 +49,7 @@ public:
     void finish();
 
     std::uint64_t events() const { return out_.events(); }
+    static constexpr unsigned ports() { return kPorts; }
 
 private:
     static constexpr unsigned kPorts = 3;

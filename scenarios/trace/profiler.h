@@ -11,7 +11,8 @@
 //   - INTA cycles open an interrupt frame at the handler, in the context of its IR level. The
 //     clocks from the first INTA's T1 to the handler's first instruction (the 8086's interrupt
 //     sequence: INTA cycles, vector fetch, three pushes) are the handler's.
-// Each instruction's clocks (boundary to boundary) are the self clocks of the innermost frame.
+// Each instruction's clocks (boundary to boundary) are the self clocks of the innermost frame; the
+// idle clocks after a HLT are the halting function's until the interrupt that ends them.
 //
 // Per function and context (main program, IRn, IRn nested = entered while another ISR ran):
 // completed calls, self clocks, inclusive clocks (self + callees, without the interrupts that

@@ -169,6 +169,11 @@ TEST(TraceErrors, AFullDiskOrAMissingDirectoryExitsWith2NamingTheFile) {
     EXPECT_NE(slurp(work / "dir.txt").find("/nonexistent-dir/t.json: cannot write the trace file"), std::string::npos)
         << slurp(work / "dir.txt");
     EXPECT_EQ(rcsim(kScenario + " --trace ''", work / "empty.txt"), 2);
+    // A motion scenario has no comm board to trace.
+    const std::string motion = std::string("\"") + RCSIM_TRACE_DATA + "/../../../scenarios/xy_plotter_circle.yaml\"";
+    EXPECT_EQ(rcsim(motion + " --trace \"" + (work / "m.json").string() + "\"", work / "motion.txt"), 2);
+    EXPECT_NE(slurp(work / "motion.txt").find("a motion scenario runs no communication board"), std::string::npos)
+        << slurp(work / "motion.txt");
 }
 
 } // namespace
