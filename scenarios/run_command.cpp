@@ -73,6 +73,8 @@ void add_run_command(CLI::App& app) {
             if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
             if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
             if (*symbols && !*gdb && !args->profile) throw ConfigError("--symbols needs --gdb or --profile");
+            // Both sit on the core's one instruction-boundary hook (i8086::StepHook).
+            if (*gdb && args->profile) throw ConfigError("--gdb and --profile cannot be used together");
             args->gdb.symbols = args->symbols;
             install_stop_handlers();
             nlohmann::json report;

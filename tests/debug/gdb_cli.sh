@@ -22,6 +22,7 @@ expect "$work/bad.sym:2: bad address 'F0000'" --gdb 0 --symbols "$work/bad.sym"
 expect "$work/none.sym: cannot open the symbol file" --gdb 0 --symbols "$work/none.sym"
 expect "--gdb-wait needs --gdb" --gdb-wait
 expect "--symbols needs --gdb" --symbols "$work/bad.sym"
+expect "--gdb and --profile cannot be used together" --gdb 0 --profile --out "$work/o"
 expect "--gdb '127.0.0.1:99999': port 99999 out of range" --gdb 127.0.0.1:99999
 expect "--gdb 'foo:12': bad address 'foo'" --gdb foo:12
 # A port another program listens on.
