@@ -10,6 +10,7 @@
 #include "scenarios/report_html.h"
 #include "scenarios/stop_signal.h"
 #include "scenarios/motion_scenario.h"
+#include "scenarios/motion_system.h"
 #include "scenarios/trajectory_report.h"
 #include "models/config_error.h"
 
@@ -141,6 +142,8 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
             report["warnings"].push_back("port " + std::to_string(p) + ": the host sends " +
                                          pj["host_format"].get<std::string>() + " but the controller's 82510 is set to " +
                                          pj["controller_format"].get<std::string>());
+        if (bench.protocol[p] && s.ports[p].protocol.traffic.pattern == HostTraffic::Pattern::script)
+            pj["script"] = script_json(bench.protocol[p]->script_result());
         report["ports"].push_back(pj);
     }
     report["main_cpu"] = bench.ctl.main.report();
@@ -155,8 +158,7 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
                               {"max_lead_ms", r ? 0.0 : ps_.max_lead_s * 1e3}};
     }
     if (bench.motion) {
-        report["motion"] = {{"state", bench.motion->state()}, {"positions", bench.motion->positions()},
-                            {"samples", bench.motion->recorder().samples().size()}};
+        report["motion"] = motion_system_json(bench);
         if (!opt.out_dir.empty()) {
             const std::filesystem::path out = opt.out_dir;
             write_trajectory_csv(bench.motion->recorder(), out / "trajectory.csv");
@@ -215,6 +217,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     nlohmann::json checks = nlohmann::json::array();
     bool passed = true;
     for (const Check& ch : communication_checks(bench, s, f)) {
+        checks.push_back(to_json(ch));
+        passed = passed && ch.passed();
+    }
+    for (const Check& ch : system_motion_checks(bench, s)) { // scripted hosts, main_cpu.motion
         checks.push_back(to_json(ch));
         passed = passed && ch.passed();
     }
