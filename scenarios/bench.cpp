@@ -44,6 +44,8 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
     }
     if (s.main_motion) {
         motion = std::make_unique<motion::MotionController>("motion", motion_config(s));
+        if (s.trajectory.pulse_trace) // trajectory_pulses.csv (docs/motion.md "Trajectory pictures")
+            for (unsigned a = 0; a < motion::MotionController::axes; ++a) motion->chip().trace_pulses(a, true);
         ctl.set_motion(motion.get());
     }
     probe.keep_records(false);

@@ -54,6 +54,7 @@ struct MotionPlan {
     double cycle_ms = 1, duration_s = 0;
     std::vector<TimedCommand> cmds;
     CheckPlan checks;
+    TrajectoryOptions trajectory; // motion.trajectory
 };
 
 constexpr double big = 1e9;
@@ -292,6 +293,7 @@ MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
     }
     std::stable_sort(p.cmds.begin(), p.cmds.end(), [](auto& x, auto& y) { return x.at_s < y.at_s; });
     p.checks = read_checks(m.map("checks"), circles);
+    p.trajectory = read_trajectory_options(m.map("trajectory"));
     m.finish();
     return p;
 }
@@ -431,6 +433,8 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     const auto cycle = ps(static_cast<std::uint64_t>(std::llround(plan.cycle_ms * 1e9)));
     const auto count = static_cast<std::uint64_t>(std::llround(plan.duration_s * 1000 / plan.cycle_ms));
     MotionController mc("motion", plan.cfg);
+    if (plan.trajectory.pulse_trace)
+        for (unsigned a = 0; a < MotionController::axes; ++a) mc.chip().trace_pulses(a, true);
     MotionDriver driver("motion_runner", mc, cycle, count);
     driver.cmds = std::move(plan.cmds);
     sc_core::sc_start();
@@ -440,10 +444,19 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     report_run(mc, plan, driver, checks, rep);
     try {
         std::filesystem::create_directories(out_dir);
-        write_trajectory_csv(mc.recorder(), out_dir / "trajectory.csv");
-        write_trajectory_svg(mc.recorder(), out_dir / "trajectory.svg", 0, 1, "rcsim motion: " + file);
+        // The pictures' title: the scenario's name (as rcsim run reports it), not its path.
+        const std::string name = root["name"] && root["name"].IsScalar() ? root["name"].Scalar()
+                                                                         : std::filesystem::path(file).stem().string();
+        std::optional<CircleOverlay> circle;
+        if (plan.checks.circle && driver.arc)
+            circle = CircleOverlay{plan.checks.circle->center_x, plan.checks.circle->center_y,
+                                   plan.checks.circle->radius, driver.arc->t0_s, driver.arc->t1_s};
+        write_trajectory_files(mc.recorder(), out_dir, name, circle, plan.trajectory,
+                               plan.trajectory.pulse_trace ? &mc.chip().pulse_trace() : nullptr);
         rep["trajectory_csv"] = (out_dir / "trajectory.csv").string();
         rep["trajectory_svg"] = (out_dir / "trajectory.svg").string();
+        rep["trajectory_time_svg"] = (out_dir / "trajectory_time.svg").string();
+        if (plan.trajectory.pulse_trace) rep["trajectory_pulses_csv"] = (out_dir / "trajectory_pulses.csv").string();
     } catch (const std::exception& e) {
         rep["error"] = e.what();
         return 2;

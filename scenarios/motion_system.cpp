@@ -102,6 +102,14 @@ nlohmann::json motion_system_json(const Bench& b) {
     return j;
 }
 
+std::optional<CircleOverlay> circle_overlay(const Bench& b, const Scenario& s) {
+    if (!b.motion || !s.checks.circle || !b.motion->last_circle()) return std::nullopt;
+    const motion::CircleRecord& c = *b.motion->last_circle();
+    const double end = c.outcome_at ? c.outcome_at->to_seconds() : sc_core::sc_time_stamp().to_seconds();
+    return CircleOverlay{s.checks.circle->center_x, s.checks.circle->center_y, s.checks.circle->radius,
+                         c.at.to_seconds(), end};
+}
+
 std::vector<Check> system_motion_checks(const Bench& b, const Scenario& s) {
     std::vector<Check> out;
     for (unsigned p = 0; p < Bench::kPorts; ++p) {

@@ -6,6 +6,9 @@
 
 #include "main_cpu/motion/motion_controller.h"
 #include "scenarios/host/protocol_host.h"
+#include "scenarios/trajectory_report.h"
+
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -32,6 +35,10 @@ nlohmann::json motion_system_json(const Bench& b);
 /// port<n>_script_completed for every scripted port, and with main_cpu.motion the motion checks
 /// the scenario asks for (circle, final_state, max_cycle_jitter_us), in report order.
 std::vector<Check> system_motion_checks(const Bench& b, const Scenario& s);
+
+/// The radial-error plot's circle: the scenario's `checks.circle` over the window of the last
+/// accepted MC (none without both).
+std::optional<CircleOverlay> circle_overlay(const Bench& b, const Scenario& s);
 
 /// Command latency in microseconds: the scripted moves of one host (its commands answered BCH 00
 /// with a move token) paired in order with the moves the motion layer accepted.

@@ -186,6 +186,7 @@ struct HtmlOptions {
     double window_us = 20000;   // the busiest-window timeline (rows version of render_html)
     double zoom_us = 1000;      // the zoom around the worst latency (widened to hold it)
     std::string trajectory_svg; // trajectory.svg's text, "" = none
+    std::string trajectory_time_svg; // trajectory_time.svg's text, "" = none
 };
 
 /// The whole report.html page for `report` (report.json's content) and the run's interrupt log
@@ -196,8 +197,15 @@ std::string render_html(const nlohmann::json& report, const InterruptLog& log, c
 std::string render_html(const nlohmann::json& report, const std::vector<InterruptRow>& rows,
                         const HtmlOptions& options = {});
 
-/// Writes dir/report.html (embedding dir/trajectory.svg when the report has a motion section and
-/// the file exists). Throws std::runtime_error naming a file it cannot write.
+/// Writes dir/report.html (embedding dir/trajectory.svg and dir/trajectory_time.svg when the
+/// report has a motion section and the files exist). Throws std::runtime_error naming a file it
+/// cannot write.
 void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log);
+
+/// The report.html of a motion-only run (a `motion:` section, docs/motion.md): the banner, the
+/// checks, the motion figures and the trajectory pictures.
+std::string render_motion_html(const nlohmann::json& report, const HtmlOptions& options);
+/// Writes dir/report.html for a motion-only run, with dir's trajectory pictures.
+void write_motion_report_html(const std::filesystem::path& dir, const nlohmann::json& report);
 
 } // namespace rcsim::report

@@ -61,7 +61,7 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     nlohmann::json motion = m;
     if (opt.reproducible) {
         // Output paths depend on where the run was started: keep the file names only.
-        for (const char* k : {"trajectory_csv", "trajectory_svg"})
+        for (const char* k : {"trajectory_csv", "trajectory_svg", "trajectory_time_svg", "trajectory_pulses_csv"})
             if (motion.contains(k)) motion[k] = std::filesystem::path(motion[k].get<std::string>()).filename().string();
     }
     // The motion checks are report.json "checks", in the one schema of every run (checks.h).
@@ -69,7 +69,10 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     motion.erase("checks");
     report["motion"] = motion;
     report["passed"] = rc == 0;
-    if (!opt.out_dir.empty()) write_report_json(out, report);
+    if (!opt.out_dir.empty()) {
+        write_report_json(out, report);
+        report::write_motion_report_html(out, report);
+    }
     return exit_code(rc == 0);
 }
 
@@ -161,8 +164,9 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
         report["motion"] = motion_system_json(bench);
         if (!opt.out_dir.empty()) {
             const std::filesystem::path out = opt.out_dir;
-            write_trajectory_csv(bench.motion->recorder(), out / "trajectory.csv");
-            write_trajectory_svg(bench.motion->recorder(), out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
+            const bool pulses = s.trajectory.pulse_trace;
+            write_trajectory_files(bench.motion->recorder(), out, s.name, circle_overlay(bench, s), s.trajectory,
+                                   pulses ? &bench.motion->chip().pulse_trace() : nullptr);
         }
     }
 }

@@ -291,8 +291,13 @@ void read_board(YamlMap m, ControllerConfig& b) {
     m.finish();
 }
 
-void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scenario::Csp>& csp) {
+void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scenario::Csp>& csp,
+                   TrajectoryOptions& trajectory) {
     motion = m.get<bool>("motion", false);
+    if (m.has("trajectory")) {
+        if (!motion) m.fail(m.child("trajectory"), "'main_cpu.trajectory' needs 'main_cpu.motion: true'");
+        trajectory = read_trajectory_options(m.map("trajectory"));
+    }
     if (m.has("csp")) {
         if (!motion) m.fail(m.child("csp"), "'main_cpu.csp' is a path of the motion layer: it needs 'main_cpu.motion: true'");
         YamlMap p = m.map("csp");
@@ -396,7 +401,7 @@ Scenario load_scenario(const std::string& path) {
     s.budget_us = optional_number(top, "budget_us", 0, 1e9);
     if (s.budget_us == 0) top.fail(top.child("budget_us"), "'budget_us' must be > 0");
     read_board(top.map("board"), s.board);
-    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion, s.csp);
+    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion, s.csp, s.trajectory);
     if (s.csp && s.csp->sync_offset_us >= to_us(s.board.main.cycle_period))
         top.fail(top.child("main_cpu"), "'main_cpu.csp.sync_offset_us' must be shorter than 'main_cpu.cycle_period_us'");
     read_checks(top.map("checks"), s.checks, s.main_motion);

@@ -7,6 +7,7 @@
 #include "scenarios/host/raw_host.h"
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
+#include "scenarios/trajectory_report.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -85,6 +86,7 @@ struct Scenario {
         double radius = 2000, velocity = 10000, start_ms = 100, sync_offset_us = 250;
     };
     std::optional<Csp> csp;
+    TrajectoryOptions trajectory; // main_cpu.trajectory: what the trajectory files hold
 };
 
 /// Reads and validates a scenario file. Throws ConfigError naming file and line.

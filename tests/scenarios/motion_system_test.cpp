@@ -2,6 +2,7 @@
 // the script's report, and the scenario keys of scripted hosts and main_cpu.motion, bad ones
 // named with file and line.
 #include "models/config_error.h"
+#include "scenarios/motion_scenario.h"
 #include "scenarios/motion_system.h"
 #include "scenarios/scenario.h"
 
@@ -9,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 using namespace rcsim;
 using sc_core::sc_time;
@@ -93,4 +95,45 @@ TEST(MotionSystem, ScriptStepsAreReadWithTheirLines) {
     EXPECT_EQ(error_of("ok.yaml", "main_cpu: {motion: true, csp: {radius: 10}}\nports:\n  - host: protocol\n"
                                   "    traffic: script\n    script:\n      - {wait_state: STANDSTILL}\n"),
               "(no error)");
+}
+
+// motion.trajectory: trajectory.csv every 10th sample (and the last), every pulse in
+// trajectory_pulses.csv: a move of 300 pulses on axis 0 gives 300 rows of +1.
+TEST(MotionSystem, TrajectoryOptionsShapeTheFiles) {
+    const YAML::Node root = YAML::Load(
+        "name: opts\n"
+        "motion:\n"
+        "  duration_s: 0.2\n"
+        "  trajectory: {csv_every: 10, pulse_trace: true}\n"
+        "  commands:\n"
+        "    - {at_ms: 0, fb: MC_Power, axis: 0}\n"
+        "    - {at_ms: 10, fb: MC_MoveRelative, axis: 0, distance: 300, velocity: 10000, acceleration: 100000,\n"
+        "       deceleration: 100000}\n");
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_opts_test";
+    std::filesystem::remove_all(out);
+    nlohmann::json report;
+    ASSERT_EQ(run_motion_scenario(root, "opts.yaml", out, 1, report), 0) << report.dump(2);
+    const std::size_t samples = report["motion"]["samples"];
+    auto lines = [](const std::filesystem::path& f) {
+        std::ifstream in(f);
+        std::size_t n = 0;
+        for (std::string l; std::getline(in, l);) ++n;
+        return n;
+    };
+    // 4 axes a row set; samples 0, 10, 20, ... and the last.
+    const std::size_t kept = (samples - 1) / 10 + 1 + ((samples - 1) % 10 != 0);
+    EXPECT_EQ(lines(out / "trajectory.csv"), 1 + 4 * kept);
+    EXPECT_EQ(lines(out / "trajectory_pulses.csv"), 1u + 300u);
+    EXPECT_TRUE(std::filesystem::exists(out / "trajectory_time.svg"));
+    std::ifstream svg(out / "trajectory.svg");
+    std::stringstream ss;
+    ss << svg.rdbuf();
+    EXPECT_NE(ss.str().find(">opts</text>"), std::string::npos) << "titled with the scenario's name";
+}
+
+TEST(MotionSystem, TrajectoryOptionsAreChecked) {
+    const std::string z = error_of("every.yaml", "main_cpu: {motion: true, trajectory: {csv_every: 0}}\n");
+    EXPECT_NE(z.find("every.yaml:1: 'main_cpu.trajectory.csv_every' = 0"), std::string::npos) << z;
+    const std::string m = error_of("nomotion.yaml", "main_cpu: {trajectory: {pulse_trace: true}}\n");
+    EXPECT_NE(m.find("nomotion.yaml:1: 'main_cpu.trajectory' needs 'main_cpu.motion: true'"), std::string::npos) << m;
 }
