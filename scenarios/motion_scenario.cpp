@@ -311,6 +311,7 @@ struct MotionDriver : sc_core::sc_module {
     std::optional<ArcRun> arc;            // the MC_CircleCenterMove, if any
     std::size_t arc_fb = 0;               // its entry in `fbs`
     std::vector<std::pair<std::size_t, Watch>> pending; // fbs entries without an outcome yet
+    MotionObserver on_cycle;
 
     SC_HAS_PROCESS(MotionDriver);
     MotionDriver(sc_core::sc_module_name n, MotionController& m, sc_core::sc_time c, std::uint64_t count)
@@ -365,6 +366,7 @@ struct MotionDriver : sc_core::sc_module {
             }
             mc.control_cycle(now);
             poll(now.to_seconds());
+            if (on_cycle) on_cycle(mc.snapshot());
             if (k < cycles) wait(cycle);
         }
         const double end = sc_core::sc_time_stamp().to_seconds();
@@ -416,7 +418,7 @@ void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& d
 } // namespace
 
 int run_motion_scenario(const YAML::Node& root, const std::string& file, const std::filesystem::path& out_dir,
-                        std::uint64_t seed, nlohmann::json& report) {
+                        std::uint64_t seed, nlohmann::json& report, const MotionObserver& on_cycle) {
     nlohmann::json& rep = report["motion"];
     rep["seed"] = seed; // the motion layer draws no random numbers; recorded for the report
     MotionPlan plan;
@@ -437,6 +439,7 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
         for (unsigned a = 0; a < MotionController::axes; ++a) mc.chip().trace_pulses(a, true);
     MotionDriver driver("motion_runner", mc, cycle, count);
     driver.cmds = std::move(plan.cmds);
+    driver.on_cycle = on_cycle;
     sc_core::sc_start();
 
     const std::vector<Check> checks = judge(plan.checks, mc, driver);

@@ -19,6 +19,17 @@ bool is_move(const std::string& token) {
 
 double ms(const sc_core::sc_time& t) { return to_us(t) / 1000.0; }
 
+const char* const kNoLatency = "no scripted move command reached its first pulse";
+
+/// Host ETX to first pulse, over the scripted hosts' moves (one host may script moves).
+Samples command_latency(const Bench& b) {
+    Samples lat(0.001);
+    for (unsigned p = 0; p < Bench::kPorts; ++p)
+        if (b.protocol[p])
+            for (double v : command_latencies_us(b.protocol[p]->script_result(), b.motion->moves())) lat.add(v);
+    return lat;
+}
+
 } // namespace
 
 motion::MotionConfig motion_config(const Scenario& s) {
@@ -75,15 +86,9 @@ nlohmann::json motion_system_json(const Bench& b) {
                  {"chip_bus_us", to_us(mc.bus_time())},
                  {"fb_calls_us", to_us(mc.fb_time())},
                  {"fb_call_us", to_us(cpu.config().fb_call)}};
-    // Host ETX to first pulse, over the scripted hosts' moves (one host may script moves).
-    Samples lat(0.001);
-    nlohmann::json why = nullptr;
-    for (unsigned p = 0; p < Bench::kPorts; ++p)
-        if (b.protocol[p])
-            for (double v : command_latencies_us(b.protocol[p]->script_result(), mc.moves())) lat.add(v);
-    if (lat.empty()) why = "no scripted move command reached its first pulse";
+    const Samples lat = command_latency(b);
     j["command_latency_us"] = to_json(lat.summary());
-    if (!why.is_null()) j["command_latency_not_measured"] = why;
+    if (lat.empty()) j["command_latency_not_measured"] = kNoLatency;
     if (b.scenario().csp) {
         const motion::CspStats& c = mc.csp_stats();
         j["csp"] = {{"setpoints", c.setpoints},
@@ -141,6 +146,12 @@ std::vector<Check> system_motion_checks(const Bench& b, const Scenario& s) {
         out.push_back(Check::at_most("control_cycle_jitter_max_us",
                                      j.empty() ? Figure::none("no control cycle ran") : Figure::of(j.summary().max),
                                      *L.max_cycle_jitter_us));
+    }
+    if (L.max_command_latency_us) {
+        const Samples lat = command_latency(b);
+        out.push_back(Check::at_most("command_latency_max_us",
+                                     lat.empty() ? Figure::none(kNoLatency) : Figure::of(lat.summary().max),
+                                     *L.max_command_latency_us));
     }
     return out;
 }

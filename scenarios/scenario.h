@@ -63,6 +63,7 @@ struct CheckLimits {
     std::optional<Circle> circle;             // the path of the last MC token must lie on it
     std::string motion_final_state;           // "" = no check
     std::optional<double> max_cycle_jitter_us; // control-cycle start jitter; no check if unset
+    std::optional<double> max_command_latency_us; // host ETX -> first pulse; no check if unset
 };
 
 struct Scenario {

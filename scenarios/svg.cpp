@@ -76,7 +76,8 @@ ColumnDecimator::ColumnDecimator(double t0, double t1, unsigned columns)
 void ColumnDecimator::add(double t, double v) {
     ++samples_;
     const double f = (t - t0_) / (t1_ - t0_) * static_cast<double>(cols_.size());
-    const std::size_t i = f <= 0 ? 0 : std::min(cols_.size() - 1, static_cast<std::size_t>(f));
+    const double last = static_cast<double>(cols_.size() - 1);
+    const std::size_t i = !(f > 0) ? 0 : f >= last ? cols_.size() - 1 : static_cast<std::size_t>(f);
     Column& c = cols_[i];
     const Pick p{t, v};
     if (!c.any) {
@@ -106,6 +107,7 @@ PathDecimator::PathDecimator(double width, double height, double min_step, std::
       rows_(static_cast<std::size_t>(std::ceil(height / cell)) + 1) {}
 
 void PathDecimator::visit(const Point& p) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return;
     const auto cx = static_cast<std::size_t>(std::clamp(p.x, 0.0, w_) / cell_);
     const auto cy = static_cast<std::size_t>(std::clamp(p.y, 0.0, h_) / cell_);
     visited_[cy * cols_ + cx] = true;

@@ -97,7 +97,7 @@ TEST(MotionSystem, ScriptStepsAreReadWithTheirLines) {
               "(no error)");
 }
 
-// motion.trajectory: trajectory.csv every 10th sample (and the last), every pulse in
+// The motion scenario's observer, and motion.trajectory: trajectory.csv every 10th sample (and the last), every pulse in
 // trajectory_pulses.csv: a move of 300 pulses on axis 0 gives 300 rows of +1.
 TEST(MotionSystem, TrajectoryOptionsShapeTheFiles) {
     const YAML::Node root = YAML::Load(
@@ -112,8 +112,18 @@ TEST(MotionSystem, TrajectoryOptionsShapeTheFiles) {
     const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_opts_test";
     std::filesystem::remove_all(out);
     nlohmann::json report;
-    ASSERT_EQ(run_motion_scenario(root, "opts.yaml", out, 1, report), 0) << report.dump(2);
+    std::size_t snapshots = 0;
+    motion::MotionSnapshot last;
+    ASSERT_EQ(run_motion_scenario(root, "opts.yaml", out, 1, report,
+                                  [&](const motion::MotionSnapshot& s) { ++snapshots, last = s; }),
+              0)
+        << report.dump(2);
     const std::size_t samples = report["motion"]["samples"];
+    // The observer sees every control cycle, the last one with the move done.
+    EXPECT_EQ(snapshots, samples);
+    EXPECT_EQ(last.cmd[0], 300);
+    EXPECT_EQ(last.axis_state[0], motion::AxisState::standstill);
+    EXPECT_DOUBLE_EQ(last.t_s, 0.2);
     auto lines = [](const std::filesystem::path& f) {
         std::ifstream in(f);
         std::size_t n = 0;
