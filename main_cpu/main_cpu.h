@@ -50,6 +50,9 @@ struct MainCpuConfig {
     // mailbox writes 0 to it after reading, and a writer waits until its mailbox reads 0.
     bool mailbox_handshake = true;
     sc_core::sc_time mailbox_poll = us(10); // handshake: retry while int2ext != 0
+    // The motion layer's cost when the main CPU hosts one (docs/motion.md "Main-CPU cost"): its
+    // CAMC-QI accesses run on this bus clock with access_cycles each, plus this per block call.
+    sc_core::sc_time fb_call = us(5);
 
     void validate() const;
 };
@@ -126,6 +129,8 @@ public:
 
     /// Control-cycle start jitter (actual start - ideal start), microseconds, one per cycle.
     const Samples& cycle_jitter_us() const { return cycle_jitter_us_; }
+    /// Control-cycle duration (start to the end of its work, cycle_time included), microseconds.
+    const Samples& cycle_duration_us() const { return cycle_duration_us_; }
     /// INT_R rise to the first handler instruction, microseconds, one per handler run.
     const Samples& irq_latency_us() const { return irq_latency_us_; }
     std::uint64_t control_cycles() const { return control_cycles_; }
@@ -216,6 +221,7 @@ private:
     std::vector<FrameRecord> sent_;
     std::vector<MalformedRecord> malformed_;
     Samples cycle_jitter_us_;
+    Samples cycle_duration_us_;
     Samples irq_latency_us_;
     std::uint64_t control_cycles_ = 0;
     std::uint64_t cycle_overruns_ = 0;

@@ -1,4 +1,5 @@
 #include "scenarios/bench.h"
+#include "scenarios/motion_system.h"
 
 #include "models/config_error.h"
 #include "models/dpram_layout.h"
@@ -42,7 +43,9 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
         lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
     }
     if (s.main_motion) {
-        motion = std::make_unique<motion::MotionController>("motion");
+        motion = std::make_unique<motion::MotionController>("motion", motion_config(s));
+        if (s.trajectory.pulse_trace) // trajectory_pulses.csv (docs/motion.md "Trajectory pictures")
+            for (unsigned a = 0; a < motion::MotionController::axes; ++a) motion->chip().trace_pulses(a, true);
         ctl.set_motion(motion.get());
     }
     probe.keep_records(false);

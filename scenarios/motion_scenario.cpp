@@ -54,6 +54,7 @@ struct MotionPlan {
     double cycle_ms = 1, duration_s = 0;
     std::vector<TimedCommand> cmds;
     CheckPlan checks;
+    TrajectoryOptions trajectory; // motion.trajectory
 };
 
 constexpr double big = 1e9;
@@ -292,6 +293,7 @@ MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
     }
     std::stable_sort(p.cmds.begin(), p.cmds.end(), [](auto& x, auto& y) { return x.at_s < y.at_s; });
     p.checks = read_checks(m.map("checks"), circles);
+    p.trajectory = read_trajectory_options(m.map("trajectory"));
     m.finish();
     return p;
 }
@@ -309,6 +311,7 @@ struct MotionDriver : sc_core::sc_module {
     std::optional<ArcRun> arc;            // the MC_CircleCenterMove, if any
     std::size_t arc_fb = 0;               // its entry in `fbs`
     std::vector<std::pair<std::size_t, Watch>> pending; // fbs entries without an outcome yet
+    MotionObserver on_cycle;
 
     SC_HAS_PROCESS(MotionDriver);
     MotionDriver(sc_core::sc_module_name n, MotionController& m, sc_core::sc_time c, std::uint64_t count)
@@ -363,6 +366,7 @@ struct MotionDriver : sc_core::sc_module {
             }
             mc.control_cycle(now);
             poll(now.to_seconds());
+            if (on_cycle) on_cycle(mc.snapshot());
             if (k < cycles) wait(cycle);
         }
         const double end = sc_core::sc_time_stamp().to_seconds();
@@ -414,7 +418,7 @@ void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& d
 } // namespace
 
 int run_motion_scenario(const YAML::Node& root, const std::string& file, const std::filesystem::path& out_dir,
-                        std::uint64_t seed, nlohmann::json& report) {
+                        std::uint64_t seed, nlohmann::json& report, const MotionObserver& on_cycle) {
     nlohmann::json& rep = report["motion"];
     rep["seed"] = seed; // the motion layer draws no random numbers; recorded for the report
     MotionPlan plan;
@@ -431,8 +435,11 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     const auto cycle = ps(static_cast<std::uint64_t>(std::llround(plan.cycle_ms * 1e9)));
     const auto count = static_cast<std::uint64_t>(std::llround(plan.duration_s * 1000 / plan.cycle_ms));
     MotionController mc("motion", plan.cfg);
+    if (plan.trajectory.pulse_trace)
+        for (unsigned a = 0; a < MotionController::axes; ++a) mc.chip().trace_pulses(a, true);
     MotionDriver driver("motion_runner", mc, cycle, count);
     driver.cmds = std::move(plan.cmds);
+    driver.on_cycle = on_cycle;
     sc_core::sc_start();
 
     const std::vector<Check> checks = judge(plan.checks, mc, driver);
@@ -440,10 +447,19 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     report_run(mc, plan, driver, checks, rep);
     try {
         std::filesystem::create_directories(out_dir);
-        write_trajectory_csv(mc.recorder(), out_dir / "trajectory.csv");
-        write_trajectory_svg(mc.recorder(), out_dir / "trajectory.svg", 0, 1, "rcsim motion: " + file);
+        // The pictures' title: the scenario's name (as rcsim run reports it), not its path.
+        const std::string name = root["name"] && root["name"].IsScalar() ? root["name"].Scalar()
+                                                                         : std::filesystem::path(file).stem().string();
+        std::optional<CircleOverlay> circle;
+        if (plan.checks.circle && driver.arc)
+            circle = CircleOverlay{plan.checks.circle->center_x, plan.checks.circle->center_y,
+                                   plan.checks.circle->radius, driver.arc->t0_s, driver.arc->t1_s};
+        write_trajectory_files(mc.recorder(), out_dir, name, circle, plan.trajectory,
+                               plan.trajectory.pulse_trace ? &mc.chip().pulse_trace() : nullptr);
         rep["trajectory_csv"] = (out_dir / "trajectory.csv").string();
         rep["trajectory_svg"] = (out_dir / "trajectory.svg").string();
+        rep["trajectory_time_svg"] = (out_dir / "trajectory_time.svg").string();
+        if (plan.trajectory.pulse_trace) rep["trajectory_pulses_csv"] = (out_dir / "trajectory_pulses.csv").string();
     } catch (const std::exception& e) {
         rep["error"] = e.what();
         return 2;

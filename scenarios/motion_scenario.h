@@ -8,16 +8,23 @@
 // sc_start: call it once per process, before any other simulation has started.
 #pragma once
 
+#include "main_cpu/motion/motion_controller.h"
+
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace rcsim {
 
+/// Called after every control cycle with the motion layer's state then (a live view's feed).
+using MotionObserver = std::function<void(const motion::MotionSnapshot&)>;
+
 int run_motion_scenario(const YAML::Node& root, const std::string& scenario_file,
-                        const std::filesystem::path& out_dir, std::uint64_t seed, nlohmann::json& report);
+                        const std::filesystem::path& out_dir, std::uint64_t seed, nlohmann::json& report,
+                        const MotionObserver& on_cycle = {});
 
 } // namespace rcsim

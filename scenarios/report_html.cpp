@@ -754,6 +754,64 @@ void section_main_cpu(std::ostream& o, const json& r) {
       << "</td></tr>\n</table></section>\n";
 }
 
+/// An SVG file's text from its <svg element on (no XML prolog inside the page).
+std::string inline_svg(std::string s) {
+    const auto at = s.find("<svg");
+    if (at != std::string::npos) s.erase(0, at);
+    return s;
+}
+
+/// The motion section: the figures of a run with main_cpu.motion (control cycle, command
+/// latency, CSP path) when there are any, then the trajectory pictures.
+void section_motion(std::ostream& o, const json& r, const HtmlOptions& opt) {
+    const json& m = jo(r, "motion");
+    o << "<section id=\"motion\"><h2>Motion trajectory</h2>\n<p class=\"note\">state " << esc(js(m, "state", "?"))
+      << ", " << ju(m, "samples") << " samples (<code>trajectory.csv</code>, <code>trajectory.svg</code>"
+      << (opt.trajectory_time_svg.empty() ? "" : ", <code>trajectory_time.svg</code>") << ")</p>\n";
+    if (m.contains("control_cycle")) {
+        const json& c = jo(m, "control_cycle");
+        auto row = [&o](const std::string& name, const json& s) {
+            o << "<tr><td class=\"l\">" << name << "</td><td>" << ju(s, "count") << "</td><td>" << num(jd(s, "min"), 2)
+              << "</td><td>" << num(jd(s, "mean"), 2) << "</td><td>" << num(jd(s, "p50"), 2) << "</td><td>"
+              << num(jd(s, "p99"), 2) << "</td><td>" << num(jd(s, "max"), 2) << "</td></tr>\n";
+        };
+        o << "<table><tr><th class=\"l\"></th><th>count</th><th>min</th><th>mean</th><th>p50</th><th>p99</th>"
+             "<th>max [us]</th></tr>\n";
+        row("control-cycle duration (its work)", jo(c, "duration_us"));
+        row("control-cycle start jitter", jo(c, "start_jitter_us"));
+        row("command latency (host ETX &rarr; first pulse)", jo(m, "command_latency_us"));
+        o << "</table>\n";
+        if (m.contains("csp")) {
+            const json& k = jo(m, "csp");
+            o << "<p class=\"note\">CSP path (axes 2/3): " << ju(k, "setpoints") << " set-points, "
+              << ju(k, "missed_sync") << " missed the drive's SYNC; set-point error max "
+              << num(jd(k, "max_setpoint_error_pulses"), 2) << " pulses, actual path from the circle max "
+              << num(jd(k, "max_actual_radial_error_pulses"), 2) << " pulses</p>\n";
+        }
+    }
+    if (!opt.trajectory_svg.empty()) o << "<div class=\"chart\">" << inline_svg(opt.trajectory_svg) << "</div>\n";
+    if (!opt.trajectory_time_svg.empty())
+        o << "<div class=\"chart\">" << inline_svg(opt.trajectory_time_svg) << "</div>\n";
+    o << "</section>\n";
+}
+
+std::string slurp_if_exists(const std::filesystem::path& f) {
+    if (!std::filesystem::exists(f)) return "";
+    std::ifstream in(f);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write_page(const std::filesystem::path& dir, const std::string& page) {
+    const auto f = dir / "report.html";
+    std::ofstream out(f);
+    if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
+    out << page;
+    out.flush();
+    if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -799,15 +857,7 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
     section_timeline(o, log.timeline());
     section_ports(o, r);
     section_main_cpu(o, r);
-    if (!opt.trajectory_svg.empty()) {
-        std::string s = opt.trajectory_svg;
-        const auto at = s.find("<svg");
-        if (at != std::string::npos) s.erase(0, at);
-        const json& m = jo(r, "motion");
-        o << "<section id=\"motion\"><h2>Motion trajectory</h2>\n<p class=\"note\">state " << esc(js(m, "state", "?"))
-          << ", " << ju(m, "samples") << " samples (<code>trajectory.csv</code>, <code>trajectory.svg</code>)</p>\n"
-          << "<div class=\"chart\">" << s << "</div></section>\n";
-    }
+    if (!opt.trajectory_svg.empty()) section_motion(o, r, opt);
     if (!opt.flame_svg.empty())
         o << "<section id=\"profile\"><h2>Comm CPU profile</h2>\n<p class=\"note\">Clocks of the comm CPU by call "
              "path (--profile): the whole run at the bottom, the contexts above it, each function above its caller; "
@@ -835,19 +885,36 @@ void write_report_html(const std::filesystem::path& dir, const json& report, con
                        const std::string& flame_svg) {
     HtmlOptions opt;
     opt.flame_svg = flame_svg;
-    const auto traj = dir / "trajectory.svg";
-    if (report.contains("motion") && std::filesystem::exists(traj)) {
-        std::ifstream in(traj);
-        std::ostringstream s;
-        s << in.rdbuf();
-        opt.trajectory_svg = s.str();
+    if (report.contains("motion")) {
+        opt.trajectory_svg = slurp_if_exists(dir / "trajectory.svg");
+        opt.trajectory_time_svg = slurp_if_exists(dir / "trajectory_time.svg");
     }
-    const auto f = dir / "report.html";
-    std::ofstream out(f);
-    if (!out) throw ConfigError(f.string(), 0, "cannot write the file");
-    out << render_html(report, log, opt);
-    out.flush();
-    if (!out) throw ConfigError(f.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+    write_page(dir, render_html(report, log, opt));
+}
+
+std::string render_motion_html(const json& r, const HtmlOptions& opt) {
+    std::ostringstream o;
+    const std::string name = js(r, "scenario", "?");
+    const bool passed = r.value("passed", false);
+    o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim: " << esc(name)
+      << (passed ? " PASSED" : " FAILED") << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
+    o << "<header id=\"header\"><div class=\"banner " << (passed ? "pass" : "fail") << "\"><h1>rcsim motion run: "
+      << esc(name) << "</h1><div class=\"verdict\">" << (passed ? "PASSED" : "FAILED") << "</div></div>\n"
+      << "<table class=\"meta\">\n<tr><td>scenario</td><td>" << esc(name) << "</td></tr>\n"
+      << "<tr><td>simulated time</td><td>" << num(jd(r, "sim_time_s"), 6) << " s</td></tr>\n</table>\n"
+      << "<nav><a href=\"#checks\">Checks</a><a href=\"#motion\">Motion</a></nav></header>\n";
+    section_checks(o, r);
+    section_motion(o, r, opt);
+    o << "<footer><p class=\"note\">Files: <code>report.json</code>, <code>trajectory.csv</code>. See "
+         "docs/motion.md.</p></footer>\n</body>\n</html>\n";
+    return o.str();
+}
+
+void write_motion_report_html(const std::filesystem::path& dir, const json& report) {
+    HtmlOptions opt;
+    opt.trajectory_svg = slurp_if_exists(dir / "trajectory.svg");
+    opt.trajectory_time_svg = slurp_if_exists(dir / "trajectory_time.svg");
+    write_page(dir, render_motion_html(report, opt));
 }
 
 } // namespace rcsim::report

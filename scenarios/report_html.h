@@ -187,6 +187,7 @@ struct HtmlOptions {
     double zoom_us = 1000;      // the zoom around the worst latency (widened to hold it)
     std::string trajectory_svg; // trajectory.svg's text, "" = none
     std::string flame_svg;      // the cycle profile's flame graph (scenarios/trace/flame_graph.h), "" = none
+    std::string trajectory_time_svg; // trajectory_time.svg's text, "" = none
 };
 
 /// The whole report.html page for `report` (report.json's content) and the run's interrupt log
@@ -197,10 +198,16 @@ std::string render_html(const nlohmann::json& report, const InterruptLog& log, c
 std::string render_html(const nlohmann::json& report, const std::vector<InterruptRow>& rows,
                         const HtmlOptions& options = {});
 
-/// Writes dir/report.html (embedding dir/trajectory.svg when the report has a motion section and
-/// the file exists). Throws std::runtime_error naming a file it cannot write.
-/// `flame_svg`: the --profile flame graph for a "Profile" section ("" = none).
+/// Writes dir/report.html (embedding dir/trajectory.svg and dir/trajectory_time.svg when the
+/// report has a motion section and the files exist). Throws std::runtime_error naming a file it
+/// cannot write. `flame_svg`: the --profile flame graph for a "Profile" section ("" = none).
 void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log,
                        const std::string& flame_svg = "");
+
+/// The report.html of a motion-only run (a `motion:` section, docs/motion.md): the banner, the
+/// checks, the motion figures and the trajectory pictures.
+std::string render_motion_html(const nlohmann::json& report, const HtmlOptions& options);
+/// Writes dir/report.html for a motion-only run, with dir's trajectory pictures.
+void write_motion_report_html(const std::filesystem::path& dir, const nlohmann::json& report);
 
 } // namespace rcsim::report

@@ -10,6 +10,7 @@
 #include "scenarios/report_html.h"
 #include "scenarios/stop_signal.h"
 #include "scenarios/motion_scenario.h"
+#include "scenarios/motion_system.h"
 #include "scenarios/trajectory_report.h"
 #include "scenarios/vcd_trace.h"
 #include "scenarios/trace/perfetto_trace.h"
@@ -64,7 +65,7 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     nlohmann::json motion = m;
     if (opt.reproducible) {
         // Output paths depend on where the run was started: keep the file names only.
-        for (const char* k : {"trajectory_csv", "trajectory_svg"})
+        for (const char* k : {"trajectory_csv", "trajectory_svg", "trajectory_time_svg", "trajectory_pulses_csv"})
             if (motion.contains(k)) motion[k] = std::filesystem::path(motion[k].get<std::string>()).filename().string();
     }
     // The motion checks are report.json "checks", in the one schema of every run (checks.h).
@@ -72,7 +73,10 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     motion.erase("checks");
     report["motion"] = motion;
     report["passed"] = rc == 0;
-    if (!opt.out_dir.empty()) write_report_json(out, report);
+    if (!opt.out_dir.empty()) {
+        write_report_json(out, report);
+        report::write_motion_report_html(out, report);
+    }
     return exit_code(rc == 0);
 }
 
@@ -133,6 +137,8 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
             report["warnings"].push_back("port " + std::to_string(p) + ": the host sends " +
                                          pj["host_format"].get<std::string>() + " but the controller's 82510 is set to " +
                                          pj["controller_format"].get<std::string>());
+        if (bench.protocol[p] && s.ports[p].protocol.traffic.pattern == HostTraffic::Pattern::script)
+            pj["script"] = script_json(bench.protocol[p]->script_result());
         report["ports"].push_back(pj);
     }
     report["main_cpu"] = bench.ctl.main.report();
@@ -147,12 +153,12 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
                               {"max_lead_ms", r ? 0.0 : ps_.max_lead_s * 1e3}};
     }
     if (bench.motion) {
-        report["motion"] = {{"state", bench.motion->state()}, {"positions", bench.motion->positions()},
-                            {"samples", bench.motion->recorder().samples().size()}};
+        report["motion"] = motion_system_json(bench);
         if (!opt.out_dir.empty()) {
             const std::filesystem::path out = opt.out_dir;
-            write_trajectory_csv(bench.motion->recorder(), out / "trajectory.csv");
-            write_trajectory_svg(bench.motion->recorder(), out / "trajectory.svg", 0, 1, "rcsim: " + s.name);
+            const bool pulses = s.trajectory.pulse_trace;
+            write_trajectory_files(bench.motion->recorder(), out, s.name, circle_overlay(bench, s), s.trajectory,
+                                   pulses ? &bench.motion->chip().pulse_trace() : nullptr);
         }
     }
 }
@@ -220,6 +226,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     nlohmann::json checks = nlohmann::json::array();
     bool passed = true;
     for (const Check& ch : communication_checks(bench, s, f)) {
+        checks.push_back(to_json(ch));
+        passed = passed && ch.passed();
+    }
+    for (const Check& ch : system_motion_checks(bench, s)) { // scripted hosts, main_cpu.motion
         checks.push_back(to_json(ch));
         passed = passed && ch.passed();
     }

@@ -50,6 +50,47 @@ double optional_number(YamlMap& m, const std::string& key, double lo, double hi)
     return m.has(key) ? m.number(key, 0, lo, hi) : -1;
 }
 
+constexpr std::size_t kMaxScriptSteps = 100000; // entries of a scripted host's `script:` list
+
+/// One entry of a scripted host's `script:` (docs/scenarios.md "Scripted hosts"): exactly one of
+/// `token` (a command), `wait_state` (poll ST until the robot state) and `delay_ms`.
+ScriptStep read_script_step(const YAML::Node& n, const std::string& file, const std::string& ctx) {
+    YamlMap s(n, file, ctx);
+    ScriptStep st;
+    st.line = YamlMap::line_of(n);
+    const int kinds = s.has("token") + s.has("wait_state") + s.has("delay_ms");
+    if (kinds != 1) s.fail("a script step has exactly one of 'token', 'wait_state' and 'delay_ms'");
+    st.at = ms_value(s, "at_ms", 0);
+    if (s.has("token")) {
+        st.token = s.require<std::string>("token");
+        st.data = s.get<std::string>("data", "");
+        st.wait_response = s.choice("wait", "response", {"response", "none"}) == "response";
+        if (s.has("expect_bch")) {
+            if (!st.wait_response) s.fail(s.child("expect_bch"), "'" + s.context() + "expect_bch' needs 'wait: response'");
+            st.expect_bch = static_cast<int>(s.integer("expect_bch", 0, 0, 255));
+        }
+        try {
+            proto::encode(proto::Frame{st.token, 0, st.data});
+        } catch (const std::exception& e) {
+            s.fail(s.child(s.has("data") ? "data" : "token"), std::string("this command cannot be sent: ") + e.what());
+        }
+    } else if (s.has("wait_state")) {
+        st.kind = ScriptStep::Kind::wait_state;
+        st.token = "ST";
+        st.state = s.require<std::string>("wait_state");
+        if (st.state.empty() || st.state.find(',') != std::string::npos)
+            s.fail(s.child("wait_state"), "'" + s.context() + "wait_state' must be one state name (no comma)");
+        st.poll = ms_value(s, "poll_ms", 10, 3.6e6);
+        if (st.poll == sc_core::SC_ZERO_TIME) s.fail(s.child("poll_ms"), "'" + s.context() + "poll_ms' must be > 0");
+        st.timeout = ms_value(s, "timeout_ms", 10000, 3.6e6);
+    } else {
+        st.kind = ScriptStep::Kind::delay;
+        st.duration = ms_value(s, "delay_ms", 0, 3.6e6);
+    }
+    s.finish();
+    return st;
+}
+
 void read_traffic(YamlMap& m, HostTraffic& t, std::uint64_t seed) {
     const std::string pattern = m.get<std::string>("traffic", "none");
     try {
@@ -67,6 +108,19 @@ void read_traffic(YamlMap& m, HostTraffic& t, std::uint64_t seed) {
     t.wait_response = m.get<bool>("wait_response", true);
     t.response_timeout = ms_value(m, "response_timeout_ms", 1000);
     t.seed = seed;
+    if (m.has("script")) {
+        if (t.pattern != HostTraffic::Pattern::script)
+            m.fail(m.child("script"), "'" + m.context() + "script' needs 'traffic: script'");
+        const YAML::Node steps = m.child("script");
+        if (!steps.IsSequence() || steps.size() > kMaxScriptSteps)
+            m.fail(steps, "'" + m.context() + "script' must be a list of at most " + std::to_string(kMaxScriptSteps) +
+                              " steps");
+        for (std::size_t i = 0; i < steps.size(); ++i)
+            t.script.push_back(read_script_step(steps[i], m.file(), m.context() + "script[" + std::to_string(i) + "]."));
+    }
+    if (t.pattern == HostTraffic::Pattern::script && t.script.empty())
+        m.fail(m.has("script") ? m.child("script") : m.child("traffic"),
+               "'" + m.context() + "traffic: script' needs a non-empty 'script' list");
     if (m.has("tokens")) {
         YAML::Node tokens = m.child("tokens");
         if (!tokens.IsMap() || tokens.size() == 0)
@@ -276,8 +330,24 @@ void read_board(YamlMap m, ControllerConfig& b) {
     m.finish();
 }
 
-void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion) {
+void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scenario::Csp>& csp,
+                   TrajectoryOptions& trajectory) {
     motion = m.get<bool>("motion", false);
+    if (m.has("trajectory")) {
+        if (!motion) m.fail(m.child("trajectory"), "'main_cpu.trajectory' needs 'main_cpu.motion: true'");
+        trajectory = read_trajectory_options(m.map("trajectory"));
+    }
+    if (m.has("csp")) {
+        if (!motion) m.fail(m.child("csp"), "'main_cpu.csp' is a path of the motion layer: it needs 'main_cpu.motion: true'");
+        YamlMap p = m.map("csp");
+        Scenario::Csp k;
+        k.radius = p.number("radius", k.radius, 1, 1e9);
+        k.velocity = p.number("velocity", k.velocity, 1, 1e7);
+        k.start_ms = p.number("start_ms", k.start_ms, 0, 3.6e6);
+        k.sync_offset_us = p.number("sync_offset_us", k.sync_offset_us, 0, 3.6e9);
+        p.finish();
+        csp = k;
+    }
     c.bus_clock_hz = m.integer("bus_clock_hz", c.bus_clock_hz, 100000, 1000000000);
     // Upper bounds: one hour, the longest run. Lower bounds keep the main CPU's threads from
     // waking more often than its bus could act (a 1 ps control cycle would never let time pass).
@@ -288,6 +358,7 @@ void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion) {
     c.cycle_time = us_value(m, "cycle_time_us", to_us(c.cycle_time), 3.6e9);
     if (m.has("ack_timeout_us")) m.number("ack_timeout_us", 0, kMinAckTimeoutUs, 3.6e9);
     c.ack_timeout = us_value(m, "ack_timeout_us", to_us(c.ack_timeout), 3.6e9);
+    c.fb_call = us_value(m, "fb_call_us", to_us(c.fb_call), 1e6);
     try {
         c.validate();
     } catch (const std::exception& e) {
@@ -296,7 +367,10 @@ void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion) {
     m.finish();
 }
 
-void read_checks(YamlMap m, CheckLimits& c) {
+void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
+    for (const char* k : {"circle", "final_state", "max_cycle_jitter_us", "max_command_latency_us"})
+        if (m.has(k) && !main_motion)
+            m.fail(m.child(k), "'checks." + std::string(k) + "' judges the motion layer: it needs 'main_cpu: {motion: true}'");
     c.max_overruns = m.integer("max_overruns", 0, 0, 1000000000000000);
     c.max_frames_failed = m.integer("max_frames_failed", 0, 0, 1000000000000000);
     c.max_frame_mismatches = m.integer("max_frame_mismatches", 0, 0, 1000000000000000);
@@ -306,6 +380,20 @@ void read_checks(YamlMap m, CheckLimits& c) {
     if (m.has("min_worst_margin_us")) c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);
     if (m.has("min_frames_delivered"))
         c.min_frames_delivered = m.integer("min_frames_delivered", 0, 0, 1000000000000000);
+    if (m.has("circle")) {
+        YamlMap cc = m.map("circle");
+        CheckLimits::Circle c2;
+        c2.center_x = cc.require_number("center_x", -1e10, 1e10);
+        c2.center_y = cc.require_number("center_y", -1e10, 1e10);
+        c2.radius = cc.require_number("radius", 0, 1e10);
+        c2.max_radial_error = cc.number("max_radial_error", 1, 0, 1e10);
+        c2.max_end_error = cc.number("max_end_error", 0, 0, 1e10);
+        cc.finish();
+        c.circle = c2;
+    }
+    c.motion_final_state = m.get<std::string>("final_state", "");
+    if (m.has("max_cycle_jitter_us")) c.max_cycle_jitter_us = m.number("max_cycle_jitter_us", 0, 0, 1e9);
+    if (m.has("max_command_latency_us")) c.max_command_latency_us = m.number("max_command_latency_us", 0, 0, 1e9);
     // `NAME: off` switches a check off; any other value for a check's name is an error.
     for (const std::string& name : communication_check_names()) {
         if (!m.has(name)) continue;
@@ -354,8 +442,10 @@ Scenario load_scenario(const std::string& path) {
     s.budget_us = optional_number(top, "budget_us", 0, 1e9);
     if (s.budget_us == 0) top.fail(top.child("budget_us"), "'budget_us' must be > 0");
     read_board(top.map("board"), s.board);
-    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion);
-    read_checks(top.map("checks"), s.checks);
+    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion, s.csp, s.trajectory);
+    if (s.csp && s.csp->sync_offset_us >= to_us(s.board.main.cycle_period))
+        top.fail(top.child("main_cpu"), "'main_cpu.csp.sync_offset_us' must be shorter than 'main_cpu.cycle_period_us'");
+    read_checks(top.map("checks"), s.checks, s.main_motion);
     if (top.has("ports")) {
         YAML::Node ports = top.child("ports");
         if (!ports.IsSequence() || ports.size() > CommBoard::kPorts)

@@ -8,6 +8,7 @@
 #include "scenarios/host/raw_host.h"
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
+#include "scenarios/trajectory_report.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -57,6 +58,14 @@ struct CheckLimits {
                                                        // generates commands
     std::set<std::string> off;               // checks switched off by name (`NAME: off`)
     bool expect_motion_ok = true;
+    // With main_cpu.motion (docs/scenarios.md "Motion over the serial protocol"):
+    struct Circle {
+        double center_x = 0, center_y = 0, radius = 0, max_radial_error = 1, max_end_error = 0;
+    };
+    std::optional<Circle> circle;             // the path of the last MC token must lie on it
+    std::string motion_final_state;           // "" = no check
+    std::optional<double> max_cycle_jitter_us; // control-cycle start jitter; no check if unset
+    std::optional<double> max_command_latency_us; // host ETX -> first pulse; no check if unset
 };
 
 struct Scenario {
@@ -75,6 +84,12 @@ struct Scenario {
     YAML::Node root;  // the whole document, for the motion section
     bool has_motion = false;   // a `motion:` section: a motion-only run (docs/motion.md)
     bool main_motion = false;  // main_cpu.motion: the motion layer in the main board's slot
+    /// main_cpu.csp: a cyclic-position circle on axes 2/3 (docs/motion.md "Cyclic position").
+    struct Csp {
+        double radius = 2000, velocity = 10000, start_ms = 100, sync_offset_us = 250;
+    };
+    std::optional<Csp> csp;
+    TrajectoryOptions trajectory; // main_cpu.trajectory: what the trajectory files hold
 };
 
 /// Reads and validates a scenario file. Throws ConfigError naming file and line.

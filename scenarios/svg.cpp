@@ -54,6 +54,87 @@ int decimals_for(double step) {
     return std::min(9, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
 }
 
+NiceRange nice_range(double lo, double hi, int target) {
+    if (!(hi > lo)) {
+        const double step = nice_step(std::max(std::abs(lo), 1.0), target);
+        return {std::floor(lo / step) * step - step, std::floor(lo / step) * step + step, step};
+    }
+    // The step for the span, then the bounds out to multiples of it; the wider span may need
+    // the next step up (at most once more: the bounds grow by less than two steps).
+    double step = nice_step(hi - lo, target);
+    for (int i = 0; i < 2; ++i) {
+        const double a = std::floor(lo / step + 1e-9) * step, b = std::ceil(hi / step - 1e-9) * step;
+        if ((b - a) / step <= target + 1 || i == 1) return {a, b, step};
+        step = nice_step(b - a, target);
+    }
+    return {lo, hi, step};
+}
+
+ColumnDecimator::ColumnDecimator(double t0, double t1, unsigned columns)
+    : t0_(t0), t1_(t1 > t0 ? t1 : t0 + 1), cols_(std::max(columns, 1u)) {}
+
+void ColumnDecimator::add(double t, double v) {
+    ++samples_;
+    const double f = (t - t0_) / (t1_ - t0_) * static_cast<double>(cols_.size());
+    const double last = static_cast<double>(cols_.size() - 1);
+    const std::size_t i = !(f > 0) ? 0 : f >= last ? cols_.size() - 1 : static_cast<std::size_t>(f);
+    Column& c = cols_[i];
+    const Pick p{t, v};
+    if (!c.any) {
+        c = Column{true, p, p, p, p};
+        return;
+    }
+    if (v < c.low.v) c.low = p;
+    if (v > c.high.v) c.high = p;
+    c.last = p;
+}
+
+std::vector<std::pair<double, double>> ColumnDecimator::points() const {
+    std::vector<std::pair<double, double>> out;
+    for (const Column& c : cols_) {
+        if (!c.any) continue;
+        Pick picks[4] = {c.first, c.low, c.high, c.last};
+        std::stable_sort(std::begin(picks), std::end(picks), [](const Pick& a, const Pick& b) { return a.t < b.t; });
+        for (const Pick& p : picks)
+            if (out.empty() || out.back().first != p.t || out.back().second != p.v) out.emplace_back(p.t, p.v);
+    }
+    return out;
+}
+
+PathDecimator::PathDecimator(double width, double height, double min_step, std::size_t max_points, double cell)
+    : w_(width), h_(height), min_step_(min_step), cell_(cell), max_points_(max_points),
+      cols_(static_cast<std::size_t>(std::ceil(width / cell)) + 1),
+      rows_(static_cast<std::size_t>(std::ceil(height / cell)) + 1) {}
+
+void PathDecimator::visit(const Point& p) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return;
+    const auto cx = static_cast<std::size_t>(std::clamp(p.x, 0.0, w_) / cell_);
+    const auto cy = static_cast<std::size_t>(std::clamp(p.y, 0.0, h_) / cell_);
+    visited_[cy * cols_ + cx] = true;
+}
+
+void PathDecimator::add(const Point& p) {
+    if (cells_mode_) return visit(p);
+    if (!points_.empty() && std::abs(p.x - points_.back().x) < min_step_ && std::abs(p.y - points_.back().y) < min_step_)
+        return;
+    points_.push_back(p);
+    if (points_.size() <= max_points_) return;
+    // Too long a polyline: from here on, the cells it visited.
+    cells_mode_ = true;
+    visited_.assign(cols_ * rows_, false);
+    for (const Point& q : points_) visit(q);
+    points_.clear();
+    points_.shrink_to_fit();
+}
+
+std::vector<Point> PathDecimator::cells() const {
+    std::vector<Point> out;
+    for (std::size_t y = 0; y < rows_ && cells_mode_; ++y)
+        for (std::size_t x = 0; x < cols_; ++x)
+            if (visited_[y * cols_ + x]) out.push_back({(double(x) + 0.5) * cell_, (double(y) + 0.5) * cell_});
+    return out;
+}
+
 double Scale::operator()(double v) const {
     double a = lo, b = hi;
     if (log) {
@@ -123,6 +204,26 @@ void Doc::marker(double x, double y, Marker shape, const std::string& colour, do
         line(x - h, y + h, x + h, y - h, colour, 1.5);
         break;
     }
+}
+
+void Doc::dots(const std::vector<Point>& points, const std::string& fill, double size) {
+    if (points.empty()) return;
+    body_ << "<path fill=\"" << fill << "\" d=\"";
+    const double h = size / 2;
+    for (const Point& p : points)
+        body_ << 'M' << num(p.x - h) << ' ' << num(p.y - h) << 'h' << num(size) << 'v' << num(size) << 'h' << num(-size)
+              << 'z';
+    body_ << "\"/>\n";
+}
+
+void Doc::arrow(const Point& tip, double dx, double dy, const std::string& fill, double size) {
+    const double n = std::hypot(dx, dy);
+    if (!(n > 0)) return;
+    const double ux = dx / n, uy = dy / n; // along the path
+    const double bx = tip.x - ux * size, by = tip.y - uy * size;
+    const double px = -uy * size * 0.45, py = ux * size * 0.45; // across it
+    body_ << "<polygon fill=\"" << fill << "\" points=\"" << num(tip.x) << ',' << num(tip.y) << ' ' << num(bx + px)
+          << ',' << num(by + py) << ' ' << num(bx - px) << ',' << num(by - py) << "\"/>\n";
 }
 
 void Doc::title(const std::string& s, double y, double size) { text(w_ / 2, y, s, "middle", size); }

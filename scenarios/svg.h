@@ -8,6 +8,7 @@
 
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rcsim::svg {
@@ -17,12 +18,70 @@ std::string num(double v, int decimals = 1);
 /// Escapes &, <, >, " and ' for XML text and attribute values.
 std::string esc(const std::string& s);
 
+struct Point {
+    double x = 0, y = 0; // pixels
+};
+
 /// A step of 1, 2 or 5 x 10^k giving about `target` divisions of `span`.
 double nice_step(double span, int target);
 /// Tick values k*step inside [lo, hi] (with step = nice_step(hi - lo, target)).
 std::vector<double> nice_ticks(double lo, double hi, int target);
 /// Decimals needed to print multiples of `step` exactly enough (0 for step >= 1).
 int decimals_for(double step);
+
+/// [lo, hi] widened to multiples of a nice step for about `target` divisions: the axis then
+/// starts and ends on a tick. An empty span becomes one step around the value.
+struct NiceRange {
+    double lo = 0, hi = 1, step = 1;
+};
+NiceRange nice_range(double lo, double hi, int target);
+
+/// Min/max per pixel column, streaming: a series of any length over [t0, t1] becomes at most four
+/// points per column (the column's first, lowest, highest and last sample, in time order), so
+/// every peak survives and the picture's size is bounded by its width. Samples outside [t0, t1]
+/// go to the first or last column.
+class ColumnDecimator {
+public:
+    ColumnDecimator(double t0, double t1, unsigned columns);
+    void add(double t, double v);
+    /// The kept samples (t, v) in time order.
+    std::vector<std::pair<double, double>> points() const;
+    std::size_t samples() const { return samples_; }
+
+private:
+    struct Pick {
+        double t = 0, v = 0;
+    };
+    struct Column {
+        bool any = false;
+        Pick first, low, high, last;
+    };
+    double t0_, t1_;
+    std::vector<Column> cols_;
+    std::size_t samples_ = 0;
+};
+
+/// An X-Y path in pixels, bounded: consecutive points closer than `min_step` pixels are merged;
+/// once more than `max_points` are kept (a path that goes round many times) it becomes the set
+/// of `cell`-pixel cells it visited, drawn as dots, so the picture's size stays bounded by its
+/// area whatever the length of the run.
+class PathDecimator {
+public:
+    PathDecimator(double width, double height, double min_step = 0.5, std::size_t max_points = 20000, double cell = 2);
+    void add(const Point& p);
+    bool as_cells() const { return cells_mode_; }
+    const std::vector<Point>& points() const { return points_; } // the polyline (not as_cells())
+    std::vector<Point> cells() const;                             // cell centres (as_cells())
+
+private:
+    double w_, h_, min_step_, cell_;
+    std::size_t max_points_;
+    std::vector<Point> points_;
+    bool cells_mode_ = false;
+    std::size_t cols_, rows_;
+    std::vector<bool> visited_;
+    void visit(const Point& p);
+};
 
 /// A value axis mapped onto pixels [p0, p1] (p1 < p0 for a y axis growing upwards).
 struct Scale {
@@ -31,9 +90,6 @@ struct Scale {
     double operator()(double v) const;
 };
 
-struct Point {
-    double x = 0, y = 0; // pixels
-};
 
 enum class Marker { circle, square, cross };
 
@@ -70,6 +126,10 @@ public:
     void frame(double x, double y, double w, double h, const std::string& stroke = "#333");
     /// A legend whose first row's sample starts at (x, y), one row every `row` pixels downwards.
     void legend(double x, double y, const std::vector<LegendEntry>& entries, double row = 18);
+    /// Small dots (1.5 px squares) at `points`, as one path element.
+    void dots(const std::vector<Point>& points, const std::string& fill, double size = 1.5);
+    /// A filled triangle at `tip` pointing along (dx, dy): a direction mark on a path.
+    void arrow(const Point& tip, double dx, double dy, const std::string& fill, double size = 10);
     /// Raw SVG markup.
     void raw(const std::string& s) { body_ << s; }
 

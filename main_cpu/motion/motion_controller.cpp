@@ -12,7 +12,7 @@ namespace rcsim::motion {
 /// The paper's library reaches the chip through the main board's bus: DATA then COMMAND.
 class MotionController::Bus : public QiBus {
 public:
-    explicit Bus(tlm_utils::simple_initiator_socket<MotionController>& s) : s_(s) {}
+    Bus(tlm_utils::simple_initiator_socket<MotionController>& s, MotionController& mc) : s_(s), mc_(mc) {}
     void write(unsigned axis, std::uint8_t code, std::uint32_t data) override {
         std::uint8_t b[4] = {std::uint8_t(data), std::uint8_t(data >> 8), std::uint8_t(data >> 16),
                              std::uint8_t(data >> 24)};
@@ -28,14 +28,23 @@ public:
 
 private:
     tlm_utils::simple_initiator_socket<MotionController>& s_;
+    MotionController& mc_;
+    // The access takes effect at its start (the chip answers at once, models/bus.h); the main
+    // CPU is then busy for its bus cycles: one per byte on the byte-wide bus.
     void access(BusCycle k, unsigned addr, std::uint8_t* d, unsigned len) {
-        if (!bus_access(s_, k, addr, d, len, sc_core::sc_time_stamp()).ok())
+        const BusResult r = bus_access(s_, k, addr, d, len, sc_core::sc_time_stamp());
+        if (!r.ok())
             SC_REPORT_ERROR("rcsim/motion", ("CAMC-QI bus access failed at offset " + std::to_string(addr)).c_str());
+        ++mc_.chip_accesses_;
+        const MotionConfig::Cost& c = mc_.cfg_.cost;
+        const sc_core::sc_time t = c.bus_cycle * static_cast<double>(len * (c.access_cycles + r.wait_states));
+        mc_.bus_time_ += t;
+        mc_.spend(t);
     }
 };
 
 MotionController::MotionController(sc_core::sc_module_name name, const MotionConfig& cfg)
-    : sc_module(name), bus("bus"), chip_("camc_qi"), qi_bus_(std::make_unique<Bus>(bus)), api_(*qi_bus_),
+    : sc_module(name), bus("bus"), chip_("camc_qi"), qi_bus_(std::make_unique<Bus>(bus, *this)), api_(*qi_bus_),
       cfg_(cfg) {
     bus.bind(chip_.socket);
     for (unsigned a = 0; a < axes; ++a) {
@@ -49,6 +58,104 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
     }
     line_.AxisX = circle_.AxisX = axes_[0].get();
     line_.AxisY = circle_.AxisY = axes_[1].get();
+    SC_HAS_PROCESS(MotionController);
+    SC_THREAD(first_pulse_watch);
+}
+
+void MotionController::spend(const sc_core::sc_time& t) {
+    if (t == sc_core::SC_ZERO_TIME) return;
+    if (sc_core::sc_get_current_process_handle().proc_kind() != sc_core::SC_THREAD_PROC_)
+        SC_REPORT_ERROR("rcsim/motion", "a motion cost model needs the controller called from an SC_THREAD");
+    sc_core::wait(t);
+}
+
+void MotionController::call_block(McExecuteFb& fb) {
+    fb.call();
+    fb_time_ += cfg_.cost.fb_call;
+    spend(cfg_.cost.fb_call);
+}
+
+void MotionController::note_move(const std::string& token) {
+    if (moves_.size() >= kMaxMoveRecords) return;
+    moves_.push_back(MoveRecord{token, sc_core::sc_time_stamp(), std::nullopt});
+    move_accepted_.notify(sc_core::SC_ZERO_TIME);
+}
+
+// Command latency: from the accepted move, the pulse counters are polled every first_pulse_poll
+// until one moves (at most 1 s: a move that never pulses stays unmeasured). The figure is exact
+// to one poll interval.
+void MotionController::first_pulse_watch() {
+    if (cfg_.first_pulse_poll == sc_core::SC_ZERO_TIME) return;
+    std::size_t next = 0;
+    for (;;) {
+        while (next >= moves_.size()) sc_core::wait(move_accepted_);
+        std::array<std::int64_t, axes> at{};
+        for (unsigned a = 0; a < axes; ++a) at[a] = chip_.pulse_count(a);
+        const sc_core::sc_time give_up = sc_core::sc_time_stamp() + sc_core::sc_time(1, sc_core::SC_SEC);
+        while (sc_core::sc_time_stamp() < give_up && next + 1 >= moves_.size()) {
+            sc_core::wait(cfg_.first_pulse_poll);
+            bool moved = false;
+            for (unsigned a = 0; a < axes; ++a) moved |= chip_.pulse_count(a) != at[a];
+            if (moved) {
+                moves_[next].first_pulse = sc_core::sc_time_stamp();
+                break;
+            }
+        }
+        ++next; // a newer move before the first pulse: the older one is left unmeasured
+    }
+}
+
+std::array<double, 2> MotionController::csp_point(const sc_core::sc_time& t) const {
+    const MotionConfig::Csp& c = *cfg_.csp;
+    const double s = t > c.start ? (t - c.start).to_seconds() : 0.0;
+    const double phi = c.velocity * s / c.radius; // CCW around (-R, 0), from (0, 0)
+    return {-c.radius + c.radius * std::cos(phi), c.radius * std::sin(phi)};
+}
+
+// The planner's time is the ideal cycle start (the cycle it belongs to), not when the cycle got
+// the processor: the set-point is for this period's SYNC instant. Whether the drive takes it
+// depends on when it is written, after the work of the cycle so far.
+void MotionController::csp_cycle() {
+    const MotionConfig::Csp& c = *cfg_.csp;
+    const sc_core::sc_time now = sc_core::sc_time_stamp();
+    const auto k = static_cast<std::uint64_t>(now / c.period);
+    const sc_core::sc_time sync = c.period * static_cast<double>(k) + c.sync_offset;
+    if (!csp_running_) {
+        if (now < c.start) return;
+        for (unsigned a : {c.axis_x, c.axis_y}) drives_[a].set_mode(mode::csp);
+        csp_running_ = true;
+        csp_latched_ = csp_written_ = {0, 0};
+    }
+    const std::array<double, 2> want = csp_point(sync);
+    const std::array<std::int32_t, 2> sp = {static_cast<std::int32_t>(std::lround(want[0])),
+                                            static_cast<std::int32_t>(std::lround(want[1]))};
+    fb_time_ += cfg_.cost.fb_call; // the set-point computation: one block call
+    spend(cfg_.cost.fb_call);
+    ++csp_stats_.setpoints;
+    // At its SYNC the drive takes what 0x607A holds: this set-point, or if it came too late the
+    // one written in the cycle before.
+    if (sc_core::sc_time_stamp() <= sync) csp_latched_ = sp;
+    else csp_latched_ = csp_written_, ++csp_stats_.missed;
+    csp_written_ = sp;
+    for (unsigned i = 0; i < 2; ++i) {
+        drives_[i == 0 ? c.axis_x : c.axis_y].target_position = csp_latched_[i];
+        csp_stats_.max_setpoint_error = std::max(csp_stats_.max_setpoint_error, std::abs(csp_latched_[i] - want[i]));
+    }
+    const double ax = double(drives_[c.axis_x].actual_position()), ay = double(drives_[c.axis_y].actual_position());
+    csp_stats_.max_actual_radial_error =
+        std::max(csp_stats_.max_actual_radial_error, std::abs(std::hypot(ax + c.radius, ay) - c.radius));
+}
+
+MotionSnapshot MotionController::snapshot() const {
+    MotionSnapshot s;
+    s.t_s = sc_core::sc_time_stamp().to_seconds();
+    for (unsigned a = 0; a < axes; ++a) {
+        s.cmd[a] = chip_.command_position(a);
+        s.act[a] = chip_.encoder_position(a);
+        s.axis_state[a] = axes_[a]->state();
+    }
+    s.state = state();
+    return s;
 }
 
 MotionController::~MotionController() = default;
@@ -80,28 +187,34 @@ void MotionController::control_cycle(const sc_core::sc_time& now) {
     update_mechanism();
     for (auto& ax : axes_) ax->cycle();
     run_blocks();
+    if (cfg_.csp) csp_cycle();
+    if (circle_record_ && !circle_record_->outcome_at && (circle_.Done || circle_.Error || circle_.CommandAborted))
+        circle_record_->outcome_at = sc_core::sc_time_stamp();
     if (cfg_.record) {
         std::vector<std::int64_t> cmd(axes), act(axes);
         for (unsigned a = 0; a < axes; ++a) {
             cmd[a] = chip_.command_position(a);
             act[a] = chip_.encoder_position(a);
         }
+        if (csp_running_) cmd[cfg_.csp->axis_x] = csp_latched_[0], cmd[cfg_.csp->axis_y] = csp_latched_[1];
         recorder_.add(now.to_seconds(), std::move(cmd), std::move(act));
     }
 }
 
 void MotionController::run_blocks() {
     auto run = [this](McExecuteFb& fb) {
-        fb.call();
+        call_block(fb);
         // The token "program" drops Execute once the block reports an outcome.
         if ((fb.Done || fb.Error || fb.CommandAborted) && auto_.erase(&fb)) fb.Execute = false;
     };
     for (unsigned a = 0; a < axes; ++a) {
         power_[a].call();
+        fb_time_ += cfg_.cost.fb_call;
+        spend(cfg_.cost.fb_call);
         Blocks& b = blocks_[a];
         for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.halt})
             run(*fb);
-        b.stop.call();
+        call_block(b.stop);
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
     }
     run(line_);
@@ -140,9 +253,9 @@ template <typename Fb> MotionReply MotionController::execute_now(Fb& fb) {
     // A falling edge first: a previous command on this block (or one just released whose block
     // has not yet been called with Execute low) must not swallow the new rising edge.
     fb.Execute = false;
-    fb.call();
+    call_block(fb);
     fb.Execute = true;
-    fb.call();
+    call_block(fb);
     if (fb.Error) {
         fb.Execute = false;
         return fb_reply(fb.ErrorID);
@@ -177,6 +290,26 @@ bool parse_mask(const std::string& data, unsigned& mask) {
 } // namespace
 
 MotionReply MotionController::command(const std::string& token, const std::string& data) {
+    std::optional<CircleRecord> arc;
+    if (token == "MC") {
+        arc = CircleRecord{};
+        arc->at = sc_core::sc_time_stamp();
+        arc->start_x = static_cast<double>(chip_.command_position(0));
+        arc->start_y = static_cast<double>(chip_.command_position(1));
+    }
+    MotionReply r = execute(token, data);
+    if (r.bch == 0 && (token == "MA" || token == "MR" || token == "ML" || token == "MC" || token == "HM"))
+        note_move(token);
+    if (r.bch == 0 && arc) {
+        arc->center_x = arc->start_x + circle_.CenterX, arc->center_y = arc->start_y + circle_.CenterY;
+        arc->end_x = arc->start_x + circle_.EndX, arc->end_y = arc->start_y + circle_.EndY;
+        arc->ccw = circle_.Direction == dir_ccw;
+        circle_record_ = arc;
+    }
+    return r;
+}
+
+MotionReply MotionController::execute(const std::string& token, const std::string& data) {
     std::vector<double> v;
     const MotionReply bad{0x02, "bad data: '" + data + "'"};
     if (token == "SV") {

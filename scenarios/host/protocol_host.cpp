@@ -39,7 +39,8 @@ HostTraffic::Pattern HostTraffic::parse_pattern(const std::string& s) {
     if (s == "poisson") return Pattern::poisson;
     if (s == "burst") return Pattern::burst;
     if (s == "saturate") return Pattern::saturate;
-    throw std::invalid_argument("unknown traffic pattern '" + s + "' (none, fixed, poisson, burst, saturate)");
+    if (s == "script") return Pattern::script;
+    throw std::invalid_argument("unknown traffic pattern '" + s + "' (none, fixed, poisson, burst, saturate, script)");
 }
 
 void ProtocolHostConfig::validate() const {
@@ -53,6 +54,14 @@ void ProtocolHostConfig::validate() const {
                                     " (both must be non-zero)");
     if (t.data_size > max_data)
         throw std::invalid_argument("data size " + std::to_string(t.data_size) + " exceeds " + std::to_string(max_data));
+    if ((t.pattern == HostTraffic::Pattern::script) != !t.script.empty())
+        throw std::invalid_argument(t.script.empty() ? "traffic 'script' needs a non-empty 'script' list"
+                                                     : "a 'script' list needs 'traffic: script'");
+    for (const ScriptStep& st : t.script) {
+        if (st.kind != ScriptStep::Kind::command) continue;
+        encode(Frame{st.token, 0, st.data}); // throws naming the bad token or byte
+        if (st.expect_bch > 255) throw std::invalid_argument("expect_bch " + std::to_string(st.expect_bch) + " is not 0..255");
+    }
     if (t.pattern != HostTraffic::Pattern::none && t.tokens.empty())
         throw std::invalid_argument("empty token mix");
     for (const auto& [token, weight] : t.tokens) {
@@ -134,6 +143,8 @@ void ProtocolHost::run() {
         if (awaiting_response_ && now >= response_deadline_) {
             awaiting_response_ = false;
             ++counters_.response_timeouts;
+            last_response_timed_out_ = true;
+            idle_ev_.notify(sc_core::SC_ZERO_TIME);
             note("no response frame within " + ms(cfg_.traffic.response_timeout));
         }
         const bool saturate = cfg_.traffic.pattern == HostTraffic::Pattern::saturate && may_generate();
@@ -214,15 +225,18 @@ void ProtocolHost::do_command(const Frame& f) {
             note("> frame " + escape(bytes.size() <= 40 ? bytes : bytes.substr(0, 36) + "...") + " (" +
                  std::to_string(bytes.size()) + " bytes)");
             send_bytes(bytes);
+            last_etx_ = sc_core::sc_time_stamp();
             r = await_reply(EOT, "EOT/NAK");
             if (r == Reply::positive) {
                 ++counters_.frames_delivered;
                 if (keep_history_) delivered_.push_back(f);
                 if (on_delivered) on_delivered(f);
                 delivery_us_.add(to_us(sc_core::sc_time_stamp() - command_start_));
-                awaiting_response_ = cfg_.traffic.wait_response;
+                awaiting_response_ = scripted() ? script_await_ : cfg_.traffic.wait_response;
                 response_deadline_ = sc_core::sc_time_stamp() + cfg_.traffic.response_timeout;
                 busy_ = false;
+                last_failed_ = false;
+                idle_ev_.notify(sc_core::SC_ZERO_TIME);
                 return;
             }
             // After a NAK or a timeout the receiver has dropped the frame and is idle again, so
@@ -233,6 +247,8 @@ void ProtocolHost::do_command(const Frame& f) {
             ++counters_.frames_failed;
             note("command " + f.token + " failed after " + std::to_string(attempt) + " retries");
             busy_ = false;
+            last_failed_ = true;
+            idle_ev_.notify(sc_core::SC_ZERO_TIME);
             return;
         }
         ++counters_.retries;
@@ -298,6 +314,8 @@ void ProtocolHost::serve_controller() {
         if (awaiting_response_) {
             awaiting_response_ = false;
             response_us_.add(to_us(b.at - command_start_));
+            last_response_ = f;
+            idle_ev_.notify(sc_core::SC_ZERO_TIME);
         }
         send_bytes(std::string(1, static_cast<char>(EOT)));
         return;
@@ -349,6 +367,7 @@ void ProtocolHost::queue_generated() {
 void ProtocolHost::generate() {
     const HostTraffic& t = cfg_.traffic;
     using P = HostTraffic::Pattern;
+    if (t.pattern == P::script) return run_script();
     if (t.pattern == P::none || t.pattern == P::saturate) return; // saturate: run() makes them
     wait(t.start);
     const sc_core::sc_time period = ps(static_cast<std::uint64_t>(std::llround(1e12 / t.rate)));
@@ -362,6 +381,76 @@ void ProtocolHost::generate() {
         if (t.pattern == P::fixed) wait(period);
         else wait(ps(static_cast<std::uint64_t>(std::llround(-std::log(1.0 - next_uniform()) / t.rate * 1e12))));
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Script
+
+void ProtocolHost::transact(const Frame& f, bool wait_response) {
+    last_failed_ = last_response_timed_out_ = false;
+    last_response_.reset();
+    script_await_ = wait_response;
+    send(f);
+    // send() only queued it: wait until run() has taken it, finished it and had its answer.
+    do wait(idle_ev_);
+    while (!idle());
+}
+
+void ProtocolHost::fail_step(const ScriptStep& s, const std::string& why) {
+    script_.failed = true;
+    script_.failed_step = script_.completed;
+    script_.failed_line = s.line;
+    script_.failure = why;
+    note("script step " + std::to_string(script_.completed) + " (line " + std::to_string(s.line) + ") failed: " + why);
+}
+
+void ProtocolHost::script_step(const ScriptStep& s) {
+    const sc_core::sc_time now = sc_core::sc_time_stamp();
+    if (s.at > now) wait(s.at - now);
+    switch (s.kind) {
+    case ScriptStep::Kind::delay: wait(s.duration); return;
+    case ScriptStep::Kind::command: {
+        transact(Frame{s.token, 0, s.data}, s.wait_response);
+        if (last_failed_) return fail_step(s, s.token + " was not delivered (given up after the retries)");
+        script_.commands.push_back({s.token, last_etx_, last_response_ ? last_response_->bch : -1});
+        if (!s.wait_response) return;
+        if (!last_response_) return fail_step(s, "no response to " + s.token + " within the response timeout");
+        if (s.expect_bch >= 0 && last_response_->bch != s.expect_bch)
+            return fail_step(s, s.token + " answered BCH " + hex2(last_response_->bch) + " '" +
+                                    escape(last_response_->data) + "', expected " +
+                                    hex2(static_cast<std::uint8_t>(s.expect_bch)));
+        return;
+    }
+    case ScriptStep::Kind::wait_state: {
+        // docs/system.md §7.2: the ST reply starts with the robot state, up to the first comma.
+        const sc_core::sc_time deadline = sc_core::sc_time_stamp() + s.timeout;
+        std::string seen = "(no reply)";
+        for (;;) {
+            transact(Frame{"ST", 0, ""}, true);
+            if (last_response_ && last_response_->bch == 0) {
+                seen = last_response_->data.substr(0, last_response_->data.find(','));
+                if (seen == s.state) return;
+            }
+            if (sc_core::sc_time_stamp() + s.poll > deadline)
+                return fail_step(s, "state " + s.state + " not reached within " + ms(s.timeout) + " (last ST: " +
+                                        escape(seen) + ")");
+            wait(s.poll);
+        }
+    }
+    }
+}
+
+// One step at a time; a step that goes wrong stops the script (what follows assumed it worked).
+void ProtocolHost::run_script() {
+    script_.steps = cfg_.traffic.script.size();
+    for (const ScriptStep& s : cfg_.traffic.script) {
+        if (stopped_) return;
+        script_step(s);
+        if (script_.failed) return;
+        ++script_.completed;
+    }
+    script_.finished_at = sc_core::sc_time_stamp();
+    note("script done");
 }
 
 } // namespace rcsim

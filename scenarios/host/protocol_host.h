@@ -18,6 +18,9 @@
 // previous one finished, and its response arrived when wait_response is set); data sizes fixed or
 // uniformly random up to 8192; tokens drawn from a weighted mix; everything from one seed. At most
 // kMaxQueuedCommands generated commands wait for the line; then generation waits for room.
+// Script: a given list of commands (token + data), one at a time, each optionally waiting for its
+// response (and checking its BCH) or, by polling ST, for a robot state (docs/scenarios.md
+// "Scripted hosts").
 #pragma once
 
 #include "models/serial_line.h"
@@ -31,6 +34,7 @@
 #include <deque>
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,9 +51,44 @@ struct ProtocolTiming {
     sc_core::sc_time reply_delay = sc_core::SC_ZERO_TIME; // the host's own turnaround
 };
 
+/// One step of a scripted host: a command, a pause, or a wait for a robot state.
+struct ScriptStep {
+    enum class Kind { command, wait_state, delay };
+    Kind kind = Kind::command;
+    std::string token, data;            // command: the frame; wait_state: "ST" and ""
+    bool wait_response = true;          // command: the next step only after the response frame
+    int expect_bch = -1;                // command with wait_response: the BCH it must carry (-1: any)
+    std::string state;                  // wait_state: the first field of the ST reply to wait for
+    sc_core::sc_time poll{10, sc_core::SC_MS};    // wait_state: from one ST reply to the next ST
+    sc_core::sc_time timeout{10, sc_core::SC_SEC}; // wait_state: give up (a failed step) after this
+    sc_core::sc_time duration;          // delay
+    sc_core::sc_time at;                // not before this time of the run
+    int line = 0;                       // the scenario line, for the report
+};
+
+/// What a scripted host did: steps completed, and the first step that went wrong.
+struct ScriptResult {
+    std::size_t steps = 0;     // in the script
+    std::size_t completed = 0; // steps done as the script wanted, from the first
+    bool failed = false;       // a step went wrong: the script stopped there
+    std::size_t failed_step = 0;
+    int failed_line = 0;
+    std::string failure;       // why
+    sc_core::sc_time finished_at; // when the last step completed (completed == steps)
+    /// Every command step's frame as delivered, in order: token, the ETX of the frame (a motion
+    /// command's latency is measured from here) and the response's BCH (-1: none awaited).
+    struct Sent {
+        std::string token;
+        sc_core::sc_time etx;
+        int bch = -1;
+    };
+    std::vector<Sent> commands;
+    bool done() const { return !failed && completed == steps; }
+};
+
 /// What commands the host generates by itself.
 struct HostTraffic {
-    enum class Pattern { none, fixed, poisson, burst, saturate };
+    enum class Pattern { none, fixed, poisson, burst, saturate, script };
     Pattern pattern = Pattern::none;
     double rate = 10.0;                                // fixed, poisson: commands a second
     unsigned burst_size = 4;                           // burst: commands queued at once
@@ -62,8 +101,9 @@ struct HostTraffic {
     std::uint64_t seed = 1;
     bool wait_response = true; // hold the next command until a response frame (or the timeout)
     sc_core::sc_time response_timeout{1, sc_core::SC_SEC};
+    std::vector<ScriptStep> script; // Pattern::script: the steps, in order
 
-    /// "none", "fixed", "poisson", "burst", "saturate"; throws std::invalid_argument.
+    /// "none", "fixed", "poisson", "burst", "saturate", "script"; throws std::invalid_argument.
     static Pattern parse_pattern(const std::string& s);
 };
 
@@ -129,6 +169,8 @@ public:
     /// No command queued or in progress and no response awaited.
     bool idle() const { return commands_.empty() && !busy_ && !awaiting_response_; }
     const ProtocolHostConfig& config() const { return cfg_; }
+    /// Pattern::script: how far the script got.
+    const ScriptResult& script_result() const { return script_; }
 
     SerialFormat rx_format() const override { return cfg_.format; }
     void rx_char(const SerialRx& c) override;
@@ -177,6 +219,20 @@ private:
     }
     bool stopped_ = false;
     bool keep_history_ = true;
+    // Script mode: the step thread waits on idle_ev_ for its command to finish.
+    ScriptResult script_;
+    sc_core::sc_event idle_ev_;
+    bool last_failed_ = false;               // the last command was given up after its retries
+    bool last_response_timed_out_ = false;
+    std::optional<proto::Frame> last_response_; // the response to the last command
+    sc_core::sc_time last_etx_;              // when the last command frame's ETX left
+    bool script_await_ = true;               // the script's command awaits its response
+    bool scripted() const { return cfg_.traffic.pattern == HostTraffic::Pattern::script; }
+    void run_script();
+    void script_step(const ScriptStep& s);
+    /// Sends `f` and waits until it is delivered (or failed) and, with `wait_response`, answered.
+    void transact(const proto::Frame& f, bool wait_response);
+    void fail_step(const ScriptStep& s, const std::string& why);
     std::vector<proto::Frame> delivered_;
     proto::Frame make_command();
     std::uint64_t next_random();

@@ -344,5 +344,25 @@ scen m_ports.yaml 'motion:\n  duration_s: 0.01\nports: []\n'
 expect 2 "m_ports.yaml:2: a 'motion' section runs the motion side alone" -- run m_ports.yaml
 expect 2 "--out 'a_file': cannot create the output directory" -- run "$SRC/scenarios/xy_plotter_circle.yaml" --out a_file
 
+# --- scripted protocol hosts (docs/scenarios.md "Scripted hosts") ---------------------------
+scen s_empty.yaml 'ports:\n  - {host: protocol, traffic: script}\n'
+expect 2 "s_empty.yaml:2: 'ports[0].traffic: script' needs a non-empty 'script' list" -- run s_empty.yaml
+scen s_nopat.yaml 'ports:\n  - host: protocol\n    traffic: saturate\n    script:\n      - {token: EC}\n'
+expect 2 "s_nopat.yaml:5: 'ports[0].script' needs 'traffic: script'" -- run s_nopat.yaml
+scen s_two.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {token: EC}\n      - {token: SV, wait_state: STANDSTILL}\n'
+expect 2 "s_two.yaml:6: a script step has exactly one of 'token', 'wait_state' and 'delay_ms'" -- run s_two.yaml
+scen s_tok.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {token: ECX}\n'
+expect 2 "s_tok.yaml:5: this command cannot be sent: " -- run s_tok.yaml
+scen s_key.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {token: EC, dat: "1"}\n'
+expect 2 "s_key.yaml:5: unknown key 'ports[0].script[0].dat'" -- run s_key.yaml
+scen s_bch.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {token: EC, expect_bch: 256}\n'
+expect 2 "s_bch.yaml:5: 'ports[0].script[0].expect_bch' = 256 must be a whole number in [0, 255]" -- run s_bch.yaml
+scen s_wait.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {token: EC, wait: maybe}\n'
+expect 2 "s_wait.yaml:5: 'ports[0].script[0].wait' must be" -- run s_wait.yaml
+scen s_poll.yaml 'ports:\n  - host: protocol\n    traffic: script\n    script:\n      - {wait_state: STANDSTILL, poll_ms: 0}\n'
+expect 2 "s_poll.yaml:5: 'ports[0].script[0].poll_ms' must be > 0" -- run s_poll.yaml
+scen s_circ.yaml 'checks:\n  circle: {center_x: 0, center_y: 0, radius: 1}\n'
+expect 2 "s_circ.yaml:2: 'checks.circle' judges the motion layer: it needs 'main_cpu: {motion: true}'" -- run s_circ.yaml
+
 echo "$cases bad-input cases, $failures failed"
 [ "$failures" -eq 0 ]

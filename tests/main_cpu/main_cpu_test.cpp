@@ -665,3 +665,43 @@ TEST(MainCpuConfig, ModuleRefusesABadConfig) {
     c.cycle_period = sc_core::SC_ZERO_TIME;
     EXPECT_THROW(MainCpu("bad", c), std::invalid_argument);
 }
+
+namespace {
+/// A motion layer whose control cycle spends `work` of processor time (a cost model).
+class WorkingMotion : public FakeMotion {
+public:
+    sc_time work = us(300);
+    void control_cycle(const sc_time& now) override {
+        FakeMotion::control_cycle(now);
+        sc_core::wait(work);
+    }
+};
+} // namespace
+
+// The cycle's duration is its motion work plus cycle_time (100 us), and the work holds the
+// processor: an INT_R that comes during it waits for its end.
+TEST(MainCpu, ControlCycleDurationComesFromTheMotionWork) {
+    Bench b;
+    WorkingMotion m;
+    b.cpu.set_motion(&m);
+    b.comm.script = [](CommSide& c) {
+        sc_core::wait(ms(1) + us(50)); // 50 us into the 1 ms cycle's 400 us
+        c.put_chunk(0, cmd("EC", "x"));
+    };
+    sc_core::sc_start(ms(3) - us(1));
+    const Summary d = b.cpu.cycle_duration_us().summary();
+    EXPECT_EQ(d.count, 3u);
+    EXPECT_DOUBLE_EQ(d.min, 400.0);
+    EXPECT_DOUBLE_EQ(d.max, 400.0);
+    const Summary lat = b.cpu.irq_latency_us().summary();
+    ASSERT_EQ(lat.count, 1u);
+    EXPECT_DOUBLE_EQ(lat.max, 350.0 + to_us(b.cpu.config().irq_entry));
+    EXPECT_EQ(b.cpu.report()["cycle_duration_us"]["max"], 400.0);
+}
+
+TEST(MainCpu, ReportHasNoCycleDurationWithoutAMotionLayer) {
+    Bench b;
+    sc_core::sc_start(ms(2) - us(1));
+    EXPECT_EQ(b.cpu.cycle_duration_us().summary().count, 2u);
+    EXPECT_FALSE(b.cpu.report().contains("cycle_duration_us")); // reports of such runs stay as they were
+}

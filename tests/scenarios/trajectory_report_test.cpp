@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <optional>
 
 using namespace rcsim;
 
@@ -38,16 +39,16 @@ TEST(TrajectoryReport, CsvHasOneRowPerAxisPerSample) {
                            "0.002500,0,1000,1000\n0.002500,1,1000,0\n0.002500,2,7,7\n");
 }
 
-TEST(TrajectoryReport, SvgDrawsBothPathsOnEqualScales) {
+TEST(TrajectoryReport, SvgDrawsBothPathsOnEqualScalesWithNiceBounds) {
     const std::string s = trajectory_svg(l_path(), 0, 1, "run <1>");
-    // Both axes span 0..1000; plus 10 % the plotted range is -50..1050 on both, mapped onto the
-    // 500-pixel square at (70, 70): x = 70 + (v + 50) / 1100 * 500, y = 570 - (v + 50) / 1100 * 500,
-    // so 0 -> 92.7 (x) / 547.3 (y) and 1000 -> 547.3 (x) / 92.7 (y).
-    EXPECT_NE(s.find("stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"92.7,547.3 547.3,547.3 547.3,92.7\""),
+    // Both axes span 0..1000: nice_range(0, 1000, 8) has step 200 and keeps [0, 1000], mapped
+    // onto the 500-pixel square at (70, 60): x = 70 + v / 2, y = 560 - v / 2.
+    EXPECT_NE(s.find("stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"70.0,560.0 570.0,560.0 570.0,60.0\""),
               std::string::npos)
         << s;
+    // The actual path repeats its first point: the decimator merges it.
     EXPECT_NE(s.find("stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\" "
-                     "points=\"92.7,547.3 92.7,547.3 547.3,547.3\""),
+                     "points=\"70.0,560.0 570.0,560.0\""),
               std::string::npos)
         << s;
     EXPECT_NE(s.find(">run &lt;1&gt;</text>"), std::string::npos) << "the title is escaped";
@@ -55,19 +56,55 @@ TEST(TrajectoryReport, SvgDrawsBothPathsOnEqualScales) {
     EXPECT_NE(s.find("axis 1 position [pulses]"), std::string::npos);
     EXPECT_NE(s.find(">commanded (CAMC-QI CNT1)</text>"), std::string::npos);
     EXPECT_NE(s.find(">actual (drive 0x6064)</text>"), std::string::npos);
-    // Ticks every 200 pulses (nice step for 1100 over 8 divisions): 0 at x 92.7, 1000 at x 547.3.
-    EXPECT_NE(s.find("<text x=\"92.7\" y=\"586.0\" text-anchor=\"middle\" font-size=\"11.0\">0</text>"),
+    // Ticks every 200 pulses, the axis starting and ending on one: 0 at x 70, 1000 at x 570.
+    EXPECT_NE(s.find("<text x=\"70.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">0</text>"),
               std::string::npos);
-    EXPECT_NE(s.find("<text x=\"547.3\" y=\"586.0\" text-anchor=\"middle\" font-size=\"11.0\">1000</text>"),
+    EXPECT_NE(s.find("<text x=\"570.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">1000</text>"),
               std::string::npos);
+    // Start mark on the first point, an arrow 40 pixels along the path pointing +x (tip at
+    // x 110, base 12 back, half-width 5.4), an end mark on (1000, 1000).
+    EXPECT_NE(s.find("<circle cx=\"70.0\" cy=\"560.0\" r=\"4.5\" fill=\"#2ca02c\"/>"), std::string::npos) << s;
+    EXPECT_NE(s.find("<polygon fill=\"#1f77b4\" points=\"110.0,560.0 98.0,565.4 98.0,554.6\"/>"), std::string::npos) << s;
+    EXPECT_NE(s.find("<rect x=\"567.0\" y=\"57.0\" width=\"6.0\" height=\"6.0\" fill=\"#333\"/>"), std::string::npos) << s;
+    EXPECT_NE(s.find("following error (command - actual)"), std::string::npos);
 }
 
 TEST(TrajectoryReport, SvgOfOtherAxesUsesThem) {
-    // Axis 2 never moves (extent 0): its value 7 is centred in the square, the span is axis 0's.
+    // Axis 2 never moves: axis 0's span (1000, step 200) around axis 2's value 7 on multiples of
+    // the step: floor((7 - 500) / 200 + 0.5) = -2, so [-400, 600]; y(7) = 560 - 407 / 2 = 356.5.
     const std::string s = trajectory_svg(l_path(), 0, 2, "t");
     EXPECT_NE(s.find("axis 2 position [pulses]"), std::string::npos);
-    // y of 7 is the middle of the square: 570 - 0.5 * 500 = 320.
-    EXPECT_NE(s.find("points=\"92.7,320.0 547.3,320.0 547.3,320.0\""), std::string::npos) << s;
+    EXPECT_NE(s.find("points=\"70.0,356.5 570.0,356.5\""), std::string::npos) << s;
+}
+
+TEST(TrajectoryReport, CsvEveryNthSampleAndTheLast) {
+    motion::TrajectoryRecorder r;
+    for (int i = 0; i < 10; ++i) r.add(i * 0.001, {i}, {i});
+    const auto file = std::filesystem::temp_directory_path() / "rcsim_trajectory_every.csv";
+    write_trajectory_csv(r, file, 4);
+    EXPECT_EQ(slurp(file), "t_s,axis,cmd_pulses,act_pulses\n0.000000,0,0,0\n0.004000,0,4,4\n0.008000,0,8,8\n"
+                           "0.009000,0,9,9\n");
+}
+
+TEST(TrajectoryReport, PulseCsvHasExactTimes) {
+    const auto file = std::filesystem::temp_directory_path() / "rcsim_trajectory_pulses.csv";
+    write_pulse_csv({{sc_core::sc_time(1234567, sc_core::SC_PS), 1, -1}, {sc_core::sc_time(2, sc_core::SC_MS), 0, 1}},
+                    file);
+    EXPECT_EQ(slurp(file), "t_s,axis,dir\n0.000001234567,1,-1\n0.002000000000,0,1\n");
+}
+
+TEST(TrajectoryReport, TimePlotHasItsPanels) {
+    const std::string plain = trajectory_time_svg(l_path(), "name", std::nullopt);
+    EXPECT_NE(plain.find(">name</text>"), std::string::npos);
+    for (const char* panel : {">position</text>", ">velocity (from one control cycle to the next)</text>",
+                              ">following error (command - actual)</text>", ">time [s]</text>"})
+        EXPECT_NE(plain.find(panel), std::string::npos) << panel;
+    EXPECT_EQ(plain.find("radial error"), std::string::npos) << "no circle, no radial panel";
+    // Axes 0 and 1 moved, axis 2 did not: no series for it.
+    EXPECT_NE(plain.find(">axis 1 command</text>"), std::string::npos);
+    EXPECT_EQ(plain.find(">axis 2 command</text>"), std::string::npos);
+    const std::string circ = trajectory_time_svg(l_path(), "name", CircleOverlay{0, 0, 1000, 0, 1});
+    EXPECT_NE(circ.find("radial error"), std::string::npos);
 }
 
 TEST(TrajectoryReport, UnwritableFileIsNamed) {
