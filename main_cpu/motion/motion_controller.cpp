@@ -47,6 +47,9 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
         chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
         api_.SetStartSpeed(static_cast<int>(a), static_cast<float>(cfg.start_speed));
     }
+    std::vector<McAxis*> group;
+    for (auto& a : axes_) group.push_back(a.get());
+    for (auto& a : axes_) a->set_group(group);
     line_.AxisX = circle_.AxisX = axes_[0].get();
     line_.AxisY = circle_.AxisY = axes_[1].get();
 }
@@ -228,7 +231,8 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         return execute_now(circle_);
     }
     if (token == "ES") {
-        api_.EmergencyStopAll();
+        // Every axis, moving or not, latches ErrorStop until RS (docs/motion.md).
+        axes_[0]->emergency_stop_all();
         return {0x00, ""};
     }
     return {0x01, "unknown token " + token};

@@ -62,6 +62,13 @@ void McAxis::enter_error(std::uint16_t id) {
         }
 }
 
+void McAxis::emergency_stop_all() {
+    api_.EmergencyStopAll();
+    if (group_.empty()) group_ = {this};
+    for (McAxis* a : group_)
+        if (a->state_ != AxisState::error_stop) a->enter_error(err::emergency_stop);
+}
+
 void McAxis::settle_state() {
     if (state_ == AxisState::error_stop || state_ == AxisState::disabled) return;
     if (state_ == AxisState::stopping && stop_held_) return;
@@ -359,6 +366,12 @@ void MC_Reset::running() {
 
 std::uint16_t MC_Stop::begin() {
     if (!Axis) return err::invalid_axis;
+    if (Emergency) { // never refused: the axes stop whatever their state
+        Axis->emergency_stop_all();
+        job_ = std::make_shared<Job>();
+        job_->status = Job::Status::done; // the block's own job: the chip stopped at once
+        return 0;
+    }
     if (Axis->state() == AxisState::error_stop) return err::axis_error_stop;
     if (Axis->state() == AxisState::disabled) return err::axis_disabled;
     const int ax = static_cast<int>(Axis->index());

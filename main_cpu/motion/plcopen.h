@@ -79,6 +79,12 @@ public:
     void hold_stop() { stop_held_ = true; }     // MC_Stop.Execute is high
     void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
     void enter_error(std::uint16_t id);
+    /// The axes that share this axis' chip ({this} unless set): an emergency stop stops them all.
+    void set_group(std::vector<McAxis*> group) { group_ = std::move(group); }
+    /// Emergency stop (the ES token, MC_Stop with Emergency): the chip's ESTOP stops every axis at
+    /// once, and every axis of the group, moving or not, latches ErrorStop (ErrorID 0x7104; an axis
+    /// already in ErrorStop keeps its ErrorID) until MC_Reset.
+    void emergency_stop_all();
     bool stop_pending() const { return stop_held_; }
     /// MC_Power.Enable as last seen (MC_Reset decides between Notes 3 and 4 with it).
     void set_power_enable(bool e) { power_enable_ = e; }
@@ -92,6 +98,7 @@ private:
     std::uint16_t error_id_ = 0;
     bool powered_ = false, stop_held_ = false, power_enable_ = false;
     std::shared_ptr<Job> active_, queued_;
+    std::vector<McAxis*> group_;
 
     void finish_job(Job::Status st, std::uint16_t id = 0);
     void start(const std::shared_ptr<Job>& j);
@@ -152,6 +159,9 @@ class MC_Stop : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
     double Deceleration = 0; // 0 = the axis' programmed decel
+    /// Vendor extension: an emergency stop instead of a ramp (the ES token): every axis of the
+    /// chip stops at once and latches ErrorStop until MC_Reset; never refused; Done at once.
+    bool Emergency = false;
 
 protected:
     std::uint16_t begin() override;
