@@ -43,7 +43,8 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
         axes_[a] = std::make_unique<McAxis>(a, api_, drives_[a]);
         power_[a].Axis = axes_[a].get();
         Blocks& b = blocks_[a];
-        b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.halt.Axis = axes_[a].get();
+        b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.move_vel.Axis = b.halt.Axis =
+            axes_[a].get();
         chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
         api_.SetStartSpeed(static_cast<int>(a), static_cast<float>(cfg.start_speed));
     }
@@ -102,7 +103,7 @@ void MotionController::run_blocks() {
     for (unsigned a = 0; a < axes; ++a) {
         power_[a].call();
         Blocks& b = blocks_[a];
-        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.halt})
+        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.move_vel, &b.halt})
             run(*fb);
         b.stop.call();
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
@@ -208,6 +209,14 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         }
         auto& fb = blocks_[a].move_rel;
         fb.Distance = v[1], fb.Velocity = v[2], fb.Acceleration = v[3], fb.Deceleration = v[4];
+        return execute_now(fb);
+    }
+    if (token == "MV") {
+        if (!parse_numbers(data, 4, 4, v)) return bad;
+        if (v[0] < 0 || v[0] >= axes || v[0] != std::floor(v[0])) return {0x02, "unknown axis " + std::to_string(v[0])};
+        auto& fb = blocks_[static_cast<unsigned>(v[0])].move_vel;
+        fb.Velocity = v[1], fb.Acceleration = v[2], fb.Deceleration = v[3];
+        fb.Direction = McDirection::positive; // the sign of the velocity gives the direction
         return execute_now(fb);
     }
     if (token == "ML") {

@@ -63,6 +63,7 @@ public:
         MC_Home home;
         MC_MoveAbsolute move_abs;
         MC_MoveRelative move_rel;
+        MC_MoveVelocity move_vel;
         MC_Halt halt;
     };
     Blocks& blocks(unsigned a) { return blocks_[a]; }

@@ -140,6 +140,21 @@ void McAxis::cycle() {
         if (!any_busy) start(active_);
         return;
     }
+    if (j.is_continuous) {
+        // MC_MoveVelocity releases a buffered successor at InVelocity (Part 1 Table 4): it is
+        // aborted then, and the successor starts once the chip has ramped the drive down.
+        const bool in_velocity = any_busy && (api_.DriveStatus(ax) & camc::drvst::constant);
+        if (queued_ && in_velocity) {
+            j.status = Job::Status::aborted;
+            api_.SlowStop(ax, 0);
+            active_ = std::move(queued_);
+            active_->status = Job::Status::active;
+            state_ = active_->motion_state;
+            return;
+        }
+        if (!any_busy) finish_job(Job::Status::aborted); // ended by someone else's stop
+        return;
+    }
     if (any_busy) return;
     if (j.is_home) {
         if (api_.EndStatus(ax) & home_ok) {
@@ -440,6 +455,33 @@ std::uint16_t MC_MoveRelative::begin() {
     });
     Axis->submit(job_, Mode);
     return 0;
+}
+
+std::uint16_t MC_MoveVelocity::begin() {
+    if (const std::uint16_t e = check_motion(Axis, std::abs(Velocity), Acceleration, Deceleration)) return e;
+    const int ax = static_cast<int>(Axis->index());
+    int dir = static_cast<int>(Direction);
+    if (dir == 0) // mcCurrentDirection: the way the axis moves now (positive when standing)
+        dir = (Axis->api().InMotion(ax) && (Axis->api().DriveStatus(ax) & camc::drvst::negative)) ? -1 : 1;
+    if (Velocity < 0) dir = -dir;
+    const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration;
+    job_ = make_job({Axis}, AxisState::continuous_motion,
+                    [&api = Axis->api(), ax, v, a, d] { return api.MoveVel(ax, static_cast<float>(v), static_cast<float>(a), static_cast<float>(d)); });
+    job_->is_continuous = true;
+    Axis->submit(job_, Mode);
+    return 0;
+}
+
+void MC_MoveVelocity::running() {
+    const int ax = static_cast<int>(Axis->index());
+    // The setpoint, not the actual speed (Part 1 §2.4.1): the chip's drive in its constant phase.
+    InVelocity = job_->status == Job::Status::active && job_->started &&
+                 (Axis->api().DriveStatus(ax) & (camc::drvst::busy | camc::drvst::constant)) ==
+                     (camc::drvst::busy | camc::drvst::constant);
+}
+
+void MC_MoveVelocity::after() {
+    if (!job_) InVelocity = false; // CommandAborted and Error reset InVelocity
 }
 
 namespace {

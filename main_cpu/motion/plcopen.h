@@ -25,6 +25,8 @@ enum class AxisState : std::uint8_t {
 const char* to_string(AxisState s);
 
 enum class BufferMode : std::uint8_t { aborting = 0, buffered = 1 };
+/// MC_DIRECTION (Part 1 §2.4.3) for MC_MoveVelocity; mcShortestWay applies to rotary axes only.
+enum class McDirection : std::int8_t { negative = -1, current = 0, positive = 1 };
 
 /// ErrorID values (AXL codes where AXL has one, 0x7xxx our own).
 namespace err {
@@ -53,6 +55,7 @@ struct Job {
     bool started = false;
     bool is_stop = false;                      // MC_Stop: holds the axis in Stopping
     bool is_home = false;
+    bool is_continuous = false;                // MC_MoveVelocity: never Done; a buffered successor takes over at InVelocity
     std::int64_t home_position = 0;
 };
 
@@ -209,6 +212,25 @@ public:
 
 protected:
     std::uint16_t begin() override;
+};
+
+/// Part 1 §3.9: an endless drive at Velocity (ContinuousMotion); InVelocity while the commanded
+/// speed equals Velocity; ends only by CommandAborted (another motion block, MC_Halt, MC_Stop)
+/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); the CAMC-QI cannot change
+/// the speed of a running drive, so a new command first ramps this one down (docs/motion.md).
+class MC_MoveVelocity : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3, 0 = trapezoid
+    McDirection Direction = McDirection::positive;
+    BufferMode Mode = BufferMode::aborting;
+    bool InVelocity = false;
+
+protected:
+    std::uint16_t begin() override;
+    void running() override;
+    void after() override;
 };
 
 class MC_LineMove2 : public McExecuteFb {

@@ -192,6 +192,7 @@ int QiMotionApi::EmergencyStopAll() {
 }
 
 bool QiMotionApi::InMotion(int a) { return bus_.read(a, qi::STAT2) & drvst::busy; }
+std::uint32_t QiMotionApi::DriveStatus(int a) { return bus_.read(a, qi::STAT2); }
 std::uint32_t QiMotionApi::EndStatus(int a) { return bus_.read(a, qi::STAT1); }
 void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
 std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }

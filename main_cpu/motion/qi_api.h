@@ -66,6 +66,7 @@ public:
     int SetCoord(int Coord, std::uint32_t axis_mask);
     void SetStartSpeed(int AxisNo, float Vel) { start_speed_[AxisNo & 3] = Vel; }
     bool InMotion(int AxisNo);
+    std::uint32_t DriveStatus(int AxisNo); // STAT2 (AxmStatusReadMotion)
     std::uint32_t EndStatus(int AxisNo);
     void ClearEndStatus(int AxisNo);
     std::int64_t CmdPos(int AxisNo);

@@ -61,6 +61,11 @@ TEST(Safety, EsLatchesErrorStopOnEveryAxisFromEveryState) {
         ASSERT_EQ(b.mc.axis(2).state(), AxisState::discrete_motion);
         expect_latched_until_reset(b, AxisState::standstill, "discrete motion");
 
+        ASSERT_EQ(b.mc.command("MV", "3,-20000,100000,100000").bch, 0x00);
+        b.cycles(20);
+        ASSERT_EQ(b.mc.axis(3).state(), AxisState::continuous_motion);
+        expect_latched_until_reset(b, AxisState::standstill, "continuous motion");
+
         ASSERT_EQ(b.mc.command("ML", "40000,30000,20000,100000,100000").bch, 0x00);
         b.cycles(20);
         ASSERT_EQ(b.mc.axis(1).state(), AxisState::synchronized_motion);
