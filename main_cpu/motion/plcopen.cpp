@@ -390,7 +390,7 @@ std::uint16_t MC_Stop::begin() {
     if (Axis->state() == AxisState::error_stop) return err::axis_error_stop;
     if (Axis->state() == AxisState::disabled) return err::axis_disabled;
     const int ax = static_cast<int>(Axis->index());
-    const float dec = static_cast<float>(Deceleration);
+    const double dec = Deceleration;
     job_ = make_job({Axis}, AxisState::stopping, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
     job_->is_stop = true;
     Axis->submit(job_, BufferMode::aborting);
@@ -408,7 +408,7 @@ std::uint16_t MC_Halt::begin() {
     if (!Axis) return err::invalid_axis;
     if (const std::uint16_t r = Axis->motion_refusal()) return r;
     const int ax = static_cast<int>(Axis->index());
-    const float dec = static_cast<float>(Deceleration);
+    const double dec = Deceleration;
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
     job_->is_stop = false;
     // Halt decelerates the running drive; it must not be preceded by another SSTOP.
@@ -424,10 +424,12 @@ std::uint16_t MC_Home::begin() {
     if (!(Acceleration > 0)) return err::invalid_accel;
     const int ax = static_cast<int>(Axis->index());
     const int dir = Direction;
-    const float v = static_cast<float>(Velocity), a = static_cast<float>(Acceleration);
+    if (Velocity > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
+    if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
+    const double v = Velocity, a = Acceleration;
     job_ = make_job({Axis}, AxisState::homing, [&api = Axis->api(), ax, dir, v, a] { return api.HomeSearch(ax, dir, v, a); });
     job_->is_home = true;
-    job_->home_position = std::llround(Position);
+    job_->home_position = Position;
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -435,8 +437,9 @@ std::uint16_t MC_Home::begin() {
 std::uint16_t MC_MoveAbsolute::begin() {
     if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
     const int ax = static_cast<int>(Axis->index());
-    const float p = static_cast<float>(Position), v = static_cast<float>(Velocity);
-    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
+    const std::int32_t p = Position;
+    const double v = Velocity, a = Acceleration, d = Deceleration;
     job_ = make_job({Axis}, AxisState::discrete_motion,
                     [&api = Axis->api(), ax, p, v, a, d] { return api.MovePos(ax, p, v, a, d); });
     Axis->submit(job_, Mode);
@@ -446,12 +449,14 @@ std::uint16_t MC_MoveAbsolute::begin() {
 std::uint16_t MC_MoveRelative::begin() {
     if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
     const int ax = static_cast<int>(Axis->index());
-    const double dist = Distance;
-    const float v = static_cast<float>(Velocity), a = static_cast<float>(Acceleration);
-    const float d = static_cast<float>(Deceleration);
-    // Relative to the set position when the move actually starts (after a buffered predecessor).
+    const std::int64_t dist = Distance;
+    const double v = Velocity, a = Acceleration, d = Deceleration;
+    // Relative to the set position when the move actually starts (after a buffered predecessor);
+    // a target beyond the chip's range fails then with 4251.
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d] {
-        return api.MovePos(ax, static_cast<float>(static_cast<double>(api.CmdPos(ax)) + dist), v, a, d);
+        const std::int64_t target = api.CmdPos(ax) + dist;
+        if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
+        return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
     });
     Axis->submit(job_, Mode);
     return 0;
@@ -466,7 +471,7 @@ std::uint16_t MC_MoveVelocity::begin() {
     if (Velocity < 0) dir = -dir;
     const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration;
     job_ = make_job({Axis}, AxisState::continuous_motion,
-                    [&api = Axis->api(), ax, v, a, d] { return api.MoveVel(ax, static_cast<float>(v), static_cast<float>(a), static_cast<float>(d)); });
+                    [&api = Axis->api(), ax, v, a, d] { return api.MoveVel(ax, v, a, d); });
     job_->is_continuous = true;
     Axis->submit(job_, Mode);
     return 0;
@@ -498,11 +503,11 @@ std::uint16_t MC_LineMove2::begin() {
     const int coord = 0;
     const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
     const bool swapped = AxisX->index() > AxisY->index(); // the chip orders axes by number
-    const float x = static_cast<float>(X), y = static_cast<float>(Y), v = static_cast<float>(Velocity);
-    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    const std::int32_t x = X, y = Y;
+    const double v = Velocity, a = Acceleration, d = Deceleration;
     job_ = make_job({AxisX, AxisY}, AxisState::synchronized_motion, [&api, coord, mask, swapped, x, y, v, a, d] {
         api.SetCoord(coord, mask);
-        const float pos[2] = {swapped ? y : x, swapped ? x : y};
+        const std::int32_t pos[2] = {swapped ? y : x, swapped ? x : y};
         return api.LineMove(coord, pos, v, a, d);
     });
     AxisX->submit(job_, Mode);
@@ -515,20 +520,20 @@ std::uint16_t MC_CircleCenterMove::begin() {
     if (AxisX->index() > AxisY->index()) return err::invalid_axis; // X must be the lower-numbered axis
     // The end must lie on the circle through the start (within one pulse), or the chip would stop
     // where the short axis happens to reach the end's coordinate.
-    const double r0 = std::hypot(CenterX, CenterY), r1 = std::hypot(EndX - CenterX, EndY - CenterY);
+    const double cx0 = CenterX, cy0 = CenterY; // exact: |values| < 2^31
+    const double r0 = std::hypot(cx0, cy0), r1 = std::hypot(double(EndX) - cx0, double(EndY) - cy0);
     if (r0 < 1 || std::abs(r1 - r0) > 1.0) return err::interpolation_value;
     try {
-        camc::circle_step_count({-std::llround(CenterX), -std::llround(CenterY)},
-                                {std::llround(EndX) - std::llround(CenterX), std::llround(EndY) - std::llround(CenterY)},
+        camc::circle_step_count({-std::int64_t{CenterX}, -std::int64_t{CenterY}},
+                                {std::int64_t{EndX} - CenterX, std::int64_t{EndY} - CenterY},
                                 Direction == dir_cw ? camc::ArcDirection::cw : camc::ArcDirection::ccw);
     } catch (const camc::InterpolationError&) {
         return err::interpolation_value;
     }
     QiMotionApi& api = AxisX->api();
     const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
-    const float cx = static_cast<float>(CenterX), cy = static_cast<float>(CenterY);
-    const float ex = static_cast<float>(EndX), ey = static_cast<float>(EndY), v = static_cast<float>(Velocity);
-    const float a = static_cast<float>(Acceleration), d = static_cast<float>(Deceleration);
+    const std::int32_t cx = CenterX, cy = CenterY, ex = EndX, ey = EndY;
+    const double v = Velocity, a = Acceleration, d = Deceleration;
     const int dir = Direction;
     job_ = make_job({AxisX, AxisY}, AxisState::synchronized_motion, [&api, mask, cx, cy, ex, ey, v, a, d, dir] {
         api.SetCoord(1, mask);

@@ -33,6 +33,7 @@ namespace err {
 constexpr std::uint16_t none = 0;
 constexpr std::uint16_t invalid_axis = 4101, invalid_velocity = 4113, invalid_accel = 4114;
 constexpr std::uint16_t sensor_check = 4169, interpolation_value = 4184, velocity_out_of_bound = 4253;
+constexpr std::uint16_t position_out_of_bound = 4251; // beyond the chip's +-(2^30 - 1) pulses
 constexpr std::uint16_t axis_disabled = 0x7001;  // motion command while Disabled
 constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorStop
 constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
@@ -185,7 +186,7 @@ protected:
 class MC_Home : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Position = 0;      // set at the home point
+    std::int32_t Position = 0; // set at the home point, pulses
     int Direction = -1;
     double Velocity = 10000, Acceleration = 40000; // AXL home defaults
     BufferMode Mode = BufferMode::aborting;
@@ -194,10 +195,15 @@ protected:
     std::uint16_t begin() override;
 };
 
+// Positions, distances and centres are whole pulses, 32-bit as the chip's counters (a decision:
+// PLCopen's LREAL would invite fractions the chip cannot drive); the chip's range is
+// +-(2^30 - 1) (ErrorID 4251 beyond). Velocities and rates are LREAL as in Part 1.
+
 class MC_MoveAbsolute : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Position = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    std::int32_t Position = 0;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -207,7 +213,8 @@ protected:
 class MC_MoveRelative : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Distance = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    std::int32_t Distance = 0;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -236,7 +243,7 @@ protected:
 class MC_LineMove2 : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
-    double X = 0, Y = 0; // relative to the current position (the paper's MC_LineMove)
+    std::int32_t X = 0, Y = 0; // relative to the current position (the paper's MC_LineMove)
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
@@ -247,7 +254,7 @@ protected:
 class MC_CircleCenterMove : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
-    double CenterX = 0, CenterY = 0, EndX = 0, EndY = 0; // relative to the current position
+    std::int32_t CenterX = 0, CenterY = 0, EndX = 0, EndY = 0; // relative to the current position
     int Direction = dir_ccw;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;

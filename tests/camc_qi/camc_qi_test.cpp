@@ -407,3 +407,22 @@ TEST(CamcQi, BadDriveDataIsRefusedWithEndStatus) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(CamcQi, PresetDriveAcrossTheWholeRangeEndsExactly) {
+    run([](Host& h) {
+        // From -(2^30 - 1) to +(2^30 - 1): POS = 2^31 - 2, the largest distance of the range.
+        constexpr std::int32_t end = (1 << 30) - 1;
+        h.cmd(0, qi::write | qi::CNT1, static_cast<std::uint32_t>(-end));
+        h.setup(0, 1000, 10000000, 100000000, 100000000, mode(dcfg::preset));
+        h.cmd(0, qi::write | qi::POS, static_cast<std::uint32_t>(2 * end));
+        h.cmd(0, qi::STRN);
+        h.wait_idle(0, sc_time(1, sc_core::SC_SEC));
+        EXPECT_EQ(h.cnt1(0), end);
+        EXPECT_EQ(h.read(0, qi::DRPCNT), static_cast<std::uint32_t>(2 * end));
+        EXPECT_EQ(h.read(0, qi::STAT1), 0u);
+    });
+}
+
+} // namespace
