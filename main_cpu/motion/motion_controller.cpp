@@ -47,6 +47,10 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
         b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.move_vel.Axis = b.halt.Axis =
             axes_[a].get();
         chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
+        camc::Sensors sensors;
+        sensors.pelm = cfg.switches[a].pelm, sensors.nelm = cfg.switches[a].nelm, sensors.org = cfg.switches[a].home;
+        sensors.z_pitch = cfg.zphase[a].pitch, sensors.z_offset = cfg.zphase[a].offset;
+        chip_.set_sensors(a, sensors);
         api_.SetStartSpeed(static_cast<int>(a), cfg.start_speed);
     }
     std::vector<McAxis*> group;
@@ -59,17 +63,11 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
 MotionController::~MotionController() = default;
 
 void MotionController::update_mechanism() {
-    for (unsigned a = 0; a < axes; ++a) {
-        const auto& sw = cfg_.switches[a];
-        const std::int64_t p = drives_[a].actual_position();
-        auto set = [&](camc::Pin pin, bool active) {
-            if (chip_.pin(a, pin) != active) chip_.set_pin(a, pin, active); // active-high wiring
-        };
-        if (sw.pelm) set(camc::Pin::pelm, p >= *sw.pelm);
-        if (sw.nelm) set(camc::Pin::nelm, p <= *sw.nelm);
-        if (sw.home) set(camc::Pin::org, cfg_.switches[a].home && std::llabs(p - *sw.home) <= 0);
-        set(camc::Pin::alarm, drives_[a].alarm_output());
-    }
+    // The switches are the chip's sensors (positions, acted on at their exact times); only the
+    // drive's ALM output is a level sampled here, once per control cycle.
+    for (unsigned a = 0; a < axes; ++a)
+        if (chip_.pin(a, camc::Pin::alarm) != drives_[a].alarm_output())
+            chip_.set_pin(a, camc::Pin::alarm, drives_[a].alarm_output());
 }
 
 void MotionController::control_cycle(const sc_core::sc_time& now) {
@@ -199,6 +197,15 @@ bool parse_mask(const std::string& data, unsigned& mask) {
 bool in_chip_range(std::int64_t p) { return p >= -camc::max_coordinate && p <= camc::max_coordinate; }
 } // namespace
 
+MotionReply MotionController::home(unsigned mask, double velocity) {
+    for (unsigned a = 0; a < axes; ++a) {
+        if (!(mask & (1u << a))) continue;
+        blocks_[a].home.Velocity = velocity;
+        if (MotionReply r = execute_now(blocks_[a].home); r.bch) return r;
+    }
+    return {0x00, ""};
+}
+
 MotionReply MotionController::command(const std::string& token, const std::string& data) {
     const MotionReply bad{0x02, "bad data: '" + data + "'"};
     const MotionReply out_of_range{0x02, std::to_string(err::position_out_of_bound)};
@@ -220,12 +227,19 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         for (auto& p : power_) p.Enable = data == "1";
         return {0x00, ""};
     }
+    if (token == "HM" && f.size() == 2) { // HM mask,velocity: the search velocity
+        unsigned mask = 0;
+        double vel = 0;
+        if (!parse_mask(data.substr(0, data.find(',')), mask) || !f.number(1, vel)) return bad;
+        return home(mask, vel);
+    }
     if (token == "HM" || token == "RS") {
         unsigned mask = 0;
         if (!parse_mask(data, mask)) return bad;
+        if (token == "HM") return home(mask, MC_Home{}.Velocity); // the AXL default, 10 kpps
         for (unsigned a = 0; a < axes; ++a) {
             if (!(mask & (1u << a))) continue;
-            MotionReply r = token == "HM" ? execute_now(blocks_[a].home) : execute_now(blocks_[a].reset);
+            MotionReply r = execute_now(blocks_[a].reset);
             if (r.bch) return r;
         }
         return {0x00, ""};

@@ -155,17 +155,23 @@ void McAxis::cycle() {
         if (!any_busy) finish_job(Job::Status::aborted); // ended by someone else's stop
         return;
     }
-    if (any_busy) return;
     if (j.is_home) {
-        if (api_.EndStatus(ax) & home_ok) {
+        // The library's homing sequence advances here, one step per drive end.
+        const unsigned r = api_.HomeGetResult(ax);
+        if (r == home::searching) return;
+        if (r == home::success) {
             api_.SetPos(ax, j.home_position);
             api_.ClearEndStatus(ax);
             finish_job(Job::Status::done);
         } else {
-            enter_error(err::home_not_found);
+            enter_error(r == home::err_pos_limit   ? err::limit_positive
+                        : r == home::err_neg_limit ? err::limit_negative
+                        : r == home::err_amp_fault ? err::drive_fault
+                                                   : err::home_not_found);
         }
         return;
     }
+    if (any_busy) return;
     if (j.is_stop) {
         j.status = Job::Status::done; // Done, but the axis stays in Stopping while Execute
         active_.reset();
@@ -420,14 +426,16 @@ std::uint16_t MC_Halt::begin() {
 std::uint16_t MC_Home::begin() {
     if (!Axis) return err::invalid_axis;
     if (Axis->state() != AxisState::standstill) return Axis->motion_refusal() ? Axis->motion_refusal() : err::wrong_state;
-    if (!(Velocity > 0)) return err::invalid_velocity;
-    if (!(Acceleration > 0)) return err::invalid_accel;
-    const int ax = static_cast<int>(Axis->index());
-    const int dir = Direction;
-    if (Velocity > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
-    const double v = Velocity, a = Acceleration;
-    job_ = make_job({Axis}, AxisState::homing, [&api = Axis->api(), ax, dir, v, a] { return api.HomeSearch(ax, dir, v, a); });
+    HomeMethod m;
+    m.dir = Direction < 0 ? -1 : 1;
+    m.zphase = ZPhase;
+    m.vel_first = Velocity, m.vel_second = BackOffVelocity, m.vel_third = ApproachVelocity, m.vel_last = ZVelocity;
+    m.acc_first = m.acc_second = Acceleration;
+    const int ax = static_cast<int>(Axis->index());
+    QiMotionApi& api = Axis->api();
+    if (const int r = api.HomeSetMethod(ax, m)) return static_cast<std::uint16_t>(r); // 4113 / 4114 / 4253
+    job_ = make_job({Axis}, AxisState::homing, [&api, ax] { return api.HomeSetStart(ax); });
     job_->is_home = true;
     job_->home_position = Position;
     Axis->submit(job_, Mode);

@@ -183,12 +183,18 @@ protected:
     std::uint16_t begin() override;
 };
 
+/// Part 1 §3.3 homing by the CAMC-QI library's sequence (docs/motion.md "Homing"): search the
+/// home switch at Velocity in Direction, back off it, approach it slowly and stop on its edge,
+/// optionally move on to the encoder Z pulse; there the position becomes Position. Speed inputs
+/// after Velocity are vendor extensions (AXL AxmHomeSetVel, its defaults).
 class MC_Home : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
     std::int32_t Position = 0; // set at the home point, pulses
-    int Direction = -1;
+    int Direction = -1;        // -1 negative, +1 positive
     double Velocity = 10000, Acceleration = 40000; // AXL home defaults
+    double BackOffVelocity = 10000, ApproachVelocity = 2000, ZVelocity = 100;
+    bool ZPhase = false;
     BufferMode Mode = BufferMode::aborting;
 
 protected:

@@ -93,6 +93,77 @@ int QiMotionApi::HomeSearch(int a, int dir, double vel, double acc) {
     return axl::success;
 }
 
+int QiMotionApi::HomeSetMethod(int a, const HomeMethod& m) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(m.vel_first > 0) || !(m.vel_second > 0) || !(m.vel_third > 0) || !(m.vel_last > 0)) return axl::invalid_velocity;
+    if (!(m.acc_first > 0) || !(m.acc_second > 0)) return axl::invalid_accel;
+    const double top = std::max({m.vel_first, m.vel_second, m.vel_third, m.vel_last});
+    if (top > CamcQi::max_pps) return axl::velocity_out_of_bound;
+    homing_[a].method = m;
+    return axl::success;
+}
+
+int QiMotionApi::HomeSetStart(int a) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (InMotion(a)) return axl::in_motion;
+    homing_[a].step = 0;
+    homing_[a].result = home::searching;
+    ClearEndStatus(a);
+    return home_step(a);
+}
+
+/// Starts step `homing_[a].step` as a chip signal search.
+int QiMotionApi::home_step(int a) {
+    const HomeMethod& m = homing_[a].method;
+    struct Step {
+        int dir;
+        double vel, acc;
+        std::uint32_t signal;
+        bool inactive, immediate;
+    };
+    // Search and back off stop with a ramp (fast); the approach and Z stop on the edge itself.
+    const Step steps[] = {
+        {m.dir, m.vel_first, m.acc_first, dcfg::sig_org, false, false},
+        {-m.dir, m.vel_second, m.acc_second, dcfg::sig_org, true, false},
+        {m.dir, m.vel_third, m.acc_second, dcfg::sig_org, false, true},
+        {-m.dir, m.vel_last, m.acc_second, dcfg::sig_z, false, true},
+    };
+    const Step& st = steps[homing_[a].step];
+    const std::uint32_t mode = ((st.dir < 0 ? dcfg::origin_neg : dcfg::origin_pos) << dcfg::mode_shift) |
+                               (st.signal << dcfg::signal_shift) | (st.inactive ? dcfg::search_inactive : 0) |
+                               (st.immediate ? dcfg::search_immediate : 0);
+    if (int r = speeds(a, st.vel, st.acc, st.acc, mode)) return r;
+    bus_.write(a, qi::write | qi::OBJORG, reg(st.vel));
+    bus_.write(a, qi::STRN, 0);
+    return axl::success;
+}
+
+unsigned QiMotionApi::HomeGetResult(int a) {
+    if (!axis_ok(a)) return home::err_not_detect;
+    Homing& h = homing_[a];
+    if (h.step < 0) return h.result;
+    if (InMotion(a)) return home::searching;
+    const std::uint32_t es = EndStatus(a);
+    const std::uint32_t found = h.step == 3 ? endst::signal_ok : endst::home_ok;
+    unsigned r = home::searching;
+    if (es & endst::pelm) r = home::err_pos_limit;
+    else if (es & endst::nelm) r = home::err_neg_limit;
+    else if (es & endst::alarm) r = home::err_amp_fault;
+    else if (!(es & found)) r = home::err_not_detect;
+    else if (h.step < (h.method.zphase ? 3 : 2)) {
+        ++h.step;
+        ClearEndStatus(a);
+        if (home_step(a) != axl::success) r = home::err_not_detect;
+    } else {
+        r = home::success;
+    }
+    if (r != home::searching) {
+        h.step = -1;
+        h.result = r;
+    }
+    return r;
+}
+
 int QiMotionApi::SetCoord(int c, std::uint32_t mask) {
     if (c < 0 || c >= coords || mask == 0 || mask > 0xF) return axl::invalid_axis;
     coord_[c] = mask;
@@ -179,6 +250,8 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
 
 int QiMotionApi::SlowStop(int a, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
+    homing_[a].step = -1; // a stop ends a homing sequence
+    homing_[a].result = home::err_not_detect;
     if (dec > 0) {
         bus_.write(a, qi::write | qi::RATE2, reg(dec));
         bus_.write(a, qi::write | qi::DCFG, bus_.read(a, qi::DCFG) | 1u); // use RATE2
@@ -189,11 +262,14 @@ int QiMotionApi::SlowStop(int a, double dec) {
 
 int QiMotionApi::EmergencyStop(int a) {
     if (!axis_ok(a)) return axl::invalid_axis;
+    homing_[a].step = -1;
+    homing_[a].result = home::err_not_detect;
     bus_.write(a, qi::STOP, 0);
     return axl::success;
 }
 
 int QiMotionApi::EmergencyStopAll() {
+    for (Homing& h : homing_) h = Homing{h.method, -1, home::err_not_detect};
     bus_.write(0, qi::ESTOP, 0);
     return axl::success;
 }

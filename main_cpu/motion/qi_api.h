@@ -36,6 +36,22 @@ constexpr int profile_invalid = 4252;
 constexpr int velocity_out_of_bound = 4253;
 } // namespace axl
 
+/// AXL home search results (AXHS.h AXT_MOTION_HOME_RESULT) used here.
+namespace home {
+constexpr unsigned success = 0x01, searching = 0x02;
+constexpr unsigned err_amp_fault = 0x13, err_neg_limit = 0x14, err_pos_limit = 0x15, err_not_detect = 0x16;
+} // namespace home
+
+/// AXL's homing method and speeds (AxmHomeSetMethod / AxmHomeSetVel, defaults from AXM.h): search
+/// the home switch at vel_first, back off it at vel_second, approach it again at vel_third and
+/// stop on its edge; with zphase, then leave it at vel_last and stop on the encoder Z pulse.
+struct HomeMethod {
+    int dir = -1;        // search direction: -1 negative, +1 positive
+    bool zphase = false;
+    double vel_first = 10000, vel_second = 10000, vel_third = 2000, vel_last = 100;
+    double acc_first = 40000, acc_second = 40000;
+};
+
 constexpr unsigned level_low = 0, level_high = 1, level_unused = 2;
 constexpr unsigned stop_emergency = 0, stop_slowdown = 1;
 constexpr int dir_ccw = 0, dir_cw = 1; // AXL DIR_CCW / DIR_CW
@@ -64,6 +80,12 @@ public:
     /// Continuous drive (AxmMoveVel): Vel signed.
     int MoveVel(int AxisNo, double Vel, double Accel, double Decel);
     int HomeSearch(int AxisNo, int Dir, double Vel, double Accel);
+    /// The library's homing sequence (AXL runs it in a thread; here HomeGetResult advances it,
+    /// polled once per control cycle). Each step is one chip signal search that stops at the
+    /// exact time of its edge; a step starts when the previous one has ended.
+    int HomeSetMethod(int AxisNo, const HomeMethod& m);
+    int HomeSetStart(int AxisNo);
+    unsigned HomeGetResult(int AxisNo);
     int SlowStop(int AxisNo, double Decel);
     int EmergencyStop(int AxisNo);
     int EmergencyStopAll();
@@ -88,7 +110,15 @@ private:
     std::array<std::uint32_t, 4> ucfg1_{camc::ucfg::reset_value, camc::ucfg::reset_value,
                                         camc::ucfg::reset_value, camc::ucfg::reset_value};
 
+    struct Homing {
+        HomeMethod method;
+        int step = -1; // -1 idle; 0 search, 1 back off, 2 approach, 3 Z phase
+        unsigned result = home::success;
+    };
+    std::array<Homing, 4> homing_{};
+
     static bool axis_ok(long a) { return a >= 0 && a < 4; }
+    int home_step(int axis);
     int speeds(int axis, double vel, double acc, double dec, std::uint32_t profile_mode);
     void uio(int axis, unsigned bit, bool on);
 };
