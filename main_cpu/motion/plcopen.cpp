@@ -446,10 +446,13 @@ std::uint16_t MC_MoveAbsolute::begin() {
     if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
     const int ax = static_cast<int>(Axis->index());
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
+    if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int32_t p = Position;
-    const double v = Velocity, a = Acceleration, d = Deceleration;
-    job_ = make_job({Axis}, AxisState::discrete_motion,
-                    [&api = Axis->api(), ax, p, v, a, d] { return api.MovePos(ax, p, v, a, d); });
+    const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, p, v, a, d, j] {
+        api.SetJerk(ax, j);
+        return api.MovePos(ax, p, v, a, d);
+    });
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -457,11 +460,13 @@ std::uint16_t MC_MoveAbsolute::begin() {
 std::uint16_t MC_MoveRelative::begin() {
     if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
     const int ax = static_cast<int>(Axis->index());
+    if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int64_t dist = Distance;
-    const double v = Velocity, a = Acceleration, d = Deceleration;
+    const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
     // Relative to the set position when the move actually starts (after a buffered predecessor);
     // a target beyond the chip's range fails then with 4251.
-    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d] {
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d, j] {
+        api.SetJerk(ax, j);
         const std::int64_t target = api.CmdPos(ax) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
@@ -477,9 +482,12 @@ std::uint16_t MC_MoveVelocity::begin() {
     if (dir == 0) // mcCurrentDirection: the way the axis moves now (positive when standing)
         dir = (Axis->api().InMotion(ax) && (Axis->api().DriveStatus(ax) & camc::drvst::negative)) ? -1 : 1;
     if (Velocity < 0) dir = -dir;
-    const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration;
-    job_ = make_job({Axis}, AxisState::continuous_motion,
-                    [&api = Axis->api(), ax, v, a, d] { return api.MoveVel(ax, v, a, d); });
+    if (!(Jerk >= 0)) return err::profile_invalid;
+    const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration, j = Jerk;
+    job_ = make_job({Axis}, AxisState::continuous_motion, [&api = Axis->api(), ax, v, a, d, j] {
+        api.SetJerk(ax, j);
+        return api.MoveVel(ax, v, a, d);
+    });
     job_->is_continuous = true;
     Axis->submit(job_, Mode);
     return 0;

@@ -34,6 +34,7 @@ constexpr std::uint16_t none = 0;
 constexpr std::uint16_t invalid_axis = 4101, invalid_velocity = 4113, invalid_accel = 4114;
 constexpr std::uint16_t sensor_check = 4169, interpolation_value = 4184, velocity_out_of_bound = 4253;
 constexpr std::uint16_t position_out_of_bound = 4251; // beyond the chip's +-(2^30 - 1) pulses
+constexpr std::uint16_t profile_invalid = 4252;       // e.g. a negative Jerk
 constexpr std::uint16_t axis_disabled = 0x7001;  // motion command while Disabled
 constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorStop
 constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
@@ -210,6 +211,7 @@ public:
     McAxis* Axis = nullptr;
     std::int32_t Position = 0;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3: an S-curve with this jerk; 0 = trapezoid
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -221,6 +223,7 @@ public:
     McAxis* Axis = nullptr;
     std::int32_t Distance = 0;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3: an S-curve with this jerk; 0 = trapezoid
     BufferMode Mode = BufferMode::aborting;
 
 protected:
