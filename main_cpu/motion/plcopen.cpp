@@ -29,12 +29,12 @@ const char* to_string(AxisState s) {
 // ---------------------------------------------------------------------------------------------
 // Axis
 
-std::uint16_t McAxis::motion_refusal() const {
+std::uint16_t McAxis::motion_refusal(BufferMode mode) const {
     switch (state_) {
     case AxisState::error_stop: return err::axis_error_stop;
     case AxisState::disabled: return err::axis_disabled;
     case AxisState::homing: return err::wrong_state;
-    case AxisState::stopping: return stop_held_ ? err::axis_stopping : 0;
+    case AxisState::stopping: return (stop_held_ || mode == BufferMode::aborting) ? err::axis_stopping : 0;
     default: return 0;
     }
 }
@@ -175,7 +175,7 @@ void McAxis::cycle() {
     if (j.is_stop) {
         j.status = Job::Status::done; // Done, but the axis stays in Stopping while Execute
         active_.reset();
-        if (!stop_held_) settle_state();
+        if (!stop_held_) leave_stopping();
         return;
     }
     finish_job(Job::Status::done);
@@ -229,7 +229,17 @@ void McAxis::set_power(bool status) {
 
 void McAxis::release_stop() {
     stop_held_ = false;
-    if (state_ == AxisState::stopping && !active_) settle_state(); // Note 6
+    if (state_ == AxisState::stopping && !active_) leave_stopping(); // Note 6
+}
+
+void McAxis::leave_stopping() {
+    if (queued_) { // the buffered command released by Done AND NOT Execute
+        active_ = std::move(queued_);
+        active_->status = Job::Status::active;
+        state_ = active_->motion_state; // it starts at the next cycle, the chip being idle
+        return;
+    }
+    settle_state();
 }
 
 void McAxis::reset_error() {
@@ -278,9 +288,9 @@ void McExecuteFb::call() {
     after();
 }
 
-std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec) {
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec, BufferMode mode) {
     if (!axis) return err::invalid_axis;
-    if (const std::uint16_t r = axis->motion_refusal()) return r;
+    if (const std::uint16_t r = axis->motion_refusal(mode)) return r;
     if (!(vel > 0)) return err::invalid_velocity;
     if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
     if (!(acc > 0) || !(dec > 0)) return err::invalid_accel;
@@ -406,8 +416,14 @@ std::uint16_t MC_Stop::begin() {
 void MC_Stop::running() {}
 
 void MC_Stop::after() {
-    if (Axis && Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
-    if (Axis && !Execute && !job_) Axis->release_stop();
+    if (!Axis) return;
+    if (Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
+    if (!Execute) {
+        if (job_)
+            Axis->drop_stop_hold(); // Stopping until Done, then Standstill (or a buffered command)
+        else
+            Axis->release_stop();
+    }
 }
 
 std::uint16_t MC_Halt::begin() {
@@ -443,7 +459,7 @@ std::uint16_t MC_Home::begin() {
 }
 
 std::uint16_t MC_MoveAbsolute::begin() {
-    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
     if (!(Jerk >= 0)) return err::profile_invalid;
@@ -458,7 +474,7 @@ std::uint16_t MC_MoveAbsolute::begin() {
 }
 
 std::uint16_t MC_MoveRelative::begin() {
-    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int64_t dist = Distance;
@@ -476,7 +492,7 @@ std::uint16_t MC_MoveRelative::begin() {
 }
 
 std::uint16_t MC_MoveVelocity::begin() {
-    if (const std::uint16_t e = check_motion(Axis, std::abs(Velocity), Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, std::abs(Velocity), Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     int dir = static_cast<int>(Direction);
     if (dir == 0) // mcCurrentDirection: the way the axis moves now (positive when standing)

@@ -78,10 +78,14 @@ public:
     /// aborted (the chip decelerates with SSTOP before the new one starts); buffered: queued.
     void submit(const std::shared_ptr<Job>& job, BufferMode mode);
     /// Why a new motion command would be refused now (0 = accepted).
-    std::uint16_t motion_refusal() const;
+    std::uint16_t motion_refusal() const { return motion_refusal(BufferMode::aborting); }
+    /// In Stopping a buffered command is taken once MC_Stop.Execute is low (it starts at
+    /// Done AND NOT Execute, Part 1 Table 4); an aborting one never (the stop is not abortable).
+    std::uint16_t motion_refusal(BufferMode mode) const;
     void set_power(bool status);
     void release_stop();                        // MC_Stop.Execute fell
     void hold_stop() { stop_held_ = true; }     // MC_Stop.Execute is high
+    void drop_stop_hold() { stop_held_ = false; } // MC_Stop.Execute fell before Done
     void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
     void enter_error(std::uint16_t id);
     /// The axes that share this axis' chip ({this} unless set): an emergency stop stops them all.
@@ -106,6 +110,7 @@ private:
     std::vector<McAxis*> group_;
 
     void finish_job(Job::Status st, std::uint16_t id = 0);
+    void leave_stopping(); // Done AND NOT Execute: a buffered command, or Standstill
     void start(const std::shared_ptr<Job>& j);
     void settle_state();
 };
@@ -273,6 +278,7 @@ protected:
 };
 
 /// Shared parameter checks (0 = ok).
-std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec);
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec,
+                           BufferMode mode = BufferMode::aborting);
 
 } // namespace rcsim::motion
