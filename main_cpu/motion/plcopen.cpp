@@ -1,6 +1,7 @@
 // rcsim — PLCopen motion function blocks. See plcopen.h.
 #include "main_cpu/motion/plcopen.h"
 
+#include <array>
 #include <cmath>
 
 namespace rcsim::motion {
@@ -543,6 +544,33 @@ std::uint16_t MC_LineMove2::begin() {
         return api.LineMove(coord, pos, v, a, d);
     });
     AxisX->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_LineMove::begin() {
+    const std::size_t n = Axes.size();
+    if (n < 2 || n > 4 || Distances.size() != n) return err::invalid_axis;
+    std::uint32_t mask = 0;
+    std::array<std::int32_t, 4> by_index{};
+    for (std::size_t i = 0; i < n; ++i) {
+        McAxis* a = Axes[i];
+        if (!a || (mask & (1u << a->index())) || &a->api() != &Axes[0]->api()) return err::invalid_axis;
+        if (const std::uint16_t e = check_motion(a, Velocity, Acceleration, Deceleration, Mode)) return e;
+        mask |= 1u << a->index();
+        by_index[a->index()] = Distances[i];
+    }
+    // The chip takes the end point axis by axis in ascending axis order.
+    std::array<std::int32_t, 4> pos{};
+    unsigned k = 0;
+    for (unsigned a = 0; a < 4; ++a)
+        if (mask & (1u << a)) pos[k++] = by_index[a];
+    QiMotionApi& api = Axes[0]->api();
+    const double v = Velocity, acc = Acceleration, dec = Deceleration;
+    job_ = make_job(Axes, AxisState::synchronized_motion, [&api, mask, pos, v, acc, dec] {
+        api.SetCoord(3, mask);
+        return api.LineMove(3, pos.data(), v, acc, dec);
+    });
+    Axes[0]->submit(job_, Mode);
     return 0;
 }
 

@@ -265,6 +265,19 @@ protected:
     std::uint16_t begin() override;
 };
 
+/// Linear interpolation of 2-4 axes of one chip (a Part 4 group: all in SynchronizedMotion);
+/// Distances relative to the current positions, one per entry of Axes (in any order).
+class MC_LineMove : public McExecuteFb {
+public:
+    std::vector<McAxis*> Axes;
+    std::vector<std::int32_t> Distances;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0; // path (vector) speed and rates
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
 class MC_CircleCenterMove : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
