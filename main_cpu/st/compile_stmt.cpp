@@ -134,14 +134,15 @@ StmtPtr Compiler::case_stmt(const ParseNode& n) {
             const std::int64_t hi = range->children.size() > 1
                                         ? integer_literal(trim(range->children[1]->string()), *range->children[1])
                                         : lo;
+            const std::string label = std::to_string(lo) + (hi != lo ? ".." + std::to_string(hi) : "");
             if (!fits(sel.kind, lo) || !fits(sel.kind, hi))
-                fail(*range, "the CASE label " + trim(range->string()) + " is outside " + sel.name());
-            if (hi < lo) fail(*range, "the CASE range " + trim(range->string()) + " is empty");
+                fail(*range, "the CASE label " + label + " is outside " + sel.name());
+            if (hi < lo) fail(*range, "the CASE range " + label + " is empty");
             for (const Case::Element& other : s->elements)
                 for (const auto& [a, b] : other.ranges)
-                    if (lo <= b && a <= hi) fail(*range, "the CASE label " + trim(range->string()) + " is already used");
+                    if (lo <= b && a <= hi) fail(*range, "the CASE label " + label + " is already used");
             for (const auto& [a, b] : e.ranges)
-                if (lo <= b && a <= hi) fail(*range, "the CASE label " + trim(range->string()) + " is already used");
+                if (lo <= b && a <= hi) fail(*range, "the CASE label " + label + " is already used");
             e.ranges.emplace_back(lo, hi);
         }
         e.body = statements(*part.children.at(1));

@@ -89,7 +89,8 @@ struct ident : pg::seq<pg::not_at<reserved>, pg::identifier> {
         static constexpr const char* expected = text;                                              \
     }
 RCSIM_ST_PUNCT(semi, "';'", pg::one<';'>);
-RCSIM_ST_PUNCT(colon, "':'", pg::seq<pg::one<':'>, pg::not_at<pg::one<'='>>>);
+// (The look-ahead comes first: a must<> failure reports the position where the rule began.)
+RCSIM_ST_PUNCT(colon, "':'", pg::seq<pg::not_at<pg::string<':', '='>>, pg::one<':'>>);
 RCSIM_ST_PUNCT(assign_op, "':='", pg::string<':', '='>);
 RCSIM_ST_PUNCT(output_op, "'=>'", pg::string<'=', '>'>);
 RCSIM_ST_PUNCT(comma, "','", pg::one<','>);
@@ -98,7 +99,7 @@ RCSIM_ST_PUNCT(rparen, "')'", pg::one<')'>);
 RCSIM_ST_PUNCT(lbracket, "'['", pg::one<'['>);
 RCSIM_ST_PUNCT(rbracket, "']'", pg::one<']'>);
 RCSIM_ST_PUNCT(dotdot, "'..'", pg::two<'.'>);
-RCSIM_ST_PUNCT(dot, "'.'", pg::seq<pg::one<'.'>, pg::not_at<pg::one<'.'>>>);
+RCSIM_ST_PUNCT(dot, "'.'", pg::seq<pg::not_at<pg::two<'.'>>, pg::one<'.'>>);
 #undef RCSIM_ST_PUNCT
 
 // ---- literals (§6.3.2) ---------------------------------------------------------------------------

@@ -26,7 +26,13 @@ template <typename Input> std::string found_at(const Input& in) {
     std::size_t len = 0;
     auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '#'; };
     while (len < n && word(p[len])) ++len;
-    if (len == 0) len = 1;
+    if (len == 0) {
+        // An operator of two characters is shown whole.
+        static const char* const pairs[] = {":=", "=>", "<=", ">=", "<>", "**", "..", "(*", "*)"};
+        len = 1;
+        for (const char* op : pairs)
+            if (n >= 2 && p[0] == op[0] && p[1] == op[1]) len = 2;
+    }
     if (p[0] == '\n' || p[0] == '\r') return "the end of the line";
     return "'" + std::string(p, len) + "'";
 }

@@ -108,7 +108,11 @@ void add_vars(const Instance& inst, const std::string& prefix, bool interface_on
 
 } // namespace
 
-Value StProgram::value(const std::string& path) const {
+Value StProgram::value(const std::string& path) const { return *const_cast<StProgram*>(this)->locate(path); }
+
+void StProgram::set_value(const std::string& path, Value v) { *locate(path) = v; }
+
+Value* StProgram::locate(const std::string& path) {
     if (!program_) throw std::out_of_range("no program has been started");
     std::string head = path, member;
     std::int64_t index = 0;
@@ -121,7 +125,7 @@ Value StProgram::value(const std::string& path) const {
         index = std::stoll(path.substr(br + 1));
         indexed = true;
     }
-    const Instance* inst = program_.get();
+    Instance* inst = program_.get();
     const VarInfo* v = inst->type->find(upper(head));
     if (!v) {
         inst = globals_.get();
@@ -130,18 +134,18 @@ Value StProgram::value(const std::string& path) const {
     if (!v) throw std::out_of_range("no variable '" + head + "'");
     if (!member.empty()) {
         if (v->type.kind != Kind::Fb) throw std::out_of_range("'" + head + "' has no members");
-        const Instance& fb = *inst->fbs[v->slot];
+        Instance& fb = *inst->fbs[v->slot];
         const VarInfo* m = fb.type->find(upper(member));
         if (!m) throw std::out_of_range("no member '" + member + "' in " + head);
-        return fb.vars[m->slot];
+        return &fb.vars[m->slot];
     }
     if (indexed) {
         if (v->type.kind != Kind::Array || index < v->type.lo || index > v->type.hi)
             throw std::out_of_range("no element " + path);
-        return inst->vars[v->slot + static_cast<std::size_t>(index - v->type.lo)];
+        return &inst->vars[v->slot + static_cast<std::size_t>(index - v->type.lo)];
     }
     if (v->type.kind == Kind::Fb || v->type.kind == Kind::Array) throw std::out_of_range("'" + head + "' is not elementary");
-    return inst->vars[v->slot];
+    return &inst->vars[v->slot];
 }
 
 nlohmann::json StProgram::variables() const {

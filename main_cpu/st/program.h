@@ -58,6 +58,8 @@ public:
     /// A variable of the program or a global: "x", "a[3]", "t1.Q"; throws std::out_of_range
     /// for a name that is not there. BOOL/integers/TIME (microseconds)/AXIS_REF in .i, REAL in .r.
     Value value(const std::string& path) const;
+    /// Writes one (a test or a monitor forcing an input); no type check beyond the path's.
+    void set_value(const std::string& path, Value v);
     /// The program's and the globals' variables (FB instances: their inputs and outputs), by name.
     nlohmann::json variables() const;
     /// state, program, error, cycles, max statements per cycle, variables.
@@ -72,6 +74,7 @@ private:
     std::uint64_t cycles_ = 0, max_statements_ = 0;
 
     void fail(const std::string& message);
+    Value* locate(const std::string& path);
 };
 
 } // namespace rcsim::st

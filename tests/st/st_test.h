@@ -33,6 +33,8 @@ inline std::string compile_error(const std::string& text, const std::string& fil
         compile(text, file, 4);
     } catch (const CompileError& e) {
         return e.what();
+    } catch (const std::exception& e) {
+        return std::string("not a CompileError: ") + e.what();
     }
     return "";
 }
