@@ -396,6 +396,7 @@ void MainCpu::cycle_thread() {
         cycle_jitter_us_.add(to_us(start - ideal));
         ++control_cycles_;
         if (MotionInterface* m = dispatcher_.motion()) m->control_cycle(start);
+        if (ProgramInterface* p = dispatcher_.program()) p->cycle(start);
         if (config_.cycle_time > sc_core::SC_ZERO_TIME) sc_core::wait(config_.cycle_time);
         cpu_.release();
         ideal += config_.cycle_period;

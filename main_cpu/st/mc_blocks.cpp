@@ -8,89 +8,96 @@
 #include "main_cpu/st/compiler.h"
 #include "main_cpu/st/library.h"
 
+#include <functional>
+#include <type_traits>
+
 namespace rcsim::st {
 namespace {
 
 using motion::McAxis;
 
-/// Which C++ members a block's ST variables map to, in the order the layout declares them.
-template <typename Fb> struct Spec {
-    std::vector<std::pair<const char*, McAxis* Fb::*>> axes;
-    std::vector<std::pair<const char*, bool Fb::*>> bools;
-    std::vector<std::pair<const char*, double Fb::*>> reals;
-    std::vector<std::pair<const char*, int Fb::*>> ints;
-    motion::BufferMode Fb::*mode = nullptr; // INT BufferMode: 0 aborting, 1 buffered
-    std::vector<std::pair<const char*, bool Fb::*>> bool_out;
-    std::vector<std::pair<const char*, std::uint16_t Fb::*>> word_out;
-};
-
 McAxis* axis_of(const ExecContext& c, std::int64_t n) {
     return n >= 0 && static_cast<std::size_t>(n) < c.axes.size() ? c.axes[static_cast<std::size_t>(n)] : nullptr;
 }
 
+/// One ST variable of a motion block and the C++ member it maps to. The ST type follows the
+/// member's: McAxis* AXIS_REF, bool BOOL, floating LREAL, BufferMode and enums INT, other
+/// integers DINT (inputs) or UDINT (ErrorID).
+template <typename Fb> struct Field {
+    const char* name;
+    VarKind kind;
+    Kind type;
+    Value init;
+    std::function<void(Fb&, const Value&, const ExecContext&)> in;
+    std::function<void(const Fb&, Value&)> out;
+};
+
+template <typename Fb, typename C, typename M> Field<Fb> input(const char* name, M C::*m) {
+    Field<Fb> f{name, VarKind::input, Kind::Dint, {}, {}, {}};
+    if constexpr (std::is_same_v<M, McAxis*>) {
+        f.type = Kind::AxisRef;
+        f.init = Value{-1, 0};
+        f.in = [m](Fb& b, const Value& v, const ExecContext& c) { b.*m = axis_of(c, v.i); };
+    } else if constexpr (std::is_same_v<M, bool>) {
+        f.type = Kind::Bool;
+        f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = v.i != 0; };
+    } else if constexpr (std::is_floating_point_v<M>) {
+        f.type = Kind::Lreal;
+        f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = static_cast<M>(v.r); };
+    } else if constexpr (std::is_enum_v<M>) {
+        f.type = Kind::Int;
+        f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
+        f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = static_cast<M>(v.i); };
+    } else {
+        f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
+        f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = static_cast<M>(v.i); };
+    }
+    if constexpr (std::is_floating_point_v<M>) f.init = Value{0, static_cast<double>(Fb{}.*m)};
+    return f;
+}
+
+template <typename Fb, typename C, typename M> Field<Fb> output(const char* name, M C::*m) {
+    Field<Fb> f{name, VarKind::output, std::is_same_v<M, bool> ? Kind::Bool : Kind::Udint, {}, {}, {}};
+    f.out = [m](const Fb& b, Value& v) { v.i = static_cast<std::int64_t>(b.*m); };
+    return f;
+}
+
 template <typename Fb> class McNative : public NativeBlock {
 public:
-    explicit McNative(const Spec<Fb>& s) : spec_(s) {}
+    explicit McNative(const std::vector<Field<Fb>>& f) : fields_(f) {}
     void call(Instance& self, ExecContext& ctx) override {
-        std::size_t k = 0;
-        auto& v = self.vars;
-        for (const auto& [n, m] : spec_.axes) fb_.*m = axis_of(ctx, v[k++].i);
-        for (const auto& [n, m] : spec_.bools) fb_.*m = v[k++].i != 0;
-        for (const auto& [n, m] : spec_.reals) fb_.*m = v[k++].r;
-        for (const auto& [n, m] : spec_.ints) fb_.*m = static_cast<int>(v[k++].i);
-        if (spec_.mode) fb_.*spec_.mode = v[k++].i == 1 ? motion::BufferMode::buffered : motion::BufferMode::aborting;
+        for (std::size_t k = 0; k < fields_.size(); ++k)
+            if (fields_[k].in) fields_[k].in(fb_, self.vars[k], ctx);
         fb_.call();
-        for (const auto& [n, m] : spec_.bool_out) v[k++].i = fb_.*m;
-        for (const auto& [n, m] : spec_.word_out) v[k++].i = fb_.*m;
+        for (std::size_t k = 0; k < fields_.size(); ++k)
+            if (fields_[k].out) fields_[k].out(fb_, self.vars[k]);
     }
 
 private:
-    const Spec<Fb>& spec_;
+    const std::vector<Field<Fb>>& fields_;
     Fb fb_;
 };
 
-template <typename Fb> void add_block(Unit& u, const char* name, const Spec<Fb>& s) {
+template <typename Fb> void add_block(Unit& u, const char* name, const std::vector<Field<Fb>>& fields) {
     auto p = std::make_unique<PouType>();
     p->name = name;
     PouBuilder b{*p};
-    for (const auto& e : s.axes) b.add(e.first, VarKind::input, Kind::AxisRef, Value{-1, 0});
-    for (const auto& e : s.bools) b.add(e.first, VarKind::input, Kind::Bool);
-    for (const auto& e : s.reals) b.add(e.first, VarKind::input, Kind::Lreal);
-    for (const auto& e : s.ints) b.add(e.first, VarKind::input, Kind::Int);
-    if (s.mode) b.add("BufferMode", VarKind::input, Kind::Int);
-    for (const auto& e : s.bool_out) b.add(e.first, VarKind::output, Kind::Bool);
-    for (const auto& e : s.word_out) b.add(e.first, VarKind::output, Kind::Udint);
-    p->native = [&s] { return std::make_unique<McNative<Fb>>(s); };
+    for (const Field<Fb>& f : fields) b.add(f.name, f.kind, f.type, f.init); // slot k = fields[k]
+    p->native = [&fields] { return std::make_unique<McNative<Fb>>(fields); };
     u.pous.push_back(std::move(p));
 }
 
-/// The outputs of every Execute-type block (PLCopen Part 1 §2.4.1).
-template <typename Fb> void execute_outputs(Spec<Fb>& s, bool active) {
-    s.bools.insert(s.bools.begin(), {"Execute", &Fb::Execute});
-    s.bool_out = {{"Done", &Fb::Done}, {"Busy", &Fb::Busy}};
-    if (active) s.bool_out.push_back({"Active", &Fb::Active});
-    s.bool_out.push_back({"CommandAborted", &Fb::CommandAborted});
-    s.bool_out.push_back({"Error", &Fb::Error});
-    s.word_out = {{"ErrorID", &Fb::ErrorID}};
-}
-
-template <typename Fb, bool buffered>
-Spec<Fb> execute_spec(std::vector<std::pair<const char*, double Fb::*>> reals, bool active) {
-    Spec<Fb> s;
-    s.axes = {{"Axis", &Fb::Axis}};
-    s.reals = std::move(reals);
-    if constexpr (buffered) s.mode = &Fb::Mode;
-    execute_outputs(s, active);
-    return s;
-}
-
-template <typename Fb> Spec<Fb> pair_spec(std::vector<std::pair<const char*, double Fb::*>> reals) {
-    Spec<Fb> s;
-    s.axes = {{"AxisX", &Fb::AxisX}, {"AxisY", &Fb::AxisY}};
-    s.reals = std::move(reals);
-    s.mode = &Fb::Mode;
-    execute_outputs(s, true);
-    return s;
+/// Execute and the outputs of every Execute-type block (PLCopen Part 1 §2.4.1), around `inputs`.
+template <typename Fb> std::vector<Field<Fb>> execute_block(std::vector<Field<Fb>> inputs, bool active) {
+    std::vector<Field<Fb>> f = std::move(inputs);
+    f.insert(f.begin() + 1, input<Fb>("Execute", &Fb::Execute)); // after the axis
+    f.push_back(output<Fb>("Done", &Fb::Done));
+    f.push_back(output<Fb>("Busy", &Fb::Busy));
+    if (active) f.push_back(output<Fb>("Active", &Fb::Active));
+    f.push_back(output<Fb>("CommandAborted", &Fb::CommandAborted));
+    f.push_back(output<Fb>("Error", &Fb::Error));
+    f.push_back(output<Fb>("ErrorID", &Fb::ErrorID));
+    return f;
 }
 
 /// MC_Power drives the motion layer's own MC_Power of the axis when there is one (ExecContext::
@@ -137,35 +144,40 @@ void add_motion_blocks(Unit& u) {
         p->native = [] { return std::make_unique<PowerNative>(); };
         u.pous.push_back(std::move(p));
     }
-    static const Spec<MC_Reset> reset = execute_spec<MC_Reset, false>({}, false);
-    static const Spec<MC_Stop> stop = execute_spec<MC_Stop, false>({{"Deceleration", &MC_Stop::Deceleration}}, false);
-    static const Spec<MC_Halt> halt = execute_spec<MC_Halt, true>({{"Deceleration", &MC_Halt::Deceleration}}, true);
-    static const Spec<MC_Home> home = [] {
-        auto s = execute_spec<MC_Home, true>({{"Position", &MC_Home::Position}, {"Velocity", &MC_Home::Velocity},
-                                        {"Acceleration", &MC_Home::Acceleration}}, true);
-        s.ints = {{"Direction", &MC_Home::Direction}};
-        return s;
-    }();
-    static const Spec<MC_MoveAbsolute> move_abs = execute_spec<MC_MoveAbsolute, true>(
-        {{"Position", &MC_MoveAbsolute::Position}, {"Velocity", &MC_MoveAbsolute::Velocity},
-         {"Acceleration", &MC_MoveAbsolute::Acceleration}, {"Deceleration", &MC_MoveAbsolute::Deceleration}},
-        true);
-    static const Spec<MC_MoveRelative> move_rel = execute_spec<MC_MoveRelative, true>(
-        {{"Distance", &MC_MoveRelative::Distance}, {"Velocity", &MC_MoveRelative::Velocity},
-         {"Acceleration", &MC_MoveRelative::Acceleration}, {"Deceleration", &MC_MoveRelative::Deceleration}},
-        true);
-    static const Spec<MC_LineMove2> line = pair_spec<MC_LineMove2>(
-        {{"X", &MC_LineMove2::X}, {"Y", &MC_LineMove2::Y}, {"Velocity", &MC_LineMove2::Velocity},
-         {"Acceleration", &MC_LineMove2::Acceleration}, {"Deceleration", &MC_LineMove2::Deceleration}});
-    static const Spec<MC_CircleCenterMove> circle = [] {
-        auto s = pair_spec<MC_CircleCenterMove>(
-            {{"CenterX", &MC_CircleCenterMove::CenterX}, {"CenterY", &MC_CircleCenterMove::CenterY},
-             {"EndX", &MC_CircleCenterMove::EndX}, {"EndY", &MC_CircleCenterMove::EndY},
-             {"Velocity", &MC_CircleCenterMove::Velocity}, {"Acceleration", &MC_CircleCenterMove::Acceleration},
-             {"Deceleration", &MC_CircleCenterMove::Deceleration}});
-        s.ints = {{"Direction", &MC_CircleCenterMove::Direction}}; // 0 counter-clockwise, 1 clockwise (AXL)
-        return s;
-    }();
+    // Inputs in PLCopen's order; the interpolating blocks take two AXIS_REFs (AxisX, AxisY), the
+    // pair rcsim's blocks drive as a two-axis group.
+    static const auto reset = execute_block<MC_Reset>({input<MC_Reset>("Axis", &MC_Reset::Axis)}, false);
+    static const auto stop = execute_block<MC_Stop>(
+        {input<MC_Stop>("Axis", &MC_Stop::Axis), input<MC_Stop>("Deceleration", &MC_Stop::Deceleration)}, false);
+    static const auto halt = execute_block<MC_Halt>(
+        {input<MC_Halt>("Axis", &MC_Halt::Axis), input<MC_Halt>("Deceleration", &MC_Halt::Deceleration),
+         input<MC_Halt>("BufferMode", &MC_Halt::Mode)}, true);
+    static const auto home = execute_block<MC_Home>(
+        {input<MC_Home>("Axis", &MC_Home::Axis), input<MC_Home>("Position", &MC_Home::Position),
+         input<MC_Home>("Direction", &MC_Home::Direction), input<MC_Home>("Velocity", &MC_Home::Velocity),
+         input<MC_Home>("Acceleration", &MC_Home::Acceleration), input<MC_Home>("BufferMode", &MC_Home::Mode)}, true);
+    using MA = MC_MoveAbsolute;
+    static const auto move_abs = execute_block<MA>(
+        {input<MA>("Axis", &MA::Axis), input<MA>("Position", &MA::Position), input<MA>("Velocity", &MA::Velocity),
+         input<MA>("Acceleration", &MA::Acceleration), input<MA>("Deceleration", &MA::Deceleration),
+         input<MA>("BufferMode", &MA::Mode)}, true);
+    using MR = MC_MoveRelative;
+    static const auto move_rel = execute_block<MR>(
+        {input<MR>("Axis", &MR::Axis), input<MR>("Distance", &MR::Distance), input<MR>("Velocity", &MR::Velocity),
+         input<MR>("Acceleration", &MR::Acceleration), input<MR>("Deceleration", &MR::Deceleration),
+         input<MR>("BufferMode", &MR::Mode)}, true);
+    using LM = MC_LineMove2;
+    static const auto line = execute_block<LM>(
+        {input<LM>("AxisX", &LM::AxisX), input<LM>("AxisY", &LM::AxisY), input<LM>("X", &LM::X), input<LM>("Y", &LM::Y),
+         input<LM>("Velocity", &LM::Velocity), input<LM>("Acceleration", &LM::Acceleration),
+         input<LM>("Deceleration", &LM::Deceleration), input<LM>("BufferMode", &LM::Mode)}, true);
+    using CC = MC_CircleCenterMove;
+    static const auto circle = execute_block<CC>(
+        {input<CC>("AxisX", &CC::AxisX), input<CC>("AxisY", &CC::AxisY), input<CC>("CenterX", &CC::CenterX),
+         input<CC>("CenterY", &CC::CenterY), input<CC>("EndX", &CC::EndX), input<CC>("EndY", &CC::EndY),
+         input<CC>("Direction", &CC::Direction), // 0 counter-clockwise, 1 clockwise (AXL DIR_CCW/DIR_CW)
+         input<CC>("Velocity", &CC::Velocity), input<CC>("Acceleration", &CC::Acceleration),
+         input<CC>("Deceleration", &CC::Deceleration), input<CC>("BufferMode", &CC::Mode)}, true);
     add_block(u, "MC_Reset", reset);
     add_block(u, "MC_Stop", stop);
     add_block(u, "MC_Halt", halt);
