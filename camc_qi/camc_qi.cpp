@@ -45,6 +45,17 @@ struct CamcQi::Drive {
     std::uint32_t cause = 0;         // end-status bits of the stop cause (0 = normal end)
     double end_t = SpeedProfile::never; // seconds from start
     bool at_limit = false;           // the drive ends by reaching `limit`
+    std::uint64_t stop_k = unlimited; // steps of a stop at a sensor edge's exact time
+    std::array<std::int64_t, axes> origin{}; // pulse_count() of each member at the start
+    // The next sensor edge that acts on the drive (plan_edges): drive time, step, axis, input.
+    double edge_t = SpeedProfile::never;
+    std::uint64_t edge_k = 0;
+    unsigned edge_axis = 0;
+    Pin edge_pin = Pin::pelm;
+    // A signal search (modes 3/4) still looking for its edge.
+    bool search = false;
+    Pin search_pin = Pin::org;
+    bool search_inactive = false, search_immediate = false;
 
     /// When the drive ends: its profile stops, or its last step is driven, whichever is first.
     void plan_end() {
@@ -65,12 +76,13 @@ struct CamcQi::Drive {
     double rel(const sc_core::sc_time& now) const { return (now - start).to_seconds(); }
     /// The drive's end in kernel time: the one place a profile time becomes an sc_time, rounded
     /// up to the 1 ps resolution so that at that instant every step is due.
-    sc_core::sc_time end_abs() const {
-        return start + ps(static_cast<std::uint64_t>(std::ceil(end_t * 1e12)));
-    }
+    sc_core::sc_time end_abs() const { return abs(end_t); }
+    sc_core::sc_time edge_abs() const { return abs(edge_t); }
+    sc_core::sc_time abs(double t) const { return start + ps(static_cast<std::uint64_t>(std::ceil(t * 1e12))); }
 
     std::uint64_t steps_at(const sc_core::sc_time& now) const { return steps_rel(rel(now)); }
     std::uint64_t steps_rel(double t) const {
+        if (t >= end_t && stop_k != unlimited) return stop_k; // stopped at a sensor edge
         if (t >= end_t && at_limit) return limit; // a normal end: every step was driven
         t = std::min(t, end_t);
         const double s = std::floor(profile.position(t) + step_eps);
@@ -304,6 +316,8 @@ void CamcQi::write_register(unsigned axis, std::uint8_t reg, std::uint32_t v) {
     case qi::UCFG1:
         a.ucfg1 = v;
         check_inputs(axis);
+        if (a.drive) plan_edges(*a.drive);
+        schedule();
         break;
     case qi::IMASK1: a.imask1 = v; break;
     default:
@@ -330,7 +344,28 @@ ProfileParams CamcQi::params(const Axis& a, bool origin) const {
 // Drives
 
 bool CamcQi::limit_active(const Axis& a, Pin p) const {
-    const bool lvl = a.pins[static_cast<unsigned>(p)];
+    const unsigned i = static_cast<unsigned>(&a - ax_.data());
+    return active_at(i, p, pulse_count(i));
+}
+
+/// The electrical level of an input with the axis at `pos`: the set_pin level, or high while a
+/// sensor has the axis in its range.
+bool CamcQi::level(unsigned axis, Pin p, std::int64_t pos) const {
+    const Axis& a = ax_[axis];
+    if (a.pins[static_cast<unsigned>(p)]) return true;
+    const Sensors& s = a.sensors;
+    switch (p) {
+    case Pin::pelm: return s.pelm && pos >= *s.pelm;
+    case Pin::nelm: return s.nelm && pos <= *s.nelm;
+    case Pin::org: return s.org && pos <= *s.org;
+    case Pin::zphase: return s.z_pitch > 0 && ((pos - s.z_offset) % s.z_pitch + s.z_pitch) % s.z_pitch == 0;
+    default: return false;
+    }
+}
+
+bool CamcQi::active_at(unsigned axis, Pin p, std::int64_t pos) const {
+    const Axis& a = ax_[axis];
+    const bool lvl = level(axis, p, pos);
     switch (p) {
     case Pin::pelm: return (a.ucfg1 & ucfg::pelm_used) && lvl == bool(a.ucfg1 & ucfg::pelm_high);
     case Pin::nelm: return (a.ucfg1 & ucfg::nelm_used) && lvl == bool(a.ucfg1 & ucfg::nelm_high);
@@ -342,14 +377,13 @@ bool CamcQi::limit_active(const Axis& a, Pin p) const {
 
 /// The conditions that refuse a start (AXL 4169 MOVE_SENSOR_CHECK): alarm, ESTOP, or a limit
 /// switch active in the direction of motion. Sets the end status of the axis that refuses.
-bool CamcQi::start_check(unsigned axis, std::uint32_t bits, int dir) {
+bool CamcQi::start_check(unsigned axis, int dir, bool limits) {
     Axis& a = ax_[axis];
     std::uint32_t why = 0;
     if (limit_active(a, Pin::alarm)) why |= endst::alarm;
     if (estop_pin_) why |= endst::estop_signal;
-    if (dir >= 0 && limit_active(a, Pin::pelm)) why |= endst::pelm;
-    if (dir <= 0 && limit_active(a, Pin::nelm)) why |= endst::nelm;
-    (void)bits;
+    if (limits && dir >= 0 && limit_active(a, Pin::pelm)) why |= endst::pelm;
+    if (limits && dir <= 0 && limit_active(a, Pin::nelm)) why |= endst::nelm;
     if (!why) return true;
     a.end_status = why;
     a.iflag |= intf::error_stop;
@@ -434,15 +468,24 @@ void CamcQi::start(unsigned axis) {
     for (unsigned i = 0; i < axes; ++i)
         if (members & (1u << i)) {
             const int dir = (mode == dcfg::circle_cw || mode == dcfg::circle_ccw) ? 0 : d->direction(i, 0);
-            if (!start_check(i, members, dir)) {
+            // A search for a limit switch may start into that switch's side: it stops at it.
+            const bool searched = origin && (d->search_pin == Pin::pelm || d->search_pin == Pin::nelm);
+            if (!start_check(i, dir, !searched)) {
                 refuse(ax_[i].end_status);
                 return;
             }
         }
-    if (origin && limit_active(m, Pin::org)) { // already on the home sensor
-        m.end_status = endst::home_ok;
-        m.iflag |= intf::drive_end;
-        return;
+    if (origin) {
+        static constexpr Pin signals[] = {Pin::org, Pin::zphase, Pin::pelm, Pin::nelm};
+        d->search = true;
+        d->search_pin = signals[(m.dcfg & dcfg::signal_mask) >> dcfg::signal_shift];
+        d->search_inactive = m.dcfg & dcfg::search_inactive;
+        d->search_immediate = m.dcfg & dcfg::search_immediate;
+        if (limit_active(m, d->search_pin) != d->search_inactive) { // the edge is behind: found at once
+            m.end_status = d->search_pin == Pin::org ? endst::home_ok : endst::signal_ok;
+            m.iflag |= intf::drive_end;
+            return;
+        }
     }
 
     if (mode == dcfg::cont_pos || mode == dcfg::cont_neg || origin) {
@@ -460,12 +503,17 @@ void CamcQi::start(unsigned axis) {
         if (members & (1u << i)) {
             Axis& a = ax_[i];
             d->base[i] = a.cnt1;
+            d->origin[i] = a.cnt1 - a.preset_shift;
             a.drive = d;
             a.end_status = 0;
             a.iflag |= intf::drive_start;
         }
     drive_ev_.notify(sc_core::SC_ZERO_TIME);
-    if (distance == 0 && d->limit != unlimited) finish(d, d->start);
+    if (distance == 0 && d->limit != unlimited) {
+        finish(d, d->start);
+    } else {
+        plan_edges(*d);
+    }
     schedule();
 }
 
@@ -477,6 +525,7 @@ void CamcQi::stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause
     if (slow) {
         d->profile.slow_down(t, d->params);
         d->plan_end();
+        plan_edges(*d);
     } else {
         d->profile.stop(t);
         d->end_t = t;
@@ -508,6 +557,154 @@ void CamcQi::finish(std::shared_ptr<Drive> d, sc_core::sc_time at) {
     wake_.notify(sc_core::SC_ZERO_TIME);
 }
 
+void CamcQi::stop_at(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause, double t, std::uint64_t k) {
+    d->cause |= cause;
+    if (slow) {
+        d->profile.slow_down(t, d->params);
+        d->plan_end();
+        plan_edges(*d);
+    } else {
+        d->profile.stop(t);
+        d->end_t = t;
+        d->at_limit = false;
+        d->stop_k = k;
+    }
+    if (d->end_t <= d->rel(sc_core::sc_time_stamp()))
+        finish(d, sc_core::sc_time_stamp());
+    else
+        schedule();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sensor edges: where an input changes along the drive's path, and when the profile gets there
+
+/// The first position cur + dir*m (m >= 1) at which input `p` is active (`want`) or inactive,
+/// given the sensor ranges, the configured levels and a set_pin level; none if never.
+std::optional<std::int64_t> CamcQi::next_level(unsigned axis, Pin p, std::int64_t cur, int dir, bool want) const {
+    const Axis& a = ax_[axis];
+    const std::int64_t next = cur + dir;
+    if (active_at(axis, p, next) == want) return next;
+    if (a.pins[static_cast<unsigned>(p)]) return std::nullopt; // held high: the state never changes
+    const Sensors& s = a.sensors;
+    // Half-line sensors: the state changes once, at the range's edge (if motion goes that way).
+    auto half = [&](const std::optional<std::int64_t>& edge, bool above) -> std::optional<std::int64_t> {
+        if (!edge) return std::nullopt;
+        const std::int64_t in = *edge, out = above ? *edge - 1 : *edge + 1; // first position in / out
+        const std::int64_t target = active_at(axis, p, in) == want ? in : out;
+        if (dir > 0 ? target > cur : target < cur) return target;
+        return std::nullopt;
+    };
+    switch (p) {
+    case Pin::pelm: return half(s.pelm, true);
+    case Pin::nelm: return half(s.nelm, false);
+    case Pin::org: return half(s.org, false);
+    case Pin::zphase: {
+        if (s.z_pitch <= 0 || !want) return s.z_pitch > 1 && !want ? std::optional(next + dir) : std::nullopt;
+        const std::int64_t n = s.z_pitch, r = ((next - s.z_offset) % n + n) % n;
+        return dir > 0 ? next + (n - r) % n : next - r; // the next lattice point in the direction of motion
+    }
+    default: return std::nullopt;
+    }
+}
+
+/// The first step after `from` at which `axis` of drive `d` is at position q (pulse_count
+/// coordinates); none if the path never gets there.
+std::optional<std::uint64_t> CamcQi::step_reaching(const Drive& d, unsigned axis, std::int64_t q,
+                                                   std::uint64_t from) const {
+    const std::int64_t o = q - d.origin[axis];
+    switch (d.mode) {
+    case dcfg::linear: {
+        // Every axis of a line moves monotonically: bisect over the steps.
+        const unsigned idx = static_cast<unsigned>(d.line_index[axis]);
+        const std::int64_t delta = d.line.delta(idx);
+        if (o == 0 || (o > 0) != (delta > 0)) return std::nullopt;
+        auto reach = [&](std::uint64_t k) { return std::llabs(d.line.position(idx, k)) >= std::llabs(o); };
+        std::uint64_t lo = from + 1, hi = d.line.steps();
+        if (lo > hi || !reach(hi)) return std::nullopt;
+        while (lo < hi) {
+            const std::uint64_t mid = lo + (hi - lo) / 2;
+            if (reach(mid))
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        return lo;
+    }
+    case dcfg::circle_cw:
+    case dcfg::circle_ccw: {
+        // Not monotone: walk a copy of the path (only when q is within the circle's reach).
+        const Point s0 = d.circle.start();
+        const double r = std::sqrt(static_cast<double>(d.circle.radius_squared())) + 2;
+        const double c = static_cast<double>(axis == d.cx ? -s0.x : -s0.y); // centre, relative to the start
+        if (std::abs(static_cast<double>(o) - c) > r) return std::nullopt;
+        CirclePath walk = d.circle;
+        walk.at(0);
+        for (std::uint64_t k = 1; k <= d.limit; ++k) {
+            const Point p = walk.at(k);
+            if (k > from && (axis == d.cx ? p.x - s0.x : p.y - s0.y) == o) return k;
+        }
+        return std::nullopt;
+    }
+    default: {
+        if (o * d.dir <= 0) return std::nullopt;
+        const auto k = static_cast<std::uint64_t>(o * d.dir);
+        if (k <= from || k > d.limit) return std::nullopt;
+        return k;
+    }
+    }
+}
+
+/// The next sensor edge that acts on `d`: a limit switch turning active in the direction of
+/// motion (a circle may meet one going either way), or the edge a signal search looks for.
+void CamcQi::plan_edges(Drive& d) const {
+    d.edge_t = SpeedProfile::never;
+    const double now = d.rel(sc_core::sc_time_stamp());
+    if (now >= d.end_t) return;
+    const std::uint64_t from = d.steps_rel(now);
+    std::uint64_t best = unlimited;
+    auto consider = [&](std::optional<std::uint64_t> k, unsigned axis, Pin p) {
+        if (k && *k < best) best = *k, d.edge_axis = axis, d.edge_pin = p;
+    };
+    const bool circle = d.mode == dcfg::circle_cw || d.mode == dcfg::circle_ccw;
+    for (unsigned i = 0; i < axes; ++i) {
+        if (!(d.members & (1u << i))) continue;
+        const std::int64_t cur = d.origin[i] + d.offset(i, from);
+        for (Pin lim : {Pin::pelm, Pin::nelm}) {
+            if (d.search && d.search_pin == lim) continue;
+            if (active_at(i, lim, cur)) continue; // already on: it acted (or refused) already
+            const int toward = lim == Pin::pelm ? 1 : -1;
+            if (circle) {
+                for (std::int64_t step : {std::int64_t{1}, std::int64_t{-1}})
+                    if (auto q = next_level(i, lim, cur, static_cast<int>(step), true)) consider(step_reaching(d, i, *q, from), i, lim);
+            } else if (d.direction(i, from) == toward) {
+                if (auto q = next_level(i, lim, cur, toward, true)) consider(step_reaching(d, i, *q, from), i, lim);
+            }
+        }
+        if (d.search && !circle)
+            if (auto q = next_level(i, d.search_pin, cur, d.dir, !d.search_inactive))
+                consider(step_reaching(d, i, *q, from), i, d.search_pin);
+    }
+    if (best == unlimited) return;
+    d.edge_k = best;
+    d.edge_t = std::max(now, d.profile.time_of(static_cast<double>(best) - step_eps));
+    if (!(d.edge_t < d.end_t)) d.edge_t = SpeedProfile::never; // the drive ends first (or there)
+}
+
+/// A planned edge is due: stop at its exact time as the input's stop mode says.
+void CamcQi::on_edge(std::shared_ptr<Drive> d) {
+    const double t = d->edge_t;
+    const std::uint64_t k = d->edge_k;
+    const unsigned i = d->edge_axis;
+    const Pin p = d->edge_pin;
+    d->edge_t = SpeedProfile::never;
+    if (d->search && p == d->search_pin) {
+        d->search = false;
+        stop_at(d, !d->search_immediate, p == Pin::org ? endst::home_ok : endst::signal_ok, t, k);
+    } else {
+        stop_at(d, ax_[i].ucfg1 & ucfg::limit_slowdown, p == Pin::pelm ? endst::pelm : endst::nelm, t, k);
+    }
+}
+
 void CamcQi::record_trace(const Drive& d) {
     // Replays the drive: step k happens when the profile's position reaches k.
     const std::uint64_t n = d.steps_rel(d.end_t);
@@ -529,6 +726,10 @@ void CamcQi::settle() {
     const sc_core::sc_time now = sc_core::sc_time_stamp();
     for (unsigned i = 0; i < axes; ++i) {
         auto d = ax_[i].drive;
+        if (d && d->edge_t != SpeedProfile::never && d->edge_abs() <= now) on_edge(d);
+    }
+    for (unsigned i = 0; i < axes; ++i) {
+        auto d = ax_[i].drive;
         if (d && d->end_t != SpeedProfile::never && d->end_abs() <= now) finish(d, now);
     }
     bool pending = false;
@@ -541,9 +742,12 @@ void CamcQi::schedule() {
     const sc_core::sc_time now = sc_core::sc_time_stamp();
     std::optional<sc_core::sc_time> next;
     for (const Axis& a : ax_) {
-        if (!a.drive || a.drive->end_t == SpeedProfile::never) continue;
-        const sc_core::sc_time end = a.drive->end_abs();
-        if (!next || end < *next) next = end;
+        if (!a.drive) continue;
+        for (double t : {a.drive->end_t, a.drive->edge_t}) {
+            if (t == SpeedProfile::never) continue;
+            const sc_core::sc_time at = a.drive->abs(t);
+            if (!next || at < *next) next = at;
+        }
     }
     if (next) wake_.notify(*next > now ? *next - now : sc_core::SC_ZERO_TIME);
 }
@@ -554,6 +758,16 @@ void CamcQi::schedule() {
 void CamcQi::set_pin(unsigned axis, Pin p, bool level) {
     ax(axis).pins[static_cast<unsigned>(p)] = level;
     check_inputs(axis);
+    if (auto d = ax_[axis].drive) plan_edges(*d);
+    schedule();
+    wake_.notify(sc_core::SC_ZERO_TIME);
+}
+
+void CamcQi::set_sensors(unsigned axis, const Sensors& s) {
+    ax(axis).sensors = s;
+    check_inputs(axis);
+    if (auto d = ax_[axis].drive) plan_edges(*d);
+    schedule();
     wake_.notify(sc_core::SC_ZERO_TIME);
 }
 
@@ -577,16 +791,22 @@ void CamcQi::check_inputs(unsigned axis) {
     }
     const int dir = direction(axis);
     const bool slow = a.ucfg1 & ucfg::limit_slowdown;
-    if (dir > 0 && limit_active(a, Pin::pelm)) {
+    // A limit acts once (a slow-down stop runs on into it); a search for it is not stopped by it.
+    auto acts = [&](Pin p, std::uint32_t bit) {
+        return !(d->cause & bit) && !(d->search && d->search_pin == p) && limit_active(a, p);
+    };
+    if (dir > 0 && acts(Pin::pelm, endst::pelm)) {
         stop_drive(d, slow, endst::pelm);
         return;
     }
-    if (dir < 0 && limit_active(a, Pin::nelm)) {
+    if (dir < 0 && acts(Pin::nelm, endst::nelm)) {
         stop_drive(d, slow, endst::nelm);
         return;
     }
-    if ((d->mode == dcfg::origin_pos || d->mode == dcfg::origin_neg) && limit_active(a, Pin::org))
-        stop_drive(d, true, endst::home_ok);
+    if (d->search && limit_active(a, d->search_pin) != d->search_inactive) {
+        d->search = false;
+        stop_drive(d, !d->search_immediate, d->search_pin == Pin::org ? endst::home_ok : endst::signal_ok);
+    }
 }
 
 int CamcQi::direction(unsigned axis) const {
@@ -653,7 +873,7 @@ std::uint32_t CamcQi::mech_status(unsigned axis) const {
     if (limit_active(a, Pin::alarm)) s |= mech::alarm;
     if (limit_active(a, Pin::org)) s |= mech::org;
     if (a.pins[static_cast<unsigned>(Pin::inp)]) s |= mech::inp;
-    if (a.pins[static_cast<unsigned>(Pin::zphase)]) s |= mech::zphase;
+    if (level(axis, Pin::zphase, pulse_count(axis))) s |= mech::zphase;
     if (estop_pin_) s |= mech::estop;
     return s;
 }

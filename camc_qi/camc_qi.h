@@ -95,6 +95,13 @@ enum Mode : std::uint32_t {
     linear = 5, circle_cw = 6, circle_ccw = 7,
 };
 constexpr unsigned axes_shift = 8;               // bits 11:8: interpolation axis mask
+// Signal search (modes 3/4, our layout after CAMC-IP's +-SIGNAL SEARCH 1/2): the drive runs at
+// OBJORG until the chosen signal takes the chosen edge, then stops slow-down or immediately.
+constexpr unsigned signal_shift = 12;            // bits 13:12: 0 ORG, 1 Z phase, 2 PELM, 3 NELM
+constexpr std::uint32_t signal_mask = 0x3u << signal_shift;
+enum Signal : std::uint32_t { sig_org = 0, sig_z = 1, sig_pelm = 2, sig_nelm = 3 };
+constexpr std::uint32_t search_inactive = 1u << 14;  // 0: until the signal becomes active, 1: inactive
+constexpr std::uint32_t search_immediate = 1u << 15; // 0: slow-down stop at the edge, 1: immediate stop
 } // namespace dcfg
 
 /// UCFG1 fields (our layout).
@@ -112,7 +119,7 @@ constexpr std::uint32_t reset_value = pelm_high | pelm_used | nelm_high | nelm_u
 namespace endst {
 constexpr std::uint32_t pelm = 1u << 0, nelm = 1u << 1, alarm = 1u << 8, estop_signal = 1u << 9;
 constexpr std::uint32_t stop_cmd = 1u << 10, slowdown_cmd = 1u << 11, estop_cmd = 1u << 12;
-constexpr std::uint32_t home_ok = 1u << 17, interp_data = 1u << 19, data_error = 1u << 31;
+constexpr std::uint32_t home_ok = 1u << 17, signal_ok = 1u << 18, interp_data = 1u << 19, data_error = 1u << 31;
 } // namespace endst
 
 /// Drive status (STAT2) bits, AXHS.h.
@@ -137,6 +144,18 @@ constexpr std::uint32_t drive_end = 1u << 0, drive_start = 1u << 1, error_stop =
 /// Per-axis input pins (electrical level; the configured level decides "active").
 enum class Pin : std::uint8_t { pelm, nelm, org, alarm, inp, zphase };
 
+/// Sensors fixed on the mechanism, at positions of the axis' pulse output (net pulses since reset,
+/// `pulse_count()`, so CNT1/CNT2 presets do not move them). Each drives its input pin high while
+/// the axis is in its range (wired-OR with the level given by set_pin); the chip computes the
+/// exact time a drive's profile reaches a range edge and acts at that time.
+struct Sensors {
+    std::optional<std::int64_t> pelm; // PELM: on at and above this position
+    std::optional<std::int64_t> nelm; // NELM: on at and below
+    std::optional<std::int64_t> org;  // home switch: on at and below (its one edge is here)
+    std::int64_t z_pitch = 0;         // encoder Z: on where (position - z_offset) % z_pitch == 0; 0 = none
+    std::int64_t z_offset = 0;
+};
+
 /// One pulse on the PULSE output (with the DIR level) when tracing is on.
 struct PulseEvent {
     sc_core::sc_time time;
@@ -158,6 +177,7 @@ public:
     // --- pins (the board side) ---
     void set_pin(unsigned axis, Pin pin, bool level);
     bool pin(unsigned axis, Pin pin) const;
+    void set_sensors(unsigned axis, const Sensors& s);
     /// The chip's ESTOP input (all axes).
     void set_estop_pin(bool active);
     bool servo_on(unsigned axis) const { return ax(axis).uio & 1u; }       // UIO0 = SVON
@@ -200,7 +220,8 @@ private:
         std::int64_t enc_offset = 0;  // CNT2 = source() + enc_offset
         std::int64_t preset_shift = 0; // sum of CNT1 preset jumps (no pulses emitted)
         std::int64_t remain = 0, driven = 0;
-        std::array<bool, 6> pins{};   // electrical levels
+        std::array<bool, 6> pins{};   // electrical levels from set_pin
+        Sensors sensors;
         std::function<std::int64_t()> encoder;
         std::shared_ptr<Drive> drive; // shared by every axis of an interpolation
         bool trace = false;
@@ -223,13 +244,22 @@ private:
     void write_register(unsigned axis, std::uint8_t code, std::uint32_t value);
     ProfileParams params(const Axis& a, bool origin) const;
     void start(unsigned axis);
-    bool start_check(unsigned axis, std::uint32_t members, int dir_hint);
+    bool start_check(unsigned axis, int dir_hint, bool limits);
     void stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause);
+    /// The stop at a sensor edge, at the edge's exact time `t` (drive time) after `k` steps.
+    void stop_at(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause, double t, std::uint64_t k);
+    // Sensor edges (camc_qi/README.md "Sensors and homing").
+    bool level(unsigned axis, Pin p, std::int64_t pos) const;
+    bool active_at(unsigned axis, Pin p, std::int64_t pos) const;
+    std::optional<std::int64_t> next_level(unsigned axis, Pin p, std::int64_t cur, int dir, bool want) const;
+    std::optional<std::uint64_t> step_reaching(const Drive& d, unsigned axis, std::int64_t q, std::uint64_t from) const;
+    void plan_edges(Drive& d) const;
+    void on_edge(std::shared_ptr<Drive> d);
     void finish(std::shared_ptr<Drive> d, sc_core::sc_time at);
     void check_inputs(unsigned axis);
     void settle();       // SC_METHOD: drive ends, INT output
     void schedule();
-    bool limit_active(const Axis& a, Pin p) const;
+    bool limit_active(const Axis& a, Pin p) const; // now, at the axis' position
     std::uint32_t mech_status(unsigned axis) const;
     int direction(unsigned axis) const;
     void record_trace(const Drive& d);

@@ -4,6 +4,7 @@
 #include "models/bus.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -43,10 +44,18 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
         axes_[a] = std::make_unique<McAxis>(a, api_, drives_[a]);
         power_[a].Axis = axes_[a].get();
         Blocks& b = blocks_[a];
-        b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.halt.Axis = axes_[a].get();
+        b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.move_vel.Axis = b.halt.Axis =
+            axes_[a].get();
         chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
-        api_.SetStartSpeed(static_cast<int>(a), static_cast<float>(cfg.start_speed));
+        camc::Sensors sensors;
+        sensors.pelm = cfg.switches[a].pelm, sensors.nelm = cfg.switches[a].nelm, sensors.org = cfg.switches[a].home;
+        sensors.z_pitch = cfg.zphase[a].pitch, sensors.z_offset = cfg.zphase[a].offset;
+        chip_.set_sensors(a, sensors);
+        api_.SetStartSpeed(static_cast<int>(a), cfg.start_speed);
     }
+    std::vector<McAxis*> group;
+    for (auto& a : axes_) group.push_back(a.get());
+    for (auto& a : axes_) a->set_group(group);
     line_.AxisX = circle_.AxisX = axes_[0].get();
     line_.AxisY = circle_.AxisY = axes_[1].get();
 }
@@ -54,17 +63,11 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
 MotionController::~MotionController() = default;
 
 void MotionController::update_mechanism() {
-    for (unsigned a = 0; a < axes; ++a) {
-        const auto& sw = cfg_.switches[a];
-        const std::int64_t p = drives_[a].actual_position();
-        auto set = [&](camc::Pin pin, bool active) {
-            if (chip_.pin(a, pin) != active) chip_.set_pin(a, pin, active); // active-high wiring
-        };
-        if (sw.pelm) set(camc::Pin::pelm, p >= *sw.pelm);
-        if (sw.nelm) set(camc::Pin::nelm, p <= *sw.nelm);
-        if (sw.home) set(camc::Pin::org, cfg_.switches[a].home && std::llabs(p - *sw.home) <= 0);
-        set(camc::Pin::alarm, drives_[a].alarm_output());
-    }
+    // The switches are the chip's sensors (positions, acted on at their exact times); only the
+    // drive's ALM output is a level sampled here, once per control cycle.
+    for (unsigned a = 0; a < axes; ++a)
+        if (chip_.pin(a, camc::Pin::alarm) != drives_[a].alarm_output())
+            chip_.set_pin(a, camc::Pin::alarm, drives_[a].alarm_output());
 }
 
 void MotionController::control_cycle(const sc_core::sc_time& now) {
@@ -99,7 +102,7 @@ void MotionController::run_blocks() {
     for (unsigned a = 0; a < axes; ++a) {
         power_[a].call();
         Blocks& b = blocks_[a];
-        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.halt})
+        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.move_vel, &b.halt})
             run(*fb);
         b.stop.call();
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
@@ -152,83 +155,147 @@ template <typename Fb> MotionReply MotionController::execute_now(Fb& fb) {
 }
 
 namespace {
-/// Comma-separated decimal numbers; false when a field is not a number or the count is wrong.
-bool parse_numbers(const std::string& data, std::size_t min_n, std::size_t max_n, std::vector<double>& out) {
-    out.clear();
-    std::stringstream ss(data);
-    std::string f;
-    while (std::getline(ss, f, ',')) {
+/// The comma-separated fields of a token's data. Positions, distances and centres are decimal
+/// integers, read as integers (never through a floating-point type: a float loses pulses above
+/// 2^24); speeds and rates are decimal numbers.
+class Fields {
+public:
+    explicit Fields(const std::string& data) {
+        std::stringstream ss(data);
+        std::string f;
+        while (std::getline(ss, f, ',')) f_.push_back(f);
+        if (!data.empty() && data.back() == ',') f_.emplace_back();
+    }
+    std::size_t size() const { return f_.size(); }
+    bool number(std::size_t i, double& out) const {
         std::size_t used = 0;
         try {
-            out.push_back(std::stod(f, &used));
+            out = std::stod(f_.at(i), &used);
         } catch (const std::exception&) {
             return false;
         }
-        if (used != f.size() || !std::isfinite(out.back())) return false;
+        return used == f_[i].size() && std::isfinite(out);
     }
-    return out.size() >= min_n && out.size() <= max_n;
-}
+    bool integer(std::size_t i, std::int64_t& out) const {
+        const std::string& f = f_.at(i);
+        const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), out);
+        return ec == std::errc() && ptr == f.data() + f.size() && !f.empty();
+    }
+
+private:
+    std::vector<std::string> f_;
+};
+
 bool parse_mask(const std::string& data, unsigned& mask) {
-    std::vector<double> v;
-    if (!parse_numbers(data, 1, 1, v) || v[0] < 1 || v[0] > 15 || v[0] != std::floor(v[0])) return false;
-    mask = static_cast<unsigned>(v[0]);
+    const Fields f(data);
+    std::int64_t v = 0;
+    if (f.size() != 1 || !f.integer(0, v) || v < 1 || v > 15) return false;
+    mask = static_cast<unsigned>(v);
     return true;
 }
+
+bool in_chip_range(std::int64_t p) { return p >= -camc::max_coordinate && p <= camc::max_coordinate; }
 } // namespace
 
+MotionReply MotionController::home(unsigned mask, double velocity) {
+    for (unsigned a = 0; a < axes; ++a) {
+        if (!(mask & (1u << a))) continue;
+        blocks_[a].home.Velocity = velocity;
+        if (MotionReply r = execute_now(blocks_[a].home); r.bch) return r;
+    }
+    return {0x00, ""};
+}
+
 MotionReply MotionController::command(const std::string& token, const std::string& data) {
-    std::vector<double> v;
     const MotionReply bad{0x02, "bad data: '" + data + "'"};
+    const MotionReply out_of_range{0x02, std::to_string(err::position_out_of_bound)};
+    const Fields f(data);
+    // Reads `count` fields: integers where `ints` has a 1 (positions, centres, distances, axes),
+    // decimal numbers elsewhere.
+    std::vector<std::int64_t> iv;
+    std::vector<double> nv;
+    auto read = [&](std::size_t count, const std::vector<bool>& ints) {
+        if (f.size() != count) return false;
+        iv.assign(count, 0);
+        nv.assign(count, 0);
+        for (std::size_t i = 0; i < count; ++i)
+            if (ints[i] ? !f.integer(i, iv[i]) : !f.number(i, nv[i])) return false;
+        return true;
+    };
     if (token == "SV") {
         if (data != "0" && data != "1") return bad;
         for (auto& p : power_) p.Enable = data == "1";
         return {0x00, ""};
     }
+    if (token == "HM" && f.size() == 2) { // HM mask,velocity: the search velocity
+        unsigned mask = 0;
+        double vel = 0;
+        if (!parse_mask(data.substr(0, data.find(',')), mask) || !f.number(1, vel)) return bad;
+        return home(mask, vel);
+    }
     if (token == "HM" || token == "RS") {
         unsigned mask = 0;
         if (!parse_mask(data, mask)) return bad;
+        if (token == "HM") return home(mask, MC_Home{}.Velocity); // the AXL default, 10 kpps
         for (unsigned a = 0; a < axes; ++a) {
             if (!(mask & (1u << a))) continue;
-            MotionReply r = token == "HM" ? execute_now(blocks_[a].home) : execute_now(blocks_[a].reset);
+            MotionReply r = execute_now(blocks_[a].reset);
             if (r.bch) return r;
         }
         return {0x00, ""};
     }
     if (token == "MA" || token == "MR") {
-        if (!parse_numbers(data, 5, 5, v)) return bad;
-        if (v[0] < 0 || v[0] >= axes || v[0] != std::floor(v[0])) return {0x02, "unknown axis " + std::to_string(v[0])};
-        const unsigned a = static_cast<unsigned>(v[0]);
+        if (!read(5, {true, true, false, false, false})) return bad;
+        if (iv[0] < 0 || iv[0] >= axes) return {0x02, "unknown axis " + std::to_string(iv[0])};
+        const unsigned a = static_cast<unsigned>(iv[0]);
         if (token == "MA") {
+            if (!in_chip_range(iv[1])) return out_of_range;
             auto& fb = blocks_[a].move_abs;
-            fb.Position = v[1], fb.Velocity = v[2], fb.Acceleration = v[3], fb.Deceleration = v[4];
+            fb.Position = static_cast<std::int32_t>(iv[1]);
+            fb.Velocity = nv[2], fb.Acceleration = nv[3], fb.Deceleration = nv[4];
             return execute_now(fb);
         }
+        // A distance reaches at most from one end of the range to the other.
+        if (iv[1] < -2 * camc::max_coordinate || iv[1] > 2 * camc::max_coordinate) return out_of_range;
         auto& fb = blocks_[a].move_rel;
-        fb.Distance = v[1], fb.Velocity = v[2], fb.Acceleration = v[3], fb.Deceleration = v[4];
+        fb.Distance = static_cast<std::int32_t>(iv[1]);
+        fb.Velocity = nv[2], fb.Acceleration = nv[3], fb.Deceleration = nv[4];
+        return execute_now(fb);
+    }
+    if (token == "MV") {
+        if (!read(4, {true, false, false, false})) return bad;
+        if (iv[0] < 0 || iv[0] >= axes) return {0x02, "unknown axis " + std::to_string(iv[0])};
+        auto& fb = blocks_[static_cast<unsigned>(iv[0])].move_vel;
+        fb.Velocity = nv[1], fb.Acceleration = nv[2], fb.Deceleration = nv[3];
+        fb.Direction = McDirection::positive; // the sign of the velocity gives the direction
         return execute_now(fb);
     }
     if (token == "ML") {
-        if (!parse_numbers(data, 5, 5, v)) return bad;
-        // Absolute targets on axes 0/1 for the host; the block takes them relative.
-        line_.X = v[0] - static_cast<double>(chip_.command_position(0));
-        line_.Y = v[1] - static_cast<double>(chip_.command_position(1));
-        line_.Velocity = v[2], line_.Acceleration = v[3], line_.Deceleration = v[4];
+        if (!read(5, {true, true, false, false, false})) return bad;
+        if (!in_chip_range(iv[0]) || !in_chip_range(iv[1])) return out_of_range;
+        // Absolute targets on axes 0/1 for the host; the block takes them relative (both within
+        // +-(2^30 - 1), so the difference fits 32 bits).
+        line_.X = static_cast<std::int32_t>(iv[0] - chip_.command_position(0));
+        line_.Y = static_cast<std::int32_t>(iv[1] - chip_.command_position(1));
+        line_.Velocity = nv[2], line_.Acceleration = nv[3], line_.Deceleration = nv[4];
         return execute_now(line_);
     }
     if (token == "MC") {
-        if (!parse_numbers(data, 6, 6, v)) return bad;
-        if (v[4] != 0 && v[4] != 1) return bad;
-        const double x = static_cast<double>(chip_.command_position(0));
-        const double y = static_cast<double>(chip_.command_position(1));
-        circle_.CenterX = v[0] - x, circle_.CenterY = v[1] - y;
-        circle_.EndX = v[2] - x, circle_.EndY = v[3] - y;
-        circle_.Direction = v[4] == 1 ? dir_cw : dir_ccw;
-        circle_.Velocity = v[5];
-        circle_.Acceleration = circle_.Deceleration = 10 * v[5]; // ramps of 0.1 s
+        if (!read(6, {true, true, true, true, true, false})) return bad;
+        if (iv[4] != 0 && iv[4] != 1) return bad;
+        for (int i = 0; i < 4; ++i)
+            if (!in_chip_range(iv[i])) return out_of_range;
+        const std::int64_t x = chip_.command_position(0), y = chip_.command_position(1);
+        circle_.CenterX = static_cast<std::int32_t>(iv[0] - x), circle_.CenterY = static_cast<std::int32_t>(iv[1] - y);
+        circle_.EndX = static_cast<std::int32_t>(iv[2] - x), circle_.EndY = static_cast<std::int32_t>(iv[3] - y);
+        circle_.Direction = iv[4] == 1 ? dir_cw : dir_ccw;
+        circle_.Velocity = nv[5];
+        circle_.Acceleration = circle_.Deceleration = 10 * nv[5]; // ramps of 0.1 s
         return execute_now(circle_);
     }
     if (token == "ES") {
-        api_.EmergencyStopAll();
+        // Every axis, moving or not, latches ErrorStop until RS (docs/motion.md).
+        axes_[0]->emergency_stop_all();
         return {0x00, ""};
     }
     return {0x01, "unknown token " + token};

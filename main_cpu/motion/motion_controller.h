@@ -26,12 +26,19 @@ struct MotionConfig {
     Cia402Drive::Config drive;
     double start_speed = 100;        // STD of every move, pulses/s
     bool record = true;              // keep a trajectory sample per control cycle
-    /// Mechanism: limit switch and home sensor positions per axis (in pulses, actual position);
-    /// a switch is active at or beyond its position. Unset = no switch.
+    /// Mechanism: limit switch and home switch positions per axis, in pulses of the axis' pulse
+    /// output (machine position: presets of the counters do not move them). PELM is on at and
+    /// above its position, NELM and the home switch at and below theirs. Unset = no switch. The
+    /// chip acts at the exact time its profile reaches a switch (camc_qi/README.md).
     struct Switches {
         std::optional<std::int64_t> pelm, nelm, home;
     };
     std::array<Switches, 4> switches{};
+    /// Encoder Z pulse per axis: one position in every `pitch` pulses (0 = none).
+    struct ZPhase {
+        std::int64_t pitch = 0, offset = 0;
+    };
+    std::array<ZPhase, 4> zphase{};
 };
 
 class MotionController : public sc_core::sc_module, public MotionInterface {
@@ -63,6 +70,7 @@ public:
         MC_Home home;
         MC_MoveAbsolute move_abs;
         MC_MoveRelative move_rel;
+        MC_MoveVelocity move_vel;
         MC_Halt halt;
     };
     Blocks& blocks(unsigned a) { return blocks_[a]; }
@@ -93,6 +101,7 @@ private:
 
     void update_mechanism();
     MotionReply fb_reply(std::uint16_t error_id) const;
+    MotionReply home(unsigned mask, double velocity); // HM: MC_Home on every axis of the mask
     template <typename Fb> MotionReply execute_now(Fb& fb);
 };
 

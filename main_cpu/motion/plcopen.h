@@ -25,12 +25,15 @@ enum class AxisState : std::uint8_t {
 const char* to_string(AxisState s);
 
 enum class BufferMode : std::uint8_t { aborting = 0, buffered = 1 };
+/// MC_DIRECTION (Part 1 §2.4.3) for MC_MoveVelocity; mcShortestWay applies to rotary axes only.
+enum class McDirection : std::int8_t { negative = -1, current = 0, positive = 1 };
 
 /// ErrorID values (AXL codes where AXL has one, 0x7xxx our own).
 namespace err {
 constexpr std::uint16_t none = 0;
 constexpr std::uint16_t invalid_axis = 4101, invalid_velocity = 4113, invalid_accel = 4114;
 constexpr std::uint16_t sensor_check = 4169, interpolation_value = 4184, velocity_out_of_bound = 4253;
+constexpr std::uint16_t position_out_of_bound = 4251; // beyond the chip's +-(2^30 - 1) pulses
 constexpr std::uint16_t axis_disabled = 0x7001;  // motion command while Disabled
 constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorStop
 constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
@@ -53,6 +56,7 @@ struct Job {
     bool started = false;
     bool is_stop = false;                      // MC_Stop: holds the axis in Stopping
     bool is_home = false;
+    bool is_continuous = false;                // MC_MoveVelocity: never Done; a buffered successor takes over at InVelocity
     std::int64_t home_position = 0;
 };
 
@@ -79,6 +83,12 @@ public:
     void hold_stop() { stop_held_ = true; }     // MC_Stop.Execute is high
     void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
     void enter_error(std::uint16_t id);
+    /// The axes that share this axis' chip ({this} unless set): an emergency stop stops them all.
+    void set_group(std::vector<McAxis*> group) { group_ = std::move(group); }
+    /// Emergency stop (the ES token, MC_Stop with Emergency): the chip's ESTOP stops every axis at
+    /// once, and every axis of the group, moving or not, latches ErrorStop (ErrorID 0x7104; an axis
+    /// already in ErrorStop keeps its ErrorID) until MC_Reset.
+    void emergency_stop_all();
     bool stop_pending() const { return stop_held_; }
     /// MC_Power.Enable as last seen (MC_Reset decides between Notes 3 and 4 with it).
     void set_power_enable(bool e) { power_enable_ = e; }
@@ -92,6 +102,7 @@ private:
     std::uint16_t error_id_ = 0;
     bool powered_ = false, stop_held_ = false, power_enable_ = false;
     std::shared_ptr<Job> active_, queued_;
+    std::vector<McAxis*> group_;
 
     void finish_job(Job::Status st, std::uint16_t id = 0);
     void start(const std::shared_ptr<Job>& j);
@@ -152,6 +163,9 @@ class MC_Stop : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
     double Deceleration = 0; // 0 = the axis' programmed decel
+    /// Vendor extension: an emergency stop instead of a ramp (the ES token): every axis of the
+    /// chip stops at once and latches ErrorStop until MC_Reset; never refused; Done at once.
+    bool Emergency = false;
 
 protected:
     std::uint16_t begin() override;
@@ -169,22 +183,33 @@ protected:
     std::uint16_t begin() override;
 };
 
+/// Part 1 §3.3 homing by the CAMC-QI library's sequence (docs/motion.md "Homing"): search the
+/// home switch at Velocity in Direction, back off it, approach it slowly and stop on its edge,
+/// optionally move on to the encoder Z pulse; there the position becomes Position. Speed inputs
+/// after Velocity are vendor extensions (AXL AxmHomeSetVel, its defaults).
 class MC_Home : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Position = 0;      // set at the home point
-    int Direction = -1;
+    std::int32_t Position = 0; // set at the home point, pulses
+    int Direction = -1;        // -1 negative, +1 positive
     double Velocity = 10000, Acceleration = 40000; // AXL home defaults
+    double BackOffVelocity = 10000, ApproachVelocity = 2000, ZVelocity = 100;
+    bool ZPhase = false;
     BufferMode Mode = BufferMode::aborting;
 
 protected:
     std::uint16_t begin() override;
 };
 
+// Positions, distances and centres are whole pulses, 32-bit as the chip's counters (a decision:
+// PLCopen's LREAL would invite fractions the chip cannot drive); the chip's range is
+// +-(2^30 - 1) (ErrorID 4251 beyond). Velocities and rates are LREAL as in Part 1.
+
 class MC_MoveAbsolute : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Position = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    std::int32_t Position = 0;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -194,17 +219,37 @@ protected:
 class MC_MoveRelative : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
-    double Distance = 0, Velocity = 0, Acceleration = 0, Deceleration = 0;
+    std::int32_t Distance = 0;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
 protected:
     std::uint16_t begin() override;
 };
 
+/// Part 1 §3.9: an endless drive at Velocity (ContinuousMotion); InVelocity while the commanded
+/// speed equals Velocity; ends only by CommandAborted (another motion block, MC_Halt, MC_Stop)
+/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); the CAMC-QI cannot change
+/// the speed of a running drive, so a new command first ramps this one down (docs/motion.md).
+class MC_MoveVelocity : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3, 0 = trapezoid
+    McDirection Direction = McDirection::positive;
+    BufferMode Mode = BufferMode::aborting;
+    bool InVelocity = false;
+
+protected:
+    std::uint16_t begin() override;
+    void running() override;
+    void after() override;
+};
+
 class MC_LineMove2 : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
-    double X = 0, Y = 0; // relative to the current position (the paper's MC_LineMove)
+    std::int32_t X = 0, Y = 0; // relative to the current position (the paper's MC_LineMove)
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
 
@@ -215,7 +260,7 @@ protected:
 class MC_CircleCenterMove : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
-    double CenterX = 0, CenterY = 0, EndX = 0, EndY = 0; // relative to the current position
+    std::int32_t CenterX = 0, CenterY = 0, EndX = 0, EndY = 0; // relative to the current position
     int Direction = dir_ccw;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;

@@ -45,31 +45,36 @@ int QiMotionApi::SignalServoAlarmReset(int a, unsigned on) {
     return axl::success;
 }
 
-int QiMotionApi::speeds(int a, float vel, float acc, float dec, std::uint32_t mode_bits) {
+namespace {
+std::uint32_t reg(double v) { return static_cast<std::uint32_t>(std::max(1.0, std::round(v))); }
+bool in_range(std::int64_t p) { return p >= -max_coordinate && p <= max_coordinate; }
+} // namespace
+
+int QiMotionApi::speeds(int a, double vel, double acc, double dec, std::uint32_t mode_bits) {
     if (!(vel > 0)) return axl::invalid_velocity;
     if (!(acc > 0) || !(dec > 0)) return axl::invalid_accel;
     if (vel > CamcQi::max_pps) return axl::velocity_out_of_bound;
-    const float std_speed = std::min(start_speed_[a], vel);
-    bus_.write(a, qi::write | qi::STD, static_cast<std::uint32_t>(std::max(1.0f, std::round(std_speed))));
-    bus_.write(a, qi::write | qi::OBJ, static_cast<std::uint32_t>(std::max(1.0f, std::round(vel))));
-    bus_.write(a, qi::write | qi::RATE1, static_cast<std::uint32_t>(std::max(1.0f, std::round(acc))));
-    bus_.write(a, qi::write | qi::RATE2, static_cast<std::uint32_t>(std::max(1.0f, std::round(dec))));
+    bus_.write(a, qi::write | qi::STD, reg(std::min(start_speed_[a], vel)));
+    bus_.write(a, qi::write | qi::OBJ, reg(vel));
+    bus_.write(a, qi::write | qi::RATE1, reg(acc));
+    bus_.write(a, qi::write | qi::RATE2, reg(dec));
     bus_.write(a, qi::write | qi::DCFG, mode_bits | 1u); // asymmetric trapezoid: RATE1 up, RATE2 down
     return axl::success;
 }
 
-int QiMotionApi::MovePos(int a, float pos, float vel, float acc, float dec) {
+int QiMotionApi::MovePos(int a, std::int32_t pos, double vel, double acc, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
+    if (!in_range(pos)) return axl::position_out_of_bound;
     if (InMotion(a)) return axl::in_motion;
     if (int r = speeds(a, vel, acc, dec, dcfg::preset << dcfg::mode_shift)) return r;
-    const std::int64_t dist = std::llround(pos) - CmdPos(a);
+    const std::int64_t dist = std::int64_t{pos} - CmdPos(a); // |dist| <= 2^31 - 2: fits POS
     bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
     bus_.write(a, qi::STRN, 0);
     return (EndStatus(a) & (endst::alarm | endst::pelm | endst::nelm | endst::estop_signal)) ? axl::sensor_check
                                                                                              : axl::success;
 }
 
-int QiMotionApi::MoveVel(int a, float vel, float acc, float dec) {
+int QiMotionApi::MoveVel(int a, double vel, double acc, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
     if (InMotion(a)) return axl::in_motion;
     const std::uint32_t m = (vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift;
@@ -78,14 +83,85 @@ int QiMotionApi::MoveVel(int a, float vel, float acc, float dec) {
     return (EndStatus(a) & ~endst::slowdown_cmd) ? axl::sensor_check : axl::success;
 }
 
-int QiMotionApi::HomeSearch(int a, int dir, float vel, float acc) {
+int QiMotionApi::HomeSearch(int a, int dir, double vel, double acc) {
     if (!axis_ok(a)) return axl::invalid_axis;
     if (InMotion(a)) return axl::in_motion;
     const std::uint32_t m = (dir < 0 ? dcfg::origin_neg : dcfg::origin_pos) << dcfg::mode_shift;
     if (int r = speeds(a, vel, acc, acc, m)) return r;
-    bus_.write(a, qi::write | qi::OBJORG, static_cast<std::uint32_t>(std::round(vel)));
+    bus_.write(a, qi::write | qi::OBJORG, reg(vel));
     bus_.write(a, qi::STRN, 0);
     return axl::success;
+}
+
+int QiMotionApi::HomeSetMethod(int a, const HomeMethod& m) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(m.vel_first > 0) || !(m.vel_second > 0) || !(m.vel_third > 0) || !(m.vel_last > 0)) return axl::invalid_velocity;
+    if (!(m.acc_first > 0) || !(m.acc_second > 0)) return axl::invalid_accel;
+    const double top = std::max({m.vel_first, m.vel_second, m.vel_third, m.vel_last});
+    if (top > CamcQi::max_pps) return axl::velocity_out_of_bound;
+    homing_[a].method = m;
+    return axl::success;
+}
+
+int QiMotionApi::HomeSetStart(int a) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (InMotion(a)) return axl::in_motion;
+    homing_[a].step = 0;
+    homing_[a].result = home::searching;
+    ClearEndStatus(a);
+    return home_step(a);
+}
+
+/// Starts step `homing_[a].step` as a chip signal search.
+int QiMotionApi::home_step(int a) {
+    const HomeMethod& m = homing_[a].method;
+    struct Step {
+        int dir;
+        double vel, acc;
+        std::uint32_t signal;
+        bool inactive, immediate;
+    };
+    // Search and back off stop with a ramp (fast); the approach and Z stop on the edge itself.
+    const Step steps[] = {
+        {m.dir, m.vel_first, m.acc_first, dcfg::sig_org, false, false},
+        {-m.dir, m.vel_second, m.acc_second, dcfg::sig_org, true, false},
+        {m.dir, m.vel_third, m.acc_second, dcfg::sig_org, false, true},
+        {-m.dir, m.vel_last, m.acc_second, dcfg::sig_z, false, true},
+    };
+    const Step& st = steps[homing_[a].step];
+    const std::uint32_t mode = ((st.dir < 0 ? dcfg::origin_neg : dcfg::origin_pos) << dcfg::mode_shift) |
+                               (st.signal << dcfg::signal_shift) | (st.inactive ? dcfg::search_inactive : 0) |
+                               (st.immediate ? dcfg::search_immediate : 0);
+    if (int r = speeds(a, st.vel, st.acc, st.acc, mode)) return r;
+    bus_.write(a, qi::write | qi::OBJORG, reg(st.vel));
+    bus_.write(a, qi::STRN, 0);
+    return axl::success;
+}
+
+unsigned QiMotionApi::HomeGetResult(int a) {
+    if (!axis_ok(a)) return home::err_not_detect;
+    Homing& h = homing_[a];
+    if (h.step < 0) return h.result;
+    if (InMotion(a)) return home::searching;
+    const std::uint32_t es = EndStatus(a);
+    const std::uint32_t found = h.step == 3 ? endst::signal_ok : endst::home_ok;
+    unsigned r = home::searching;
+    if (es & endst::pelm) r = home::err_pos_limit;
+    else if (es & endst::nelm) r = home::err_neg_limit;
+    else if (es & endst::alarm) r = home::err_amp_fault;
+    else if (!(es & found)) r = home::err_not_detect;
+    else if (h.step < (h.method.zphase ? 3 : 2)) {
+        ++h.step;
+        ClearEndStatus(a);
+        if (home_step(a) != axl::success) r = home::err_not_detect;
+    } else {
+        r = home::success;
+    }
+    if (r != home::searching) {
+        h.step = -1;
+        h.result = r;
+    }
+    return r;
 }
 
 int QiMotionApi::SetCoord(int c, std::uint32_t mask) {
@@ -94,30 +170,32 @@ int QiMotionApi::SetCoord(int c, std::uint32_t mask) {
     return axl::success;
 }
 
-int QiMotionApi::LineMove(int c, const float* pos, float vel, float acc, float dec) {
+int QiMotionApi::LineMove(int c, const std::int32_t* pos, double vel, double acc, double dec) {
     if (c < 0 || c >= coords) return axl::invalid_axis;
     const std::uint32_t mask = coord_[c];
     int master = -1;
-    double len2 = 0, longest = 0;
+    double len2 = 0;
+    std::int64_t longest = 0;
     unsigned n = 0;
     for (int a = 0; a < 4; ++a) {
         if (!(mask & (1u << a))) continue;
         if (master < 0) master = a;
         if (InMotion(a)) return axl::in_motion;
-        const double d = std::llround(pos[n++]);
-        len2 += d * d;
-        longest = std::max(longest, std::abs(d));
+        const std::int64_t d = pos[n++];
+        if (!in_range(d)) return axl::position_out_of_bound;
+        len2 += static_cast<double>(d) * static_cast<double>(d);
+        longest = std::max(longest, d < 0 ? -d : d);
     }
     if (!(vel > 0)) return axl::invalid_velocity;
     if (len2 == 0) return axl::success; // nothing to move
     // The chip's speed is the long axis' step rate; scale so that the path speed is Vel.
-    const double k = longest / std::sqrt(len2);
-    if (int r = speeds(master, static_cast<float>(vel * k), static_cast<float>(acc * k), static_cast<float>(dec * k),
+    const double k = static_cast<double>(longest) / std::sqrt(len2);
+    if (int r = speeds(master, vel * k, acc * k, dec * k,
                        (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift)))
         return r;
     n = 0;
     for (int a = 0; a < 4; ++a)
-        if (mask & (1u << a)) bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(pos[n++])));
+        if (mask & (1u << a)) bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(pos[n++]));
     bus_.write(master, qi::write | qi::ISNUM, static_cast<std::uint32_t>(longest));
     bus_.write(master, qi::STRN, 0);
     const std::uint32_t es = EndStatus(master);
@@ -126,8 +204,8 @@ int QiMotionApi::LineMove(int c, const float* pos, float vel, float acc, float d
                                                                                     : axl::success;
 }
 
-int QiMotionApi::CircleCenterMove(int c, float cx, float cy, float ex, float ey, float vel, float acc, float dec,
-                                  int dir) {
+int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::int32_t ex, std::int32_t ey, double vel,
+                                  double acc, double dec, int dir) {
     if (c < 0 || c >= coords) return axl::invalid_axis;
     int ids[2], n = 0;
     for (int a = 0; a < 4; ++a)
@@ -138,8 +216,8 @@ int QiMotionApi::CircleCenterMove(int c, float cx, float cy, float ex, float ey,
     if (n != 2 || (dir != dir_cw && dir != dir_ccw)) return axl::invalid_axis;
     if (InMotion(ids[0]) || InMotion(ids[1])) return axl::in_motion;
     if (!(vel > 0)) return axl::invalid_velocity;
-    const Point s{-std::llround(cx), -std::llround(cy)};
-    const Point e{std::llround(ex) - std::llround(cx), std::llround(ey) - std::llround(cy)};
+    const Point s{-std::int64_t{cx}, -std::int64_t{cy}};
+    const Point e{std::int64_t{ex} - cx, std::int64_t{ey} - cy};
     const ArcDirection ad = dir == dir_cw ? ArcDirection::cw : ArcDirection::ccw;
     std::uint64_t steps = 0;
     try {
@@ -155,14 +233,14 @@ int QiMotionApi::CircleCenterMove(int c, float cx, float cy, float ex, float ey,
     if (ad == ArcDirection::cw) sweep = -sweep;
     while (sweep <= 1e-12) sweep += 2 * pi;
     const double k = static_cast<double>(steps) / (R * sweep);
-    if (int r = speeds(ids[0], static_cast<float>(vel * k), static_cast<float>(acc * k), static_cast<float>(dec * k),
+    if (int r = speeds(ids[0], vel * k, acc * k, dec * k,
                        ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
                            (coord_[c] << dcfg::axes_shift)))
         return r;
-    bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(std::llround(cx)));
-    bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(std::llround(cy)));
-    bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(ex)));
-    bus_.write(ids[1], qi::write | qi::POS, static_cast<std::uint32_t>(std::llround(ey)));
+    bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(cx));
+    bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(cy));
+    bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(ex));
+    bus_.write(ids[1], qi::write | qi::POS, static_cast<std::uint32_t>(ey));
     bus_.write(ids[0], qi::write | qi::ISNUM, static_cast<std::uint32_t>(steps));
     bus_.write(ids[0], qi::STRN, 0);
     const std::uint32_t es = EndStatus(ids[0]);
@@ -170,10 +248,12 @@ int QiMotionApi::CircleCenterMove(int c, float cx, float cy, float ex, float ey,
            : es ? axl::sensor_check : axl::success;
 }
 
-int QiMotionApi::SlowStop(int a, float dec) {
+int QiMotionApi::SlowStop(int a, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
+    homing_[a].step = -1; // a stop ends a homing sequence
+    homing_[a].result = home::err_not_detect;
     if (dec > 0) {
-        bus_.write(a, qi::write | qi::RATE2, static_cast<std::uint32_t>(std::max(1.0f, std::round(dec))));
+        bus_.write(a, qi::write | qi::RATE2, reg(dec));
         bus_.write(a, qi::write | qi::DCFG, bus_.read(a, qi::DCFG) | 1u); // use RATE2
     }
     bus_.write(a, qi::SSTOP, 0);
@@ -182,16 +262,20 @@ int QiMotionApi::SlowStop(int a, float dec) {
 
 int QiMotionApi::EmergencyStop(int a) {
     if (!axis_ok(a)) return axl::invalid_axis;
+    homing_[a].step = -1;
+    homing_[a].result = home::err_not_detect;
     bus_.write(a, qi::STOP, 0);
     return axl::success;
 }
 
 int QiMotionApi::EmergencyStopAll() {
+    for (Homing& h : homing_) h = Homing{h.method, -1, home::err_not_detect};
     bus_.write(0, qi::ESTOP, 0);
     return axl::success;
 }
 
 bool QiMotionApi::InMotion(int a) { return bus_.read(a, qi::STAT2) & drvst::busy; }
+std::uint32_t QiMotionApi::DriveStatus(int a) { return bus_.read(a, qi::STAT2); }
 std::uint32_t QiMotionApi::EndStatus(int a) { return bus_.read(a, qi::STAT1); }
 void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
 std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }

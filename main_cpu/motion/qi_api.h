@@ -31,8 +31,26 @@ constexpr int invalid_accel = 4114;
 constexpr int in_motion = 4152;
 constexpr int sensor_check = 4169;  // alarm / limit / ESTOP active before the move
 constexpr int interpolation_value = 4184;
+constexpr int position_out_of_bound = 4251; // beyond the chip's +-(2^30 - 1) pulses
+constexpr int profile_invalid = 4252;
 constexpr int velocity_out_of_bound = 4253;
 } // namespace axl
+
+/// AXL home search results (AXHS.h AXT_MOTION_HOME_RESULT) used here.
+namespace home {
+constexpr unsigned success = 0x01, searching = 0x02;
+constexpr unsigned err_amp_fault = 0x13, err_neg_limit = 0x14, err_pos_limit = 0x15, err_not_detect = 0x16;
+} // namespace home
+
+/// AXL's homing method and speeds (AxmHomeSetMethod / AxmHomeSetVel, defaults from AXM.h): search
+/// the home switch at vel_first, back off it at vel_second, approach it again at vel_third and
+/// stop on its edge; with zphase, then leave it at vel_last and stop on the encoder Z pulse.
+struct HomeMethod {
+    int dir = -1;        // search direction: -1 negative, +1 positive
+    bool zphase = false;
+    double vel_first = 10000, vel_second = 10000, vel_third = 2000, vel_last = 100;
+    double acc_first = 40000, acc_second = 40000;
+};
 
 constexpr unsigned level_low = 0, level_high = 1, level_unused = 2;
 constexpr unsigned stop_emergency = 0, stop_slowdown = 1;
@@ -46,26 +64,37 @@ public:
     int SignalSetLimit(int AxisNo, unsigned StopMode, unsigned PositiveLevel, unsigned NegativeLevel);
     int SignalServoOn(long AxisNo, unsigned OnOff);
     int SignalServoAlarmReset(int AxisNo, unsigned OnOff);
-    /// Starts a trapezoid move to the absolute position Pos (returns when the pulses start, as
-    /// AxmMoveStartPos). Units: pulses, pulses/s, pulses/s^2.
-    int MovePos(int AxisNo, float Pos, float dVel, float Accel, float Decel);
+    /// Starts a move to the absolute position Pos (returns when the pulses start, as
+    /// AxmMoveStartPos). Units: pulses, pulses/s, pulses/s^2. Positions, distances and centres are
+    /// 32-bit integers all the way to the chip's registers (the paper's `float` would lose pulses
+    /// above 2^24); the chip's range is +-(2^30 - 1) (4251 beyond).
+    int MovePos(int AxisNo, std::int32_t Pos, double Vel, double Accel, double Decel);
     /// Linear interpolation of the axes of coordinate system Coord (SetCoord), Pos[] relative to
-    /// the current positions (the paper's MC_LineMove); Vel is the vector speed.
-    int LineMove(int Coord, const float* Pos, float Vel, float Accel, float Decel);
+    /// the current positions (the paper's MC_LineMove), one per axis of Coord in axis order; Vel
+    /// is the vector speed.
+    int LineMove(int Coord, const std::int32_t* Pos, double Vel, double Accel, double Decel);
     /// Circular interpolation on the two axes of Coord; centre and end relative to the current
     /// position; Dir = dir_cw / dir_ccw; writes QiISNUM from the octant formula (eqs. 1-10).
-    int CircleCenterMove(int Coord, float CenX, float CenY, float EndX, float EndY, float Vel, float Accel,
-                         float Decel, int Dir);
+    int CircleCenterMove(int Coord, std::int32_t CenX, std::int32_t CenY, std::int32_t EndX, std::int32_t EndY,
+                         double Vel, double Accel, double Decel, int Dir);
     /// Continuous drive (AxmMoveVel): Vel signed.
-    int MoveVel(int AxisNo, float Vel, float Accel, float Decel);
-    int HomeSearch(int AxisNo, int Dir, float Vel, float Accel);
-    int SlowStop(int AxisNo, float Decel);
+    int MoveVel(int AxisNo, double Vel, double Accel, double Decel);
+    int HomeSearch(int AxisNo, int Dir, double Vel, double Accel);
+    /// The library's homing sequence (AXL runs it in a thread; here HomeGetResult advances it,
+    /// polled once per control cycle). Each step is one chip signal search that stops at the
+    /// exact time of its edge; a step starts when the previous one has ended.
+    int HomeSetMethod(int AxisNo, const HomeMethod& m);
+    int HomeSetStart(int AxisNo);
+    unsigned HomeGetResult(int AxisNo);
+    int SlowStop(int AxisNo, double Decel);
     int EmergencyStop(int AxisNo);
     int EmergencyStopAll();
 
     int SetCoord(int Coord, std::uint32_t axis_mask);
-    void SetStartSpeed(int AxisNo, float Vel) { start_speed_[AxisNo & 3] = Vel; }
+    void SetStartSpeed(int AxisNo, double Vel) { start_speed_[AxisNo & 3] = Vel; }
+    double StartSpeed(int AxisNo) const { return start_speed_[AxisNo & 3]; }
     bool InMotion(int AxisNo);
+    std::uint32_t DriveStatus(int AxisNo); // STAT2 (AxmStatusReadMotion)
     std::uint32_t EndStatus(int AxisNo);
     void ClearEndStatus(int AxisNo);
     std::int64_t CmdPos(int AxisNo);
@@ -77,12 +106,20 @@ public:
 private:
     QiBus& bus_;
     std::array<std::uint32_t, coords> coord_{0x3, 0x3, 0xC, 0xF};
-    std::array<float, 4> start_speed_{100, 100, 100, 100};
+    std::array<double, 4> start_speed_{100, 100, 100, 100};
     std::array<std::uint32_t, 4> ucfg1_{camc::ucfg::reset_value, camc::ucfg::reset_value,
                                         camc::ucfg::reset_value, camc::ucfg::reset_value};
 
+    struct Homing {
+        HomeMethod method;
+        int step = -1; // -1 idle; 0 search, 1 back off, 2 approach, 3 Z phase
+        unsigned result = home::success;
+    };
+    std::array<Homing, 4> homing_{};
+
     static bool axis_ok(long a) { return a >= 0 && a < 4; }
-    int speeds(int axis, float vel, float acc, float dec, std::uint32_t profile_mode);
+    int home_step(int axis);
+    int speeds(int axis, double vel, double acc, double dec, std::uint32_t profile_mode);
     void uio(int axis, unsigned bit, bool on);
 };
 

@@ -407,3 +407,146 @@ TEST(CamcQi, BadDriveDataIsRefusedWithEndStatus) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(CamcQi, PresetDriveAcrossTheWholeRangeEndsExactly) {
+    run([](Host& h) {
+        // From -(2^30 - 1) to +(2^30 - 1): POS = 2^31 - 2, the largest distance of the range.
+        constexpr std::int32_t end = (1 << 30) - 1;
+        h.cmd(0, qi::write | qi::CNT1, static_cast<std::uint32_t>(-end));
+        h.setup(0, 1000, 10000000, 100000000, 100000000, mode(dcfg::preset));
+        h.cmd(0, qi::write | qi::POS, static_cast<std::uint32_t>(2 * end));
+        h.cmd(0, qi::STRN);
+        h.wait_idle(0, sc_time(1, sc_core::SC_SEC));
+        EXPECT_EQ(h.cnt1(0), end);
+        EXPECT_EQ(h.read(0, qi::DRPCNT), static_cast<std::uint32_t>(2 * end));
+        EXPECT_EQ(h.read(0, qi::STAT1), 0u);
+    });
+}
+
+} // namespace
+
+namespace {
+
+// Sensors as positions (README "Sensors and homing"): the chip acts at the time the profile
+// reaches a sensor's edge. A ramp v0 -> v1 at rate a covers (v1^2 - v0^2) / (2a) pulses, and the
+// chip's step count is floor(s).
+
+TEST(CamcQiSensors, LimitEdgesActAtTheirExactTimeInBothStopModes) {
+    run([](Host& h) {
+        Sensors s;
+        s.pelm = 5000;
+        h.chip.set_sensors(0, s);
+        h.cmd(0, qi::write | qi::IMASK1, intf::drive_end);
+        // STD 1000 -> 20000 at 100000: 0.19 s over 1995 pulses, then 3005 pulses at 20 kpps:
+        // PELM's first position 5000 is reached at 0.19 + 3005/20000 = 0.34025 s.
+        h.setup(0, 1000, 20000, 100000, 100000, mode(dcfg::preset));
+        h.cmd(0, qi::write | qi::POS, 100000);
+        const sc_time t0 = sc_core::sc_time_stamp();
+        h.cmd(0, qi::STRN);
+        wait(h.chip.irq.posedge_event());
+        EXPECT_NEAR((sc_core::sc_time_stamp() - t0).to_seconds(), 0.34025, 1e-9);
+        EXPECT_EQ(h.cnt1(0), 5000);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::pelm);
+        EXPECT_TRUE(h.read(0, qi::STAT3) & mech::pelm);
+        EXPECT_EQ(h.read(0, qi::REMAIN), 95000u);
+
+        // Slow-down mode: from 20 kpps at the edge -3000 down to STD 1000 at 90000:
+        // (20000^2 - 1000^2) / 180000 = 2216.67 pulses past it, floored.
+        s = {};
+        s.nelm = -3000;
+        h.chip.set_sensors(1, s);
+        h.cmd(1, qi::write | qi::UCFG1, ucfg::reset_value | ucfg::limit_slowdown);
+        h.setup(1, 1000, 20000, 100000, 90000, mode(dcfg::cont_neg) | 1);
+        h.cmd(1, qi::STRN);
+        h.wait_idle(1);
+        EXPECT_EQ(h.cnt1(1), -3000 - 2216);
+        EXPECT_EQ(h.read(1, qi::STAT1), endst::nelm);
+        // CNT1 presets do not move the sensors: they are on the machine (pulse) position.
+        h.cmd(1, qi::write | qi::CNT1, 0);
+        EXPECT_TRUE(h.read(1, qi::STAT3) & mech::nelm);
+        h.setup(1, 1000, 20000, 100000, 90000, mode(dcfg::preset));
+        h.cmd(1, qi::write | qi::POS, static_cast<std::uint32_t>(-10));
+        h.cmd(1, qi::STRN);
+        EXPECT_FALSE(h.busy(1)); // refused: NELM is on in the direction of motion
+        EXPECT_EQ(h.read(1, qi::STAT1), endst::nelm);
+    });
+}
+
+TEST(CamcQiSensors, InterpolationStopsOnTheStepThatReachesALimit) {
+    run([](Host& h) {
+        // Line (8000, 4000): axis 1 is at floor(k/2 + 1/2) after step k, so its PELM at 1000 is
+        // reached at step 1999, where axis 0 is at 1999.
+        Sensors s;
+        s.pelm = 1000;
+        h.chip.set_sensors(1, s);
+        h.setup(0, 100, 8000, 80000, 80000, mode(dcfg::linear) | axes_mask(0b0011));
+        h.cmd(0, qi::write | qi::POS, 8000);
+        h.cmd(1, qi::write | qi::POS, 4000);
+        h.cmd(0, qi::STRN);
+        h.wait_idle(0);
+        EXPECT_EQ(h.cnt1(0), 1999);
+        EXPECT_EQ(h.cnt1(1), 1000);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::pelm);
+
+        // A circle about (-1000, 0) from (0, 0), CCW, and PELM on axis 3 (Y) at 500: the stop is
+        // on the first track point with y = 500, found here by walking the interpolator.
+        s.pelm = 500;
+        h.chip.set_sensors(3, s);
+        h.chip.set_sensors(1, {});
+        CirclePath path({1000, 0}, {1000, 0}, ArcDirection::ccw);
+        std::uint64_t k = 0;
+        Point p;
+        do p = path.at(++k); while (p.y < 500);
+        h.setup(2, 100, 8000, 80000, 80000, mode(dcfg::circle_ccw) | axes_mask(0b1100));
+        h.cmd(2, qi::write | qi::CENT, static_cast<std::uint32_t>(-1000));
+        h.cmd(3, qi::write | qi::CENT, 0);
+        h.cmd(2, qi::write | qi::POS, 0);
+        h.cmd(3, qi::write | qi::POS, 0);
+        h.cmd(2, qi::STRN);
+        h.wait_idle(2);
+        EXPECT_EQ(h.cnt1(2), p.x - 1000);
+        EXPECT_EQ(h.cnt1(3), 500);
+        EXPECT_EQ(h.read(2, qi::DRPCNT), k);
+    });
+}
+
+TEST(CamcQiSensors, SignalSearchesStopOnTheChosenEdge) {
+    run([](Host& h) {
+        Sensors s;
+        s.org = -2000;
+        s.z_pitch = 500, s.z_offset = 7;
+        h.chip.set_sensors(0, s);
+        auto search = [&](std::uint32_t m, std::uint32_t sig, std::uint32_t flags, std::uint32_t vel) {
+            h.setup(0, 100, vel, 50000, 50000, mode(m) | (sig << dcfg::signal_shift) | flags);
+            h.cmd(0, qi::write | qi::OBJORG, vel);
+            h.cmd(0, qi::STRN);
+            h.wait_idle(0, sc_time(10, SC_US));
+        };
+        // Negative, immediate: frozen on the switch's first position.
+        search(dcfg::origin_neg, dcfg::sig_org, dcfg::search_immediate, 5000);
+        EXPECT_EQ(h.cnt1(0), -2000);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::home_ok);
+        // Positive until inactive, slow-down, at 300 pps: the ramp from STD, (300^2 - 100^2) /
+        // 100000 = 0.8 pulse, ends before the edge -1999 (one pulse on), and the slow-down from
+        // there runs 0.8 pulse: floor(1 + 0.8) = 1 pulse, the stop is on -1999.
+        search(dcfg::origin_pos, dcfg::sig_org, dcfg::search_inactive, 300);
+        EXPECT_EQ(h.cnt1(0), -1999);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::home_ok);
+        EXPECT_FALSE(h.read(0, qi::STAT3) & mech::org);
+        // Z, positive, immediate: the next position = 7 (mod 500) above.
+        const std::int32_t from = h.cnt1(0);
+        search(dcfg::origin_pos, dcfg::sig_z, dcfg::search_immediate, 1000);
+        const std::int32_t z = from + 1 + ((7 - (from + 1)) % 500 + 500) % 500;
+        EXPECT_EQ(h.cnt1(0), z);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::signal_ok);
+        EXPECT_TRUE(h.read(0, qi::STAT3) & mech::zphase);
+        // A search whose edge is already behind (on Z, looking for Z) ends at once, no motion.
+        search(dcfg::origin_pos, dcfg::sig_z, dcfg::search_immediate, 1000);
+        EXPECT_EQ(h.cnt1(0), z);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::signal_ok);
+    });
+}
+
+} // namespace

@@ -49,3 +49,79 @@ TEST(MotionController, ConsecutiveTokensOnOneBlockEachMove) {
 }
 
 } // namespace
+
+namespace {
+
+constexpr std::int64_t range = (std::int64_t{1} << 30) - 1; // the chip's +-(2^30 - 1)
+constexpr std::int64_t above_float = (std::int64_t{1} << 24) + 1; // the first integer a float rounds
+
+TEST(MotionController, PositionsStayIntegersFromTokenToChip) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        // 2^24 + 1 has no float: through a float the move would end at 2^24.
+        ASSERT_EQ(b.mc.command("MA", "0," + std::to_string(above_float) + ",10000000,100000000,100000000").bch, 0x00);
+        b.cycles(1);
+        b.until([&] { return b.mc.axis(0).state() == AxisState::standstill; });
+        EXPECT_EQ(b.mc.chip().command_position(0), above_float);
+        ASSERT_EQ(b.mc.command("MR", "0,-" + std::to_string(above_float) + ",10000000,100000000,100000000").bch, 0x00);
+        b.cycles(1);
+        b.until([&] { return b.mc.axis(0).state() == AxisState::standstill; });
+        EXPECT_EQ(b.mc.chip().command_position(0), 0);
+
+        // The ends of the chip's range: start 5000 pulses short of them (CNT1/CNT2 preset).
+        for (std::int64_t end : {range, -range}) {
+            b.mc.api().SetPos(1, end > 0 ? end - 5000 : end + 5000);
+            ASSERT_EQ(b.mc.command("MA", "1," + std::to_string(end) + ",100000,1000000,1000000").bch, 0x00);
+            b.cycles(1);
+            b.until([&] { return b.mc.axis(1).state() == AxisState::standstill; });
+            EXPECT_EQ(b.mc.chip().command_position(1), end);
+            b.cycles(20);
+            EXPECT_EQ(b.mc.positions()[1], end); // the encoder (drive) side too
+        }
+        // One beyond is refused with 4251 (AXL POSITION_OUTOFBOUND), and fractions are bad data.
+        for (const char* d : {"1,1073741824,1000,1000,1000", "1,-1073741824,1000,1000,1000"}) {
+            const auto r = b.mc.command("MA", d);
+            EXPECT_EQ(r.bch, 0x02) << d;
+            EXPECT_EQ(r.data, "4251") << d;
+        }
+        EXPECT_EQ(b.mc.command("MA", "1,100.5,1000,1000,1000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("MA", "1,1e3,1000,1000,1000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("ML", "1073741824,0,1000,1000,1000").data, "4251");
+        // MR whose target leaves the range: the block reports 4251 when it starts.
+        MC_MoveRelative& r = b.mc.blocks(1).move_rel;
+        r.Distance = -10, r.Velocity = 1000, r.Acceleration = 10000, r.Deceleration = 10000;
+        r.Execute = true;
+        b.cycles(1);
+        EXPECT_TRUE(r.Error);
+        EXPECT_EQ(r.ErrorID, err::position_out_of_bound);
+        MC_MoveAbsolute& m = b.mc.blocks(1).move_abs;
+        m.Position = static_cast<std::int32_t>(range + 1), m.Velocity = 1000, m.Acceleration = 10000, m.Deceleration = 10000;
+        m.Execute = true;
+        m.call();
+        EXPECT_EQ(m.ErrorID, err::position_out_of_bound);
+    });
+}
+
+TEST(MotionController, LineAndCircleTokensCarryIntegersAbove2To24) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        const std::string r = std::to_string(above_float);
+        ASSERT_EQ(b.mc.command("ML", r + ",-" + r + ",10000000,100000000,100000000").bch, 0x00);
+        b.cycles(1);
+        b.until([&] { return b.mc.state() == "STANDSTILL"; });
+        EXPECT_EQ(b.mc.chip().command_position(0), above_float);
+        EXPECT_EQ(b.mc.chip().command_position(1), -above_float);
+        // Quarter circle CCW about a centre R = 2^24 + 1 away in +X: from 180 to 270 degrees,
+        // ending at centre + (0, -R). A float centre would be 2^24 and the end off this circle.
+        b.mc.api().SetPos(0, 0);
+        b.mc.api().SetPos(1, 0);
+        ASSERT_EQ(b.mc.command("MC", r + ",0," + r + ",-" + r + ",0,9000000").bch, 0x00);
+        EXPECT_EQ(b.mc.chip().read_register(0, rcsim::camc::qi::CENT), static_cast<std::uint32_t>(above_float));
+        b.cycles(1);
+        b.until([&] { return b.mc.state() == "STANDSTILL"; });
+        EXPECT_EQ(b.mc.chip().command_position(0), above_float);
+        EXPECT_EQ(b.mc.chip().command_position(1), -above_float);
+    });
+}
+
+} // namespace

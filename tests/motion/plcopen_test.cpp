@@ -298,3 +298,129 @@ TEST(PLCopen, LineMove2AndCircleCenterMoveUseBothAxes) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(PLCopen, MoveVelocityRunsInContinuousMotionWithInVelocityAndNoDone) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        MC_MoveVelocity& v = b.mc.blocks(0).move_vel;
+        v.Velocity = 20000, v.Acceleration = 100000, v.Deceleration = 100000;
+        v.Execute = true;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::continuous_motion);
+        EXPECT_TRUE(v.Busy);
+        EXPECT_TRUE(v.Active);
+        EXPECT_FALSE(v.InVelocity);
+        // The ramp STD 100 -> 20000 pps at 100000 pps/s takes 0.199 s: InVelocity from cycle 200 on.
+        const int n = b.until([&] { return v.InVelocity; }, 1000);
+        EXPECT_GE(n, 198);
+        EXPECT_LE(n, 201);
+        EXPECT_EQ(b.mc.chip().current_speed(0), 20000);
+        const std::int64_t p0 = b.mc.chip().command_position(0);
+        b.cycles(100); // 0.1 s at 20000 pps
+        EXPECT_EQ(b.mc.chip().command_position(0) - p0, 2000);
+        EXPECT_FALSE(v.Done);
+        EXPECT_TRUE(v.Busy && v.Active && v.InVelocity);
+        // Execute falling does not stop it (Part 1 §2.4.1).
+        v.Execute = false;
+        b.cycles(10);
+        EXPECT_TRUE(v.Busy && v.InVelocity);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::continuous_motion);
+        // MC_Halt aborts it: CommandAborted, InVelocity reset; Standstill when the Halt is Done.
+        MC_Halt& h = b.mc.blocks(0).halt;
+        h.Execute = true;
+        b.cycles(2);
+        EXPECT_TRUE(v.CommandAborted);
+        EXPECT_FALSE(v.InVelocity || v.Busy || v.Active);
+        b.until([&] { return h.Done; });
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        EXPECT_FALSE(b.mc.chip().busy(0));
+        b.cycles(1);
+        EXPECT_FALSE(v.CommandAborted); // Execute is low: visible for one call only
+    });
+}
+
+TEST(PLCopen, MoveVelocityDirectionsAndBufferedSuccessorAtInVelocity) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        MC_MoveVelocity& v = b.mc.blocks(1).move_vel;
+        v.Velocity = 5000, v.Acceleration = 50000, v.Deceleration = 50000;
+        v.Direction = McDirection::negative;
+        v.Execute = true;
+        b.until([&] { return v.InVelocity; }, 1000);
+        EXPECT_LT(b.mc.chip().command_position(1), 0);
+        EXPECT_TRUE(b.mc.chip().drive_status(1) & rcsim::camc::drvst::negative);
+        // A second block with mcCurrentDirection keeps the negative direction; a negative
+        // Velocity with Direction negative drives positive.
+        MC_MoveVelocity cur;
+        cur.Axis = &b.mc.axis(1);
+        cur.Velocity = 8000, cur.Acceleration = 50000, cur.Deceleration = 50000;
+        cur.Direction = McDirection::current;
+        cur.Execute = true;
+        cur.call();
+        EXPECT_TRUE(cur.Busy);
+        for (int i = 0; i < 1000 && !cur.InVelocity; ++i) {
+            b.cycles(1);
+            cur.call();
+        }
+        EXPECT_TRUE(v.CommandAborted); // Execute is still high: it stays visible
+        EXPECT_FALSE(v.Busy);
+        EXPECT_EQ(b.mc.chip().current_speed(1), 8000);
+        EXPECT_TRUE(b.mc.chip().drive_status(1) & rcsim::camc::drvst::negative);
+
+        // Buffered MC_MoveAbsolute after a MoveVelocity: it waits until InVelocity, then the
+        // velocity block is CommandAborted and the move goes to its target.
+        MC_MoveVelocity& w = b.mc.blocks(2).move_vel;
+        w.Velocity = 10000, w.Acceleration = 20000, w.Deceleration = 20000;
+        w.Execute = true;
+        b.cycles(1);
+        MC_MoveAbsolute& m = b.mc.blocks(2).move_abs;
+        m.Position = 0, m.Velocity = 10000, m.Acceleration = 100000, m.Deceleration = 100000;
+        m.Mode = BufferMode::buffered;
+        m.Execute = true;
+        b.cycles(1);
+        EXPECT_TRUE(m.Busy);
+        EXPECT_FALSE(m.Active);
+        // Ramp 100 -> 10000 at 20000 pps/s: 0.495 s.
+        const int n = b.until([&] { return w.CommandAborted; }, 2000);
+        EXPECT_GE(n, 490);
+        EXPECT_LE(n, 498);
+        EXPECT_TRUE(m.Active);
+        b.until([&] { return m.Done; });
+        EXPECT_EQ(b.mc.chip().command_position(2), 0);
+        EXPECT_EQ(b.mc.axis(2).state(), AxisState::standstill);
+    });
+}
+
+TEST(PLCopen, MoveVelocityParameterErrorsAndTheMvToken) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        MC_MoveVelocity& v = b.mc.blocks(3).move_vel;
+        auto edge = [&](double vel, double acc, double dec) {
+            v.Execute = false;
+            v.call();
+            v.Velocity = vel, v.Acceleration = acc, v.Deceleration = dec;
+            v.Execute = true;
+            v.call();
+            return v.Error ? v.ErrorID : std::uint16_t{0};
+        };
+        EXPECT_EQ(edge(0, 1000, 1000), err::invalid_velocity);
+        EXPECT_EQ(edge(1000, 0, 1000), err::invalid_accel);
+        EXPECT_EQ(edge(1000, 1000, -1), err::invalid_accel);
+        EXPECT_EQ(edge(2e7, 1000, 1000), err::velocity_out_of_bound);
+        EXPECT_EQ(b.mc.axis(3).state(), AxisState::standstill);
+        v.Execute = false;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.command("MV", "3,-3000,30000,30000").bch, 0x00);
+        b.cycles(200);
+        EXPECT_EQ(b.mc.axis(3).state(), AxisState::continuous_motion);
+        EXPECT_EQ(b.mc.chip().current_speed(3), 3000);
+        EXPECT_LT(b.mc.chip().command_position(3), -300);
+        EXPECT_EQ(b.mc.command("MV", "3,0,30000,30000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("MV", "3,0,30000,30000").data, std::to_string(err::invalid_velocity));
+        EXPECT_EQ(b.mc.command("MV", "3,100,30000").bch, 0x02);
+    });
+}
+
+} // namespace
