@@ -22,8 +22,8 @@ struct PouBuilder {
 const std::string& standard_prelude();
 /// TON and TOF.
 void add_timer_blocks(Unit& u);
-/// MC_Power, MC_Reset, MC_Home, MC_MoveAbsolute, MC_MoveRelative, MC_Stop, MC_Halt,
-/// MC_LineMove2, MC_CircleCenterMove (and MC_MoveVelocity where the motion layer has it).
+/// MC_Power, MC_Reset, MC_Home, MC_MoveAbsolute, MC_MoveRelative, MC_MoveVelocity, MC_Stop,
+/// MC_Halt, MC_LineMove2, MC_CircleCenterMove.
 void add_motion_blocks(Unit& u);
 
 } // namespace rcsim::st

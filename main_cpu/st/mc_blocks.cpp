@@ -148,14 +148,18 @@ void add_motion_blocks(Unit& u) {
     // pair rcsim's blocks drive as a two-axis group.
     static const auto reset = execute_block<MC_Reset>({input<MC_Reset>("Axis", &MC_Reset::Axis)}, false);
     static const auto stop = execute_block<MC_Stop>(
-        {input<MC_Stop>("Axis", &MC_Stop::Axis), input<MC_Stop>("Deceleration", &MC_Stop::Deceleration)}, false);
+        {input<MC_Stop>("Axis", &MC_Stop::Axis), input<MC_Stop>("Deceleration", &MC_Stop::Deceleration),
+         input<MC_Stop>("Emergency", &MC_Stop::Emergency)}, false);
     static const auto halt = execute_block<MC_Halt>(
         {input<MC_Halt>("Axis", &MC_Halt::Axis), input<MC_Halt>("Deceleration", &MC_Halt::Deceleration),
          input<MC_Halt>("BufferMode", &MC_Halt::Mode)}, true);
     static const auto home = execute_block<MC_Home>(
         {input<MC_Home>("Axis", &MC_Home::Axis), input<MC_Home>("Position", &MC_Home::Position),
          input<MC_Home>("Direction", &MC_Home::Direction), input<MC_Home>("Velocity", &MC_Home::Velocity),
-         input<MC_Home>("Acceleration", &MC_Home::Acceleration), input<MC_Home>("BufferMode", &MC_Home::Mode)}, true);
+         input<MC_Home>("Acceleration", &MC_Home::Acceleration),
+         input<MC_Home>("BackOffVelocity", &MC_Home::BackOffVelocity),
+         input<MC_Home>("ApproachVelocity", &MC_Home::ApproachVelocity), input<MC_Home>("ZVelocity", &MC_Home::ZVelocity),
+         input<MC_Home>("ZPhase", &MC_Home::ZPhase), input<MC_Home>("BufferMode", &MC_Home::Mode)}, true);
     using MA = MC_MoveAbsolute;
     static const auto move_abs = execute_block<MA>(
         {input<MA>("Axis", &MA::Axis), input<MA>("Position", &MA::Position), input<MA>("Velocity", &MA::Velocity),
@@ -166,6 +170,19 @@ void add_motion_blocks(Unit& u) {
         {input<MR>("Axis", &MR::Axis), input<MR>("Distance", &MR::Distance), input<MR>("Velocity", &MR::Velocity),
          input<MR>("Acceleration", &MR::Acceleration), input<MR>("Deceleration", &MR::Deceleration),
          input<MR>("BufferMode", &MR::Mode)}, true);
+    // MC_MoveVelocity reports InVelocity in place of Done (PLCopen Part 1 §3.4). Direction:
+    // -1 negative, 0 current, 1 positive (MC_DIRECTION).
+    using MV = MC_MoveVelocity;
+    static const auto move_vel = [] {
+        auto f = execute_block<MV>({input<MV>("Axis", &MV::Axis), input<MV>("Velocity", &MV::Velocity),
+                                    input<MV>("Acceleration", &MV::Acceleration),
+                                    input<MV>("Deceleration", &MV::Deceleration), input<MV>("Jerk", &MV::Jerk),
+                                    input<MV>("Direction", &MV::Direction), input<MV>("BufferMode", &MV::Mode)},
+                                   true);
+        for (auto& x : f)
+            if (std::string(x.name) == "Done") x = output<MV>("InVelocity", &MV::InVelocity);
+        return f;
+    }();
     using LM = MC_LineMove2;
     static const auto line = execute_block<LM>(
         {input<LM>("AxisX", &LM::AxisX), input<LM>("AxisY", &LM::AxisY), input<LM>("X", &LM::X), input<LM>("Y", &LM::Y),
@@ -184,6 +201,7 @@ void add_motion_blocks(Unit& u) {
     add_block(u, "MC_Home", home);
     add_block(u, "MC_MoveAbsolute", move_abs);
     add_block(u, "MC_MoveRelative", move_rel);
+    add_block(u, "MC_MoveVelocity", move_vel);
     add_block(u, "MC_LineMove2", line);
     add_block(u, "MC_CircleCenterMove", circle);
 }
