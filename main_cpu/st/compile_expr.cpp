@@ -233,6 +233,9 @@ ExprPtr Compiler::binary(Op op, const std::string& sym, ExprPtr a, ExprPtr b, co
 }
 
 ExprPtr Compiler::binary_chain(const ParseNode& n) {
+    // The tree is left-deep: its evaluation recurses once per operator.
+    if (n.children.size() > 2 * 1000)
+        fail(*n.children[2 * 1000 - 1], "more than 1000 operators of one precedence in a row");
     ExprPtr acc = expr(*n.children.at(0));
     for (std::size_t i = 1; i + 1 < n.children.size(); i += 2) {
         const ParseNode& op = *n.children[i];
@@ -339,6 +342,7 @@ ExprPtr Compiler::expr(const ParseNode& n) {
     if (n.is_type<g::int_lit>() || n.is_type<g::real_lit>() || n.is_type<g::time_lit>() || n.is_type<g::bool_lit>())
         return literal(n);
     if (n.is_type<g::negation>()) return unary(n);
+    if (n.is_type<g::paren>()) return expr(*n.children.at(0));
     if (n.is_type<g::power>() || n.is_type<g::term>() || n.is_type<g::sum>() || n.is_type<g::comparison>() ||
         n.is_type<g::equality>() || n.is_type<g::conjunction>() || n.is_type<g::exclusive>() ||
         n.is_type<g::disjunction>())

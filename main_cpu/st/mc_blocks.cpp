@@ -47,7 +47,10 @@ template <typename Fb, typename C, typename M> Field<Fb> input(const char* name,
     } else if constexpr (std::is_enum_v<M>) {
         f.type = Kind::Int;
         f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
-        f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = static_cast<M>(v.i); };
+        // Through the underlying type: any INT value becomes some value of the enumeration.
+        f.in = [m](Fb& b, const Value& v, const ExecContext&) {
+            b.*m = static_cast<M>(static_cast<std::underlying_type_t<M>>(v.i));
+        };
     } else {
         f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
         f.in = [m](Fb& b, const Value& v, const ExecContext&) { b.*m = static_cast<M>(v.i); };

@@ -37,8 +37,33 @@ template <typename Input> std::string found_at(const Input& in) {
     return "'" + std::string(p, len) + "'";
 }
 
-/// Raises every must<> failure as "expected <what the rule names>, found <text>".
+/// How deep parentheses, operators and statements may nest: the parser, the compiler and the
+/// executor recurse once per level, and a text must not be able to exhaust the stack.
+constexpr std::size_t max_nesting = 200;
+thread_local std::size_t nesting = 0;
+
+// (Rules the selector keeps: the parse tree calls this control's start/success/failure for those.)
+template <typename Rule>
+constexpr bool nests = std::is_same_v<Rule, g::paren> || std::is_same_v<Rule, g::negation> ||
+                       std::is_same_v<Rule, g::index> || std::is_same_v<Rule, g::call> ||
+                       std::is_same_v<Rule, g::if_stmt> || std::is_same_v<Rule, g::case_stmt> ||
+                       std::is_same_v<Rule, g::for_stmt> || std::is_same_v<Rule, g::while_stmt> ||
+                       std::is_same_v<Rule, g::repeat_stmt>;
+
+/// Raises every must<> failure as "expected <what the rule names>, found <text>", and refuses
+/// nesting deeper than max_nesting.
 template <typename Rule> struct control : pg::normal<Rule> {
+    template <typename Input, typename... States> static void start(const Input& in, States&&...) {
+        if constexpr (nests<Rule>)
+            if (++nesting > max_nesting)
+                throw pg::parse_error("nesting deeper than " + std::to_string(max_nesting) + " levels", in);
+    }
+    template <typename Input, typename... States> static void success(const Input&, States&&...) {
+        if constexpr (nests<Rule>) --nesting;
+    }
+    template <typename Input, typename... States> static void failure(const Input&, States&&...) {
+        if constexpr (nests<Rule>) --nesting;
+    }
     template <typename Input, typename... States>
     [[noreturn]] static void raise(const Input& in, States&&...) {
         std::string what = "valid syntax";
@@ -53,7 +78,7 @@ using selector = pt::selector<
     pt::store_content::on<g::ident, g::int_lit, g::real_lit, g::time_lit, g::bool_lit, g::signed_int, g::op_pow,
                           g::op_neg, g::op_not, g::op_mul, g::op_add, g::op_cmp, g::op_eq, g::op_and, g::op_xor,
                           g::op_or, g::var_kind>,
-    pt::remove_content::on<g::member, g::index, g::variable, g::arg_input, g::arg_output, g::arguments, g::call,
+    pt::remove_content::on<g::paren, g::member, g::index, g::variable, g::arg_input, g::arg_output, g::arguments, g::call,
                            g::negation, g::statements, g::call_stmt, g::assignment, g::else_part, g::elsif_part,
                            g::if_stmt, g::case_range, g::case_labels, g::case_element, g::case_stmt, g::for_by,
                            g::for_stmt, g::while_stmt, g::repeat_stmt, g::exit_stmt, g::return_stmt, g::array_type,
@@ -68,6 +93,7 @@ std::unique_ptr<ParseNode> parse(const std::string& text, const std::string& fil
     // The file name as a view: the nodes keep it (and pointers into `text`) after the input is gone.
     pg::memory_input<pg::tracking_mode::eager, pg::eol::lf_crlf, std::string_view> in(text.data(), text.size(),
                                                                                      std::string_view(file));
+    nesting = 0;
     try {
         auto root = pt::parse<g::unit, selector, pg::nothing, control>(in);
         if (!root) throw CompileError(file + ":1:1: expected PROGRAM, FUNCTION_BLOCK, FUNCTION or VAR_GLOBAL");
