@@ -219,7 +219,13 @@ void CamcQi::execute(unsigned axis, std::uint8_t code) {
     switch (code) {
     case qi::STRN: start(axis); break;
     case qi::SSTOP:
-        if (a.drive) stop_drive(a.drive, true, endst::slowdown_cmd);
+        if (a.drive) {
+            // The ramp down uses RATE2 as it is now (the host may lower it for this stop).
+            const ProfileParams now = params(a, false);
+            a.drive->params.decel = now.decel;
+            a.drive->params.decel_jerk = now.decel_jerk;
+            stop_drive(a.drive, true, endst::slowdown_cmd);
+        }
         break;
     case qi::STOP:
         if (a.drive) stop_drive(a.drive, false, endst::stop_cmd);

@@ -49,7 +49,7 @@ bool parse_param_id(const std::string& s, long& id) {
 }
 
 bool is_motion_token(const std::string& t) {
-    return t == "SV" || t == "HM" || t == "RS" || t == "MA" || t == "MR" || t == "MV" || t == "ML" || t == "MC";
+    return t == "SV" || t == "HM" || t == "RS" || t == "MA" || t == "MR" || t == "MV" || t == "ML" || t == "LM" || t == "MC";
 }
 
 } // namespace

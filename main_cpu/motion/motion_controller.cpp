@@ -108,6 +108,7 @@ void MotionController::run_blocks() {
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
     }
     run(line_);
+    run(line_n_);
     run(circle_);
 }
 
@@ -279,6 +280,27 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         line_.Y = static_cast<std::int32_t>(iv[1] - chip_.command_position(1));
         line_.Velocity = nv[2], line_.Acceleration = nv[3], line_.Deceleration = nv[4];
         return execute_now(line_);
+    }
+    if (token == "LM") { // LM mask,p...,vel,acc,dec: absolute targets of the 2-4 axes in the mask
+        std::int64_t m = 0;
+        if (f.size() < 1 || !f.integer(0, m) || m < 1 || m > 15) return bad;
+        std::vector<unsigned> ids;
+        for (unsigned a = 0; a < axes; ++a)
+            if (m & (1 << a)) ids.push_back(a);
+        if (ids.size() < 2) return {0x02, "LM needs 2-4 axes in its mask, got " + std::to_string(m)};
+        std::vector<bool> ints(ids.size() + 4, true);
+        ints[ids.size() + 1] = ints[ids.size() + 2] = ints[ids.size() + 3] = false;
+        if (!read(ids.size() + 4, ints)) return bad;
+        line_n_.Axes.clear();
+        line_n_.Distances.clear();
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            if (!in_chip_range(iv[i + 1])) return out_of_range;
+            line_n_.Axes.push_back(axes_[ids[i]].get());
+            line_n_.Distances.push_back(static_cast<std::int32_t>(iv[i + 1] - chip_.command_position(ids[i])));
+        }
+        line_n_.Velocity = nv[ids.size() + 1], line_n_.Acceleration = nv[ids.size() + 2];
+        line_n_.Deceleration = nv[ids.size() + 3];
+        return execute_now(line_n_);
     }
     if (token == "MC") {
         if (!read(6, {true, true, true, true, true, false})) return bad;

@@ -75,6 +75,7 @@ public:
     };
     Blocks& blocks(unsigned a) { return blocks_[a]; }
     MC_LineMove2& line_move() { return line_; }
+    MC_LineMove& line_move_n() { return line_n_; } // 2-4 axes (the LM token)
     MC_CircleCenterMove& circle_move() { return circle_; }
     /// Calls every block once (the "PLC program" of one cycle).
     void run_blocks();
@@ -93,6 +94,7 @@ private:
     std::array<MC_Power, axes> power_;
     std::array<Blocks, axes> blocks_;
     MC_LineMove2 line_;
+    MC_LineMove line_n_;
     MC_CircleCenterMove circle_;
     TrajectoryRecorder recorder_;
     sc_core::sc_time last_;

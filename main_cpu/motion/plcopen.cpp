@@ -1,6 +1,7 @@
 // rcsim — PLCopen motion function blocks. See plcopen.h.
 #include "main_cpu/motion/plcopen.h"
 
+#include <array>
 #include <cmath>
 
 namespace rcsim::motion {
@@ -29,12 +30,12 @@ const char* to_string(AxisState s) {
 // ---------------------------------------------------------------------------------------------
 // Axis
 
-std::uint16_t McAxis::motion_refusal() const {
+std::uint16_t McAxis::motion_refusal(BufferMode mode) const {
     switch (state_) {
     case AxisState::error_stop: return err::axis_error_stop;
     case AxisState::disabled: return err::axis_disabled;
     case AxisState::homing: return err::wrong_state;
-    case AxisState::stopping: return stop_held_ ? err::axis_stopping : 0;
+    case AxisState::stopping: return (stop_held_ || mode == BufferMode::aborting) ? err::axis_stopping : 0;
     default: return 0;
     }
 }
@@ -175,7 +176,7 @@ void McAxis::cycle() {
     if (j.is_stop) {
         j.status = Job::Status::done; // Done, but the axis stays in Stopping while Execute
         active_.reset();
-        if (!stop_held_) settle_state();
+        if (!stop_held_) leave_stopping();
         return;
     }
     finish_job(Job::Status::done);
@@ -229,7 +230,17 @@ void McAxis::set_power(bool status) {
 
 void McAxis::release_stop() {
     stop_held_ = false;
-    if (state_ == AxisState::stopping && !active_) settle_state(); // Note 6
+    if (state_ == AxisState::stopping && !active_) leave_stopping(); // Note 6
+}
+
+void McAxis::leave_stopping() {
+    if (queued_) { // the buffered command released by Done AND NOT Execute
+        active_ = std::move(queued_);
+        active_->status = Job::Status::active;
+        state_ = active_->motion_state; // it starts at the next cycle, the chip being idle
+        return;
+    }
+    settle_state();
 }
 
 void McAxis::reset_error() {
@@ -278,9 +289,9 @@ void McExecuteFb::call() {
     after();
 }
 
-std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec) {
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec, BufferMode mode) {
     if (!axis) return err::invalid_axis;
-    if (const std::uint16_t r = axis->motion_refusal()) return r;
+    if (const std::uint16_t r = axis->motion_refusal(mode)) return r;
     if (!(vel > 0)) return err::invalid_velocity;
     if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
     if (!(acc > 0) || !(dec > 0)) return err::invalid_accel;
@@ -406,8 +417,14 @@ std::uint16_t MC_Stop::begin() {
 void MC_Stop::running() {}
 
 void MC_Stop::after() {
-    if (Axis && Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
-    if (Axis && !Execute && !job_) Axis->release_stop();
+    if (!Axis) return;
+    if (Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
+    if (!Execute) {
+        if (job_)
+            Axis->drop_stop_hold(); // Stopping until Done, then Standstill (or a buffered command)
+        else
+            Axis->release_stop();
+    }
 }
 
 std::uint16_t MC_Halt::begin() {
@@ -443,25 +460,30 @@ std::uint16_t MC_Home::begin() {
 }
 
 std::uint16_t MC_MoveAbsolute::begin() {
-    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
+    if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int32_t p = Position;
-    const double v = Velocity, a = Acceleration, d = Deceleration;
-    job_ = make_job({Axis}, AxisState::discrete_motion,
-                    [&api = Axis->api(), ax, p, v, a, d] { return api.MovePos(ax, p, v, a, d); });
+    const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, p, v, a, d, j] {
+        api.SetJerk(ax, j);
+        return api.MovePos(ax, p, v, a, d);
+    });
     Axis->submit(job_, Mode);
     return 0;
 }
 
 std::uint16_t MC_MoveRelative::begin() {
-    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
+    if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int64_t dist = Distance;
-    const double v = Velocity, a = Acceleration, d = Deceleration;
+    const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
     // Relative to the set position when the move actually starts (after a buffered predecessor);
     // a target beyond the chip's range fails then with 4251.
-    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d] {
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d, j] {
+        api.SetJerk(ax, j);
         const std::int64_t target = api.CmdPos(ax) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
@@ -471,15 +493,18 @@ std::uint16_t MC_MoveRelative::begin() {
 }
 
 std::uint16_t MC_MoveVelocity::begin() {
-    if (const std::uint16_t e = check_motion(Axis, std::abs(Velocity), Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_motion(Axis, std::abs(Velocity), Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     int dir = static_cast<int>(Direction);
     if (dir == 0) // mcCurrentDirection: the way the axis moves now (positive when standing)
         dir = (Axis->api().InMotion(ax) && (Axis->api().DriveStatus(ax) & camc::drvst::negative)) ? -1 : 1;
     if (Velocity < 0) dir = -dir;
-    const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration;
-    job_ = make_job({Axis}, AxisState::continuous_motion,
-                    [&api = Axis->api(), ax, v, a, d] { return api.MoveVel(ax, v, a, d); });
+    if (!(Jerk >= 0)) return err::profile_invalid;
+    const double v = dir * std::abs(Velocity), a = Acceleration, d = Deceleration, j = Jerk;
+    job_ = make_job({Axis}, AxisState::continuous_motion, [&api = Axis->api(), ax, v, a, d, j] {
+        api.SetJerk(ax, j);
+        return api.MoveVel(ax, v, a, d);
+    });
     job_->is_continuous = true;
     Axis->submit(job_, Mode);
     return 0;
@@ -519,6 +544,33 @@ std::uint16_t MC_LineMove2::begin() {
         return api.LineMove(coord, pos, v, a, d);
     });
     AxisX->submit(job_, Mode);
+    return 0;
+}
+
+std::uint16_t MC_LineMove::begin() {
+    const std::size_t n = Axes.size();
+    if (n < 2 || n > 4 || Distances.size() != n) return err::invalid_axis;
+    std::uint32_t mask = 0;
+    std::array<std::int32_t, 4> by_index{};
+    for (std::size_t i = 0; i < n; ++i) {
+        McAxis* a = Axes[i];
+        if (!a || (mask & (1u << a->index())) || &a->api() != &Axes[0]->api()) return err::invalid_axis;
+        if (const std::uint16_t e = check_motion(a, Velocity, Acceleration, Deceleration, Mode)) return e;
+        mask |= 1u << a->index();
+        by_index[a->index()] = Distances[i];
+    }
+    // The chip takes the end point axis by axis in ascending axis order.
+    std::array<std::int32_t, 4> pos{};
+    unsigned k = 0;
+    for (unsigned a = 0; a < 4; ++a)
+        if (mask & (1u << a)) pos[k++] = by_index[a];
+    QiMotionApi& api = Axes[0]->api();
+    const double v = Velocity, acc = Acceleration, dec = Deceleration;
+    job_ = make_job(Axes, AxisState::synchronized_motion, [&api, mask, pos, v, acc, dec] {
+        api.SetCoord(3, mask);
+        return api.LineMove(3, pos.data(), v, acc, dec);
+    });
+    Axes[0]->submit(job_, Mode);
     return 0;
 }
 

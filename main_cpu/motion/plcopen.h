@@ -34,6 +34,7 @@ constexpr std::uint16_t none = 0;
 constexpr std::uint16_t invalid_axis = 4101, invalid_velocity = 4113, invalid_accel = 4114;
 constexpr std::uint16_t sensor_check = 4169, interpolation_value = 4184, velocity_out_of_bound = 4253;
 constexpr std::uint16_t position_out_of_bound = 4251; // beyond the chip's +-(2^30 - 1) pulses
+constexpr std::uint16_t profile_invalid = 4252;       // e.g. a negative Jerk
 constexpr std::uint16_t axis_disabled = 0x7001;  // motion command while Disabled
 constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorStop
 constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
@@ -77,10 +78,14 @@ public:
     /// aborted (the chip decelerates with SSTOP before the new one starts); buffered: queued.
     void submit(const std::shared_ptr<Job>& job, BufferMode mode);
     /// Why a new motion command would be refused now (0 = accepted).
-    std::uint16_t motion_refusal() const;
+    std::uint16_t motion_refusal() const { return motion_refusal(BufferMode::aborting); }
+    /// In Stopping a buffered command is taken once MC_Stop.Execute is low (it starts at
+    /// Done AND NOT Execute, Part 1 Table 4); an aborting one never (the stop is not abortable).
+    std::uint16_t motion_refusal(BufferMode mode) const;
     void set_power(bool status);
     void release_stop();                        // MC_Stop.Execute fell
     void hold_stop() { stop_held_ = true; }     // MC_Stop.Execute is high
+    void drop_stop_hold() { stop_held_ = false; } // MC_Stop.Execute fell before Done
     void reset_error();                         // MC_Reset: ErrorStop -> Standstill/Disabled
     void enter_error(std::uint16_t id);
     /// The axes that share this axis' chip ({this} unless set): an emergency stop stops them all.
@@ -105,6 +110,7 @@ private:
     std::vector<McAxis*> group_;
 
     void finish_job(Job::Status st, std::uint16_t id = 0);
+    void leave_stopping(); // Done AND NOT Execute: a buffered command, or Standstill
     void start(const std::shared_ptr<Job>& j);
     void settle_state();
 };
@@ -210,6 +216,7 @@ public:
     McAxis* Axis = nullptr;
     std::int32_t Position = 0;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3: an S-curve with this jerk; 0 = trapezoid
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -221,6 +228,7 @@ public:
     McAxis* Axis = nullptr;
     std::int32_t Distance = 0;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
+    double Jerk = 0; // pulses/s^3: an S-curve with this jerk; 0 = trapezoid
     BufferMode Mode = BufferMode::aborting;
 
 protected:
@@ -257,6 +265,19 @@ protected:
     std::uint16_t begin() override;
 };
 
+/// Linear interpolation of 2-4 axes of one chip (a Part 4 group: all in SynchronizedMotion);
+/// Distances relative to the current positions, one per entry of Axes (in any order).
+class MC_LineMove : public McExecuteFb {
+public:
+    std::vector<McAxis*> Axes;
+    std::vector<std::int32_t> Distances;
+    double Velocity = 0, Acceleration = 0, Deceleration = 0; // path (vector) speed and rates
+    BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
 class MC_CircleCenterMove : public McExecuteFb {
 public:
     McAxis *AxisX = nullptr, *AxisY = nullptr;
@@ -270,6 +291,7 @@ protected:
 };
 
 /// Shared parameter checks (0 = ok).
-std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec);
+std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec,
+                           BufferMode mode = BufferMode::aborting);
 
 } // namespace rcsim::motion

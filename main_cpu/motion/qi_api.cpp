@@ -2,6 +2,7 @@
 #include "main_cpu/motion/qi_api.h"
 
 #include <cmath>
+#include <utility>
 
 namespace rcsim::motion {
 
@@ -50,15 +51,71 @@ std::uint32_t reg(double v) { return static_cast<std::uint32_t>(std::max(1.0, st
 bool in_range(std::int64_t p) { return p >= -max_coordinate && p <= max_coordinate; }
 } // namespace
 
+namespace {
+/// The jerk share (0..1) of a ramp of dv at rate `rate` whose jerk is `jerk`: a ramp of T = dv /
+/// (rate (1 - p/2)) with jerk sections of p T / 2 each has jerk rate / (p T / 2), hence
+/// p = 2 rate^2 / (jerk dv + rate^2). Below jerk = rate^2 / dv even p = 1 is too steep: the rate
+/// is lowered to sqrt(jerk dv), a pure S with exactly that jerk.
+double jerk_share(double& rate, double dv, double jerk) {
+    if (!(dv > 0)) return 0;
+    if (jerk * dv < rate * rate) {
+        rate = std::sqrt(jerk * dv);
+        return 1;
+    }
+    return 2 * rate * rate / (jerk * dv + rate * rate);
+}
+} // namespace
+
 int QiMotionApi::speeds(int a, double vel, double acc, double dec, std::uint32_t mode_bits) {
     if (!(vel > 0)) return axl::invalid_velocity;
     if (!(acc > 0) || !(dec > 0)) return axl::invalid_accel;
     if (vel > CamcQi::max_pps) return axl::velocity_out_of_bound;
-    bus_.write(a, qi::write | qi::STD, reg(std::min(start_speed_[a], vel)));
+    const double std_speed = std::min(start_speed_[a], vel);
+    static constexpr std::uint32_t chip_profile[] = {0, 1, 2, 2, 3}; // AXL mode -> DCFG 1:0
+    std::uint32_t prof = chip_profile[profile_[a]];
+    double pa = accel_jerk_[a] / 100, pd = decel_jerk_[a] / 100;
+    if (const double jerk = std::exchange(jerk_[a], 0.0); jerk > 0) { // for this move only
+        prof = 3; // asymmetric S: its own share per ramp
+        pa = jerk_share(acc, vel - std_speed, jerk);
+        pd = jerk_share(dec, vel - std_speed, jerk);
+    }
+    bus_.write(a, qi::write | qi::STD, reg(std_speed));
     bus_.write(a, qi::write | qi::OBJ, reg(vel));
     bus_.write(a, qi::write | qi::RATE1, reg(acc));
     bus_.write(a, qi::write | qi::RATE2, reg(dec));
-    bus_.write(a, qi::write | qi::DCFG, mode_bits | 1u); // asymmetric trapezoid: RATE1 up, RATE2 down
+    if (prof >= 2) { // S-curves: SW1/SW2 hold whole percent
+        bus_.write(a, qi::write | qi::SW1, static_cast<std::uint32_t>(std::lround(100 * pa)));
+        bus_.write(a, qi::write | qi::SW2, static_cast<std::uint32_t>(std::lround(100 * pd)));
+    }
+    bus_.write(a, qi::write | qi::DCFG, mode_bits | prof);
+    return axl::success;
+}
+
+int QiMotionApi::SetProfileMode(int a, unsigned mode) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (mode > 4 || mode == 2) return axl::profile_invalid;
+    profile_[a] = mode;
+    return axl::success;
+}
+
+int QiMotionApi::SetAccelJerk(int a, double percent) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(percent >= 0 && percent <= 100)) return axl::profile_invalid;
+    accel_jerk_[a] = percent;
+    return axl::success;
+}
+
+int QiMotionApi::SetDecelJerk(int a, double percent) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(percent >= 0 && percent <= 100)) return axl::profile_invalid;
+    decel_jerk_[a] = percent;
+    return axl::success;
+}
+
+int QiMotionApi::SetJerk(int a, double jerk) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(jerk >= 0) || !std::isfinite(jerk)) return axl::profile_invalid;
+    jerk_[a] = jerk;
     return axl::success;
 }
 

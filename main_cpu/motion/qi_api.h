@@ -90,6 +90,19 @@ public:
     int EmergencyStop(int AxisNo);
     int EmergencyStopAll();
 
+    /// AxmMotSetProfileMode: 0 symmetric trapezoid, 1 asymmetric trapezoid (the default here), 3
+    /// symmetric S, 4 asymmetric S; 2 (quasi-S) is not modelled (4252).
+    int SetProfileMode(int AxisNo, unsigned Mode);
+    /// AxmMotSetAccelJerk / AxmMotSetDecelJerk: the share of a ramp spent in jerk sections, 0..100 %.
+    int SetAccelJerk(int AxisNo, double Percent);
+    int SetDecelJerk(int AxisNo, double Percent);
+    /// A jerk limit in pulses/s^3 for the next move only (the PLCopen blocks' Jerk input): an
+    /// asymmetric S whose shares give that jerk on a ramp STD -> Vel, to the chip's whole percent
+    /// (below rate^2/dv the rate is lowered so that a pure S has that jerk); 0 = the profile
+    /// mode and shares above. A move that peaks below Vel ramps with the same shares, so its
+    /// jerk is higher.
+    int SetJerk(int AxisNo, double Jerk);
+
     int SetCoord(int Coord, std::uint32_t axis_mask);
     void SetStartSpeed(int AxisNo, double Vel) { start_speed_[AxisNo & 3] = Vel; }
     double StartSpeed(int AxisNo) const { return start_speed_[AxisNo & 3]; }
@@ -116,6 +129,8 @@ private:
         unsigned result = home::success;
     };
     std::array<Homing, 4> homing_{};
+    std::array<unsigned, 4> profile_{1, 1, 1, 1};
+    std::array<double, 4> accel_jerk_{}, decel_jerk_{}, jerk_{};
 
     static bool axis_ok(long a) { return a >= 0 && a < 4; }
     int home_step(int axis);

@@ -125,3 +125,42 @@ TEST(MotionController, LineAndCircleTokensCarryIntegersAbove2To24) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(MotionController, LmTokenMovesTwoToFourAxesOnOneLine) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        // Three axes: the long axis 0 pulses every step, the others stay within half a pulse of
+        // the line (the DDA's round-half-up, camc_qi/README.md).
+        ASSERT_EQ(b.mc.command("LM", "7,8000,-4800,3,20000,200000,200000").bch, 0x00);
+        b.cycles(1);
+        for (unsigned a : {0u, 1u, 2u}) EXPECT_EQ(b.mc.axis(a).state(), AxisState::synchronized_motion) << a;
+        EXPECT_EQ(b.mc.axis(3).state(), AxisState::standstill);
+        b.cycles(150);
+        const double k = static_cast<double>(b.mc.chip().command_position(0));
+        ASSERT_GT(k, 100);
+        ASSERT_LT(k, 8000);
+        EXPECT_LE(std::abs(b.mc.chip().command_position(1) - (-4800.0 * k / 8000)), 0.5);
+        EXPECT_LE(std::abs(b.mc.chip().command_position(2) - (3.0 * k / 8000)), 0.5);
+        b.until([&] { return b.mc.state() == "STANDSTILL"; });
+        EXPECT_EQ(b.mc.chip().command_position(0), 8000);
+        EXPECT_EQ(b.mc.chip().command_position(1), -4800);
+        EXPECT_EQ(b.mc.chip().command_position(2), 3);
+        // Four axes, absolute targets (axis 3 is the long one now).
+        ASSERT_EQ(b.mc.command("LM", "15,8100,-4700,-997,-20000,20000,200000,200000").bch, 0x00);
+        b.cycles(1);
+        EXPECT_EQ(b.mc.axis(3).state(), AxisState::synchronized_motion);
+        b.until([&] { return b.mc.state() == "STANDSTILL"; });
+        const std::int64_t want[] = {8100, -4700, -997, -20000};
+        for (unsigned a = 0; a < 4; ++a) EXPECT_EQ(b.mc.chip().command_position(a), want[a]) << a;
+        // Bad data: one axis, a wrong field count, a fraction, beyond the range.
+        EXPECT_EQ(b.mc.command("LM", "1,100,1000,1000,1000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("LM", "3,100,1000,1000,1000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("LM", "3,100,0.5,1000,1000,1000").bch, 0x02);
+        EXPECT_EQ(b.mc.command("LM", "3,100,1073741824,1000,1000,1000").data, "4251");
+        EXPECT_EQ(b.mc.command("LM", "3,100,100,0,1000,1000").data, "4113");
+    });
+}
+
+} // namespace

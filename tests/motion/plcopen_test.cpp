@@ -424,3 +424,89 @@ TEST(PLCopen, MoveVelocityParameterErrorsAndTheMvToken) {
 }
 
 } // namespace
+
+namespace {
+
+// S-curves (docs/motion.md "Profiles"): the jerk share p of a ramp of dv at rate a with jerk J
+// is p = 2a^2 / (J dv + a^2); the chip holds p in whole percent (SW1/SW2), its first jerk
+// section lasts tj = p T / 2 with T = dv / (a (1 - p/2)), and in it v = STD + (a / tj) t^2 / 2.
+TEST(PLCopen, JerkInputGivesTheChipsSCurve) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        using namespace rcsim::camc;
+        MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
+        m.Position = 30000, m.Velocity = 20000, m.Acceleration = 200000, m.Deceleration = 200000;
+        m.Jerk = 4e6;
+        m.Execute = true;
+        b.cycles(1); // the drive starts at the first control cycle
+        const double a = 200000, dv = 20000 - 100, J = 4e6;
+        const double p = std::round(100 * 2 * a * a / (J * dv + a * a)) / 100; // 0.67
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::SW1), 67u);
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::SW2), 67u);
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::DCFG) & dcfg::profile_mask, 3u); // asymmetric S
+        const double T = dv / (a * (1 - p / 2)), tj = p * T / 2, je = a / tj;
+        EXPECT_NEAR(je, J, 0.02 * J); // the percent rounding
+        EXPECT_NEAR(b.mc.chip().current_speed(0), 100 + je * 1e-6 / 2, 1e-6); // t = 1 ms into it
+        b.until([&] { return m.Done; });
+        EXPECT_EQ(b.mc.chip().command_position(0), 30000);
+        m.Execute = false;
+        b.cycles(1);
+        // Too low a jerk for the rate: a pure S (100 %) at the lowered rate sqrt(J dv).
+        m.Position = 0, m.Jerk = 1e6;
+        m.Execute = true;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::SW1), 100u);
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::RATE1), static_cast<std::uint32_t>(std::lround(std::sqrt(1e6 * dv))));
+        b.until([&] { return m.Done; });
+        EXPECT_EQ(b.mc.chip().command_position(0), 0);
+        m.Execute = false;
+        b.cycles(1);
+        // Jerk 0 is a trapezoid again (the jerk is for one move), a negative one an error.
+        m.Position = 100, m.Jerk = 0;
+        m.Execute = true;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.chip().read_register(0, qi::DCFG) & dcfg::profile_mask, 1u);
+        b.until([&] { return m.Done; });
+        m.Execute = false;
+        b.cycles(1);
+        m.Jerk = -1;
+        m.Execute = true;
+        m.call();
+        EXPECT_EQ(m.ErrorID, err::profile_invalid);
+        // MC_MoveVelocity with Jerk ramps as an S too.
+        MC_MoveVelocity& v = b.mc.blocks(1).move_vel;
+        v.Velocity = 20000, v.Acceleration = 200000, v.Deceleration = 200000, v.Jerk = 4e6;
+        v.Execute = true;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.chip().read_register(1, qi::DCFG) & dcfg::profile_mask, 3u);
+        EXPECT_EQ(b.mc.chip().read_register(1, qi::SW1), 67u);
+    });
+}
+
+TEST(QiApi, ProfileModesOfAxl) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        using namespace rcsim::camc;
+        QiMotionApi& api = b.mc.api();
+        EXPECT_EQ(api.SetProfileMode(2, 2), axl::profile_invalid); // quasi-S: not modelled
+        EXPECT_EQ(api.SetProfileMode(2, 5), axl::profile_invalid);
+        EXPECT_EQ(api.SetAccelJerk(2, 101), axl::profile_invalid);
+        ASSERT_EQ(api.SetProfileMode(2, 3), axl::success); // symmetric S
+        ASSERT_EQ(api.SetAccelJerk(2, 50), axl::success);
+        ASSERT_EQ(api.MovePos(2, 5000, 10000, 100000, 100000), axl::success);
+        EXPECT_EQ(b.mc.chip().read_register(2, qi::DCFG) & dcfg::profile_mask, 2u);
+        EXPECT_EQ(b.mc.chip().read_register(2, qi::SW1), 50u);
+        // In the first jerk section of a 50 % ramp: tj = 0.25 T, T = 9900 / (100000 * 0.75).
+        const double tj = 0.25 * 9900 / 75000.0;
+        wait(sc_core::sc_time(1, sc_core::SC_MS));
+        EXPECT_NEAR(b.mc.chip().current_speed(2), 100 + 100000 / tj * 1e-6 / 2, 1e-6);
+        ASSERT_EQ(api.SetProfileMode(3, 0), axl::success); // symmetric trapezoid: RATE1 both ways
+        ASSERT_EQ(api.MovePos(3, 5000, 10000, 100000, 50000), axl::success);
+        EXPECT_EQ(b.mc.chip().read_register(3, qi::DCFG) & dcfg::profile_mask, 0u);
+        b.until([&] { return !b.mc.chip().busy(2) && !b.mc.chip().busy(3); });
+        EXPECT_EQ(b.mc.chip().command_position(2), 5000);
+        EXPECT_EQ(b.mc.chip().command_position(3), 5000);
+    });
+}
+
+} // namespace
