@@ -167,12 +167,12 @@ void add_motion_blocks(Unit& u) {
     static const auto move_abs = execute_block<MA>(
         {input<MA>("Axis", &MA::Axis), input<MA>("Position", &MA::Position), input<MA>("Velocity", &MA::Velocity),
          input<MA>("Acceleration", &MA::Acceleration), input<MA>("Deceleration", &MA::Deceleration),
-         input<MA>("BufferMode", &MA::Mode)}, true);
+         input<MA>("Jerk", &MA::Jerk), input<MA>("BufferMode", &MA::Mode)}, true);
     using MR = MC_MoveRelative;
     static const auto move_rel = execute_block<MR>(
         {input<MR>("Axis", &MR::Axis), input<MR>("Distance", &MR::Distance), input<MR>("Velocity", &MR::Velocity),
          input<MR>("Acceleration", &MR::Acceleration), input<MR>("Deceleration", &MR::Deceleration),
-         input<MR>("BufferMode", &MR::Mode)}, true);
+         input<MR>("Jerk", &MR::Jerk), input<MR>("BufferMode", &MR::Mode)}, true);
     // MC_MoveVelocity reports InVelocity in place of Done (PLCopen Part 1 §3.4). Direction:
     // -1 negative, 0 current, 1 positive (MC_DIRECTION).
     using MV = MC_MoveVelocity;
