@@ -59,6 +59,7 @@ const char* to_string(ProgramState s) {
     case ProgramState::idle: return "IDLE";
     case ProgramState::running: return "RUNNING";
     case ProgramState::halted: return "HALTED";
+    case ProgramState::error: return "ERROR";
     }
     return "?";
 }
@@ -74,6 +75,7 @@ Outcome Dispatcher::execute(const std::string& token, const std::string& data) {
     if (token == "TR") return teach_read(data);
     if (token == "RN") return run(data);
     if (token == "HT") return halt(data);
+    if (token == "SP") return stop(data);
     if (token == "ES") return emergency_stop(data);
     if (is_motion_token(token)) return motion_command(token, data);
     return refuse(bch::unknown_token, "unknown token '" + token + "'");
@@ -86,7 +88,7 @@ Outcome Dispatcher::state(const std::string& data) {
     if (!data.empty()) return refuse(bch::bad_data, "ST takes no data, got '" + data + "'");
     std::string out = motion_ ? motion_->state() : "NO_MOTION";
     out += ',';
-    out += to_string(program_state_);
+    out += to_string(program_state());
     out += ',';
     out += current_program_;
     if (motion_)
@@ -125,7 +127,7 @@ Outcome Dispatcher::program_upload(const std::string& data) {
         return refuse(bch::bad_data, "PU wants name,program text, got no comma");
     const std::string name = data.substr(0, comma);
     if (!valid_name(name)) return refuse(bch::bad_data, "PU program name '" + name + "' is invalid");
-    if (program_state_ == ProgramState::running && current_program_ == name)
+    if (program_state() == ProgramState::running && current_program_ == name)
         return refuse(bch::busy, "PU: program '" + name + "' is running");
     programs_[name] = data.substr(comma + 1);
     return Outcome{};
@@ -160,20 +162,51 @@ Outcome Dispatcher::teach_read(const std::string& data) {
                    ""};
 }
 
+ProgramState Dispatcher::program_state() const {
+    if (!loaded_current_ || program_state_ != ProgramState::running) return program_state_;
+    if (program_->running()) return ProgramState::running;
+    return program_->error().empty() ? ProgramState::idle : ProgramState::error;
+}
+
+// RN of a PROGRAM of the loaded text starts it (cold: from its initial values); other names are
+// the programs PU stored.
 Outcome Dispatcher::run(const std::string& data) {
+    if (program_ && program_->has_program(data)) return run_loaded(data);
     if (programs_.find(data) == programs_.end())
         return refuse(bch::bad_data, "RN: no program named '" + data + "'");
-    if (program_state_ == ProgramState::running)
+    if (program_state() == ProgramState::running)
         return refuse(bch::busy, "RN: program '" + current_program_ + "' is already running");
     program_state_ = ProgramState::running;
     current_program_ = data;
+    loaded_current_ = false;
+    return Outcome{};
+}
+
+Outcome Dispatcher::run_loaded(const std::string& name) {
+    if (program_state() == ProgramState::running)
+        return refuse(bch::busy, "RN: program '" + current_program_ + "' is already running");
+    const std::string why = program_->start(name);
+    if (!why.empty()) return refuse(bch::not_allowed, "RN: " + why);
+    program_state_ = ProgramState::running;
+    current_program_ = name;
+    loaded_current_ = true;
+    return Outcome{};
+}
+
+// SP ends the running program (IDLE; a loaded program's axes decelerate), HT halts it (HALTED).
+Outcome Dispatcher::stop(const std::string& data) {
+    if (!data.empty()) return refuse(bch::bad_data, "SP takes no data, got '" + data + "'");
+    if (program_state() != ProgramState::running) return refuse(bch::not_allowed, "SP: no program is running");
+    if (loaded_current_) program_->stop();
+    program_state_ = ProgramState::idle;
     return Outcome{};
 }
 
 Outcome Dispatcher::halt(const std::string& data) {
     if (!data.empty()) return refuse(bch::bad_data, "HT takes no data, got '" + data + "'");
-    if (program_state_ != ProgramState::running)
+    if (program_state() != ProgramState::running)
         return refuse(bch::not_allowed, "HT: no program is running");
+    if (loaded_current_) program_->stop();
     program_state_ = ProgramState::halted;
     return Outcome{};
 }
@@ -181,7 +214,10 @@ Outcome Dispatcher::halt(const std::string& data) {
 // ES is never refused for its data: the program stops first, then the motion layer is told. With
 // no motion layer the answer is 04, because the axes could not be stopped.
 Outcome Dispatcher::emergency_stop(const std::string& data) {
-    if (program_state_ == ProgramState::running) program_state_ = ProgramState::halted;
+    if (program_state() == ProgramState::running) {
+        if (loaded_current_) program_->stop();
+        program_state_ = ProgramState::halted;
+    }
     if (!motion_)
         return refuse(bch::not_allowed, "ES: no motion interface, only the program was halted");
     const MotionReply r = motion_->command("ES", data);

@@ -8,6 +8,7 @@
 
 #include "models/frame_codec.h"
 #include "main_cpu/motion_interface.h"
+#include "main_cpu/program_interface.h"
 
 #include <cstdint>
 #include <map>
@@ -37,18 +38,22 @@ struct TeachPoint {
     std::int64_t x = 0, y = 0, z = 0, r = 0;
 };
 
-enum class ProgramState { idle, running, halted };
+enum class ProgramState { idle, running, halted, error };
 const char* to_string(ProgramState s);
 
 class Dispatcher {
 public:
     void set_motion(MotionInterface* motion) { motion_ = motion; }
     MotionInterface* motion() const { return motion_; }
+    /// The loaded user program (docs/st.md): RN of one of its PROGRAMs starts it, SP stops it.
+    void set_program(ProgramInterface* program) { program_ = program; }
+    ProgramInterface* program() const { return program_; }
 
     /// Executes one command (token and data of a validated frame).
     Outcome execute(const std::string& token, const std::string& data);
 
-    ProgramState program_state() const { return program_state_; }
+    /// RUNNING while a started program runs; a loaded program stopped by a runtime error: ERROR.
+    ProgramState program_state() const;
     const std::string& current_program() const { return current_program_; }
     const std::map<long, std::int64_t>& parameters() const { return parameters_; }
     const std::map<std::string, std::string>& programs() const { return programs_; }
@@ -70,10 +75,14 @@ private:
     Outcome teach_read(const std::string& data);
     Outcome run(const std::string& data);
     Outcome halt(const std::string& data);
+    Outcome stop(const std::string& data);
+    Outcome run_loaded(const std::string& name);
     Outcome emergency_stop(const std::string& data);
     Outcome motion_command(const std::string& token, const std::string& data);
 
     MotionInterface* motion_ = nullptr;
+    ProgramInterface* program_ = nullptr;
+    bool loaded_current_ = false; // the current program is the loaded one, not a PU text
     std::map<long, std::int64_t> parameters_;
     std::map<std::string, std::string> programs_;
     std::map<std::string, TeachPoint> points_;

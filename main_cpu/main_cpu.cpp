@@ -397,6 +397,7 @@ void MainCpu::cycle_thread() {
         ++control_cycles_;
         if (MotionInterface* m = dispatcher_.motion()) m->control_cycle(start);
         // A motion layer with a cost model spends its work inside control_cycle (wait()).
+        if (ProgramInterface* p = dispatcher_.program()) p->cycle(start);
         if (config_.cycle_time > sc_core::SC_ZERO_TIME) sc_core::wait(config_.cycle_time);
         cycle_duration_us_.add(to_us(sc_time_stamp() - start));
         cpu_.release();

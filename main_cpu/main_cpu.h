@@ -104,6 +104,8 @@ public:
 
     /// The motion layer for motion tokens and the control cycle; nullptr = none (BCH 04).
     void set_motion(MotionInterface* motion) { dispatcher_.set_motion(motion); }
+    /// The loaded user program (docs/st.md), run once per control cycle after the motion layer.
+    void set_program(ProgramInterface* program) { dispatcher_.set_program(program); }
 
     /// Queues a controller-initiated frame to port p (sent like a response). Throws
     /// std::invalid_argument for a bad port or a frame that cannot be encoded.

@@ -1,7 +1,9 @@
 // rcsim — the motion scenario runner. See motion_scenario.h and docs/motion.md.
 #include "scenarios/motion_scenario.h"
 
+#include "main_cpu/dispatcher.h"
 #include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/program.h"
 #include "models/clock.h"
 #include "models/config_error.h"
 #include "scenarios/motion_checks.h"
@@ -10,8 +12,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <optional>
+#include <sstream>
 
 namespace rcsim {
 namespace {
@@ -37,6 +41,7 @@ struct TimedCommand {
     std::function<void(MotionController&, nlohmann::json&)> run; // tokens and faults: log entry
     std::function<Issued(MotionController&)> issue;              // function blocks
     FbCommand fb;                                                // function blocks: the expectation
+    std::string token, data;                                     // tokens: through the dispatcher with a program
 };
 
 /// `motion.checks`, judged after the run.
@@ -55,6 +60,9 @@ struct MotionPlan {
     std::vector<TimedCommand> cmds;
     CheckPlan checks;
     TrajectoryOptions trajectory; // motion.trajectory
+    // `motion.program`: a Structured Text file (docs/st.md), started and stopped by RN/SP tokens.
+    std::string program_path, program_text;
+    std::uint64_t program_budget = 100000;
 };
 
 constexpr double big = 1e9;
@@ -212,6 +220,8 @@ TimedCommand read_command(YamlMap f) {
     c.at_s = f.require_number("at_ms", 0, big) / 1000.0;
     if (f.has("token")) {
         const std::string tok = f.require<std::string>("token"), data = f.get<std::string>("data", "");
+        c.token = tok;
+        c.data = data;
         c.run = [tok, data](MotionController& mc, nlohmann::json& log) {
             const MotionReply r = mc.command(tok, data);
             log.push_back({{"token", tok}, {"data", data}, {"bch", r.bch}, {"reply", r.data}});
@@ -267,6 +277,19 @@ CheckPlan read_checks(YamlMap c, std::size_t circles) {
     return p;
 }
 
+/// `motion.program` (a file relative to the scenario's folder) and `motion.statement_budget`.
+void read_program(YamlMap& m, const std::string& file, MotionPlan& p) {
+    const std::filesystem::path rel = m.require<std::string>("program");
+    const std::filesystem::path path = rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel;
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) m.fail(m.child("program"), "cannot read the Structured Text program '" + path.string() + "'");
+    p.program_path = path.string();
+    p.program_text = text.str();
+    p.program_budget = static_cast<std::uint64_t>(m.number("statement_budget", 100000, 1, 1e9));
+}
+
 /// The whole `motion:` section; throws ConfigError naming file and line.
 MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
     if (!root["motion"]) throw ConfigError(file, 0, "no 'motion:' section");
@@ -276,6 +299,7 @@ MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
     p.duration_s = m.require_number("duration_s", 0, 3600);
     p.cfg.drive.following_lag_s = m.number("following_lag_ms", 2, 0, 1000) / 1000.0;
     p.cfg.start_speed = m.number("start_speed", 100, 1, 1e6);
+    if (m.has("program")) read_program(m, file, p);
     std::size_t i = 0;
     for (YamlMap& a : m.maps("axes", motion::MotionController::axes)) {
         auto opt = [&](const char* k) -> std::optional<std::int64_t> {
@@ -312,6 +336,8 @@ struct MotionDriver : sc_core::sc_module {
     std::size_t arc_fb = 0;               // its entry in `fbs`
     std::vector<std::pair<std::size_t, Watch>> pending; // fbs entries without an outcome yet
     MotionObserver on_cycle;
+    Dispatcher* dispatcher = nullptr;      // with a program: the tokens go through it (RN, SP, ST)
+    st::StProgram* program = nullptr;      // run once per cycle after the motion layer's
 
     SC_HAS_PROCESS(MotionDriver);
     MotionDriver(sc_core::sc_module_name n, MotionController& m, sc_core::sc_time c, std::uint64_t count)
@@ -339,6 +365,12 @@ struct MotionDriver : sc_core::sc_module {
         pending.emplace_back(fbs.size() - 1, std::move(is.watch));
     }
 
+    void token(const TimedCommand& c) {
+        const Outcome o = dispatcher->execute(c.token, c.data);
+        log.push_back({{"token", c.token}, {"data", c.data}, {"bch", o.bch}, {"reply", o.data}});
+        if (!o.note.empty()) log.back()["note"] = o.note;
+    }
+
     void set_outcome(std::size_t i, FbOutcome o, std::uint16_t id, double now) {
         fbs[i].outcome = o;
         fbs[i].error_id = id;
@@ -362,9 +394,11 @@ struct MotionDriver : sc_core::sc_module {
             while (next < cmds.size() && cmds[next].at_s <= now.to_seconds() + 1e-12) {
                 TimedCommand& c = cmds[next++];
                 if (c.issue) issue(c, now.to_seconds());
+                else if (dispatcher && !c.token.empty()) token(c);
                 else c.run(mc, log);
             }
             mc.control_cycle(now);
+            if (program) program->cycle(now);
             poll(now.to_seconds());
             if (on_cycle) on_cycle(mc.snapshot());
             if (k < cycles) wait(cycle);
@@ -384,6 +418,14 @@ std::vector<Check> judge(const CheckPlan& p, MotionController& mc, const MotionD
         std::vector<std::int64_t> got;
         for (unsigned a = 0; a < MotionController::axes; ++a) got.push_back(mc.chip().command_position(a));
         checks.push_back(final_positions_check(p.final_positions, got, p.position_tolerance));
+    }
+    if (d.program) {
+        // The program ran (an RN reached it) and no runtime error stopped it.
+        const st::StProgram& pr = *d.program;
+        Check c = Check::at_most("st_program_error_free", Figure::of(pr.error().empty() && pr.cycles() > 0 ? 0.0 : 1.0), 0);
+        c.detail = {{"program", pr.current()}, {"cycles", pr.cycles()},
+                    {"error", pr.cycles() == 0 ? "the program never ran (no RN token?)" : pr.error()}};
+        checks.push_back(std::move(c));
     }
     if (p.circle)
         for (Check& c : circle_checks(*p.circle, d.arc, mc.recorder().samples(),
@@ -411,6 +453,7 @@ void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& d
     rep["max_following_error_pulses"] = max_follow;
     rep["samples"] = mc.recorder().samples().size();
     rep["commands"] = driver.log;
+    if (driver.program) rep["program"] = driver.program->report();
     rep["checks"] = nlohmann::json::array();
     for (const Check& c : checks) rep["checks"].push_back(to_json(c));
 }
@@ -440,6 +483,27 @@ int run_motion_scenario(const YAML::Node& root, const std::string& file, const s
     MotionDriver driver("motion_runner", mc, cycle, count);
     driver.cmds = std::move(plan.cmds);
     driver.on_cycle = on_cycle;
+    std::unique_ptr<st::StProgram> program;
+    Dispatcher dispatcher;
+    if (!plan.program_text.empty()) {
+        std::vector<motion::McAxis*> axes;
+        std::vector<motion::MC_Power*> power;
+        for (unsigned a = 0; a < MotionController::axes; ++a) {
+            axes.push_back(&mc.axis(a));
+            power.push_back(&mc.power(a));
+        }
+        try {
+            program = std::make_unique<st::StProgram>(plan.program_text, plan.program_path, axes, power,
+                                                      st::StProgram::Config{plan.program_budget});
+        } catch (const st::CompileError& e) {
+            rep["error"] = e.what(); // file:line:column of the .st file
+            return 2;
+        }
+        dispatcher.set_motion(&mc);
+        dispatcher.set_program(program.get());
+        driver.dispatcher = &dispatcher;
+        driver.program = program.get();
+    }
     sc_core::sc_start();
 
     const std::vector<Check> checks = judge(plan.checks, mc, driver);

@@ -12,6 +12,7 @@ PACKAGES=(
   gdb                      # the gdb stub's test drives Debian's gdb (tests/debug)
   python3-serial           # pyserial: the pty backend's end-to-end tests (tests/pty)
   gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
+  tao-pegtl-dev            # the Structured Text parser (main_cpu/st)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

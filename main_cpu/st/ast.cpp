@@ -1,0 +1,300 @@
+// rcsim — execution of the compiled Structured Text tree. See ast.h.
+#include "main_cpu/st/ast.h"
+
+#include <cmath>
+#include <limits>
+
+namespace rcsim::st {
+
+const char* kind_name(Kind k) {
+    switch (k) {
+    case Kind::Void: return "VOID";
+    case Kind::Bool: return "BOOL";
+    case Kind::Int: return "INT";
+    case Kind::Dint: return "DINT";
+    case Kind::Udint: return "UDINT";
+    case Kind::Real: return "REAL";
+    case Kind::Lreal: return "LREAL";
+    case Kind::Time: return "TIME";
+    case Kind::AxisRef: return "AXIS_REF";
+    case Kind::Fb: return "FUNCTION_BLOCK";
+    case Kind::Array: return "ARRAY";
+    }
+    return "?";
+}
+
+std::string Type::name() const {
+    if (kind == Kind::Fb && fb) return fb->name;
+    if (kind == Kind::Array)
+        return "ARRAY[" + std::to_string(lo) + ".." + std::to_string(hi) + "] OF " + kind_name(elem);
+    return kind_name(kind);
+}
+
+std::int64_t wrap(Kind k, std::int64_t v) {
+    switch (k) {
+    case Kind::Int: return static_cast<std::int16_t>(static_cast<std::uint16_t>(v));
+    case Kind::Dint: return static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
+    case Kind::Udint: return static_cast<std::uint32_t>(v);
+    case Kind::Bool: return v != 0;
+    default: return v;
+    }
+}
+
+Value normalise(Kind k, Value v) {
+    if (k == Kind::Real) v.r = static_cast<float>(v.r);
+    else if (k != Kind::Lreal) v.i = wrap(k, v.i);
+    return v;
+}
+
+void ExecContext::tick(const SourcePos& at) {
+    if (++executed > budget)
+        throw RuntimeError(at.str() + ": more than " + std::to_string(budget) +
+                           " statements in one cycle (an endless loop?); the program is stopped");
+}
+
+std::unique_ptr<Instance> PouType::instantiate() const {
+    auto inst = std::make_unique<Instance>();
+    inst->type = this;
+    inst->vars.resize(value_slots);
+    inst->fbs.resize(fb_slots);
+    for (const VarInfo& v : vars) {
+        if (v.type.kind == Kind::Fb) {
+            inst->fbs[v.slot] = v.type.fb->instantiate();
+            continue;
+        }
+        for (std::size_t k = 0; k < v.init.size(); ++k) inst->vars[v.slot + k] = v.init[k];
+    }
+    if (native) inst->native = native();
+    return inst;
+}
+
+// ---- expressions ---------------------------------------------------------------------------------
+
+Value& IndexRef::ref(ExecContext& c) const {
+    const std::int64_t i = index->eval(c).i;
+    if (i < lo || i > hi)
+        throw RuntimeError(pos.str() + ": index " + std::to_string(i) + " outside " + name + "[" + std::to_string(lo) +
+                           ".." + std::to_string(hi) + "]");
+    return (global ? c.globals : c.self)->vars[base + static_cast<std::size_t>(i - lo)];
+}
+
+Value Unary::eval(ExecContext& c) const {
+    Value v = a->eval(c);
+    if (op == Op::not_) v.i = !v.i;
+    else if (type.real()) v.r = -v.r;
+    else v.i = static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(v.i));
+    return normalise(type.kind, v);
+}
+
+namespace {
+
+Value boolean(bool b) { return Value{b ? 1 : 0, 0}; }
+
+template <typename T> Value compare(Op op, T x, T y) {
+    switch (op) {
+    case Op::lt: return boolean(x < y);
+    case Op::le: return boolean(x <= y);
+    case Op::gt: return boolean(x > y);
+    case Op::ge: return boolean(x >= y);
+    case Op::eq: return boolean(x == y);
+    default: return boolean(x != y);
+    }
+}
+
+bool is_comparison(Op op) { return op >= Op::lt && op <= Op::ne; }
+
+Value real_op(Op op, Kind k, double x, double y, const SourcePos& at) {
+    Value v;
+    switch (op) {
+    case Op::add: v.r = x + y; break;
+    case Op::sub: v.r = x - y; break;
+    case Op::mul: v.r = x * y; break;
+    case Op::div:
+        if (y == 0) throw RuntimeError(at.str() + ": division by zero");
+        v.r = x / y;
+        break;
+    case Op::pow: v.r = std::pow(x, y); break;
+    default: return compare(op, x, y);
+    }
+    return normalise(k, v);
+}
+
+/// Integer and TIME arithmetic in 64-bit unsigned (defined wrap), then to the type's width.
+Value int_op(Op op, Kind k, std::int64_t x, std::int64_t y, const SourcePos& at) {
+    const auto ux = static_cast<std::uint64_t>(x), uy = static_cast<std::uint64_t>(y);
+    Value v;
+    switch (op) {
+    case Op::add: v.i = static_cast<std::int64_t>(ux + uy); break;
+    case Op::sub: v.i = static_cast<std::int64_t>(ux - uy); break;
+    case Op::mul: v.i = static_cast<std::int64_t>(ux * uy); break;
+    case Op::div:
+    case Op::mod:
+        if (y == 0) throw RuntimeError(at.str() + (op == Op::div ? ": division by zero" : ": MOD by zero"));
+        if (x == std::numeric_limits<std::int64_t>::min() && y == -1) v.i = op == Op::div ? x : 0;
+        else v.i = op == Op::div ? x / y : x % y; // both truncate towards zero (IEC: sign of the dividend)
+        break;
+    case Op::and_: v.i = (x && y); break;
+    case Op::or_: v.i = (x || y); break;
+    case Op::xor_: v.i = (!x != !y); break;
+    default: return compare(op, x, y);
+    }
+    v.i = wrap(k, v.i);
+    return v;
+}
+
+} // namespace
+
+Value Binary::eval(ExecContext& c) const {
+    // AND and OR do not evaluate the right operand when the left decides (as CODESYS does; IEC
+    // leaves the order open, and the operands here have no side effects but errors).
+    const Value x = a->eval(c);
+    if (op == Op::and_ && !x.i) return boolean(false);
+    if (op == Op::or_ && x.i) return boolean(true);
+    const Value y = b->eval(c);
+    if (type.kind == Kind::Time && operand.kind != Kind::Time) {
+        // TIME * number, TIME / number: the number is b, converted to LREAL by the compiler.
+        const double t = static_cast<double>(x.i);
+        if (op == Op::div && y.r == 0) throw RuntimeError(pos.str() + ": division by zero");
+        return Value{std::llround(op == Op::mul ? t * y.r : t / y.r), 0};
+    }
+    if (operand.real()) return real_op(op, is_comparison(op) ? Kind::Bool : type.kind, x.r, y.r, pos);
+    return int_op(op, is_comparison(op) ? Kind::Bool : operand.kind, x.i, y.i, pos);
+}
+
+namespace {
+std::int64_t to_integer(double r, const Type& to, const SourcePos& at) {
+    if (!std::isfinite(r) || std::fabs(r) > 9.2e18)
+        throw RuntimeError(at.str() + ": " + std::to_string(r) + " does not fit in " + to.name());
+    return static_cast<std::int64_t>(r);
+}
+} // namespace
+
+Value Convert::eval(ExecContext& c) const {
+    // TIME converts as milliseconds (TIME_TO_DINT(T#1s) = 1000, as in CODESYS); it is kept in
+    // microseconds. REAL to integer rounds to nearest (IEC 61131-3 §6.6.2.5.6), TRUNC cuts.
+    const Value v = a->eval(c);
+    const Type& from = a->type;
+    Value out;
+    if (type.real()) {
+        out.r = from.kind == Kind::Time ? static_cast<double>(v.i) / 1000.0 : from.real() ? v.r : static_cast<double>(v.i);
+    } else if (type.kind == Kind::Time) {
+        const double ms = from.real() ? v.r : static_cast<double>(v.i);
+        out.i = to_integer(truncate ? std::trunc(ms * 1000.0) : std::round(ms * 1000.0), type, pos);
+    } else if (from.kind == Kind::Time) {
+        out.i = v.i / 1000;
+    } else if (from.real()) {
+        out.i = type.kind == Kind::Bool ? v.r != 0 : to_integer(truncate ? std::trunc(v.r) : std::round(v.r), type, pos);
+    } else {
+        out.i = v.i;
+    }
+    return normalise(type.kind, out);
+}
+
+Value Builtin::eval(ExecContext& c) const {
+    std::vector<Value> v;
+    v.reserve(args.size());
+    for (const ExprPtr& e : args) v.push_back(e->eval(c));
+    return normalise(type.kind, fn(type, v, pos));
+}
+
+Value FunctionCall::eval(ExecContext& c) const {
+    std::unique_ptr<Instance> inst = fn->instantiate();
+    for (const auto& [slot, e] : inputs) inst->vars[slot] = e->eval(c);
+    run_pou(*inst, c);
+    return inst->vars[result_slot];
+}
+
+// ---- statements ----------------------------------------------------------------------------------
+
+Flow run_block(const Block& b, ExecContext& c) {
+    for (const StmtPtr& s : b) {
+        c.tick(s->pos);
+        const Flow f = s->exec(c);
+        if (f != Flow::normal) return f;
+    }
+    return Flow::normal;
+}
+
+void run_pou(Instance& inst, ExecContext& c) {
+    Instance* caller = c.self;
+    c.self = &inst;
+    try {
+        if (inst.native) inst.native->call(inst, c);
+        else run_block(inst.type->body, c);
+    } catch (...) {
+        c.self = caller;
+        throw;
+    }
+    c.self = caller;
+}
+
+Flow Assign::exec(ExecContext& c) const {
+    const Value v = normalise(target->type.kind, value->eval(c));
+    target->ref(c) = v;
+    return Flow::normal;
+}
+
+Flow FbCall::exec(ExecContext& c) const {
+    Instance* i = inst.get(c);
+    for (const auto& [slot, e] : inputs) i->vars[slot] = normalise(e->type.kind, e->eval(c));
+    run_pou(*i, c);
+    for (const auto& [slot, dest] : outputs) dest->ref(c) = normalise(dest->type.kind, i->vars[slot]);
+    return Flow::normal;
+}
+
+Flow If::exec(ExecContext& c) const {
+    for (const auto& [cond, body] : branches)
+        if (cond->eval(c).i) return run_block(body, c);
+    return run_block(otherwise, c);
+}
+
+Flow Case::exec(ExecContext& c) const {
+    const std::int64_t s = selector->eval(c).i;
+    for (const Element& e : elements)
+        for (const auto& [lo, hi] : e.ranges)
+            if (s >= lo && s <= hi) return run_block(e.body, c);
+    return run_block(otherwise, c);
+}
+
+Flow For::exec(ExecContext& c) const {
+    // IEC 61131-3 §7.3.3.4.2: the bounds and the increment are evaluated once; the test comes
+    // before each iteration. The counter runs in 64 bits, so a bound at the type's limit ends the
+    // loop instead of wrapping around.
+    std::int64_t v = from->eval(c).i;
+    const std::int64_t end = to->eval(c).i;
+    const std::int64_t step = by ? by->eval(c).i : 1;
+    for (;;) {
+        var->ref(c) = normalise(var->type.kind, Value{v, 0});
+        if (step >= 0 ? v > end : v < end) return Flow::normal;
+        c.tick(pos);
+        const Flow f = run_block(body, c);
+        if (f == Flow::exit) return Flow::normal;
+        if (f == Flow::ret) return f;
+        v = var->ref(c).i + step;
+    }
+}
+
+Flow While::exec(ExecContext& c) const {
+    while (cond->eval(c).i) {
+        c.tick(pos);
+        const Flow f = run_block(body, c);
+        if (f == Flow::exit) return Flow::normal;
+        if (f == Flow::ret) return f;
+    }
+    return Flow::normal;
+}
+
+Flow Repeat::exec(ExecContext& c) const {
+    do {
+        c.tick(pos);
+        const Flow f = run_block(body, c);
+        if (f == Flow::exit) return Flow::normal;
+        if (f == Flow::ret) return f;
+    } while (!until->eval(c).i);
+    return Flow::normal;
+}
+
+Flow Exit::exec(ExecContext&) const { return Flow::exit; }
+Flow Return::exec(ExecContext&) const { return Flow::ret; }
+
+} // namespace rcsim::st

@@ -1,0 +1,264 @@
+// rcsim — the compiled form of a Structured Text program: a typed tree of expressions and
+// statements (every name resolved to a slot, every operand converted to its operator's type by
+// the compiler), the POU types with their variable layouts, and the instances that hold the data.
+//
+// Execution walks the tree (ast.cpp). Every statement executed counts against the cycle's budget
+// (ExecContext::budget); a runtime error throws RuntimeError naming the statement's position.
+#pragma once
+
+#include "main_cpu/st/types.h"
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace rcsim::motion {
+class McAxis;
+class MC_Power;
+} // namespace rcsim::motion
+
+namespace rcsim::st {
+
+struct Instance;
+struct ExecContext;
+
+enum class VarKind : std::uint8_t { local, input, output, global };
+
+/// One declared variable of a POU. Elementary and array variables live in Instance::vars from
+/// `slot` on (Type::slots() of them); FB instances are Instance::fbs[slot].
+struct VarInfo {
+    std::string name; // as declared
+    Type type;
+    VarKind kind = VarKind::local;
+    std::size_t slot = 0;
+    SourcePos pos;
+    std::vector<Value> init; // elementary/array: the initial value of each slot
+    bool read_only = false;  // the predefined axes
+};
+
+/// A block written in C++ (TON, TOF, the MC_ blocks): called with its instance, whose input
+/// slots the call has just set and whose output slots it fills.
+class NativeBlock {
+public:
+    virtual ~NativeBlock() = default;
+    virtual void call(Instance& self, ExecContext& ctx) = 0;
+};
+
+struct Stmt;
+using StmtPtr = std::unique_ptr<Stmt>;
+using Block = std::vector<StmtPtr>;
+
+/// PROGRAM, FUNCTION_BLOCK or FUNCTION: its variables, its body (or a native implementation).
+struct PouType {
+    enum class Pou : std::uint8_t { program, function_block, function, globals } pou = Pou::function_block;
+    std::string name;
+    std::vector<VarInfo> vars;      // declaration order
+    std::map<std::string, std::size_t> index; // upper-case name -> vars entry
+    std::size_t value_slots = 0;
+    std::size_t fb_slots = 0;
+    Block body;
+    Type result;                    // FUNCTION: its type, in the variable named like the function
+    std::function<std::unique_ptr<NativeBlock>()> native;
+
+    const VarInfo* find(const std::string& upper_name) const {
+        const auto it = index.find(upper_name);
+        return it == index.end() ? nullptr : &vars[it->second];
+    }
+    std::unique_ptr<Instance> instantiate() const;
+};
+
+struct Instance {
+    const PouType* type = nullptr;
+    std::vector<Value> vars;
+    std::vector<std::unique_ptr<Instance>> fbs;
+    std::unique_ptr<NativeBlock> native;
+};
+
+/// What a running statement sees.
+struct ExecContext {
+    Instance* self = nullptr;
+    Instance* globals = nullptr;
+    std::int64_t now_us = 0;               // the cycle's time, TIME microseconds
+    std::vector<motion::McAxis*> axes;      // AXIS_REF n -> axes[n]
+    /// The motion layer's own MC_Power of each axis (nullptr: none). The motion layer calls it
+    /// every cycle, so an ST MC_Power drives that one instead of a second block on the axis.
+    std::vector<motion::MC_Power*> power;
+    std::uint64_t budget = 100000;          // statements per cycle
+    std::uint64_t executed = 0;             // statements this cycle
+
+    /// Counts one statement; throws when the cycle's budget is spent.
+    void tick(const SourcePos& at);
+};
+
+// ---- expressions ---------------------------------------------------------------------------------
+
+struct Expr {
+    Type type;
+    SourcePos pos;
+    virtual ~Expr() = default;
+    virtual Value eval(ExecContext& c) const = 0;
+    /// A literal (or an expression of literals, folded): its value is known to the compiler.
+    virtual bool constant() const { return false; }
+};
+using ExprPtr = std::unique_ptr<Expr>;
+
+struct Const : Expr {
+    Value v;
+    bool untyped_int = false, untyped_real = false; // ANY_INT / ANY_REAL literal: adapts to its use
+    Value eval(ExecContext&) const override { return v; }
+    bool constant() const override { return true; }
+};
+
+/// Where an FB instance is: in the running POU's instance or in the globals.
+struct InstancePath {
+    bool global = false;
+    std::size_t slot = 0;
+    Instance* get(ExecContext& c) const { return (global ? c.globals : c.self)->fbs[slot].get(); }
+};
+
+/// A variable that can be read and written.
+struct LValue : Expr {
+    virtual Value& ref(ExecContext& c) const = 0;
+    Value eval(ExecContext& c) const override { return ref(c); }
+    bool read_only = false;
+    std::string name;
+};
+using LValuePtr = std::unique_ptr<LValue>;
+
+struct VarRef : LValue {
+    bool global = false;
+    std::size_t slot = 0;
+    Value& ref(ExecContext& c) const override { return (global ? c.globals : c.self)->vars[slot]; }
+};
+
+struct IndexRef : LValue {
+    bool global = false;
+    std::size_t base = 0;
+    std::int64_t lo = 0, hi = 0;
+    ExprPtr index;
+    Value& ref(ExecContext& c) const override;
+};
+
+/// instance.member (an input or output of an FB instance).
+struct MemberRef : LValue {
+    InstancePath inst;
+    std::size_t slot = 0;
+    Value& ref(ExecContext& c) const override { return inst.get(c)->vars[slot]; }
+};
+
+enum class Op : std::uint8_t { add, sub, mul, div, mod, pow, lt, le, gt, ge, eq, ne, and_, or_, xor_, neg, not_ };
+
+struct Unary : Expr {
+    Op op = Op::neg;
+    ExprPtr a;
+    Value eval(ExecContext& c) const override;
+};
+
+/// A binary operator. `a` and `b` have the operand type `operand` (the compiler converted them);
+/// `type` is the result (BOOL for comparisons, TIME for TIME * number).
+struct Binary : Expr {
+    Op op = Op::add;
+    Type operand;
+    ExprPtr a, b;
+    Value eval(ExecContext& c) const override;
+};
+
+/// An implicit widening (INT -> DINT, DINT -> LREAL, ...) or an explicit X_TO_Y conversion.
+struct Convert : Expr {
+    ExprPtr a;
+    bool truncate = false; // TRUNC: towards zero; conversions round to nearest
+    Value eval(ExecContext& c) const override;
+};
+
+/// ABS, SQRT, MIN, MAX, LIMIT, SIN, COS, ...: a C++ function of the evaluated arguments.
+struct Builtin : Expr {
+    std::string fname;
+    std::vector<ExprPtr> args;
+    Value (*fn)(const Type& t, const std::vector<Value>& a, const SourcePos& at) = nullptr;
+    Value eval(ExecContext& c) const override;
+};
+
+/// A user FUNCTION: a fresh instance per call, the inputs set, the body run, the result read.
+struct FunctionCall : Expr {
+    const PouType* fn = nullptr;
+    std::vector<std::pair<std::size_t, ExprPtr>> inputs; // slot, value
+    std::size_t result_slot = 0;
+    Value eval(ExecContext& c) const override;
+};
+
+// ---- statements ----------------------------------------------------------------------------------
+
+enum class Flow : std::uint8_t { normal, exit, ret };
+
+struct Stmt {
+    SourcePos pos;
+    virtual ~Stmt() = default;
+    virtual Flow exec(ExecContext& c) const = 0;
+};
+
+Flow run_block(const Block& b, ExecContext& c);
+
+struct Assign : Stmt {
+    LValuePtr target;
+    ExprPtr value;
+    Flow exec(ExecContext& c) const override;
+};
+
+/// inst(In := x, Out => y): inputs set (in the caller's context), the body run in the
+/// instance's, then the outputs copied out.
+struct FbCall : Stmt {
+    InstancePath inst;
+    std::vector<std::pair<std::size_t, ExprPtr>> inputs;     // slot, value
+    std::vector<std::pair<std::size_t, LValuePtr>> outputs;  // slot, destination
+    Flow exec(ExecContext& c) const override;
+};
+
+struct If : Stmt {
+    std::vector<std::pair<ExprPtr, Block>> branches;
+    Block otherwise;
+    Flow exec(ExecContext& c) const override;
+};
+
+struct Case : Stmt {
+    struct Element {
+        std::vector<std::pair<std::int64_t, std::int64_t>> ranges;
+        Block body;
+    };
+    ExprPtr selector;
+    std::vector<Element> elements;
+    Block otherwise;
+    Flow exec(ExecContext& c) const override;
+};
+
+struct For : Stmt {
+    LValuePtr var;
+    ExprPtr from, to, by;
+    Block body;
+    Flow exec(ExecContext& c) const override;
+};
+
+struct While : Stmt {
+    ExprPtr cond;
+    Block body;
+    Flow exec(ExecContext& c) const override;
+};
+
+struct Repeat : Stmt {
+    Block body;
+    ExprPtr until;
+    Flow exec(ExecContext& c) const override;
+};
+
+struct Exit : Stmt {
+    Flow exec(ExecContext& c) const override;
+};
+
+struct Return : Stmt {
+    Flow exec(ExecContext& c) const override;
+};
+
+/// Runs a POU body (or its native block) in `inst`.
+void run_pou(Instance& inst, ExecContext& c);
+
+} // namespace rcsim::st

@@ -1,0 +1,122 @@
+// ST programs driving the motion layer through the PLCopen blocks (docs/st.md "Motion blocks"):
+// the blocks move the CAMC-QI's axes, a runtime error puts every axis in ErrorStop, SP stops the
+// moving axes. Each test is its own SystemC simulation (CTest runs each in its own process).
+#include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/program.h"
+#include "tests/support/sc_test.h"
+
+#include <gtest/gtest.h>
+
+using namespace rcsim;
+using namespace rcsim::motion;
+using rcsim::st::StProgram;
+
+namespace {
+
+struct StBench : sc_core::sc_module {
+    MotionController mc{"mc"};
+    std::unique_ptr<StProgram> program;
+    std::function<void(StBench&)> body;
+    StBench(sc_core::sc_module_name n, const std::string& text) : sc_module(n) {
+        std::vector<McAxis*> axes;
+        std::vector<MC_Power*> power;
+        for (unsigned a = 0; a < MotionController::axes; ++a) {
+            axes.push_back(&mc.axis(a));
+            power.push_back(&mc.power(a));
+        }
+        program = std::make_unique<StProgram>(text, "m.st", axes, power);
+        EXPECT_EQ(program->start("M"), "");
+        rcsim::test::spawn_checked([this] { body(*this); sc_core::sc_stop(); }, "run");
+    }
+    /// n control cycles of 1 ms: the motion layer's cycle, then the program's.
+    void cycles(int n) {
+        for (int i = 0; i < n; ++i) {
+            mc.control_cycle(sc_core::sc_time_stamp());
+            program->cycle(sc_core::sc_time_stamp());
+            wait(sc_core::sc_time(1, sc_core::SC_MS));
+        }
+    }
+    std::int64_t var(const char* v) const { return program->value(v).i; }
+};
+
+void run(const std::string& text, const std::function<void(StBench&)>& body) {
+    StBench b("bench", text);
+    b.body = body;
+    sc_core::sc_start();
+}
+
+const char* mover = R"(
+PROGRAM M
+VAR power : MC_Power; move : MC_MoveAbsolute; go, done_seen : BOOL; zero : INT; crash : BOOL; x : INT; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+move(Axis := Axis0, Execute := go AND power.Status, Position := 3000, Velocity := 20000,
+     Acceleration := 200000, Deceleration := 200000);
+IF move.Done THEN done_seen := TRUE; END_IF;
+IF crash THEN x := x / zero; END_IF;
+END_PROGRAM)";
+
+TEST(StMotion, McPowerAndMcMoveAbsoluteMoveTheAxis) {
+    run(mover, [](StBench& b) {
+        b.cycles(10);
+        EXPECT_EQ(b.var("power.Status"), 1); // the drive reached Operation enabled
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(2);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::discrete_motion);
+        EXPECT_EQ(b.var("move.Busy"), 1);
+        // 3000 pulses at 20000 pulses/s, 0.1 s ramps: 0.1 + 0.05 s (trapezoid, 1000 pulses per
+        // ramp, 1000 at full speed); well within 400 cycles.
+        b.cycles(400);
+        EXPECT_EQ(b.var("done_seen"), 1);
+        EXPECT_EQ(b.mc.chip().command_position(0), 3000);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+    });
+}
+
+TEST(StMotion, ARuntimeErrorPutsEveryAxisInErrorStop) {
+    run(mover, [](StBench& b) {
+        b.cycles(10);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(20); // moving
+        b.program->set_value("crash", st::Value{1, 0});
+        b.cycles(1);
+        EXPECT_FALSE(b.program->running());
+        EXPECT_EQ(b.program->error(), "m.st:8:22: division by zero");
+        for (unsigned a = 0; a < MotionController::axes; ++a) {
+            EXPECT_EQ(b.mc.axis(a).state(), AxisState::error_stop) << "axis " << a;
+            EXPECT_EQ(b.mc.axis(a).error_id(), st::program_error);
+        }
+        b.cycles(50);
+        EXPECT_FALSE(b.mc.api().InMotion(0)); // the chip stopped the move
+        EXPECT_LT(b.mc.chip().command_position(0), 3000);
+    });
+}
+
+TEST(StMotion, StopDeceleratesTheMovingAxesAndTheProgramNoLongerRuns) {
+    run(mover, [](StBench& b) {
+        b.cycles(10);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(60); // in the middle of the move
+        ASSERT_TRUE(b.mc.api().InMotion(0));
+        b.program->stop();
+        b.cycles(300);
+        EXPECT_FALSE(b.mc.api().InMotion(0));
+        EXPECT_LT(b.mc.chip().command_position(0), 3000); // stopped short of the target
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        EXPECT_EQ(b.var("done_seen"), 0); // no program cycle saw the end
+    });
+}
+
+TEST(StMotion, AnUnboundAxisRefIsInvalidAxis) {
+    run("PROGRAM M VAR ax : AXIS_REF; m : MC_MoveRelative; END_VAR\n"
+        "m(Axis := ax, Execute := TRUE, Distance := 100, Velocity := 1000, Acceleration := 1000, Deceleration := 1000);\n"
+        "END_PROGRAM",
+        [](StBench& b) {
+            b.cycles(2);
+            EXPECT_EQ(b.var("m.Error"), 1);
+            EXPECT_EQ(b.var("m.ErrorID"), err::invalid_axis);
+            EXPECT_TRUE(b.program->running()); // a block error is the program's to handle
+        });
+}
+
+} // namespace
