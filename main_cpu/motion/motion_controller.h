@@ -37,6 +37,11 @@ struct MotionConfig {
         std::optional<std::int64_t> pelm, nelm, home;
     };
     std::array<Switches, 4> switches{};
+    /// Encoder Z pulse per axis: one position in every `pitch` pulses (0 = none).
+    struct ZPhase {
+        std::int64_t pitch = 0, offset = 0;
+    };
+    std::array<ZPhase, 4> zphase{};
     /// The main CPU's cost of the motion work (docs/motion.md "Main-CPU cost"). With a bus cycle
     /// set, every CAMC-QI access takes (access_cycles + the chip's wait states) bus cycles per
     /// byte (a byte-wide bus, like the DP-RAM's) and every block call `fb_call`; the controller
@@ -95,11 +100,6 @@ struct MoveRecord {
     std::string token;
     sc_core::sc_time accepted;
     std::optional<sc_core::sc_time> first_pulse;
-    /// Encoder Z pulse per axis: one position in every `pitch` pulses (0 = none).
-    struct ZPhase {
-        std::int64_t pitch = 0, offset = 0;
-    };
-    std::array<ZPhase, 4> zphase{};
 };
 
 class MotionController : public sc_core::sc_module, public MotionInterface {
