@@ -27,6 +27,7 @@ CommBoard::CommBoard(sc_core::sc_module_name name, const CommBoardConfig& cfg)
     cpu.set_quantum(cfg.quantum);
     cpu.set_lookahead(cfg.lookahead);
     cpu.set_fast_sync(cfg.fast_sync);
+    cpu.set_fast_forward(cfg.fast_forward);
     cpu.map_memory({"ram", cfg.ram_base, cfg.ram_size, ram_.data(), cfg.ram_wait, true});
     cpu.map_memory({"rom", cfg.rom_base, cfg.rom_size, rom_.data(), cfg.rom_wait, false});
 

@@ -35,6 +35,7 @@ struct CommBoardConfig {
     sc_core::sc_time quantum = us(100); // upper bound of one decoupled CPU slice (docs/performance.md)
     bool lookahead = true;             // bound slices by the next pending kernel event
     bool fast_sync = true;             // a TLM access ends the slice only when it left activity now
+    bool fast_forward = true;          // the core's exact idle fast-forward (docs/performance.md)
 };
 
 class CommBoard : public sc_core::sc_module {

@@ -75,15 +75,20 @@ void Cpu8086::run() {
 
         const i8086::cycles_t start = core_.cycles();
         i8086::cycles_t limit = start + 1;
+        i8086::cycles_t horizon = limit; // no input can change before it (the fast-forward's bound)
         if (!fresh_change) {
             sc_time span = quantum_;
+            bool event_ahead = false;
             if (lookahead_ && sc_pending_activity()) {
                 const sc_time ahead = sc_time_to_pending_activity();
                 if (ahead < span) span = ahead;
+                // Boundaries at edges up to and including the event time still see the old level.
+                horizon = (to_ps(now) + to_ps(ahead)) / period + 1;
+                event_ahead = true;
             }
-            // Boundaries at edges up to and including the event time still see the old level.
             limit = (to_ps(now) + to_ps(span)) / period + 1;
             if (limit <= start) limit = start + 1;
+            if (!event_ahead || horizon < limit) horizon = limit;
         }
         ++slices_;
         slice_end_ = false;
@@ -95,7 +100,7 @@ void Cpu8086::run() {
                 if (core_.halted()) break;
             }
         } else {
-            core_.run_until(limit, false);
+            core_.run_until(limit, false, horizon);
         }
         // Stuck-in-time guard: a slice that neither advanced the core nor kernel time.
         if (core_.cycles() == start && sc_time_stamp() == now) {

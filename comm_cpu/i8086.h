@@ -127,7 +127,10 @@ public:
     std::uint8_t queue_byte(unsigned i) const { return q_[(q_head_ + i) % 6]; }
 
     // --- inputs (levels) ---
-    void set_intr(bool level) { intr_ = level; }
+    void set_intr(bool level) {
+        if (level != intr_) ff_recording_ = false; // a recorded period holds its inputs constant
+        intr_ = level;
+    }
     void set_nmi(bool level);
     bool halted() const { return halted_; }
 
@@ -140,13 +143,29 @@ public:
     void step();
     /// Steps until cycles() >= limit or stop_run() is called (e.g. by a bus handler that needs
     /// the caller to sync). While halted, the remaining cycles are consumed as idle clocks
-    /// only if `burn_halt`; otherwise it returns at once.
-    void run_until(cycles_t limit, bool burn_halt = true);
+    /// only if `burn_halt`; otherwise it returns at once. `horizon` (>= limit; default: limit)
+    /// is the first cycle at which an input may change: the idle fast-forward may run whole
+    /// loop periods up to it, past `limit` (the inputs do not change before it).
+    void run_until(cycles_t limit, bool burn_halt = true, cycles_t horizon = 0);
     void stop_run() { stop_ = true; }
-    /// Lowers the limit of the run_until() in progress (never raises it).
+    /// Lowers the limit and the horizon of the run_until() in progress (never raises them).
     void shorten_run(cycles_t limit) {
         if (limit < limit_) limit_ = limit;
+        if (limit < horizon_) horizon_ = limit;
     }
+
+    /// Exact idle fast-forward (docs/cpu8086.md "Idle fast-forward"; off by default): inside
+    /// run_until(), when the whole state (registers, flags, queue, BIU phase, the RAM the loop
+    /// wrote) returns to the same value at the same instruction after a period of clocks, the
+    /// following periods are not executed clock by clock: their bus cycles are replayed (the
+    /// bus hook sees each one; I/O and non-RAM memory still go to the BusHandler, at the same
+    /// start cycle) and the cycle counter moves by whole periods, never past the horizon. A
+    /// handler answer that differs from the recorded one (data, wait states) or that ends the
+    /// run falls back to executing the period from its start. Never used while a step hook or
+    /// a cycle trace is attached (every instruction and clock is then executed).
+    void set_fast_forward(bool on);
+    /// Clocks advanced by the fast-forward so far (included in cycles()).
+    cycles_t forwarded_cycles() const { return ff_cycles_; }
     /// One step() that parks a REP run between elements once `limit` is reached.
     void step_within(cycles_t limit) {
         limit_ = limit;
@@ -220,6 +239,14 @@ private:
     }
     void clk_t4();
     void fetch_tick();
+    /// Every bus cycle at its T1 decision: the fast-forward's record, then the bus hook.
+    void observe(const BusRecord& r) {
+        if (ff_recording_) ff_note_cycle(r);
+        if (hook_) {
+            if (ff_hook_mute_) --ff_hook_mute_;
+            else hook_(hook_ctx_, r);
+        }
+    }
     /// n clocks of the EU's own (no queue read, no bus request of its own). Without a trace,
     /// runs of clocks in which the BIU only counts down are taken in one step (clks_quiet).
     void clks(unsigned n) {
@@ -356,6 +383,94 @@ private:
     void call_far(std::uint16_t cs, std::uint16_t ip);
     void interrupt(std::uint8_t vector, bool hardware_inta = false);
     bool check_interrupts();
+
+    // ---- idle fast-forward (i8086_idle.cpp) ----
+    /// The state a boundary's future depends on besides memory and the cycle number, packed.
+    using Snapshot = std::array<std::uint8_t, 128>;
+    Snapshot snapshot() const;
+    struct LoopCycle {
+        BusRecord rec;          // start: cycle number as recorded
+        std::uint16_t sent;     // the data value handed to the handler (reads: as initialised)
+        bool handler;           // answered by the BusHandler (else RAM/ROM or open bus)
+    };
+    struct LoopWrite {
+        std::uint8_t* at;       // a RAM byte the recorded run wrote (at linear address addr) ...
+        std::uint32_t addr;
+        std::uint8_t before;    // ... and its value before that write
+    };
+    struct LoopMark {           // a boundary at the candidate instruction while recording
+        Snapshot state;
+        cycles_t cycle;
+        std::uint64_t instructions;
+        std::size_t cycles_at, writes_at, reads_at; // positions in ff_log_ / ff_writes_ / ff_reads_
+    };
+    /// A period found: where it starts, the state there, its bus cycles (start relative to the
+    /// period's first clock) and the RAM it depends on (every byte it read or wrote, with the
+    /// value at its start). It repeats from any later visit of `pc` with the same state and
+    /// the same values in those bytes.
+    struct Loop {
+        bool valid = false;
+        std::uint32_t pc = 0;
+        Snapshot state{};
+        cycles_t period = 0;
+        std::uint64_t instructions = 0;
+        std::vector<LoopCycle> cycles;
+        std::vector<LoopWrite> footprint;
+    };
+    /// At a boundary inside run_until(): the cheap test, inline; the rest in ff_boundary().
+    bool ff_visit() {
+        if (rep_suspended_) return false; // parked inside a REP run: not an instruction boundary
+        const std::uint32_t here = pc();
+        const bool backward = here < ff_last_pc_;
+        ff_last_pc_ = here;
+        if (here != ff_loop_.pc && !(ff_recording_ ? here == ff_pc_ || backward : backward)) return false;
+        return ff_boundary(here, backward);
+    }
+    bool ff_boundary(std::uint32_t here, bool backward);
+    void ff_start();
+    bool ff_ram_restored(std::size_t writes_at);
+    void ff_learn(const LoopMark& m);
+    bool ff_footprint_holds() const;
+    bool ff_forward();
+    void ff_reexecute(unsigned delivered);
+    void ff_note_cycle(const BusRecord& r);
+    void ff_note_write(std::uint8_t* p, std::uint32_t addr) {
+        if (ff_writes_.size() < kFfMaxWrites) ff_writes_.push_back(LoopWrite{p, addr & 0xFFFFF, *p});
+        else ff_recording_ = false;
+    }
+    void ff_note_read(const std::uint8_t* p, std::uint32_t addr) {
+        if (ff_reads_.size() < kFfMaxWrites) ff_reads_.push_back(LoopWrite{const_cast<std::uint8_t*>(p), addr & 0xFFFFF, *p});
+        else ff_recording_ = false;
+    }
+    static constexpr std::size_t kFfMaxCycles = 8192, kFfMaxWrites = 8192, kFfMaxMarks = 64;
+    static constexpr cycles_t kFfMaxSpan = 32768; // clocks recorded before a candidate is given up
+
+    bool ff_on_ = false;
+    bool ff_recording_ = false;
+    std::uint32_t ff_pc_ = 0, ff_last_pc_ = 0;
+    // Recordings that find no period (a loop interrupted more often than its period, or none)
+    // back off, doubling up to kFfMaxBackoff clocks: their logging is pure cost.
+    static constexpr cycles_t kFfMaxBackoff = 65536;
+    bool ff_found_ = true;          // the current/last recording forwarded
+    cycles_t ff_backoff_ = 0, ff_quiet_until_ = 0;
+    std::vector<LoopCycle> ff_log_;
+    std::vector<LoopWrite> ff_writes_;
+    std::vector<LoopWrite> ff_reads_;         // RAM bytes read (data and code), value as read
+    std::vector<LoopMark> ff_marks_;
+    Loop ff_loop_;
+    std::vector<std::uint32_t> ff_seen_;      // per RAM byte: the last check that saw a write to it
+    std::uint32_t ff_check_ = 0;
+    struct Answer {
+        std::uint16_t data;
+        unsigned waits;
+    };
+    std::vector<Answer> ff_answers_;          // handler answers already given, for a re-execution
+    std::size_t ff_answer_pos_ = 0;
+    unsigned ff_hook_mute_ = 0;               // bus hook calls already made, for a re-execution
+    bool via_handler_ = false;                // the last bus cycle went to the BusHandler
+    std::uint16_t sent_ = 0;                  // ... with this data value
+    cycles_t ff_cycles_ = 0;
+    cycles_t horizon_ = ~cycles_t(0);
 
     // state
     Registers r_;

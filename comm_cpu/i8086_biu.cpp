@@ -53,6 +53,7 @@ void Cpu::reset() {
     lock_pin_ = false;
     nmi_pending_ = false;
     started_ = false;
+    ff_recording_ = false;
 }
 
 void Cpu::load_state(const Registers& regs, const std::uint8_t* queue, unsigned queue_len) {
@@ -68,6 +69,7 @@ void Cpu::load_state(const Registers& regs, const std::uint8_t* queue, unsigned 
 }
 
 void Cpu::set_nmi(bool level) {
+    if (level != nmi_level_) ff_recording_ = false; // a recorded period holds its inputs constant
     if (level && !nmi_level_) nmi_pending_ = true; // NMI is rising-edge triggered
     nmi_level_ = level;
 }
@@ -146,6 +148,7 @@ void Cpu::record_cycle() {
 unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
                                 cycles_t start) {
     const bool write = kind == Bus::mem_write;
+    via_handler_ = false;
     if (kind == Bus::mem_read || kind == Bus::code_fetch || write) {
         const MemRegion* r = page_[addr >> kPageBits];
         if (!r) r = mem_.find(addr);
@@ -153,19 +156,38 @@ unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& dat
             std::uint8_t* p = r->data + (addr - r->base);
             if (write) {
                 if (r->writable) {
+                    if (ff_recording_) {
+                        ff_note_write(p, addr);
+                        if (width == 2) ff_note_write(p + 1, addr + 1);
+                    }
                     p[0] = data & 0xFF;
                     if (width == 2) p[1] = data >> 8;
                 } else {
                     ++rom_writes_;
+                    ff_recording_ = false; // a side effect the fast-forward does not replay
                     if (handler_) handler_->write_ignored(addr, width, start);
                 }
             } else {
                 data = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+                if (ff_recording_ && r->writable) {
+                    ff_note_read(p, addr);
+                    if (width == 2) ff_note_read(p + 1, addr + 1);
+                }
             }
             return r->wait_states;
         }
     }
-    if (handler_) return handler_->bus_access(kind, addr, data, width, start);
+    if (handler_) {
+        via_handler_ = true;
+        sent_ = data;
+        if (ff_answer_pos_ < ff_answers_.size()) {
+            // Re-executing a fast-forward period that diverged: this access has been made.
+            const Answer& a = ff_answers_[ff_answer_pos_++];
+            if (!write && kind != Bus::io_write) data = a.data;
+            return a.waits;
+        }
+        return handler_->bus_access(kind, addr, data, width, start);
+    }
     if (!write && kind != Bus::io_write) data = 0xFFFF; // open bus
     return 0;
 }
@@ -188,7 +210,7 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
         data_bus_ = d;
     }
     if (op.kind != Bus::code_fetch) eu_data_ = d;
-    if (hook_) hook_(hook_ctx_, BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
+    observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
 }
 
 void Cpu::start_fetch() {
@@ -213,9 +235,14 @@ void Cpu::start_fetch() {
     cur_start_ = cycle_ + 1;
     const std::uint8_t* p = r->data + (addr - r->base);
     const std::uint16_t d = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+    if (ff_recording_ && r->writable) { // code in RAM: the loop depends on it
+        ff_note_read(p, addr);
+        if (width == 2) ff_note_read(p + 1, addr + 1);
+    }
     data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
     cur_waits_ = waits_left_ = r->wait_states;
-    if (hook_) hook_(hook_ctx_, BusRecord{Bus::code_fetch, addr, d, width, cur_waits_, cur_start_});
+    via_handler_ = false;
+    observe(BusRecord{Bus::code_fetch, addr, d, width, cur_waits_, cur_start_});
 }
 
 std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,

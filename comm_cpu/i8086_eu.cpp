@@ -465,22 +465,29 @@ void Cpu::step() {
 
 void Cpu::skip_to(cycles_t c) {
     // HLT: the bus stays idle; no clocks need to be simulated one by one.
-    if (c > cycle_) cycle_ = c;
+    if (c > cycle_) {
+        cycle_ = c;
+        ff_recording_ = false; // time passed that no recorded period can repeat
+    }
 }
 
-void Cpu::run_until(cycles_t limit, bool burn_halt) {
+void Cpu::run_until(cycles_t limit, bool burn_halt, cycles_t horizon) {
     stop_ = false;
     limit_ = limit;
+    horizon_ = horizon > limit ? horizon : limit;
     struct Reset {
-        cycles_t& l;
-        ~Reset() { l = ~cycles_t(0); }
-    } reset_limit{limit_};
+        Cpu& c;
+        ~Reset() { c.limit_ = c.horizon_ = ~cycles_t(0); }
+    } reset_limit{*this};
+    // The fast-forward skips instructions: not while something observes each one or each clock.
+    const bool forward = ff_on_ && !step_hook_ && !trace_;
     while (cycle_ < limit_ && !stop_) {
         if (halted_ && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
             if (!burn_halt) return;
             skip_to(limit_);
             return;
         }
+        if (forward && ff_visit()) continue;
         step();
     }
 }

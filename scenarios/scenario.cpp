@@ -317,6 +317,7 @@ void read_board(YamlMap m, ControllerConfig& b) {
     c.quantum = us_value(m, "quantum_us", to_us(c.quantum), 1e6);
     c.lookahead = m.get<bool>("lookahead", true);
     c.fast_sync = m.get<bool>("fast_sync", true); // speed-ups: off gives the same results, slower
+    c.fast_forward = m.get<bool>("fast_forward", true);
     YamlMap w = m.map("wait_states");
     c.ram_wait = static_cast<unsigned>(w.integer("ram", c.ram_wait, 0, 64));
     c.rom_wait = static_cast<unsigned>(w.integer("rom", c.rom_wait, 0, 64));

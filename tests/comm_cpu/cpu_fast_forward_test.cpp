@@ -1,0 +1,135 @@
+// The core's exact idle fast-forward (Cpu::set_fast_forward, docs/cpu8086.md "Idle
+// fast-forward") on polling loops of the bare core: with it on, every handler call (kind,
+// address, data, start cycle), every bus cycle the hook sees, the registers, the cycle and
+// instruction counts are those of the same run with it off, while most of the clocks were
+// forwarded. The loops end on a change the fast path must catch: a port answer that changes
+// (the replay diverges and the period is executed again), an interrupt at the run's horizon
+// (an ISR that writes the RAM flag the loop polls). A horizon set past the interrupt shows the
+// comparison sees a skip that crosses an event.
+#include "comm_cpu/i8086.h"
+#include "tests/comm_cpu/cpu_board.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+using namespace rcsim::i8086;
+using rcsim::i8086::test::Board;
+
+namespace {
+
+bool same(const BusRecord& a, const BusRecord& b) {
+    return a.kind == b.kind && a.address == b.address && a.data == b.data && a.width == b.width &&
+           a.wait_states == b.wait_states && a.start == b.start;
+}
+
+void expect_same_run(const Board& on, const Board& off) {
+    EXPECT_EQ(on.cpu.cycles(), off.cpu.cycles());
+    EXPECT_EQ(on.cpu.instructions(), off.cpu.instructions());
+    const Registers& a = on.cpu.regs();
+    const Registers& b = off.cpu.regs();
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(a.r[i], b.r[i]) << "register " << i;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(a.s[i], b.s[i]) << "segment " << i;
+    EXPECT_EQ(a.ip, b.ip);
+    EXPECT_EQ(a.flags, b.flags);
+    ASSERT_EQ(on.calls.size(), off.calls.size());
+    for (std::size_t i = 0; i < on.calls.size(); ++i) ASSERT_TRUE(same(on.calls[i], off.calls[i])) << "handler call " << i;
+    ASSERT_EQ(on.cycles.size(), off.cycles.size());
+    for (std::size_t i = 0; i < on.cycles.size(); ++i) ASSERT_TRUE(same(on.cycles[i], off.cycles[i])) << "bus cycle " << i;
+}
+
+// IN AL,40h / TEST AL,1 / JZ back / HLT: the status port reads 0 until the first read whose
+// T1 is at or after `ready`, then 1. Run in slices of `slice` clocks (run_until limits, as the
+// SystemC module does): forwarding then also ends at slice limits.
+void poll_port(Board& b, bool forward, cycles_t ready, cycles_t slice = 1'000'000) {
+    b.load({0xE4, 0x40, 0xA8, 0x01, 0x74, 0xFA, 0xF4});
+    b.io_value = 0;
+    b.on_access = [&b, ready](const BusRecord& r) {
+        if (r.kind == Bus::io_read && r.start >= ready) b.io_value = 1;
+    };
+    b.cpu.set_fast_forward(forward);
+    while (!b.cpu.halted() && b.cpu.cycles() < 1'000'000) b.cpu.run_until(b.cpu.cycles() + slice, false);
+}
+
+TEST(CpuFastForward, PortPollingLoopIsExactAndForwarded) {
+    constexpr cycles_t ready = 200'003; // not a multiple of the loop's period
+    Board on, off;
+    poll_port(on, true, ready);
+    poll_port(off, false, ready);
+    ASSERT_TRUE(off.cpu.halted());
+    EXPECT_EQ(off.cpu.forwarded_cycles(), 0u);
+    // The loop ran to the answer's change: most of it was forwarded, the rest executed.
+    EXPECT_GT(on.cpu.forwarded_cycles(), ready / 2);
+    EXPECT_LT(on.cpu.forwarded_cycles(), on.cpu.cycles());
+    expect_same_run(on, off);
+}
+
+// STI / CMP byte [0100h],0 / JE back / HLT, and an ISR at 0500h: MOV byte [0100h],1 / IRET.
+// INTR rises at cycle `irq` (the run's limit and horizon: the event the fast path must not
+// cross, unless `horizon` says otherwise) and falls with the second INTA.
+void poll_ram(Board& b, bool forward, cycles_t irq, cycles_t horizon) {
+    b.load({0xFB, 0x80, 0x3E, 0x00, 0x01, 0x00, 0x74, 0xF9, 0xF4});
+    b.load({0xC6, 0x06, 0x00, 0x01, 0x01, 0xCF}, 0x500);
+    b.ram[0x30100] = 0; // the flag (DS = 3000h); the board's RAM is HLT bytes elsewhere
+    b.on_access = [&b](const BusRecord& r) {
+        if (r.kind == Bus::int_ack && b.intas % 2 == 0) b.cpu.set_intr(false);
+    };
+    b.cpu.set_fast_forward(forward);
+    b.cpu.run_until(irq, false, horizon);
+    b.cpu.set_intr(true);
+    b.cpu.run_until(irq + 100'000, false);
+}
+
+TEST(CpuFastForward, PortPollingInSlicesIsExact) {
+    // Slices of a prime number of clocks: periods end short of each limit, the next slice's
+    // first accesses are real ones again.
+    constexpr cycles_t ready = 200'003;
+    Board on, off;
+    poll_port(on, true, ready, 7919);
+    poll_port(off, false, ready, 7919);
+    ASSERT_TRUE(off.cpu.halted());
+    EXPECT_GT(on.cpu.forwarded_cycles(), ready / 2);
+    expect_same_run(on, off);
+}
+
+TEST(CpuFastForward, RamFlagLoopStopsAtTheHorizonAndSeesTheInterrupt) {
+    constexpr cycles_t irq = 150'001;
+    Board on, off;
+    poll_ram(on, true, irq, irq);
+    poll_ram(off, false, irq, irq);
+    ASSERT_TRUE(off.cpu.halted());
+    ASSERT_EQ(off.intas, 2u);
+    EXPECT_EQ(on.ram[0x30100], 1); // DS = 3000h: the ISR's write ended the loop
+    EXPECT_GT(on.cpu.forwarded_cycles(), irq / 2);
+    expect_same_run(on, off);
+}
+
+TEST(CpuFastForward, SkippingPastAnEventIsSeen) {
+    // The same run with the horizon told to lie 20 000 clocks beyond the interrupt: the loop is
+    // forwarded past the INTR rise, so the interrupt is taken late and the comparison differs.
+    constexpr cycles_t irq = 150'001;
+    Board wrong, off;
+    poll_ram(wrong, true, irq, irq + 20'000);
+    poll_ram(off, false, irq, irq);
+    ASSERT_EQ(wrong.intas, 2u);
+    ASSERT_EQ(off.intas, 2u);
+    const auto first_inta = [](const Board& b) {
+        for (const BusRecord& r : b.calls)
+            if (r.kind == Bus::int_ack) return r.start;
+        return cycles_t(0);
+    };
+    EXPECT_GT(first_inta(wrong), first_inta(off) + 10'000);
+}
+
+TEST(CpuFastForward, NotWhileAStepHookIsSet) {
+    // A debugger's step hook sees every instruction: nothing is forwarded.
+    Board b;
+    std::uint64_t steps = 0;
+    b.cpu.set_step_hook([](void* c, const Cpu&) { ++*static_cast<std::uint64_t*>(c); return false; }, &steps);
+    poll_port(b, true, 50'000);
+    ASSERT_TRUE(b.cpu.halted());
+    EXPECT_EQ(b.cpu.forwarded_cycles(), 0u);
+    EXPECT_EQ(steps, b.cpu.instructions()); // once before every instruction (HLT included)
+}
+
+} // namespace
