@@ -57,12 +57,12 @@ TEST(MotionCost, NoCostModelTakesNoTime) {
     EXPECT_GT(accesses, 0u) << "the cycle reads the chip";
 }
 
-// Every block is called once a cycle: per axis MC_Power and the six blocks of Blocks (reset,
-// home, move_abs, move_rel, halt, stop), then MC_LineMove2 and MC_CircleCenterMove:
-// 4 x 7 + 2 = 30 calls.
+// Every block is called once a cycle: per axis MC_Power and the seven blocks of Blocks (reset,
+// home, move_abs, move_rel, move_vel, halt, stop), then MC_LineMove2, MC_LineMove (the LM token)
+// and MC_CircleCenterMove: 4 x 8 + 3 = 35 calls.
 TEST(MotionCost, EveryBlockCallCostsFbCall) {
     const auto [cost, accesses] = one_cycle(with_cost(0, 4, 5));
-    EXPECT_EQ(cost, us_(30 * 5.0));
+    EXPECT_EQ(cost, us_(35 * 5.0));
 }
 
 namespace {
