@@ -1,4 +1,4 @@
-// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE]
+// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--monitor [HOST:]PORT]
 #include "models/config_error.h"
 #include "scenarios/failure.h"
 #include "scenarios/runner.h"
@@ -28,7 +28,7 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd, seed;
+        std::string scenario, out, rom, vcd, seed, monitor;
         bool reproducible = false;
         bool verbose = false;
     };
@@ -39,8 +39,10 @@ void add_run_command(CLI::App& app) {
     auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
+    auto* monitor = cmd->add_option("--monitor", args->monitor,
+                                    "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
-    cmd->callback([args, seed, rom] {
+    cmd->callback([args, seed, rom, monitor] {
         RunOptions opt;
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
@@ -48,6 +50,7 @@ void add_run_command(CLI::App& app) {
         const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
+        if (*monitor) opt.monitor = args->monitor;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);

@@ -22,6 +22,7 @@ struct RunOptions {
     std::optional<std::string> rom;     // overrides the scenario's and the built firmware
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
+    std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.

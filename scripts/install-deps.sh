@@ -9,6 +9,7 @@ PACKAGES=(
   bcc bin86 nasm python3 libx86emu-dev
   parallel libxml2-utils   # the regression tests: the GNU parallel recipe, JUnit checked by xmllint
   time                     # peak RSS of the memory tests (/usr/bin/time)
+  chromium                 # the monitor's page test (headless; tests/monitor/page_test.py)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
