@@ -205,7 +205,7 @@ void BoardMonitor::handle(std::uint64_t client, const nlohmann::json& m) {
     nlohmann::json out;
     try {
         out = execute(client, op, m);
-        out["type"] = out.contains("data") && op == "snapshot" ? "snapshot" : "ok";
+        out["type"] = op == "snapshot" ? "snapshot" : "ok";
     } catch (const BadRequest& e) {
         out = {{"type", "error"}, {"error", e.what()}};
     } catch (const std::invalid_argument& e) { // refused by a model (a frame it cannot encode, ...)
@@ -268,7 +268,9 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         const Outcome o = bench_.ctl.main.execute_local(token, string_arg(m, "data", std::string()));
         return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
     }
-    const unsigned port = static_cast<unsigned>(number_arg(m, "port", 0, Bench::kPorts - 1, 0.0));
+    const double port_arg = number_arg(m, "port", 0, Bench::kPorts - 1, 0.0);
+    if (port_arg != std::floor(port_arg)) throw BadRequest("\"port\" must be a whole number 0..2");
+    const auto port = static_cast<unsigned>(port_arg);
     if (op == "send_frame") {
         if (!bench_.protocol[port]) throw BadRequest("port " + std::to_string(port) + " has no protocol host to send as");
         const std::string token = string_arg(m, "token");

@@ -195,7 +195,8 @@ private:
 
     void on_read(beast::error_code ec) {
         if (ec) {
-            if (ec != http::error::end_of_stream) srv_.note("HTTP request from " + peer_of(stream_.socket()) + " dropped: " + ec.message());
+            // A browser's idle spare connection ends by a close or the timeout: nothing to log.
+            if (ec != http::error::end_of_stream && ec != beast::error::timeout) srv_.note("HTTP request from " + peer_of(stream_.socket()) + " dropped: " + ec.message());
             return;
         }
         http::request<http::string_body> req = parser_->release();
@@ -265,7 +266,13 @@ MonitorServer::MonitorServer(const std::string& host, unsigned port, std::string
     if (!ec) a.bind(ep, ec);
     if (!ec) a.listen(net::socket_base::max_listen_connections, ec);
     if (ec) throw ConfigError("--monitor '" + where + "': cannot listen: " + ec.message());
-    port_ = a.local_endpoint().port();
+    const tcp::endpoint bound = a.local_endpoint();
+    port_ = bound.port();
+    // Read here, before the io thread owns the acceptor. All interfaces: this machine is one of them.
+    std::string shown = bound.address().is_unspecified() ? std::string(bound.address().is_v6() ? "::1" : "127.0.0.1")
+                                                         : bound.address().to_string();
+    if (bound.address().is_v6()) shown = "[" + shown + "]";
+    url_ = "http://" + shown + ":" + std::to_string(port_) + "/";
     impl_->start_accept();
     impl_->thread = std::thread([this] {
         for (;;) {
@@ -282,15 +289,6 @@ MonitorServer::MonitorServer(const std::string& host, unsigned port, std::string
 MonitorServer::~MonitorServer() {
     impl_->ioc.stop();
     if (impl_->thread.joinable()) impl_->thread.join();
-}
-
-std::string MonitorServer::url() const {
-    boost::system::error_code ec;
-    const auto ep = impl_->acceptor.local_endpoint(ec);
-    std::string host = ec ? "127.0.0.1" : ep.address().to_string();
-    if (!ec && ep.address().is_v6()) host = "[" + host + "]";
-    if (host == "0.0.0.0") host = "127.0.0.1"; // all interfaces: this machine is one of them
-    return "http://" + host + ":" + std::to_string(port_) + "/";
 }
 
 std::vector<MonitorServer::Request> MonitorServer::take_requests() {

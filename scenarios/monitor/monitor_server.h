@@ -53,7 +53,7 @@ public:
     MonitorServer& operator=(const MonitorServer&) = delete;
 
     /// "http://127.0.0.1:8080/"
-    std::string url() const;
+    const std::string& url() const { return url_; }
     unsigned port() const { return port_; }
 
     // ---- the simulation thread's side; none of these waits for a client ----
@@ -74,6 +74,7 @@ public:
 private:
     std::unique_ptr<Impl> impl_;
     unsigned port_ = 0;
+    std::string url_;
 };
 
 } // namespace rcsim::monitor

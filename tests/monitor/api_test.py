@@ -152,6 +152,10 @@ def body_checks(run):
     check(d["ports"][0]["last_received"]["token"] == "EC", "the main CPU received the EC frame")
     r = a.request({"op": "send_frame", "port": 1, "token": "EC", "data": "x"})
     check(r["type"] == "error", "send_frame on a port without a protocol host is refused")
+    r = a.request({"op": "send_frame", "port": 0.5, "token": "EC"})
+    check(r["type"] == "error" and "whole number" in r["error"], "a fractional port is refused")
+    r = a.request({"op": "motion", "token": 5})
+    check(r["type"] == "error" and "must be a string" in r["error"], "a token that is not a string is refused")
 
     # A line fault: one data bit of the host's next character flipped, so the 82510 sees one parity
     # error (8E1: the parity bit no longer matches), and the host's frame still gets through on retry.
