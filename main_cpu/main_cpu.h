@@ -117,6 +117,12 @@ public:
 
     const MainCpuConfig& config() const { return config_; }
     const Dispatcher& dispatcher() const { return dispatcher_; }
+    /// A command from the main board's own console (the remote monitor, docs/monitor.md): the
+    /// token dispatcher executes it at once, as it would a frame's, but no frame is received and
+    /// no response is sent; the caller gets the outcome. Call between sc_start()s or from a process.
+    Outcome execute_local(const std::string& token, const std::string& data) {
+        return dispatcher_.execute(token, data);
+    }
     const MainCpuPortStats& port_stats(unsigned port) const { return ports_.at(port).stats; }
     /// received() and sent() keep every frame while `keep_history` is on (the default, for
     /// tests); a long run turns it off and listens to on_received and on_sent.

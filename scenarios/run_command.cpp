@@ -1,5 +1,5 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
-//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE]
+//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE] [--monitor [HOST:]PORT]
 #include "models/config_error.h"
 #include "scenarios/debug/gdb_run.h"
 #include "scenarios/failure.h"
@@ -30,7 +30,7 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd, seed, trace, symbols;
+        std::string scenario, out, rom, vcd, seed, trace, symbols, monitor;
         bool reproducible = false;
         bool verbose = false;
         debug::GdbOptions gdb;
@@ -53,7 +53,9 @@ void add_run_command(CLI::App& app) {
     auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
                                 "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");
     auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
-    cmd->callback([args, seed, rom, trace, gdb, gdb_wait, symbols] {
+    auto* monitor = cmd->add_option("--monitor", args->monitor,
+                                    "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
+    cmd->callback([args, seed, rom, trace, gdb, gdb_wait, symbols, monitor] {
         RunOptions opt;
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
@@ -64,6 +66,7 @@ void add_run_command(CLI::App& app) {
         opt.trace = args->trace;
         opt.profile = args->profile;
         opt.symbols = args->symbols;
+        if (*monitor) opt.monitor = args->monitor;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);

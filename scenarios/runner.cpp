@@ -6,6 +6,7 @@
 #include "scenarios/bench.h"
 #include "scenarios/checks.h"
 #include "scenarios/measure.h"
+#include "scenarios/monitor/board_monitor.h"
 #include "scenarios/output.h"
 #include "scenarios/report_html.h"
 #include "scenarios/stop_signal.h"
@@ -22,6 +23,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <stdexcept>
 
@@ -78,6 +80,18 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
         report::write_motion_report_html(out, report);
     }
     return exit_code(rc == 0);
+}
+
+/// The remote monitor, when --monitor or the scenario's `monitor:` section asks for one
+/// (docs/monitor.md); the section is read (and its errors reported) in every run.
+std::unique_ptr<monitor::BoardMonitor> start_monitor(Bench& bench, const Scenario& s, const RunOptions& opt) {
+    monitor::MonitorOptions mo;
+    const bool section = monitor::read_monitor_section(s, mo);
+    if (opt.monitor) monitor::parse_listen(*opt.monitor, mo);
+    if (!section && !opt.monitor) return nullptr;
+    auto m = std::make_unique<monitor::BoardMonitor>(bench, mo, std::cerr);
+    std::cout << "monitor: " << m->url() << " (live page; JSON API at /api/v1, docs/monitor.md)" << std::endl;
+    return m;
 }
 
 /// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
@@ -171,6 +185,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     StopPoller stop("stop");
     if (s.has_motion && (!opt.trace.empty() || opt.profile))
         throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
+    if (s.has_motion && (opt.monitor || (s.root.IsMap() && s.root["monitor"])))
+        throw ConfigError("--monitor: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
+                          "the monitor watches the whole board (main_cpu: {motion: true}, docs/monitor.md)");
     if (s.has_motion) return run_motion_only(s, opt, report);
     for (unsigned p = 0; p < kPorts; ++p) s.ports[p].protocol.traffic.seed = s.seed * 1000 + p;
     std::string rom = opt.rom ? *opt.rom : s.rom;
@@ -197,8 +214,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         bench.interrupts.write_csv_to(&csv);
     }
 
+    std::unique_ptr<monitor::BoardMonitor> mon = start_monitor(bench, s, opt);
     const auto wall0 = std::chrono::steady_clock::now();
-    if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
+    if (mon) mon->run_until(s.duration_s > 0 ? ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)) : sc_core::sc_max_time());
+    else if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     if (stop_signal() == 0) bench.drain(s.drain_s);
     bench.finish_observers();

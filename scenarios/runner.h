@@ -31,6 +31,7 @@ struct RunOptions {
     std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
     bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
     std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
+    std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.

@@ -468,6 +468,7 @@ Scenario load_scenario(const std::string& path) {
     if (s.duration_s > 0 && s.duration_s < 1e-6) top.fail(top.child("duration_s"), "'duration_s' must be 0 or >= 1e-6");
     s.has_motion = top.has("motion");
     top.child("motion"); // read by the motion layer
+    top.child("monitor"); // read by the remote monitor (scenarios/monitor/board_monitor.h)
     if (s.has_motion && top.has("ports"))
         top.fail(top.child("motion"), "a 'motion' section runs the motion side alone; with 'ports' use "
                                       "'main_cpu: {motion: true}' and motion tokens from the hosts");

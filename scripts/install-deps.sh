@@ -13,6 +13,7 @@ PACKAGES=(
   python3-serial           # pyserial: the pty backend's end-to-end tests (tests/pty)
   gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
   tao-pegtl-dev            # the Structured Text parser (main_cpu/st)
+  chromium                 # the monitor's page test (headless; tests/monitor/page_test.py)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

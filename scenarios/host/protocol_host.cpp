@@ -124,6 +124,7 @@ void ProtocolHost::send_bytes(const std::string& bytes) {
 }
 
 void ProtocolHost::note(const std::string& text) {
+    last_step_ = LogEntry{sc_core::sc_time_stamp(), text};
     if (keep_history_) log_.push_back(LogEntry{sc_core::sc_time_stamp(), text});
     if (log_os_) *log_os_ << std::setw(14) << ms(sc_core::sc_time_stamp()) << "  " << name() << ": " << text << '\n';
 }

@@ -160,6 +160,8 @@ public:
     /// drain phase).
     void stop_traffic() { stopped_ = true; }
     const std::vector<LogEntry>& log() const { return log_; }
+    /// The latest transaction step logged ("> ENQ", "< ACK", ...), kept with history off too.
+    const LogEntry& last_step() const { return last_step_; }
     /// Also writes every log entry as a line to `os` (nullptr: off).
     void log_to(std::ostream* os) { log_os_ = os; }
     /// ENQ of a command to its EOT, in microseconds.
@@ -200,6 +202,7 @@ private:
     Counters counters_;
     std::vector<proto::Frame> responses_;
     std::vector<LogEntry> log_;
+    LogEntry last_step_;
     std::ostream* log_os_ = nullptr;
     Samples delivery_us_, response_us_;
 

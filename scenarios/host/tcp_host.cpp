@@ -304,11 +304,27 @@ RealtimePacer::RealtimePacer(sc_core::sc_module_name name, double rtf, sc_core::
     SC_THREAD(run);
 }
 
+void RealtimePacer::set_rtf(double rtf) {
+    if (!(rtf >= 0)) throw std::invalid_argument(std::string(name()) + ": real-time factor must be >= 0");
+    paced_ = rtf > 0;
+    if (paced_) stats_.rtf = rtf;
+    rebase();
+}
+
 void RealtimePacer::run() {
     using clock = std::chrono::steady_clock;
-    const auto wall0 = clock::now();
-    const sc_core::sc_time sim0 = sc_core::sc_time_stamp();
+    auto wall0 = clock::now();
+    sc_core::sc_time sim0 = sc_core::sc_time_stamp();
     for (;;) {
+        if (rebase_) {
+            wall0 = clock::now();
+            sim0 = sc_core::sc_time_stamp();
+            rebase_ = false;
+        }
+        if (!paced_) {
+            wait(step_);
+            continue;
+        }
         const double sim = (sc_core::sc_time_stamp() - sim0).to_seconds();
         const double wall = std::chrono::duration<double>(clock::now() - wall0 - excluded_).count();
         stats_.sim_s = sim;

@@ -180,11 +180,21 @@ public:
     /// the simulation's thread.
     void exclude_wall(std::chrono::steady_clock::duration d) { excluded_ += d; }
 
+    /// Measures from now on: the next check takes the current simulated and wall time as its
+    /// origin. Call after simulated time stood still while wall time went on (a paused run), or
+    /// the pacer would see the run that far behind and let it race to catch up.
+    void rebase() { rebase_ = true; }
+    /// A new target (> 0), or 0: unpaced (no sleeps) until the next set_rtf. Rebases.
+    void set_rtf(double rtf);
+    double rtf() const { return paced_ ? stats_.rtf : 0.0; }
+
 private:
     std::chrono::steady_clock::duration excluded_{};
     sc_core::sc_time step_;
     std::chrono::microseconds max_nap_;
     Stats stats_;
+    bool paced_ = true;
+    bool rebase_ = false;
     void run();
 };
 

@@ -1,0 +1,395 @@
+// rcsim — the remote monitor's simulation side (see board_monitor.h, docs/monitor.md).
+#include "scenarios/monitor/board_monitor.h"
+
+#include "models/clock.h"
+#include "models/config_error.h"
+#include "scenarios/monitor/monitor_page.h"
+#include "scenarios/stop_signal.h"
+#include "scenarios/yaml_map.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+namespace rcsim::monitor {
+
+namespace {
+
+using sc_core::sc_time;
+constexpr unsigned kIrqLevels = 4; // IR0..IR2 the 82510s, IR3 the DP-RAM's INT_L
+// Slices of simulated time between two services: adapted so one takes about 2..8 ms of wall
+// time (a client's request waits at most about that long), within these bounds.
+const sc_time kMinSlice = sc_core::sc_time(10, sc_core::SC_US);
+const sc_time kMaxSlice = sc_core::sc_time(100, sc_core::SC_MS);
+constexpr auto kPublishEvery = std::chrono::milliseconds(50); // GET /api/v1/snapshot freshness
+constexpr double kMaxStepMs = 60'000;
+constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in the next ones
+
+/// An error the client made in a request: answered, the client stays.
+struct BadRequest : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+double number_arg(const nlohmann::json& m, const char* key, double lo, double hi, std::optional<double> fallback = {}) {
+    if (!m.contains(key)) {
+        if (fallback) return *fallback;
+        throw BadRequest(std::string("missing \"") + key + "\"");
+    }
+    if (!m[key].is_number()) throw BadRequest(std::string("\"") + key + "\" must be a number");
+    const double v = m[key].get<double>();
+    if (!(v >= lo && v <= hi))
+        throw BadRequest(std::string("\"") + key + "\" = " + m[key].dump() + " is out of range [" +
+                         nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]");
+    return v;
+}
+
+std::string string_arg(const nlohmann::json& m, const char* key, std::optional<std::string> fallback = {}) {
+    if (!m.contains(key)) {
+        if (fallback) return *fallback;
+        throw BadRequest(std::string("missing \"") + key + "\"");
+    }
+    if (!m[key].is_string()) throw BadRequest(std::string("\"") + key + "\" must be a string");
+    return m[key].get<std::string>();
+}
+
+
+
+/// Milliseconds (checked >= 0 by the caller) as a time, rounded to the kernel's 1 ps resolution.
+sc_time ms_time(double ms) { return ps(static_cast<std::uint64_t>(std::llround(ms * 1e9))); }
+
+FaultKind fault_kind(const std::string& k) {
+    if (k == "flip_data_bit") return FaultKind::flip_data_bit;
+    if (k == "flip_cell") return FaultKind::flip_cell;
+    if (k == "drop") return FaultKind::drop;
+    if (k == "corrupt_stop") return FaultKind::corrupt_stop;
+    throw BadRequest("\"kind\" '" + k + "' is not flip_data_bit, flip_cell, drop, corrupt_stop or break");
+}
+
+} // namespace
+
+
+void parse_listen(const std::string& text, MonitorOptions& o) {
+    const auto colon = text.rfind(':');
+    std::string host = colon == std::string::npos ? std::string("127.0.0.1") : text.substr(0, colon);
+    const std::string port = colon == std::string::npos ? text : text.substr(colon + 1);
+    if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    if (host.empty()) host = "127.0.0.1";
+    const bool digits = !port.empty() && port.size() <= 5 && std::all_of(port.begin(), port.end(), ::isdigit);
+    if (!digits || std::stoul(port) > 65535)
+        throw ConfigError("--monitor '" + text + "': the port must be a number 0..65535 ([HOST:]PORT)");
+    o.host = host;
+    o.port = static_cast<unsigned>(std::stoul(port));
+}
+
+bool read_monitor_section(const Scenario& s, MonitorOptions& o) {
+    if (!s.root.IsMap() || !s.root["monitor"]) return false;
+    YamlMap m(s.root["monitor"], s.file, "monitor.");
+    if (m.has("listen")) {
+        const std::string listen = m.require<std::string>("listen");
+        try {
+            parse_listen(listen, o);
+        } catch (const ConfigError&) {
+            m.fail(m.child("listen"), "'monitor.listen' = '" + listen + "' is not [HOST:]PORT (port 0..65535)");
+        }
+    }
+    for (YamlMap c : m.maps("commands", 1000)) {
+        ScriptedCommand sc;
+        sc.at = ms_time(c.number("at_ms", 0, 0, 3.6e6));
+        sc.token = c.require<std::string>("token");
+        if (sc.token.size() != 2) c.fail(c.child("token"), "'" + c.context() + "token' must be two characters");
+        sc.data = c.get<std::string>("data", "");
+        c.finish();
+        o.commands.push_back(sc);
+    }
+    std::stable_sort(o.commands.begin(), o.commands.end(),
+                     [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.at < b.at; });
+    m.finish();
+    return true;
+}
+
+std::string printable_frame_data(const std::string& s) {
+    std::string out;
+    static const char* hex = "0123456789ABCDEF";
+    for (std::size_t i = 0; i < s.size() && out.size() < 64; ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x20 && c < 0x7F && c != '\\') out += static_cast<char>(c);
+        else out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    }
+    if (out.size() >= 64) out += "...";
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+BoardMonitor::BoardMonitor(Bench& bench, const MonitorOptions& opt, std::ostream& log)
+    : bench_(bench), server_(opt.host, opt.port, kMonitorPage, log), log_(log), commands_(opt.commands) {
+    if (!bench_.pacer) {
+        bench_.pacer = std::make_unique<RealtimePacer>("monitor_pacer", 1.0);
+        bench_.pacer->set_rtf(0);
+    }
+    rtf_target_ = bench_.pacer->rtf();
+    hook_bench();
+    wall0_ = rtf_base_wall_ = Clock::now();
+}
+
+// The main CPU's last frame per port; the bench's own listeners keep running first.
+void BoardMonitor::hook_bench() {
+    auto keep = [](std::array<LastFrame, Bench::kPorts>& last, const FrameRecord& f) {
+        if (f.port >= Bench::kPorts) return;
+        last[f.port] = {true, f.time.to_seconds(), f.token, f.data, f.bch};
+    };
+    auto prev_rx = bench_.ctl.main.on_received;
+    bench_.ctl.main.on_received = [this, prev_rx, keep](const FrameRecord& f) {
+        if (prev_rx) prev_rx(f);
+        keep(last_rx_, f);
+    };
+    auto prev_tx = bench_.ctl.main.on_sent;
+    bench_.ctl.main.on_sent = [this, prev_tx, keep](const FrameRecord& f) {
+        if (prev_tx) prev_tx(f);
+        keep(last_tx_, f);
+    };
+}
+
+bool BoardMonitor::run_until(const sc_time& end) {
+    sc_time slice(1, sc_core::SC_MS);
+    for (;;) {
+        serve();
+        if (stop_signal() != 0) return false;
+        const sc_time now = sc_core::sc_time_stamp();
+        if (now >= end) return false;
+        if (paused_) {
+            server_.wait_for_request(std::chrono::milliseconds(10));
+            continue;
+        }
+        // Stop exactly where a scripted command or a simulated-time subscription is due.
+        sc_time run = std::min(slice, end - now);
+        if (next_command_ < commands_.size() && commands_[next_command_].at > now)
+            run = std::min(run, commands_[next_command_].at - now);
+        for (const auto& [id, s] : subs_)
+            if (s.sim_clock && s.next_sim > now) run = std::min(run, s.next_sim - now);
+        const auto w0 = Clock::now();
+        sc_core::sc_start(run);
+        const auto wall = Clock::now() - w0;
+        if (sc_core::sc_time_stamp() < now + run && stop_signal() == 0) return true; // sc_pause: a host ended it
+        if (wall < std::chrono::milliseconds(2)) slice = std::min(slice * 2, kMaxSlice);
+        else if (wall > std::chrono::milliseconds(8)) slice = std::max(slice / 2, kMinSlice);
+    }
+}
+
+// Between two slices: requests first (they may pause), then scripted commands, then updates.
+void BoardMonitor::serve() {
+    for (const MonitorServer::Request& r : server_.take_requests()) handle(r.client, r.message);
+    run_due_commands();
+    update_rates();
+    send_updates();
+}
+
+void BoardMonitor::run_due_commands() {
+    const sc_time now = sc_core::sc_time_stamp();
+    for (; next_command_ < commands_.size() && commands_[next_command_].at <= now; ++next_command_) {
+        const ScriptedCommand& c = commands_[next_command_];
+        const Outcome o = bench_.ctl.main.execute_local(c.token, c.data);
+        log_ << "monitor: at " << now.to_seconds() * 1e3 << " ms: " << c.token << " " << c.data << " -> BCH "
+             << static_cast<unsigned>(o.bch) << (o.note.empty() ? "" : " (" + o.note + ")") << std::endl;
+    }
+}
+
+void BoardMonitor::handle(std::uint64_t client, const nlohmann::json& m) {
+    const std::string op = m["op"].get<std::string>();
+    if (client == 0) { // from the server: a client is gone
+        if (op == "closed") subs_.erase(m.value("client", std::uint64_t{0}));
+        return;
+    }
+    nlohmann::json out;
+    try {
+        out = execute(client, op, m);
+        out["type"] = op == "snapshot" ? "snapshot" : "ok";
+    } catch (const BadRequest& e) {
+        out = {{"type", "error"}, {"error", e.what()}};
+    } catch (const std::invalid_argument& e) { // refused by a model (a frame it cannot encode, ...)
+        out = {{"type", "error"}, {"error", e.what()}};
+    }
+    out["op"] = op;
+    if (m.contains("id")) out["id"] = m["id"];
+    reply(client, std::move(out));
+}
+
+void BoardMonitor::reply(std::uint64_t client, nlohmann::json msg) {
+    msg["api"] = kApiVersion;
+    server_.send(client, std::make_shared<const std::string>(msg.dump()));
+}
+
+// One request; returns the reply's fields, throws BadRequest for a request that cannot be done.
+nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op, const nlohmann::json& m) {
+    if (op == "snapshot") return {{"data", snapshot()}};
+    if (op == "subscribe") {
+        const std::string clock = string_arg(m, "clock", std::string("wall"));
+        if (clock != "wall" && clock != "sim") throw BadRequest("\"clock\" must be \"wall\" or \"sim\"");
+        const double period = number_arg(m, "period_ms", clock == "sim" ? 0.01 : 10, 60'000, 100.0);
+        Subscription s;
+        s.sim_clock = clock == "sim";
+        s.sim_period = ms_time(period);
+        s.next_sim = sc_core::sc_time_stamp();
+        s.wall_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(period));
+        s.next_wall = Clock::now();
+        if (m.value("path", true) == false) s.path_sent = SIZE_MAX;
+        subs_[client] = s;
+        return {{"clock", clock}, {"period_ms", period}};
+    }
+    if (op == "unsubscribe") {
+        subs_.erase(client);
+        return nlohmann::json::object();
+    }
+    if (op == "pause") {
+        if (!paused_) log_ << "monitor: paused at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
+        paused_ = true;
+        return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
+    }
+    if (op == "resume") {
+        resume();
+        return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
+    }
+    if (op == "step") {
+        step(ms_time(number_arg(m, "ms", 0.001, kMaxStepMs)));
+        return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
+    }
+    if (op == "set_rtf") {
+        const double rtf = number_arg(m, "rtf", 0, 1e6);
+        if (rtf > 0 && rtf < 0.01) throw BadRequest("\"rtf\" must be 0 (as fast as possible) or in [0.01, 1e6]");
+        bench_.pacer->set_rtf(rtf);
+        rtf_target_ = rtf;
+        return {{"rtf", rtf}};
+    }
+    if (op == "motion") {
+        const std::string token = string_arg(m, "token");
+        if (token.size() != 2) throw BadRequest("\"token\" must be two characters (docs/system.md §7)");
+        const Outcome o = bench_.ctl.main.execute_local(token, string_arg(m, "data", std::string()));
+        return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
+    }
+    const double port_arg = number_arg(m, "port", 0, Bench::kPorts - 1, 0.0);
+    if (port_arg != std::floor(port_arg)) throw BadRequest("\"port\" must be a whole number 0..2");
+    const auto port = static_cast<unsigned>(port_arg);
+    if (op == "send_frame") {
+        if (!bench_.protocol[port]) throw BadRequest("port " + std::to_string(port) + " has no protocol host to send as");
+        const std::string token = string_arg(m, "token");
+        if (token.size() != 2) throw BadRequest("\"token\" must be two characters (docs/system.md §7)");
+        bench_.protocol[port]->send(proto::Frame{token, 0, string_arg(m, "data", std::string())});
+        return {{"port", port}};
+    }
+    if (op == "inject_fault") {
+        const std::string from = string_arg(m, "from", std::string("host"));
+        if (from != "host" && from != "controller") throw BadRequest("\"from\" must be \"host\" or \"controller\"");
+        const auto side = from == "host" ? SerialLine::b : SerialLine::a;
+        const std::string kind = string_arg(m, "kind");
+        SerialLine& line = bench_.lines[port];
+        if (kind == "break") {
+            line.insert_break(side, ms_time(number_arg(m, "duration_ms", 0.001, 10'000, 5.0)));
+            return {{"port", port}};
+        }
+        const std::uint64_t index = line.next_index(side);
+        line.inject(side, index, fault_kind(kind), static_cast<unsigned>(number_arg(m, "bit", 0, 11, 0.0)));
+        return {{"port", port}, {"index", index}};
+    }
+    throw BadRequest("unknown op '" + op + "' (docs/monitor.md)");
+}
+
+// Stepping runs unpaced (as a debugger's step does) and leaves the run paused.
+void BoardMonitor::step(const sc_time& t) {
+    paused_ = true;
+    const sc_time end = sc_core::sc_time_stamp() + t;
+    bench_.pacer->set_rtf(0);
+    while (sc_core::sc_time_stamp() < end && stop_signal() == 0) {
+        const sc_time now = sc_core::sc_time_stamp();
+        sc_time run = end - now;
+        if (next_command_ < commands_.size() && commands_[next_command_].at > now)
+            run = std::min(run, commands_[next_command_].at - now);
+        sc_core::sc_start(run);
+        run_due_commands();
+        if (sc_core::sc_time_stamp() < now + run) break; // sc_pause
+    }
+    bench_.pacer->set_rtf(rtf_target_);
+}
+
+void BoardMonitor::resume() {
+    if (paused_) log_ << "monitor: resumed at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
+    paused_ = false;
+    bench_.pacer->rebase(); // wall time went on while simulated time stood still
+    rtf_base_wall_ = Clock::now();
+    rtf_base_sim_ = sc_core::sc_time_stamp();
+}
+
+// Interrupt rates over windows of at least 100 ms simulated; RTF over 0.5 s of running wall time.
+void BoardMonitor::update_rates() {
+    const sc_time now = sc_core::sc_time_stamp();
+    const double dt = (now - rate_base_sim_).to_seconds();
+    if (dt >= 0.1) {
+        for (unsigned l = 0; l < kIrqLevels; ++l) {
+            const std::uint64_t c = bench_.probe.count(l);
+            irq_rate_hz_[l] = static_cast<double>(c - irq_base_[l]) / dt;
+            irq_base_[l] = c;
+        }
+        rate_base_sim_ = now;
+    }
+    const auto wall_now = Clock::now();
+    const double wall = std::chrono::duration<double>(wall_now - rtf_base_wall_).count();
+    if (paused_) {
+        rtf_measured_ = 0;
+        rtf_base_wall_ = wall_now;
+        rtf_base_sim_ = now;
+    } else if (wall >= 0.5) {
+        rtf_measured_ = (now - rtf_base_sim_).to_seconds() / wall;
+        rtf_base_wall_ = wall_now;
+        rtf_base_sim_ = now;
+    }
+}
+
+void BoardMonitor::send_updates() {
+    const sc_time now = sc_core::sc_time_stamp();
+    const auto wall_now = Clock::now();
+    std::shared_ptr<const std::string> base;
+    nlohmann::json snap;
+    auto base_text = [&]() -> const std::string& {
+        if (!base) {
+            snap = snapshot();
+            base = std::make_shared<const std::string>(snap.dump());
+        }
+        return *base;
+    };
+    for (auto& [id, s] : subs_) {
+        const bool due = s.sim_clock ? now >= s.next_sim && !paused_ : wall_now >= s.next_wall;
+        if (!due) continue;
+        if (s.sim_clock) s.next_sim = now + s.sim_period;
+        else s.next_wall = std::max(s.next_wall + s.wall_period, wall_now);
+        std::string msg = "{\"type\":\"update\",\"api\":" + std::to_string(kApiVersion) + ",\"data\":" + base_text();
+        if (s.path_sent != SIZE_MAX) msg += ",\"path\":" + path_json(s, kMaxPathPoints);
+        msg += "}";
+        server_.send(id, std::make_shared<const std::string>(std::move(msg)));
+    }
+    if (wall_now - last_publish_ >= kPublishEvery) {
+        base_text();
+        server_.publish_snapshot(base);
+        last_publish_ = wall_now;
+    }
+}
+
+// The trajectory samples this client has not had, skipping those where no axis moved:
+// {"from": index of the first, "points": [[t_s, x_cmd, y_cmd, x_act, y_act], ...]}.
+std::string BoardMonitor::path_json(Subscription& s, std::size_t max_points) {
+    nlohmann::json pts = nlohmann::json::array();
+    const std::size_t from = s.path_sent;
+    if (bench_.motion) {
+        const auto& samples = bench_.motion->recorder().samples();
+        for (std::size_t i = s.path_sent; i < samples.size() && pts.size() < max_points; ++i) {
+            const auto& a = samples[i];
+            const bool moved = i == 0 || a.cmd[0] != samples[i - 1].cmd[0] || a.cmd[1] != samples[i - 1].cmd[1] ||
+                               a.act[0] != samples[i - 1].act[0] || a.act[1] != samples[i - 1].act[1];
+            if (moved) pts.push_back({a.t_s, a.cmd[0], a.cmd[1], a.act[0], a.act[1]});
+            s.path_sent = i + 1;
+        }
+    }
+    return nlohmann::json{{"from", from}, {"points", pts}}.dump();
+}
+
+} // namespace rcsim::monitor

@@ -1,0 +1,122 @@
+// rcsim — the remote monitor's simulation side (docs/monitor.md): runs the board's simulated time
+// in slices and, between two slices, serves the clients of a MonitorServer: takes their requests
+// (pause, resume, step, real-time factor, frames, motion commands, line faults), answers them, and
+// sends each subscriber the state when its period (simulated or wall time) is due.
+//
+// Everything here runs on the simulation thread, outside any SystemC process: the board is only
+// read and changed while sc_start() is not running. Pausing simply calls no sc_start(), so
+// simulated time stands still for the whole board; resuming rebases the real-time pacer.
+#pragma once
+
+#include "scenarios/bench.h"
+#include "scenarios/monitor/monitor_server.h"
+
+#include <systemc>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace rcsim::monitor {
+
+/// A motion command the monitor issues by itself at a simulated time (the scenario's
+/// `monitor.commands`), as a client's "motion" request would.
+struct ScriptedCommand {
+    sc_core::sc_time at;
+    std::string token, data;
+};
+
+struct MonitorOptions {
+    std::string host = "127.0.0.1";
+    unsigned port = 0;
+    std::vector<ScriptedCommand> commands;
+};
+
+/// "[HOST:]PORT" (HOST numeric, default 127.0.0.1; PORT 0..65535, 0 = ephemeral) into `o`.
+/// Throws ConfigError naming the text.
+void parse_listen(const std::string& text, MonitorOptions& o);
+
+/// The scenario's `monitor:` section (docs/monitor.md), read strictly: errors name file and line.
+/// Returns false when the scenario has none.
+bool read_monitor_section(const Scenario& s, MonitorOptions& o);
+
+/// A frame's data for JSON: printable ASCII kept, anything else as \xHH, cut after 64 characters.
+std::string printable_frame_data(const std::string& s);
+
+class BoardMonitor {
+public:
+    /// Starts the server and hooks the bench's callbacks. Call before the first sc_start().
+    /// A bench without a real-time pacer gets one, unpaced, for set_rtf.
+    BoardMonitor(Bench& bench, const MonitorOptions& opt, std::ostream& log);
+
+    std::string url() const { return server_.url(); }
+
+    /// Runs simulated time up to `end`, serving the clients, until `end` is reached, a stop
+    /// signal came, or a host ended the session (sc_pause from a tcp or replay host; true).
+    bool run_until(const sc_core::sc_time& end);
+
+    /// The state as the API's "snapshot" (docs/monitor.md "Snapshot").
+    nlohmann::json snapshot();
+
+private:
+    using Clock = std::chrono::steady_clock;
+    struct Subscription {
+        bool sim_clock = false;        // period in simulated time, else wall time
+        sc_core::sc_time sim_period, next_sim;
+        Clock::duration wall_period{};
+        Clock::time_point next_wall;
+        std::size_t path_sent = 0;     // trajectory samples already sent to this client
+    };
+    struct LastFrame {
+        bool seen = false;
+        double t_s = 0;
+        std::string token, data;
+        unsigned bch = 0;
+    };
+
+    Bench& bench_;
+    MonitorServer server_;
+    std::ostream& log_;
+    std::vector<ScriptedCommand> commands_;
+    std::size_t next_command_ = 0;
+    std::map<std::uint64_t, Subscription> subs_;
+    bool paused_ = false;
+    double rtf_target_ = 0; // 0 = as fast as the host goes
+
+    // What the hooks collect.
+    std::array<LastFrame, Bench::kPorts> last_rx_, last_tx_;
+    std::array<std::uint64_t, 8> irq_count_{};
+    // Rates: counts and times at the start of the current window.
+    std::array<std::uint64_t, 8> irq_base_{};
+    sc_core::sc_time rate_base_sim_;
+    std::array<double, 8> irq_rate_hz_{};
+    // Measured real-time factor over the last half second of running wall time.
+    Clock::time_point rtf_base_wall_;
+    sc_core::sc_time rtf_base_sim_;
+    double rtf_measured_ = 0;
+    Clock::time_point wall0_, last_publish_;
+
+    void hook_bench();
+    void serve();
+    void handle(std::uint64_t client, const nlohmann::json& m);
+    nlohmann::json execute(std::uint64_t client, const std::string& op, const nlohmann::json& m);
+    void run_due_commands();
+    void send_updates();
+    void step(const sc_core::sc_time& t);
+    void resume();
+    void update_rates();
+    std::string path_json(Subscription& s, std::size_t max_points);
+    nlohmann::json motion_json();
+    nlohmann::json ports_json();
+    nlohmann::json table3_now();
+    void reply(std::uint64_t client, nlohmann::json msg);
+};
+
+} // namespace rcsim::monitor

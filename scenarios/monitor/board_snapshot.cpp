@@ -1,0 +1,131 @@
+// rcsim — the monitor's snapshot of the board (docs/monitor.md "Snapshot"): read from the
+// bench's objects between two slices, never while sc_start() runs.
+#include "scenarios/monitor/board_monitor.h"
+
+#include "scenarios/measure.h"
+
+namespace rcsim::monitor {
+
+namespace {
+
+nlohmann::json fb_json(const char* name, int axis, const motion::McExecuteFb& fb) {
+    return {{"name", name}, {"axis", axis}, {"execute", fb.Execute}, {"busy", fb.Busy}, {"active", fb.Active},
+            {"done", fb.Done}, {"aborted", fb.CommandAborted}, {"error", fb.Error}, {"error_id", fb.ErrorID}};
+}
+
+nlohmann::json samples_brief(const Samples& s) {
+    if (s.count() == 0) return nullptr;
+    const Summary m = s.summary();
+    return {{"count", m.count}, {"mean", m.mean}, {"max", m.max}};
+}
+
+} // namespace
+
+nlohmann::json BoardMonitor::snapshot() {
+    const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
+    nlohmann::json j = {{"api", kApiVersion},
+                        {"scenario", bench_.scenario().name},
+                        {"sim_time_s", sc_core::sc_time_stamp().to_seconds()},
+                        {"wall_time_s", wall},
+                        {"paused", paused_},
+                        {"rtf", rtf_measured_},
+                        {"rtf_target", rtf_target_},
+                        {"clients", server_.clients()}};
+    j["motion"] = motion_json();
+    j["ports"] = ports_json();
+    nlohmann::json irq = nlohmann::json::array();
+    const char* names[] = {"IR0 82510 port 0", "IR1 82510 port 1", "IR2 82510 port 2", "IR3 DP-RAM INT_L"};
+    for (unsigned l = 0; l < 4; ++l)
+        irq.push_back({{"level", l}, {"name", names[l]}, {"count", bench_.probe.count(l)}, {"rate_hz", irq_rate_hz_[l]}});
+    j["interrupts"] = irq;
+    j["table3"] = table3_now();
+    return j;
+}
+
+// The axes (command = CAMC-QI CNT1, actual = drive position, from the latest trajectory sample),
+// their PLCopen states and every function block's outputs.
+nlohmann::json BoardMonitor::motion_json() {
+    motion::MotionController* mc = bench_.motion.get();
+    if (!mc) return nullptr;
+    const auto& samples = mc->recorder().samples();
+    nlohmann::json axes = nlohmann::json::array();
+    for (unsigned a = 0; a < motion::MotionController::axes; ++a) {
+        motion::McAxis& ax = mc->axis(a);
+        nlohmann::json aj = {{"axis", a}, {"state", motion::to_string(ax.state())}, {"error_id", ax.error_id()},
+                             {"powered", ax.powered()}, {"cmd", nullptr}, {"act", nullptr}};
+        if (!samples.empty() && a < samples.back().cmd.size()) {
+            aj["cmd"] = samples.back().cmd[a];
+            aj["act"] = samples.back().act[a];
+        }
+        axes.push_back(aj);
+    }
+    nlohmann::json fbs = nlohmann::json::array();
+    for (unsigned a = 0; a < motion::MotionController::axes; ++a) {
+        const motion::MC_Power& p = mc->power(a);
+        fbs.push_back({{"name", "MC_Power"}, {"axis", a}, {"enable", p.Enable}, {"status", p.Status},
+                       {"valid", p.Valid}, {"error", p.Error}, {"error_id", p.ErrorID}});
+        auto& b = mc->blocks(a);
+        const int ai = static_cast<int>(a);
+        fbs.push_back(fb_json("MC_Reset", ai, b.reset));
+        fbs.push_back(fb_json("MC_Stop", ai, b.stop));
+        fbs.push_back(fb_json("MC_Home", ai, b.home));
+        fbs.push_back(fb_json("MC_MoveAbsolute", ai, b.move_abs));
+        fbs.push_back(fb_json("MC_MoveRelative", ai, b.move_rel));
+        fbs.push_back(fb_json("MC_Halt", ai, b.halt));
+    }
+    fbs.push_back(fb_json("MC_LineMove2", -1, mc->line_move()));
+    fbs.push_back(fb_json("MC_CircleCenterMove", -1, mc->circle_move()));
+    return {{"state", mc->state()}, {"axes", axes}, {"fbs", fbs}, {"path_samples", samples.size()}};
+}
+
+// Per port: the host's latest protocol step and counters, the main CPU's counters and last frames.
+nlohmann::json BoardMonitor::ports_json() {
+    nlohmann::json ports = nlohmann::json::array();
+    for (unsigned p = 0; p < Bench::kPorts; ++p) {
+        nlohmann::json pj = {{"port", p}, {"host", bench_.host_kind(p)}, {"step", nullptr}};
+        if (const auto& h = bench_.protocol[p]) {
+            const auto& c = h->counters();
+            pj["step"] = {{"t_s", h->last_step().at.to_seconds()}, {"text", h->last_step().text}};
+            pj["host_counters"] = {{"frames_sent", c.frames_sent},     {"frames_delivered", c.frames_delivered},
+                                   {"frames_failed", c.frames_failed}, {"naks", c.naks},
+                                   {"timeouts", c.timeouts},           {"retries", c.retries},
+                                   {"responses_received", c.responses_received}};
+        }
+        const MainCpuPortStats& m = bench_.ctl.main.port_stats(p);
+        pj["main_cpu"] = {{"frames_received", m.frames_received}, {"frames_sent", m.frames_sent},
+                          {"malformed", m.malformed},             {"ack_timeouts", m.ack_timeouts},
+                          {"resets_received", m.resets_received}};
+        const auto& u = bench_.ctl.comm.uart[p].stats();
+        pj["uart"] = {{"overruns", u.overruns}, {"parity_errors", u.parity_errors}, {"framing_errors", u.framing_errors}};
+        const auto& line = bench_.observers[p];
+        pj["line"] = {{"host_frames", line.counts(LineObserver::host_to_controller).frames_offered},
+                      {"controller_frames", line.counts(LineObserver::controller_to_host).frames_offered},
+                      {"breaks", line.breaks()}};
+        auto frame = [](const LastFrame& f) -> nlohmann::json {
+            if (!f.seen) return nullptr;
+            return {{"t_s", f.t_s}, {"token", f.token}, {"bch", f.bch}, {"data", printable_frame_data(f.data)}};
+        };
+        pj["last_received"] = frame(last_rx_[p]);
+        pj["last_sent"] = frame(last_tx_[p]);
+        ports.push_back(pj);
+    }
+    return ports;
+}
+
+// Table 3 as measured so far (report.json "table3" has the final figures): the RS-232 receive
+// service, the DP-RAM time per byte, the budget and the margin.
+nlohmann::json BoardMonitor::table3_now() {
+    const Samples& rx = bench_.rs232_rx_service_us();
+    const auto per_byte = bench_.dpram_time().per_byte_us();
+    const double budget = budget_us(bench_, bench_.scenario());
+    nlohmann::json t = {{"rs232_isr_us", samples_brief(rx)},
+                        {"dpram_byte_us", per_byte ? nlohmann::json(*per_byte) : nlohmann::json(nullptr)},
+                        {"budget_us", budget},
+                        {"paper_rs232_isr_us", kPaperRs232IsrUs},
+                        {"paper_dpram_byte_us", kPaperDpramByteUs},
+                        {"margin_us", nullptr}};
+    if (rx.count() > 0 && per_byte) t["margin_us"] = budget - (rx.summary().mean + *per_byte);
+    return t;
+}
+
+} // namespace rcsim::monitor

@@ -1,0 +1,80 @@
+// rcsim — the remote monitor's network side (docs/monitor.md): an HTTP server with a WebSocket
+// endpoint on its own thread (Boost.Beast over Boost.Asio, one io_context).
+//
+// It knows nothing of the simulation. The simulation thread and the io thread meet in three
+// places only, none of which can make the simulation wait for a client:
+//   - requests: every message a client sends is parsed on the io thread and queued (mutex-guarded,
+//     bounded); the simulation thread takes them between two slices of simulated time;
+//   - replies and updates: the simulation thread hands a serialised message to a client with
+//     send(), which only posts it to the io thread; each client has a bounded queue of messages
+//     not yet written, and a client whose queue is full (it reads too slowly) is dropped;
+//   - the latest snapshot text, which plain HTTP GETs are answered with (mutex-guarded).
+// A client that disconnects, sends something that is not a JSON object with an "op", or a message
+// over kMaxMessageBytes, is dropped with one log line; the others and the run go on.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <ostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace rcsim::monitor {
+
+/// The version of the JSON API (docs/monitor.md); every message the server sends carries it.
+constexpr int kApiVersion = 1;
+
+class MonitorServer {
+public:
+    static constexpr std::size_t kMaxMessageBytes = 64 * 1024; // one client message, WebSocket or HTTP
+    static constexpr std::size_t kMaxQueuedMessages = 64;      // per client, not yet written
+    static constexpr std::size_t kMaxClients = 16;
+    static constexpr std::size_t kMaxPendingRequests = 1024;   // all clients, not yet taken
+
+    /// A client's message, parsed. `client` 0 with `op` "closed": client `closed_client` is gone.
+    struct Request {
+        std::uint64_t client = 0;
+        nlohmann::json message; // an object with a string "op"
+    };
+
+    /// Binds HOST:PORT (numeric address; port 0 = ephemeral) and starts the io thread, which
+    /// answers GET / with `page`. `log` receives one line per client event (connected, dropped and
+    /// why). Throws ConfigError when the address cannot be bound.
+    MonitorServer(const std::string& host, unsigned port, std::string page, std::ostream& log);
+    ~MonitorServer();
+    MonitorServer(const MonitorServer&) = delete;
+    MonitorServer& operator=(const MonitorServer&) = delete;
+
+    /// "http://127.0.0.1:8080/"
+    const std::string& url() const { return url_; }
+    unsigned port() const { return port_; }
+
+    // ---- the simulation thread's side; none of these waits for a client ----
+    /// The requests queued since the last call, in arrival order.
+    std::vector<Request> take_requests();
+    /// Waits up to `timeout` for a request (used while paused, when nothing else is to do).
+    void wait_for_request(std::chrono::milliseconds timeout);
+    /// Queues `text` (one JSON message) for `client`; nothing happens if it is gone.
+    void send(std::uint64_t client, std::shared_ptr<const std::string> text);
+    /// What GET /api/v1/snapshot answers with from now on.
+    void publish_snapshot(std::shared_ptr<const std::string> text);
+    /// Clients connected now (a count from the io thread, for the log and tests).
+    std::size_t clients() const;
+
+    // ---- io-thread internals, public for the session classes in monitor_server.cpp ----
+    class Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+    unsigned port_ = 0;
+    std::string url_;
+};
+
+} // namespace rcsim::monitor
