@@ -73,8 +73,10 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
 
 void MotionController::spend(const sc_core::sc_time& t) {
     if (t == sc_core::SC_ZERO_TIME) return;
-    if (sc_core::sc_get_current_process_handle().proc_kind() != sc_core::SC_THREAD_PROC_)
-        SC_REPORT_ERROR("rcsim/motion", "a motion cost model needs the controller called from an SC_THREAD");
+    if (sc_core::sc_get_current_process_handle().proc_kind() != sc_core::SC_THREAD_PROC_) {
+        deferred_cost_ += t;
+        return;
+    }
     sc_core::wait(t);
 }
 
@@ -178,6 +180,11 @@ void MotionController::update_mechanism() {
 }
 
 void MotionController::control_cycle(const sc_core::sc_time& now) {
+    if (deferred_cost_ > sc_core::SC_ZERO_TIME) {
+        const sc_core::sc_time t = deferred_cost_;
+        deferred_cost_ = sc_core::SC_ZERO_TIME;
+        spend(t);
+    }
     const double dt = first_cycle_ ? 0.0 : (now - last_).to_seconds();
     first_cycle_ = false;
     last_ = now;

@@ -176,6 +176,7 @@ private:
     std::vector<MoveRecord> moves_;
     sc_core::sc_event move_accepted_;
     sc_core::sc_time bus_time_, fb_time_;
+    sc_core::sc_time deferred_cost_; // work done outside a thread, spent at the next control cycle
     std::uint64_t chip_accesses_ = 0;
     CspStats csp_stats_;
     std::array<std::int32_t, 2> csp_latched_{}; // the set-points the CSP drives took at their SYNC
@@ -185,7 +186,9 @@ private:
     /// The CSP circle's set-point at `t` (before the start: the start point).
     std::array<double, 2> csp_point(const sc_core::sc_time& t) const;
 
-    /// The cost model: spends `t` of processor time (wait) in the calling thread.
+    /// The cost model: spends `t` of processor time (wait) in the calling thread; called from
+    /// outside a thread (a monitor's console command between two sc_start()s) it is kept and
+    /// spent at the start of the next control cycle, so the work still costs the processor.
     void spend(const sc_core::sc_time& t);
     void call_block(McExecuteFb& fb);
     void note_move(const std::string& token);
