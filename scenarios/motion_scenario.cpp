@@ -126,6 +126,17 @@ Issued stop_command(MotionController& mc, unsigned a, double dec, bool exec) {
 std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::string& fb) {
     auto axis_of = [&]() { return static_cast<unsigned>(f.require_number("axis", 0, 3)); };
     auto v = [&](const char* k) { return f.require_number(k, -big, big); };
+    // Positions, distances and centres are whole pulses in the chip's range (+-(2^30 - 1)): a
+    // fraction is refused, not truncated on its way to the block's integer input.
+    auto pulses = [&](const char* k, std::optional<double> fallback = std::nullopt) {
+        constexpr double lim = double((1 << 30) - 1);
+        const double x = fallback ? f.number(k, *fallback, -big * 10, big * 10) : f.require_number(k, -big * 10, big * 10);
+        if (x != std::floor(x)) f.fail(f.child(k), "'" + f.context() + k + "' must be a whole number of pulses");
+        if (std::fabs(x) > lim)
+            f.fail(f.child(k), "'" + f.context() + k + "' = " + std::to_string(static_cast<std::int64_t>(x)) +
+                                   " pulses is out of the chip's range [-1073741823, 1073741823]");
+        return static_cast<std::int32_t>(x);
+    };
     if (fb == "MC_Power") {
         const unsigned a = axis_of();
         const bool en = f.number("enable", 1, 0, 1) != 0;
@@ -137,7 +148,8 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
     }
     if (fb == "MC_Home") {
         const unsigned a = axis_of();
-        const double pos = f.number("position", 0, -big, big), dir = f.number("direction", -1, -1, 1);
+        const std::int32_t pos = pulses("position", 0.0);
+        const double dir = f.number("direction", -1, -1, 1);
         const double vel = f.number("velocity", 10000, -big, big);
         return [a, pos, dir, vel](MotionController& mc) {
             auto& b = mc.blocks(a).home;
@@ -148,7 +160,7 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
     if (fb == "MC_MoveAbsolute" || fb == "MC_MoveRelative") {
         const unsigned a = axis_of();
         const bool absolute = fb == "MC_MoveAbsolute";
-        const double p = v(absolute ? "position" : "distance");
+        const std::int32_t p = pulses(absolute ? "position" : "distance");
         const double vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
         const BufferMode m = buffer_of(f);
         return [=](MotionController& mc) {
@@ -177,7 +189,8 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
         return [=](MotionController& mc) { return stop_command(mc, a, dec, exec); };
     }
     if (fb == "MC_LineMove2") {
-        const double x = v("x"), y = v("y"), vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
+        const std::int32_t x = pulses("x"), y = pulses("y");
+        const double vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
         const BufferMode m = buffer_of(f);
         return [=](MotionController& mc) {
             auto& b = mc.line_move();
@@ -186,7 +199,7 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
         };
     }
     if (fb == "MC_CircleCenterMove") {
-        const double cx = v("center_x"), cy = v("center_y"), ex = v("end_x"), ey = v("end_y");
+        const std::int32_t cx = pulses("center_x"), cy = pulses("center_y"), ex = pulses("end_x"), ey = pulses("end_y");
         const bool cw = f.choice("direction", "ccw", {"cw", "ccw"}) == "cw";
         const double vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
         const BufferMode m = buffer_of(f);

@@ -330,6 +330,10 @@ scen m_fb.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: M
 expect 2 "m_fb.yaml:4: unknown function block 'MC_Fly'" -- run m_fb.yaml
 scen m_axis.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_Power, axis: 9}\n'
 expect 2 "m_axis.yaml:4: 'motion.commands[0].axis' = 9 is out of range [0, 3]" -- run m_axis.yaml
+scen m_frac.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0, position: 1000.5, velocity: 1, acceleration: 1, deceleration: 1}\n'
+expect 2 "m_frac.yaml:4: 'motion.commands[0].position' must be a whole number of pulses" -- run m_frac.yaml
+scen m_range.yaml 'motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_LineMove2, x: 1073741824, y: 0, velocity: 1, acceleration: 1, deceleration: 1}\n'
+expect 2 "m_range.yaml:4: 'motion.commands[0].x' = 1073741824 pulses is out of the chip's range [-1073741823, 1073741823]" -- run m_range.yaml
 scen m_map.yaml 'motion: 5\n'
 expect 2 "m_map.yaml:1: 'motion' must be a mapping" -- run m_map.yaml
 scen m_nan.yaml 'motion:\n  duration_s: .nan\n'
