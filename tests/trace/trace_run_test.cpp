@@ -160,6 +160,12 @@ TEST(TraceRun, CountersAndFramesCoverEveryPortAndHost) {
 }
 
 TEST(TraceErrors, AFullDiskOrAMissingDirectoryExitsWith2NamingTheFile) {
+#ifdef RCSIM_SANITIZE_BUILD
+    // The write error is thrown after the SystemC kernel has switched coroutine stacks; ASan then
+    // reports a stack-buffer-underflow of its own and the exit code is its, not rcsim's (as for the
+    // CLI shell tests, tests/cli/CMakeLists.txt). The Release build checks this.
+    GTEST_SKIP() << "exit codes after an exception are ASan's in a sanitizer build";
+#endif
     const fs::path work = fs::path(RCSIM_TRACE_WORK) / "errors";
     fs::create_directories(work);
     EXPECT_EQ(rcsim(kScenario + " --trace /dev/full", work / "full.txt"), 2);
