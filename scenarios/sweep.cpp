@@ -68,6 +68,7 @@ void absolutise_inputs(YAML::Node doc, const fs::path& dir) {
     if (doc["ports"] && doc["ports"].IsSequence())
         for (std::size_t i = 0; i < doc["ports"].size(); ++i)
             if (doc["ports"][i].IsMap() && doc["ports"][i]["file"]) fix(doc["ports"][i]["file"]);
+    if (doc["motion"] && doc["motion"].IsMap() && doc["motion"]["program"]) fix(doc["motion"]["program"]);
 }
 
 /// An axis's values: a list of scalars, or {range: [first, last]} / {range: [first, last, step]}.

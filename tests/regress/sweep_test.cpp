@@ -109,6 +109,14 @@ TEST_F(SweepTest, RelativeInputFilesBecomeAbsoluteOutputsStayRelative) {
     EXPECT_EQ(sc["ports"][1]["log"].as<std::string>(), "h.log"); // lands in the run directory
 }
 
+TEST_F(SweepTest, AMotionScenariosProgramBecomesAbsolute) {
+    fs::create_directories(dir / "sub");
+    write("sub/m.yaml", "motion:\n  program: st/p.st\n");
+    const Sweep s = load_sweep(write("s.yaml", "base: sub/m.yaml\n"));
+    EXPECT_EQ(s.runs[0].scenario["motion"]["program"].as<std::string>(),
+              (fs::absolute(dir) / "sub/st/p.st").lexically_normal().string());
+}
+
 TEST_F(SweepTest, BadSweepFilesNameFileAndLine) {
     EXPECT_NE(error_of("base: base.yaml\naxes:\n  seed: [1, 2]\nzip:\n  - {seed: [1, 2], drain_s: [1]}\n")
                   .find("bad.yaml:5: zip axis 'drain_s' has 1 values, 'seed' has 2"),
