@@ -122,20 +122,61 @@ Issued stop_command(MotionController& mc, unsigned a, double dec, bool exec) {
     return {watch_execute(b), std::nullopt};
 }
 
+/// Positions, distances and centres are whole pulses in the chip's range (+-(2^30 - 1)): a
+/// fraction is refused, not truncated on its way to the block's integer input. `what` names the
+/// value in the message.
+std::int32_t whole_pulses(const YamlMap& f, const YAML::Node& at, double x, const std::string& what) {
+    constexpr double lim = double((1 << 30) - 1);
+    if (x != std::floor(x)) f.fail(at, "'" + what + "' must be a whole number of pulses");
+    if (std::fabs(x) > lim)
+        f.fail(at, "'" + what + "' = " + std::to_string(static_cast<std::int64_t>(x)) +
+                       " pulses is out of the chip's range [-1073741823, 1073741823]");
+    return static_cast<std::int32_t>(x);
+}
+
+/// MC_LineMove over 2-4 axes of the chip: `axes: [i, ...]` (distinct) and `distances: [...]`, one
+/// whole-pulse distance per axis relative to its position when the command runs.
+template <typename Number>
+std::function<Issued(MotionController&)> read_line_move(YamlMap& f, Number v) {
+    const std::vector<double> axes = f.list<double>("axes", MotionController::axes + 1);
+    const std::vector<double> dist = f.list<double>("distances", MotionController::axes + 1);
+    if (axes.size() < 2 || axes.size() > MotionController::axes)
+        f.fail(f.has("axes") ? f.child("axes") : f.child("fb"), "'" + f.context() + "axes' must list 2 to 4 axes");
+    if (dist.size() != axes.size())
+        f.fail(f.has("distances") ? f.child("distances") : f.child("axes"),
+               "'" + f.context() + "distances' must hold one distance per axis (" + std::to_string(axes.size()) + ")");
+    std::vector<unsigned> ids;
+    std::vector<std::int32_t> d;
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+        const std::string at = f.context() + "axes[" + std::to_string(i) + "]";
+        if (axes[i] != std::floor(axes[i]) || axes[i] < 0 || axes[i] >= MotionController::axes)
+            f.fail(f.child("axes")[i], "'" + at + "' must be an axis 0 to 3");
+        const auto a = static_cast<unsigned>(axes[i]);
+        if (std::find(ids.begin(), ids.end(), a) != ids.end())
+            f.fail(f.child("axes")[i], "'" + f.context() + "axes' names axis " + std::to_string(a) + " twice");
+        ids.push_back(a);
+        d.push_back(whole_pulses(f, f.child("distances")[i], dist[i],
+                                 f.context() + "distances[" + std::to_string(i) + "]"));
+    }
+    const double vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
+    const BufferMode m = buffer_of(f);
+    return [=](MotionController& mc) {
+        auto& b = mc.line_move_n();
+        b.Axes.clear();
+        for (unsigned a : ids) b.Axes.push_back(&mc.axis(a));
+        b.Distances = d;
+        b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
+        return trigger(mc, b);
+    };
+}
+
 /// The inputs of the PLCopen block `fb`, read from its command, applied when the command runs.
 std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::string& fb) {
     auto axis_of = [&]() { return static_cast<unsigned>(f.require_number("axis", 0, 3)); };
     auto v = [&](const char* k) { return f.require_number(k, -big, big); };
-    // Positions, distances and centres are whole pulses in the chip's range (+-(2^30 - 1)): a
-    // fraction is refused, not truncated on its way to the block's integer input.
     auto pulses = [&](const char* k, std::optional<double> fallback = std::nullopt) {
-        constexpr double lim = double((1 << 30) - 1);
         const double x = fallback ? f.number(k, *fallback, -big * 10, big * 10) : f.require_number(k, -big * 10, big * 10);
-        if (x != std::floor(x)) f.fail(f.child(k), "'" + f.context() + k + "' must be a whole number of pulses");
-        if (std::fabs(x) > lim)
-            f.fail(f.child(k), "'" + f.context() + k + "' = " + std::to_string(static_cast<std::int64_t>(x)) +
-                                   " pulses is out of the chip's range [-1073741823, 1073741823]");
-        return static_cast<std::int32_t>(x);
+        return whole_pulses(f, f.child(k), x, f.context() + k);
     };
     if (fb == "MC_Power") {
         const unsigned a = axis_of();
@@ -151,9 +192,11 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
         const std::int32_t pos = pulses("position", 0.0);
         const double dir = f.number("direction", -1, -1, 1);
         const double vel = f.number("velocity", 10000, -big, big);
-        return [a, pos, dir, vel](MotionController& mc) {
+        const bool z = f.get<bool>("z_phase", false);
+        const double zvel = f.number("z_velocity", motion::MC_Home{}.ZVelocity, 1, big);
+        return [a, pos, dir, vel, z, zvel](MotionController& mc) {
             auto& b = mc.blocks(a).home;
-            b.Position = pos, b.Direction = dir < 0 ? -1 : 1, b.Velocity = vel;
+            b.Position = pos, b.Direction = dir < 0 ? -1 : 1, b.Velocity = vel, b.ZPhase = z, b.ZVelocity = zvel;
             return trigger(mc, b);
         };
     }
@@ -198,6 +241,7 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
             return trigger(mc, b);
         };
     }
+    if (fb == "MC_LineMove") return read_line_move(f, v);
     if (fb == "MC_CircleCenterMove") {
         const std::int32_t cx = pulses("center_x"), cy = pulses("center_y"), ex = pulses("end_x"), ey = pulses("end_y");
         const bool cw = f.choice("direction", "ccw", {"cw", "ccw"}) == "cw";
@@ -319,6 +363,7 @@ MotionPlan read_plan(const YAML::Node& root, const std::string& file) {
             if (!a.has(k)) return std::nullopt;
             return std::llround(a.number(k, 0, -big, big));
         };
+        p.cfg.zphase[i] = {static_cast<std::int64_t>(a.integer("z_pitch", 0, 0, 1u << 30)), opt("z_offset").value_or(0)};
         p.cfg.switches[i++] = {opt("pelm"), opt("nelm"), opt("home")};
         a.finish();
     }

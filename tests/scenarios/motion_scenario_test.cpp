@@ -180,3 +180,89 @@ TEST(MotionScenario, BadSectionErrorsNameFileLineAndKeyPath) {
 }
 
 } // namespace
+
+/// cmd_pulses of axis `axis` in the last trajectory sample before it jumped to `preset` (the
+/// position MC_Home sets at the home point; moving, it changes by a few pulses per sample).
+static std::int64_t last_before_preset(const std::filesystem::path& csv_path, int axis, std::int64_t preset) {
+    std::ifstream csv(csv_path);
+    std::string line;
+    std::getline(csv, line); // header t_s,axis,cmd_pulses,act_pulses
+    std::int64_t last = 0;
+    while (std::getline(csv, line)) {
+        std::stringstream row(line);
+        std::string t, a, cmd;
+        std::getline(row, t, ','), std::getline(row, a, ','), std::getline(row, cmd, ',');
+        if (std::stoi(a) != axis) continue;
+        const std::int64_t p = std::stoll(cmd);
+        if (p == preset && std::llabs(p - last) > 100) return last;
+        last = p;
+    }
+    ADD_FAILURE() << "no preset to " << preset << " in " << csv_path;
+    return 0;
+}
+
+// Home switch at -2500 (on at and below), Z where (position - 137) % 1000 == 0. Without Z the
+// homing ends on the switch edge, -2500; with Z the search leaves the switch (+) and stops on the
+// next Z pulse, -1863. The trajectory samples once per 1 ms cycle: at z_velocity 1000 pps
+// (approach 2000 pps) the last sample before the preset is at most one (two) pulses short.
+// (One simulation per test process: SystemC elaborates once.)
+const char* const kHomeScenario = "motion:\n  duration_s: 5\n  axes: [{home: -2500, z_pitch: 1000, z_offset: 137}]\n"
+                                  "  commands:\n    - {at_ms: 0, fb: MC_Power, axis: 0}\n"
+                                  "    - {at_ms: 10, fb: MC_Home, axis: 0, position: -7, ";
+
+TEST(MotionScenario, HomeWithZPhaseStopsOnTheEncoderZPulseOfTheAxisKeys) {
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_home_z";
+    nlohmann::json report;
+    ASSERT_EQ(run_motion_scenario(YAML::Load(std::string(kHomeScenario) + "z_phase: true, z_velocity: 1000}\n"),
+                                  "z.yaml", out, 0, report), 0) << report.dump(2);
+    EXPECT_EQ(report["motion"]["final_cmd_pulses"][0], -7);
+    const auto z = last_before_preset(out / "trajectory.csv", 0, -7);
+    EXPECT_GE(z, -1864);
+    EXPECT_LE(z, -1863);
+}
+
+TEST(MotionScenario, HomeWithoutZPhaseStopsOnTheSwitchEdge) {
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_home_noz";
+    nlohmann::json report;
+    ASSERT_EQ(run_motion_scenario(YAML::Load(std::string(kHomeScenario) + "z_phase: false}\n"), "z.yaml", out, 0,
+                                  report), 0) << report.dump(2);
+    const auto sw = last_before_preset(out / "trajectory.csv", 0, -7);
+    EXPECT_GE(sw, -2500);
+    EXPECT_LE(sw, -2498);
+}
+
+TEST(MotionScenario, LineMoveOverThreeAxesEndsAtItsDistances) {
+    const YAML::Node root = YAML::Load(
+        "motion:\n  duration_s: 1.5\n  commands:\n"
+        "    - {at_ms: 0, fb: MC_Power, axis: 0}\n    - {at_ms: 0, fb: MC_Power, axis: 1}\n"
+        "    - {at_ms: 0, fb: MC_Power, axis: 3}\n"
+        "    - {at_ms: 10, fb: MC_LineMove, axes: [3, 0, 1], distances: [12000, 3000, -4000], velocity: 20000,"
+        " acceleration: 200000, deceleration: 200000}\n"
+        "  checks:\n    final_positions: [3000, -4000, 0, 12000]\n");
+    nlohmann::json report;
+    ASSERT_EQ(run_motion_scenario(root, "l.yaml", std::filesystem::temp_directory_path() / "rcsim_line_n", 0, report),
+              0) << report.dump(2);
+    EXPECT_EQ(report["motion"]["commands"][3]["fb"], "MC_LineMove");
+    EXPECT_EQ(report["motion"]["commands"][3]["outcome"], "done");
+}
+
+TEST(MotionScenario, BadLineMoveNamesTheKey) {
+    const std::string head = "motion:\n  duration_s: 0.01\n  commands:\n    - {at_ms: 0, fb: MC_LineMove, ";
+    const std::string tail = ", velocity: 1, acceleration: 1, deceleration: 1}\n";
+    auto error_of = [&](const std::string& args) {
+        nlohmann::json report;
+        EXPECT_EQ(run_motion_scenario(YAML::Load(head + args + tail), "lm.yaml",
+                                      std::filesystem::temp_directory_path(), 0, report), 2);
+        return report["motion"]["error"].get<std::string>();
+    };
+    EXPECT_NE(error_of("axes: [0], distances: [1]").find("lm.yaml:4: 'motion.commands[0].axes' must list 2 to 4 axes"),
+              std::string::npos);
+    EXPECT_NE(error_of("axes: [0, 1], distances: [1]").find("'motion.commands[0].distances' must hold one distance per axis (2)"),
+              std::string::npos);
+    EXPECT_NE(error_of("axes: [0, 0], distances: [1, 2]").find("names axis 0 twice"), std::string::npos);
+    EXPECT_NE(error_of("axes: [0, 4], distances: [1, 2]").find("'motion.commands[0].axes[1]' must be an axis 0 to 3"),
+              std::string::npos);
+    EXPECT_NE(error_of("axes: [0, 1], distances: [1, 2.5]")
+                  .find("'motion.commands[0].distances[1]' must be a whole number of pulses"),
+              std::string::npos);
+}
