@@ -69,6 +69,7 @@ template <typename Fb> class McNative : public NativeBlock {
 public:
     explicit McNative(const std::vector<Field<Fb>>& f) : fields_(f) {}
     void call(Instance& self, ExecContext& ctx) override {
+        ++ctx.motion_calls;
         for (std::size_t k = 0; k < fields_.size(); ++k)
             if (fields_[k].in) fields_[k].in(fb_, self.vars[k], ctx);
         fb_.call();
@@ -108,6 +109,7 @@ template <typename Fb> std::vector<Field<Fb>> execute_block(std::vector<Field<Fb
 class PowerNative : public NativeBlock {
 public:
     void call(Instance& self, ExecContext& ctx) override {
+        ++ctx.motion_calls;
         auto& v = self.vars; // Axis, Enable, Status, Valid, Error, ErrorID
         const std::int64_t n = v[0].i;
         motion::MC_Power* p = n >= 0 && static_cast<std::size_t>(n) < ctx.power.size()
