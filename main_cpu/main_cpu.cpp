@@ -397,7 +397,7 @@ void MainCpu::cycle_thread() {
         ++control_cycles_;
         if (MotionInterface* m = dispatcher_.motion()) m->control_cycle(start);
         // A motion layer with a cost model spends its work inside control_cycle (wait()).
-        if (ProgramInterface* p = dispatcher_.program()) p->cycle(start);
+        if (ProgramInterface* p = dispatcher_.program()) run_program(*p, start);
         if (config_.cycle_time > sc_core::SC_ZERO_TIME) sc_core::wait(config_.cycle_time);
         cycle_duration_us_.add(to_us(sc_time_stamp() - start));
         cpu_.release();
@@ -407,6 +407,19 @@ void MainCpu::cycle_thread() {
             ++cycle_overruns_;
         }
     }
+}
+
+// The program's work costs processor time in the cycle, as the motion layer's does: its
+// statements, and the motion blocks it calls as the motion layer's own block calls (their CAMC-QI
+// accesses the motion layer spends as they happen).
+void MainCpu::run_program(ProgramInterface& p, const sc_time& start) {
+    const ProgramWork w = p.cycle(start);
+    program_work_.statements += w.statements;
+    program_work_.motion_calls += w.motion_calls;
+    const sc_time t = config_.statement_time * static_cast<double>(w.statements) +
+                      config_.fb_call * static_cast<double>(w.motion_calls);
+    program_time_ += t;
+    if (t > sc_core::SC_ZERO_TIME) sc_core::wait(t);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -444,8 +457,15 @@ nlohmann::json MainCpu::report() const {
             {"busy_wait_us", to_us(busy_wait_)},
             {"cpu_busy_us", to_us(cpu_.busy_time())},
             {"ports", ports_json}};
-    // Only with a motion layer, whose work makes it vary (a run without keeps its report as before).
-    if (dispatcher_.motion()) j["cycle_duration_us"] = to_json(cycle_duration_us_.summary());
+    // Only with a motion layer or a program, whose work makes it vary (a run without keeps its
+    // report as before).
+    if (dispatcher_.motion() || dispatcher_.program())
+        j["cycle_duration_us"] = to_json(cycle_duration_us_.summary());
+    if (dispatcher_.program())
+        j["program_cost"] = {{"statements", program_work_.statements},
+                             {"motion_calls", program_work_.motion_calls},
+                             {"statement_us", to_us(config_.statement_time)},
+                             {"time_us", to_us(program_time_)}};
     return j;
 }
 

@@ -53,6 +53,11 @@ struct MainCpuConfig {
     // The motion layer's cost when the main CPU hosts one (docs/motion.md "Main-CPU cost"): its
     // CAMC-QI accesses run on this bus clock with access_cycles each, plus this per block call.
     sc_core::sc_time fb_call = us(5);
+    // A loaded program's cost (docs/st.md "Cost in the control cycle"): this per statement it
+    // executes (the statement budget's count), and fb_call per motion block it calls. A model
+    // parameter, not a measurement: 32 clocks of the 16 MHz bus clock, a statement compiled to
+    // about 8 instructions of about 4 clocks each.
+    sc_core::sc_time statement_time = us(2);
 
     void validate() const;
 };
@@ -142,6 +147,10 @@ public:
     /// INT_R rise to the first handler instruction, microseconds, one per handler run.
     const Samples& irq_latency_us() const { return irq_latency_us_; }
     std::uint64_t control_cycles() const { return control_cycles_; }
+    /// What the loaded program executed in all, and the processor time charged for it.
+    std::uint64_t program_statements() const { return program_work_.statements; }
+    std::uint64_t program_motion_calls() const { return program_work_.motion_calls; }
+    sc_core::sc_time program_time() const { return program_time_; }
     std::uint64_t cycle_overruns() const { return cycle_overruns_; }
     std::uint64_t mailbox_words() const { return mailbox_words_; }
     std::uint64_t unknown_words() const { return unknown_words_; }
@@ -189,6 +198,7 @@ private:
     void tx_thread2() { tx_thread(2); }
     void tx_thread(unsigned p);
     void cycle_thread();
+    void run_program(ProgramInterface& p, const sc_core::sc_time& start);
 
     // INT_R handler parts (called with the processor held)
     void handle_word(std::uint8_t word);
@@ -232,6 +242,8 @@ private:
     Samples cycle_duration_us_;
     Samples irq_latency_us_;
     std::uint64_t control_cycles_ = 0;
+    ProgramWork program_work_;
+    sc_core::sc_time program_time_;
     std::uint64_t cycle_overruns_ = 0;
     std::uint64_t mailbox_words_ = 0;
     std::uint64_t unknown_words_ = 0;

@@ -5,9 +5,17 @@
 
 #include <systemc>
 
+#include <cstdint>
 #include <string>
 
 namespace rcsim {
+
+/// What one execution of the program did, in the units the main CPU's cost model charges
+/// (docs/st.md "Cost"): MainCpuConfig::statement_time per statement, fb_call per motion block.
+struct ProgramWork {
+    std::uint64_t statements = 0;   // statements executed plus loop iterations begun (the budget's count)
+    std::uint64_t motion_calls = 0; // calls of the PLCopen motion blocks (MC_...) among them
+};
 
 class ProgramInterface {
 public:
@@ -21,8 +29,9 @@ public:
     virtual bool running() const = 0;
     /// The runtime error that stopped the program ("" if none).
     virtual const std::string& error() const = 0;
-    /// One execution of the running program, after the motion layer's cycle at `now`.
-    virtual void cycle(const sc_core::sc_time& now) = 0;
+    /// One execution of the running program, after the motion layer's cycle at `now`; what it
+    /// did (nothing when no program runs).
+    virtual ProgramWork cycle(const sc_core::sc_time& now) = 0;
 };
 
 } // namespace rcsim

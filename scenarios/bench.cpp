@@ -48,6 +48,7 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
             for (unsigned a = 0; a < motion::MotionController::axes; ++a) motion->chip().trace_pulses(a, true);
         ctl.set_motion(motion.get());
     }
+    if (s.program) load_program(*s.program);
     probe.keep_records(false);
     ctl.main.keep_history(false);
     ctl.main.on_received = [this](const FrameRecord& f) {
@@ -65,6 +66,19 @@ Bench::Bench(sc_core::sc_module_name name, const Scenario& s)
     const double rtf = s.realtime >= 0 ? s.realtime : any_tcp ? 1.0 : 0.0;
     if (rtf > 0) pacer = std::make_unique<RealtimePacer>("pacer", rtf);
     SC_THREAD(inject_breaks);
+}
+
+// The text compiled when the scenario was read (scenario.h): this cannot fail. The program's
+// AXIS_REFs are the motion layer's axes, its MC_Power drives the layer's own.
+void Bench::load_program(const Scenario::Program& p) {
+    std::vector<motion::McAxis*> axes;
+    std::vector<motion::MC_Power*> power;
+    for (unsigned a = 0; motion && a < motion::MotionController::axes; ++a) {
+        axes.push_back(&motion->axis(a));
+        power.push_back(&motion->power(a));
+    }
+    program = std::make_unique<st::StProgram>(p.text, p.path, axes, power, st::StProgram::Config{p.budget});
+    ctl.main.set_program(program.get());
 }
 
 const char* Bench::host_kind(unsigned p) const {

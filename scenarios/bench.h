@@ -17,6 +17,7 @@
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
 #include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/program.h"
 #include "models/serial_line.h"
 #include "models/stats.h"
 
@@ -51,6 +52,8 @@ public:
     /// DP-RAM side (line_observer.h).
     std::array<LineObserver, kPorts> observers;
     std::unique_ptr<motion::MotionController> motion;
+    /// main_cpu.program: the Structured Text program the main CPU runs (docs/st.md).
+    std::unique_ptr<st::StProgram> program;
 
     SC_HAS_PROCESS(Bench);
     Bench(sc_core::sc_module_name name, const Scenario& s);
@@ -92,6 +95,7 @@ private:
     DpramByteTime dpram_;
 
     void attach_host(unsigned p, const PortScenario& ps);
+    void load_program(const Scenario::Program& p);
     void inject_breaks();
     void watch_dpram(const i8086::BusRecord& r, const sc_core::sc_time& t);
 

@@ -1,6 +1,8 @@
 // rcsim — the verdicts of a motion run. See motion_checks.h.
 #include "scenarios/motion_checks.h"
 
+#include "main_cpu/st/program.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -64,6 +66,13 @@ Check fb_outcome_check(const std::vector<FbCommand>& cmds) {
 Check final_state_check(const std::string& want, const std::string& got) {
     Check c = Check::at_most("final_state", Figure::of(want == got ? 0.0 : 1.0), 0);
     c.detail = {{"want", want}, {"got", got}};
+    return c;
+}
+
+Check program_check(const st::StProgram& p) {
+    Check c = Check::at_most("st_program_error_free", Figure::of(p.error().empty() && p.cycles() > 0 ? 0.0 : 1.0), 0);
+    c.detail = {{"program", p.current()}, {"cycles", p.cycles()},
+                {"error", p.cycles() == 0 ? "the program never ran (no RN token?)" : p.error()}};
     return c;
 }
 

@@ -16,6 +16,10 @@
 
 namespace rcsim {
 
+namespace st {
+class StProgram;
+}
+
 /// What a function-block command ended with: the block's Done, Error (with ErrorID) or
 /// CommandAborted output (PLCopen Part 1 Table 2); `busy` when none came by the end of the run,
 /// `superseded` when a later command on the same block instance took it over first (the block
@@ -45,6 +49,10 @@ Check fb_outcome_check(const std::vector<FbCommand>& cmds);
 
 /// `final_state`: mismatches (0 or 1) between the wanted and the final overall axis state.
 Check final_state_check(const std::string& want, const std::string& got);
+
+/// st_program_error_free: the loaded Structured Text program ran (an RN reached it) and no
+/// runtime error stopped it (docs/st.md).
+Check program_check(const st::StProgram& p);
 /// `final_positions`: the largest |command position - wanted| over the listed axes, limit
 /// `tolerance` pulses.
 Check final_positions_check(const std::vector<std::int64_t>& want, const std::vector<std::int64_t>& got,

@@ -477,14 +477,7 @@ std::vector<Check> judge(const CheckPlan& p, MotionController& mc, const MotionD
         for (unsigned a = 0; a < MotionController::axes; ++a) got.push_back(mc.chip().command_position(a));
         checks.push_back(final_positions_check(p.final_positions, got, p.position_tolerance));
     }
-    if (d.program) {
-        // The program ran (an RN reached it) and no runtime error stopped it.
-        const st::StProgram& pr = *d.program;
-        Check c = Check::at_most("st_program_error_free", Figure::of(pr.error().empty() && pr.cycles() > 0 ? 0.0 : 1.0), 0);
-        c.detail = {{"program", pr.current()}, {"cycles", pr.cycles()},
-                    {"error", pr.cycles() == 0 ? "the program never ran (no RN token?)" : pr.error()}};
-        checks.push_back(std::move(c));
-    }
+    if (d.program) checks.push_back(program_check(*d.program));
     if (p.circle)
         for (Check& c : circle_checks(*p.circle, d.arc, mc.recorder().samples(),
                                       "the scenario has no MC_CircleCenterMove command"))

@@ -125,6 +125,7 @@ std::vector<Check> system_motion_checks(const Bench& b, const Scenario& s) {
         c.detail = script_json(r);
         out.push_back(std::move(c));
     }
+    if (b.program) out.push_back(program_check(*b.program));
     if (!b.motion) return out;
     motion::MotionController& mc = *b.motion;
     const CheckLimits& L = s.checks;

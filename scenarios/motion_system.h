@@ -32,8 +32,9 @@ nlohmann::json script_json(const ScriptResult& r);
 /// the cost model's totals.
 nlohmann::json motion_system_json(const Bench& b);
 
-/// port<n>_script_completed for every scripted port, and with main_cpu.motion the motion checks
-/// the scenario asks for (circle, final_state, max_cycle_jitter_us), in report order.
+/// port<n>_script_completed for every scripted port, st_program_error_free with main_cpu.program,
+/// and with main_cpu.motion the motion checks the scenario asks for (circle, final_state,
+/// max_cycle_jitter_us), in report order.
 std::vector<Check> system_motion_checks(const Bench& b, const Scenario& s);
 
 /// The radial-error plot's circle: the scenario's `checks.circle` over the window of the last

@@ -156,6 +156,7 @@ void report_bench(const Bench& bench, const Scenario& s, const RunOptions& opt, 
         report["ports"].push_back(pj);
     }
     report["main_cpu"] = bench.ctl.main.report();
+    if (bench.program) report["main_cpu"]["program"] = bench.program->report();
     report["dpram"] = {{"collisions", bench.ctl.dpram.collisions()}};
     if (bench.pacer) {
         const auto& ps_ = bench.pacer->stats();

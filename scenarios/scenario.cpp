@@ -4,12 +4,16 @@
 
 #include "scenarios/yaml_map.h"
 
+#include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/program.h"
+
 #include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace rcsim {
@@ -331,9 +335,48 @@ void read_board(YamlMap m, ControllerConfig& b) {
     m.finish();
 }
 
+/// The largest Structured Text program rcsim reads (a program is a few kilobytes).
+constexpr std::uintmax_t kMaxProgramBytes = 1u << 20;
+
+/// main_cpu.program (relative to the scenario's folder) and main_cpu.statement_budget. The text
+/// is compiled here, for the four axes of the motion layer or none without it, so that a parse or
+/// type error ends the run before anything is built: one message, file:line:column.
+std::optional<Scenario::Program> read_program(YamlMap& m, const std::filesystem::path& dir, bool motion) {
+    namespace fs = std::filesystem;
+    if (!m.has("program")) {
+        if (m.has("statement_budget"))
+            m.fail(m.child("statement_budget"), "'main_cpu.statement_budget' bounds a program: it needs 'main_cpu.program'");
+        return std::nullopt;
+    }
+    Scenario::Program p;
+    const fs::path rel = m.require<std::string>("program");
+    p.path = (rel.is_absolute() ? rel : dir / rel).string();
+    const std::string cannot = "cannot read the Structured Text program '" + p.path + "'";
+    std::error_code ec;
+    if (!fs::is_regular_file(p.path, ec)) m.fail(m.child("program"), cannot + " (no such regular file)");
+    const std::uintmax_t size = fs::file_size(p.path, ec);
+    if (!ec && size > kMaxProgramBytes)
+        m.fail(m.child("program"), cannot + ": it is " + std::to_string(size) + " bytes, a program is at most " +
+                                       std::to_string(kMaxProgramBytes));
+    std::ifstream in(p.path);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) m.fail(m.child("program"), cannot);
+    p.text = text.str();
+    p.budget = static_cast<std::uint64_t>(m.integer("statement_budget", 100000, 1, 1000000000));
+    try {
+        st::StProgram(p.text, p.path, std::vector<motion::McAxis*>(motion ? motion::MotionController::axes : 0));
+    } catch (const st::CompileError& e) {
+        throw ConfigError(e.what());
+    }
+    return p;
+}
+
 void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scenario::Csp>& csp,
-                   TrajectoryOptions& trajectory) {
+                   TrajectoryOptions& trajectory, const std::filesystem::path& dir,
+                   std::optional<Scenario::Program>& program) {
     motion = m.get<bool>("motion", false);
+    program = read_program(m, dir, motion);
     if (m.has("trajectory")) {
         if (!motion) m.fail(m.child("trajectory"), "'main_cpu.trajectory' needs 'main_cpu.motion: true'");
         trajectory = read_trajectory_options(m.map("trajectory"));
@@ -360,6 +403,7 @@ void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scen
     if (m.has("ack_timeout_us")) m.number("ack_timeout_us", 0, kMinAckTimeoutUs, 3.6e9);
     c.ack_timeout = us_value(m, "ack_timeout_us", to_us(c.ack_timeout), 3.6e9);
     c.fb_call = us_value(m, "fb_call_us", to_us(c.fb_call), 1e6);
+    c.statement_time = us_value(m, "statement_us", to_us(c.statement_time), 1000);
     try {
         c.validate();
     } catch (const std::exception& e) {
@@ -443,7 +487,7 @@ Scenario load_scenario(const std::string& path) {
     s.budget_us = optional_number(top, "budget_us", 0, 1e9);
     if (s.budget_us == 0) top.fail(top.child("budget_us"), "'budget_us' must be > 0");
     read_board(top.map("board"), s.board);
-    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion, s.csp, s.trajectory);
+    read_main_cpu(top.map("main_cpu"), s.board.main, s.main_motion, s.csp, s.trajectory, dir, s.program);
     if (s.csp && s.csp->sync_offset_us >= to_us(s.board.main.cycle_period))
         top.fail(top.child("main_cpu"), "'main_cpu.csp.sync_offset_us' must be shorter than 'main_cpu.cycle_period_us'");
     read_checks(top.map("checks"), s.checks, s.main_motion);

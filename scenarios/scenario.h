@@ -90,6 +90,14 @@ struct Scenario {
     };
     std::optional<Csp> csp;
     TrajectoryOptions trajectory; // main_cpu.trajectory: what the trajectory files hold
+    /// main_cpu.program: a Structured Text program the main CPU runs once per control cycle
+    /// (docs/st.md); RN, SP and ST over the serial protocol start, stop and report it. Compiled
+    /// when the scenario is read, so that an error in it is bad input.
+    struct Program {
+        std::string path, text;
+        std::uint64_t budget = 100000; // main_cpu.statement_budget
+    };
+    std::optional<Program> program;
 };
 
 /// Reads and validates a scenario file. Throws ConfigError naming file and line.

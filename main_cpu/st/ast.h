@@ -86,6 +86,7 @@ struct ExecContext {
     std::vector<motion::MC_Power*> power;
     std::uint64_t budget = 100000;          // statements per cycle
     std::uint64_t executed = 0;             // statements this cycle
+    std::uint64_t motion_calls = 0;         // motion block calls this cycle (mc_blocks.cpp)
 
     /// Counts one statement; throws when the cycle's budget is spent.
     void tick(const SourcePos& at);

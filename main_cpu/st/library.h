@@ -23,7 +23,7 @@ const std::string& standard_prelude();
 /// TON and TOF.
 void add_timer_blocks(Unit& u);
 /// MC_Power, MC_Reset, MC_Home, MC_MoveAbsolute, MC_MoveRelative, MC_MoveVelocity, MC_Stop,
-/// MC_Halt, MC_LineMove2, MC_CircleCenterMove.
+/// MC_Halt, MC_LineMove2, MC_LineMove (2-4 axes), MC_CircleCenterMove.
 void add_motion_blocks(Unit& u);
 
 } // namespace rcsim::st

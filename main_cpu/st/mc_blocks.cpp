@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <type_traits>
+#include <utility>
 
 namespace rcsim::st {
 namespace {
@@ -69,6 +70,7 @@ template <typename Fb> class McNative : public NativeBlock {
 public:
     explicit McNative(const std::vector<Field<Fb>>& f) : fields_(f) {}
     void call(Instance& self, ExecContext& ctx) override {
+        ++ctx.motion_calls;
         for (std::size_t k = 0; k < fields_.size(); ++k)
             if (fields_[k].in) fields_[k].in(fb_, self.vars[k], ctx);
         fb_.call();
@@ -103,11 +105,28 @@ template <typename Fb> std::vector<Field<Fb>> execute_block(std::vector<Field<Fb
     return f;
 }
 
+/// MC_LineMove over 2-4 axes with the inputs of MC_LineMove2 extended by a third and a fourth
+/// axis: AxisX and AxisY always take part (no axis there: invalid_axis, as for MC_LineMove2),
+/// AxisZ and AxisU when they name an axis. The group and its distances are formed from them on
+/// every call; the block reads them at Execute's rising edge.
+struct LineMoveN : motion::MC_LineMove {
+    McAxis *AxisX = nullptr, *AxisY = nullptr, *AxisZ = nullptr, *AxisU = nullptr;
+    std::int32_t X = 0, Y = 0, Z = 0, U = 0;
+    void call() {
+        Axes = {AxisX, AxisY};
+        Distances = {X, Y};
+        for (const auto& [a, d] : {std::pair{AxisZ, Z}, std::pair{AxisU, U}})
+            if (a) Axes.push_back(a), Distances.push_back(d);
+        MC_LineMove::call();
+    }
+};
+
 /// MC_Power drives the motion layer's own MC_Power of the axis when there is one (ExecContext::
 /// power): the layer calls that block every cycle, and two power blocks on one axis would fight.
 class PowerNative : public NativeBlock {
 public:
     void call(Instance& self, ExecContext& ctx) override {
+        ++ctx.motion_calls;
         auto& v = self.vars; // Axis, Enable, Status, Valid, Error, ErrorID
         const std::int64_t n = v[0].i;
         motion::MC_Power* p = n >= 0 && static_cast<std::size_t>(n) < ctx.power.size()
@@ -148,7 +167,7 @@ void add_motion_blocks(Unit& u) {
         u.pous.push_back(std::move(p));
     }
     // Inputs in PLCopen's order; the interpolating blocks take two AXIS_REFs (AxisX, AxisY), the
-    // pair rcsim's blocks drive as a two-axis group.
+    // pair rcsim's blocks drive as a two-axis group, MC_LineMove up to four (LineMoveN).
     static const auto reset = execute_block<MC_Reset>({input<MC_Reset>("Axis", &MC_Reset::Axis)}, false);
     static const auto stop = execute_block<MC_Stop>(
         {input<MC_Stop>("Axis", &MC_Stop::Axis), input<MC_Stop>("Deceleration", &MC_Stop::Deceleration),
@@ -191,6 +210,12 @@ void add_motion_blocks(Unit& u) {
         {input<LM>("AxisX", &LM::AxisX), input<LM>("AxisY", &LM::AxisY), input<LM>("X", &LM::X), input<LM>("Y", &LM::Y),
          input<LM>("Velocity", &LM::Velocity), input<LM>("Acceleration", &LM::Acceleration),
          input<LM>("Deceleration", &LM::Deceleration), input<LM>("BufferMode", &LM::Mode)}, true);
+    using LN = LineMoveN;
+    static const auto line_n = execute_block<LN>(
+        {input<LN>("AxisX", &LN::AxisX), input<LN>("AxisY", &LN::AxisY), input<LN>("AxisZ", &LN::AxisZ),
+         input<LN>("AxisU", &LN::AxisU), input<LN>("X", &LN::X), input<LN>("Y", &LN::Y), input<LN>("Z", &LN::Z),
+         input<LN>("U", &LN::U), input<LN>("Velocity", &LN::Velocity), input<LN>("Acceleration", &LN::Acceleration),
+         input<LN>("Deceleration", &LN::Deceleration), input<LN>("BufferMode", &LN::Mode)}, true);
     using CC = MC_CircleCenterMove;
     static const auto circle = execute_block<CC>(
         {input<CC>("AxisX", &CC::AxisX), input<CC>("AxisY", &CC::AxisY), input<CC>("CenterX", &CC::CenterX),
@@ -206,6 +231,7 @@ void add_motion_blocks(Unit& u) {
     add_block(u, "MC_MoveRelative", move_rel);
     add_block(u, "MC_MoveVelocity", move_vel);
     add_block(u, "MC_LineMove2", line);
+    add_block(u, "MC_LineMove", line_n);
     add_block(u, "MC_CircleCenterMove", circle);
 }
 

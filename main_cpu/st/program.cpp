@@ -54,12 +54,13 @@ void StProgram::fail(const std::string& message) {
         if (a && a->state() != motion::AxisState::error_stop) a->enter_error(program_error);
 }
 
-void StProgram::cycle(const sc_core::sc_time& now) { run_once(std::llround(now.to_seconds() * 1e6)); }
+ProgramWork StProgram::cycle(const sc_core::sc_time& now) { return run_once(std::llround(now.to_seconds() * 1e6)); }
 
-void StProgram::run_once(std::int64_t now_us) {
-    if (!running_) return;
+ProgramWork StProgram::run_once(std::int64_t now_us) {
+    if (!running_) return {};
     ctx_.now_us = now_us;
     ctx_.executed = 0;
+    ctx_.motion_calls = 0;
     ctx_.globals = globals_.get();
     ctx_.self = nullptr;
     try {
@@ -71,6 +72,7 @@ void StProgram::run_once(std::int64_t now_us) {
     }
     ++cycles_;
     max_statements_ = std::max(max_statements_, ctx_.executed);
+    return ProgramWork{ctx_.executed, ctx_.motion_calls};
 }
 
 namespace {

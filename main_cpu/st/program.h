@@ -44,10 +44,11 @@ public:
     void stop() override;
     bool running() const override { return running_; }
     const std::string& error() const override { return error_; }
-    void cycle(const sc_core::sc_time& now) override;
+    ProgramWork cycle(const sc_core::sc_time& now) override;
 
-    /// One execution at time `now_us` (microseconds); cycle() calls it.
-    void run_once(std::int64_t now_us);
+    /// One execution at time `now_us` (microseconds); cycle() calls it. What it did: the
+    /// statements up to and including one that failed (nothing when no program runs).
+    ProgramWork run_once(std::int64_t now_us);
 
     const Unit& unit() const { return *unit_; }
     /// The PROGRAM last started ("" before the first RN).

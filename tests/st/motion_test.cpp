@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace rcsim;
 using namespace rcsim::motion;
 using rcsim::st::StProgram;
@@ -116,6 +119,67 @@ TEST(StMotion, AnUnboundAxisRefIsInvalidAxis) {
             EXPECT_EQ(b.var("m.Error"), 1);
             EXPECT_EQ(b.var("m.ErrorID"), err::invalid_axis);
             EXPECT_TRUE(b.program->running()); // a block error is the program's to handle
+        });
+}
+
+// MC_LineMove over three axes (docs/st.md "Motion blocks"): X, Y, Z relative to where the axes
+// are; the chip interpolates them as one group, so every axis is at the same fraction of its
+// distance at every instant and all arrive together.
+const char* line3 = R"(
+PROGRAM M
+VAR p0, p1, p2 : MC_Power; line : MC_LineMove; go, done_seen : BOOL; END_VAR
+p0(Axis := Axis0, Enable := TRUE);
+p1(Axis := Axis1, Enable := TRUE);
+p2(Axis := Axis2, Enable := TRUE);
+line(AxisX := Axis0, AxisY := Axis1, AxisZ := Axis2, Execute := go AND p0.Status AND p1.Status AND p2.Status,
+     X := 3000, Y := -1500, Z := 1000, Velocity := 20000, Acceleration := 200000, Deceleration := 200000);
+IF line.Done THEN done_seen := TRUE; END_IF;
+END_PROGRAM)";
+
+TEST(StMotion, McLineMoveOfThreeAxesReachesItsEndPointWithTheAxesTogether) {
+    run(line3, [](StBench& b) {
+        b.cycles(10);
+        ASSERT_EQ(b.var("p2.Status"), 1);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(2);
+        for (unsigned a = 0; a < 3; ++a) EXPECT_EQ(b.mc.axis(a).state(), AxisState::synchronized_motion) << a;
+        EXPECT_EQ(b.mc.axis(3).state(), AxisState::disabled); // AxisU left unset: not in the group
+        EXPECT_EQ(b.var("line.Busy"), 1);
+        // Path length sqrt(3000^2 + 1500^2 + 1000^2) = 3500 pulses at 20000 pulses/s with 0.1 s
+        // ramps: 0.275 s. Each cycle the Y and Z positions are the X position's fraction of
+        // their distances, to within one pulse (the chip's interpolation steps whole pulses).
+        double worst = 0;
+        int moving_cycles = 0;
+        for (int k = 0; k < 500 && !b.var("done_seen"); ++k) {
+            b.cycles(1);
+            const double x = double(b.mc.chip().command_position(0));
+            const double y = double(b.mc.chip().command_position(1)), z = double(b.mc.chip().command_position(2));
+            worst = std::max({worst, std::abs(y - x * -1500.0 / 3000.0), std::abs(z - x * 1000.0 / 3000.0)});
+            moving_cycles += x > 0 && x < 3000;
+        }
+        EXPECT_EQ(b.var("done_seen"), 1);
+        EXPECT_LE(worst, 1.0);
+        EXPECT_GT(moving_cycles, 200); // it took the profile's time, not one jump
+        EXPECT_EQ(b.mc.chip().command_position(0), 3000);
+        EXPECT_EQ(b.mc.chip().command_position(1), -1500);
+        EXPECT_EQ(b.mc.chip().command_position(2), 1000);
+        EXPECT_EQ(b.mc.chip().command_position(3), 0);
+        for (unsigned a = 0; a < 3; ++a) EXPECT_EQ(b.mc.axis(a).state(), AxisState::standstill) << a;
+        // Four motion blocks called in each execution: the cost model's count.
+        EXPECT_EQ(b.program->cycle(sc_core::sc_time_stamp()).motion_calls, 4u);
+    });
+}
+
+TEST(StMotion, McLineMoveWithoutAxisYIsInvalidAxis) {
+    // Axis0 powered, so that the block gets past its first axis to the missing second.
+    run("PROGRAM M VAR p0 : MC_Power; l : MC_LineMove; END_VAR\np0(Axis := Axis0, Enable := TRUE);\n"
+        "l(AxisX := Axis0, AxisZ := Axis2, Execute := p0.Status, X := 100, Z := 100, Velocity := 1000,\n"
+        "  Acceleration := 1000, Deceleration := 1000);\nEND_PROGRAM",
+        [](StBench& b) {
+            b.cycles(12);
+            ASSERT_EQ(b.var("p0.Status"), 1);
+            EXPECT_EQ(b.var("l.Error"), 1);
+            EXPECT_EQ(b.var("l.ErrorID"), err::invalid_axis);
         });
 }
 

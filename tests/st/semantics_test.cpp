@@ -277,6 +277,21 @@ TEST(StRuntime, ABoundedLoopUnderTheBudgetRunsEveryCycle) {
     EXPECT_EQ(p->max_statements(), 201u); // the FOR, then per run its iteration and the assignment
 }
 
+// What one execution reports to the main CPU's cost model (ProgramWork): the budget's count.
+TEST(StRuntime, AnExecutionReportsTheStatementsItExecuted) {
+    auto p = started("PROGRAM T\nVAR x, y, w : INT; END_VAR\nx := 1;\n"
+                     "IF x = 1 THEN y := 1; y := 2; ELSE y := 3; END_IF;\n"
+                     "WHILE w < 3 DO w := w + 1; END_WHILE;\nEND_PROGRAM");
+    const rcsim::ProgramWork w = p->run_once(0);
+    // x := 1 (1); the IF and its taken branch's two assignments (3); the WHILE, its three
+    // iterations and their three assignments (7).
+    EXPECT_EQ(w.statements, 11u);
+    EXPECT_EQ(w.motion_calls, 0u);
+    EXPECT_EQ(p->max_statements(), 11u);
+    p->stop();
+    EXPECT_EQ(p->run_once(1000).statements, 0u); // a stopped program executes nothing
+}
+
 TEST(StRuntime, StartIsColdAndRefusesUnknownNames) {
     auto p = started("PROGRAM T VAR n : INT; END_VAR n := n + 1; END_PROGRAM");
     p->run_once(0);
