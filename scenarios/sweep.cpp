@@ -68,7 +68,8 @@ void absolutise_inputs(YAML::Node doc, const fs::path& dir) {
     if (doc["ports"] && doc["ports"].IsSequence())
         for (std::size_t i = 0; i < doc["ports"].size(); ++i)
             if (doc["ports"][i].IsMap() && doc["ports"][i]["file"]) fix(doc["ports"][i]["file"]);
-    if (doc["motion"] && doc["motion"].IsMap() && doc["motion"]["program"]) fix(doc["motion"]["program"]);
+    for (const char* section : {"motion", "main_cpu"})
+        if (doc[section] && doc[section].IsMap() && doc[section]["program"]) fix(doc[section]["program"]);
 }
 
 /// An axis's values: a list of scalars, or {range: [first, last]} / {range: [first, last, step]}.

@@ -109,12 +109,15 @@ TEST_F(SweepTest, RelativeInputFilesBecomeAbsoluteOutputsStayRelative) {
     EXPECT_EQ(sc["ports"][1]["log"].as<std::string>(), "h.log"); // lands in the run directory
 }
 
-TEST_F(SweepTest, AMotionScenariosProgramBecomesAbsolute) {
+TEST_F(SweepTest, AStructuredTextProgramBecomesAbsolute) {
     fs::create_directories(dir / "sub");
     write("sub/m.yaml", "motion:\n  program: st/p.st\n");
-    const Sweep s = load_sweep(write("s.yaml", "base: sub/m.yaml\n"));
+    write("sub/b.yaml", "main_cpu:\n  program: q.st\n");
+    const Sweep s = load_sweep(write("s.yaml", "sweeps:\n  - {base: sub/m.yaml}\n  - {base: sub/b.yaml}\n"));
     EXPECT_EQ(s.runs[0].scenario["motion"]["program"].as<std::string>(),
               (fs::absolute(dir) / "sub/st/p.st").lexically_normal().string());
+    EXPECT_EQ(s.runs[1].scenario["main_cpu"]["program"].as<std::string>(),
+              (fs::absolute(dir) / "sub/q.st").lexically_normal().string());
 }
 
 TEST_F(SweepTest, BadSweepFilesNameFileAndLine) {
