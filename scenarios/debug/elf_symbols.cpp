@@ -12,7 +12,7 @@ namespace {
 constexpr std::uint16_t ET_EXEC = 2, EM_386 = 3;
 constexpr std::uint32_t SHT_SYMTAB = 2, SHT_STRTAB = 3, SHT_NOBITS = 8;
 constexpr std::uint32_t SHF_WRITE = 1, SHF_ALLOC = 2, SHF_EXECINSTR = 4;
-constexpr std::uint8_t STB_GLOBAL = 1, STT_OBJECT = 1, STT_FUNC = 2;
+constexpr std::uint8_t STB_LOCAL = 0, STB_GLOBAL = 1, STT_OBJECT = 1, STT_FUNC = 2;
 constexpr unsigned kEhdr = 52, kShdr = 40, kSym = 16;
 
 enum Section : std::uint16_t { s_null, s_text, s_data, s_symtab, s_strtab, s_shstrtab, s_count };
@@ -58,25 +58,30 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     sh[s_strtab].name = shstr.add(".strtab");
     sh[s_shstrtab].name = shstr.add(".shstrtab");
 
-    // The symbol table: the null entry, then every symbol (all global: sh_info = 1, the first
-    // non-local).
+    // The symbol table: the null entry, the local symbols (C statics), then the globals: the ABI
+    // wants every STB_LOCAL entry before the first global, whose index is the table's sh_info.
     Out syms;
     for (unsigned i = 0; i < kSym; ++i) syms.u8(0);
-    for (const Symbol& s : table.symbols()) {
-        const bool code = s.kind == Symbol::Kind::code;
-        syms.u32(str.add(s.name));
-        syms.u32(s.address);
-        syms.u32(s.size);
-        syms.u8(std::uint8_t(STB_GLOBAL << 4 | (code ? STT_FUNC : STT_OBJECT)));
-        syms.u8(0);
-        // A symbol outside its kind's usual range still lands in the section that spans it.
-        syms.u16(s.address >= SymbolTable::rom_base && s.address < SymbolTable::rom_end ? s_text : s_data);
+    std::uint32_t first_global = 1;
+    for (const bool local : {true, false}) {
+        for (const Symbol& s : table.symbols()) {
+            if (s.local != local) continue;
+            const bool code = s.kind == Symbol::Kind::code;
+            syms.u32(str.add(s.name));
+            syms.u32(s.address);
+            syms.u32(s.size);
+            syms.u8(std::uint8_t((local ? STB_LOCAL : STB_GLOBAL) << 4 | (code ? STT_FUNC : STT_OBJECT)));
+            syms.u8(0);
+            // A symbol outside its kind's usual range still lands in the section that spans it.
+            syms.u16(s.address >= SymbolTable::rom_base && s.address < SymbolTable::rom_end ? s_text : s_data);
+            if (local) ++first_global;
+        }
     }
     const auto symtab = syms.take();
 
     // File layout: header, .symtab, .strtab, .shstrtab, section headers (4-byte aligned).
     std::uint32_t at = kEhdr;
-    sh[s_symtab] = {sh[s_symtab].name, SHT_SYMTAB, 0, 0, at, std::uint32_t(symtab.size()), s_strtab, 1, 4, kSym};
+    sh[s_symtab] = {sh[s_symtab].name, SHT_SYMTAB, 0, 0, at, std::uint32_t(symtab.size()), s_strtab, first_global, 4, kSym};
     at += sh[s_symtab].size;
     sh[s_strtab] = {sh[s_strtab].name, SHT_STRTAB, 0, 0, at, std::uint32_t(str.text.size()), 0, 0, 1, 0};
     at += sh[s_strtab].size;

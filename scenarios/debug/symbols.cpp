@@ -110,8 +110,8 @@ const Symbol* SymbolTable::containing(std::uint32_t linear) const {
 // r (local), a (absolute), and a trailing C for a common symbol; "Total memory used: N" ends it.
 SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout& layout) {
     auto in = open(path);
-    struct Entry { std::string name; int segment; std::uint32_t value; std::string where; };
-    std::vector<Entry> globals;
+    struct Entry { std::string module, name; int segment; std::uint32_t value; bool local; std::string where; };
+    std::vector<Entry> entries;
     std::map<std::string, std::uint32_t> absolute;
     std::string line;
     int n = 0;
@@ -127,23 +127,33 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
         if (t[4] == "a") {
             absolute[t[1]] = value;
         } else if (t[4] == "R") {
-            globals.push_back({t[1], t[2][0] - '0', value, at(path, n)});
-        } else if (t[4] != "r") {
+            entries.push_back({t[0], t[1], t[2][0] - '0', value, false, at(path, n)});
+        } else if (t[4] == "r") {
+            // A C static (bcc's `_name`) in the firmware's segments; an as86 label stays out.
+            const int segment = t[2][0] - '0';
+            if (t[1].size() > 1 && t[1][0] == '_' && t[1][1] != '_' && (segment == 0 || segment == 3))
+                entries.push_back({t[0], t[1], segment, value, true, at(path, n)});
+        } else {
             throw SymbolError(at(path, n) + ": bad flags '" + t[4] + "' (R, r or a)");
         }
     }
     std::int64_t data_base = layout.data_base;
     if (data_base < 0 && absolute.count("DATA_SEG")) data_base = std::int64_t(absolute["DATA_SEG"]) * 16;
 
+    // Statics of different modules may share a name, and a static may share a global's.
+    std::map<std::string, int> uses;
+    for (const auto& e : entries) ++uses[plain(e.name)];
+
     SymbolTable table;
     std::uint32_t code_end = rom_end, data_end = 0;
-    for (const auto& e : globals) {
+    for (const auto& e : entries) {
         // The linker's own symbols bound the regions instead of naming code or data.
         if (e.name == "__segoff" && e.segment == 0) code_end = layout.code_base + e.value * 16;
         if (e.name == "__end" && e.segment == 3 && data_base >= 0) data_end = std::uint32_t(data_base) + e.value;
         if (e.name.rfind("__", 0) == 0) continue;
         Symbol s;
-        s.name = plain(e.name);
+        s.name = e.local && uses[plain(e.name)] > 1 ? e.module + ":" + plain(e.name) : plain(e.name);
+        s.local = e.local;
         if (e.segment == 0) {
             s.address = layout.code_base + e.value;
         } else if (e.segment == 3) {

@@ -2,8 +2,9 @@
 //
 // Addresses are linear (20-bit physical, CS*16+IP), the form the bus cycles and the gdb stub use.
 // Three sources (docs/tools.md "Symbols"):
-//   - the `ld86 -M` map of the built firmware (build/comm_fw.map): global symbols of segment 0
-//     (code, linked at offset 0 of the ROM) and segment 3 (data/bss, at DS:offset);
+//   - the `ld86 -M` map of the built firmware (build/comm_fw.map): symbols of segment 0 (code,
+//     linked at offset 0 of the ROM) and segment 3 (data/bss, at DS:offset): the globals, and the
+//     C `static` functions and variables (local, see load_ld86_map);
 //   - nasm's map file (`[map all FILE]` in the source) of a ROM assembled with `-f bin`;
 //   - a simple text format, one symbol a line: `NAME ADDRESS [SIZE [code|data]]`.
 // A symbol without a size extends to the next symbol of its kind (code or data) or to the end of
@@ -25,6 +26,7 @@ struct Symbol {
     std::uint32_t address = 0; // linear
     std::uint32_t size = 0;    // bytes; 0 = a label that contains no address
     Kind kind = Kind::code;
+    bool local = false;        // file scope (a C `static`): ld86's flag r, STB_LOCAL in the ELF
 };
 
 /// A malformed symbol file; what() is "FILE:LINE: reason" (or "FILE: reason").
@@ -49,6 +51,10 @@ public:
 
     /// Reads FILE in whichever of the three formats it is in (detected from its first line).
     static SymbolTable load(const std::string& path);
+    /// Globals (flag R) and C statics: the locals (flag r) with bcc's leading underscore, which
+    /// bcc gives every C identifier. The other locals are as86 labels of hand-written assembly,
+    /// mostly branch targets inside a routine: they stay out, so a routine is one symbol. A
+    /// static whose name another symbol has too is named MODULE:NAME (`main:send`).
     static SymbolTable load_ld86_map(const std::string& path, const Ld86Layout& layout = {});
     /// `base` is where the image's first byte sits (the ROM: F0000).
     static SymbolTable load_nasm_map(const std::string& path, std::uint32_t base = rom_base);

@@ -56,8 +56,8 @@ sc_core::sc_time nul_space(const SerialFormat& f) {
 // SystemC side
 
 PtyHost::PtyHost(sc_core::sc_module_name name, const PtyHostConfig& cfg)
-    : sc_module(name), cfg_(cfg), inbox_(sc_core::sc_gen_unique_name("inbox")), master_(io_),
-      watch_(io_), settle_(io_) {
+    : sc_module(name), cfg_(cfg), inbox_(sc_core::sc_gen_unique_name("inbox")), out_(cfg.max_buffer),
+      master_(io_), watch_(io_), settle_(io_) {
     cfg_.format.validate();
     try {
         open_pty();
@@ -152,8 +152,13 @@ SerialFormat PtyHost::client_format() const {
 }
 
 PtyHost::Counters PtyHost::counters() const {
-    std::lock_guard<std::mutex> lock(mu_);
-    return counters_;
+    Counters c;
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        c = counters_;
+    }
+    out_.copy_counters(c);
+    return c;
 }
 
 void PtyHost::end_of_elaboration() { require_connected(name()); }
@@ -204,24 +209,11 @@ void PtyHost::run() {
 }
 
 void PtyHost::rx_char(const SerialRx& c) {
-    {
-        std::lock_guard<std::mutex> lock(mu_);
-        ++counters_.bytes_received;
-        if (c.parity_error || c.framing_error) ++counters_.line_errors;
-        out_.push_back(static_cast<std::uint8_t>(c.data));
-        while (out_.size() > cfg_.max_buffer) {
-            out_.pop_front();
-            ++counters_.bytes_dropped;
-        }
-    }
+    out_.push(c);
     asio::post(io_, [this] { start_write(); }); // thread-safe; never blocks
 }
 
-void PtyHost::rx_break(bool active) {
-    if (!active) return;
-    std::lock_guard<std::mutex> lock(mu_);
-    ++counters_.breaks;
-}
+void PtyHost::rx_break(bool active) { out_.note_break(active); }
 
 // ---------------------------------------------------------------------------------------------
 // io thread
@@ -281,13 +273,7 @@ void PtyHost::start_watch() {
 }
 
 void PtyHost::start_write() {
-    if (writing_ || stopping_) return;
-    {
-        std::lock_guard<std::mutex> lock(mu_);
-        if (out_.empty()) return;
-        wbuf_.assign(out_.begin(), out_.end());
-        out_.clear();
-    }
+    if (writing_ || stopping_ || !out_.take(wbuf_)) return;
     writing_ = true;
     asio::async_write(master_, asio::buffer(wbuf_), [this](const boost::system::error_code& ec, std::size_t n) {
         writing_ = false;

@@ -35,6 +35,7 @@
 #include "models/serial_line.h"
 #include "scenarios/host/host_inbox.h"
 #include "scenarios/host/host_line.h"
+#include "scenarios/host/host_outbox.h"
 
 #include <boost/asio.hpp>
 #include <systemc>
@@ -125,11 +126,11 @@ private:
     std::string slave_path_;
     bool linked_ = false;
 
-    // Shared between the io thread and SystemC, under mu_.
+    // Shared between the io thread and SystemC: the input under mu_, the output in the outbox.
     mutable std::mutex mu_;
-    std::deque<Item> in_;          // terminal -> line
-    std::deque<std::uint8_t> out_; // controller -> terminal
-    Counters counters_;
+    std::deque<Item> in_; // terminal -> line
+    Counters counters_;   // the outbox's counters are its own
+    HostOutbox out_;      // controller -> terminal
 
     // io thread only (after construction).
     boost::asio::io_context io_;

@@ -40,7 +40,8 @@ void TcpHostConfig::set_listen(const std::string& text) {
 // SystemC side
 
 TcpHost::TcpHost(sc_core::sc_module_name name, const TcpHostConfig& cfg)
-    : sc_module(name), cfg_(cfg), inbox_(sc_core::sc_gen_unique_name("inbox")), acceptor_(io_) {
+    : sc_module(name), cfg_(cfg), inbox_(sc_core::sc_gen_unique_name("inbox")), out_(cfg.max_buffer),
+      acceptor_(io_) {
     cfg_.format.validate();
     boost::system::error_code ec;
     const auto addr = asio::ip::make_address(cfg_.address, ec);
@@ -96,8 +97,13 @@ bool TcpHost::client_connected() const {
 }
 
 TcpHost::Counters TcpHost::counters() const {
-    std::lock_guard<std::mutex> lock(mu_);
-    return counters_;
+    Counters c;
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        c = counters_;
+    }
+    out_.copy_counters(c);
+    return c;
 }
 
 void TcpHost::end_of_elaboration() { require_connected(name()); }
@@ -173,23 +179,13 @@ void TcpHost::rx_char(const SerialRx& c) {
     rec_.out(c.stop, byte, c.parity_error, c.framing_error);
     {
         std::lock_guard<std::mutex> lock(mu_);
-        ++counters_.bytes_received;
-        if (c.parity_error || c.framing_error) ++counters_.line_errors;
         if (!connected_) ++counters_.bytes_buffered;
-        out_.push_back(byte);
-        while (out_.size() > cfg_.max_buffer) {
-            out_.pop_front();
-            ++counters_.bytes_dropped;
-        }
     }
+    out_.push(c);
     asio::post(io_, [this] { start_write(); }); // thread-safe; never blocks
 }
 
-void TcpHost::rx_break(bool active) {
-    if (!active) return;
-    std::lock_guard<std::mutex> lock(mu_);
-    ++counters_.breaks;
-}
+void TcpHost::rx_break(bool active) { out_.note_break(active); }
 
 // ---------------------------------------------------------------------------------------------
 // io thread
@@ -254,13 +250,7 @@ void TcpHost::start_read() {
 }
 
 void TcpHost::start_write() {
-    if (writing_ || !sock_ || stopping_) return;
-    {
-        std::lock_guard<std::mutex> lock(mu_);
-        if (out_.empty()) return;
-        wbuf_.assign(out_.begin(), out_.end());
-        out_.clear();
-    }
+    if (writing_ || !sock_ || stopping_ || !out_.take(wbuf_)) return;
     if (cfg_.telnet) wbuf_ = telnet_escape(wbuf_);
     writing_ = true;
     asio::async_write(*sock_, asio::buffer(wbuf_), [this](const boost::system::error_code& ec, std::size_t n) {

@@ -28,7 +28,9 @@
 #pragma once
 
 #include "models/serial_line.h"
+#include "scenarios/host/host_inbox.h"
 #include "scenarios/host/host_line.h"
+#include "scenarios/host/host_outbox.h"
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/telnet.h"
 
@@ -103,36 +105,24 @@ public:
     void rx_break(bool active) override;
 
 private:
-    /// The thread-safe door into the kernel: async_request_update() -> update() -> event.
-    class Inbox : public sc_core::sc_prim_channel {
-    public:
-        explicit Inbox(const char* name) : sc_prim_channel(name) {}
-        sc_core::sc_event arrived;
-        using sc_prim_channel::async_attach_suspending;
-        using sc_prim_channel::async_detach_suspending;
-        using sc_prim_channel::async_request_update;
-
-    private:
-        void update() override { arrived.notify(sc_core::SC_ZERO_TIME); }
-    };
     struct Item {
         enum Kind : std::uint8_t { byte, connected, disconnected, brk } kind;
         std::uint8_t value;
     };
 
     TcpHostConfig cfg_;
-    Inbox inbox_;
+    HostInbox inbox_;
     SessionLogWriter rec_;
     bool attached_ = false;
     bool ended_ = false;
     bool end_logged_ = false; // the `end` line is written
 
-    // Shared between the io thread and SystemC, under mu_.
+    // Shared between the io thread and SystemC: the input under mu_, the output in the outbox.
     mutable std::mutex mu_;
-    std::deque<Item> in_;                 // client -> line
-    std::deque<std::uint8_t> out_;        // controller -> client
+    std::deque<Item> in_;  // client -> line
     bool connected_ = false;
-    Counters counters_;
+    Counters counters_;    // the outbox's counters are its own
+    HostOutbox out_;       // controller -> client
 
     // io thread only (after construction).
     boost::asio::io_context io_;

@@ -27,44 +27,74 @@ constexpr auto kPublishEvery = std::chrono::milliseconds(50); // GET /api/v1/sna
 constexpr double kMaxStepMs = 60'000;
 constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in the next ones
 
-/// An error the client made in a request: answered, the client stays.
-struct BadRequest : std::runtime_error {
-    using std::runtime_error::runtime_error;
+} // namespace
+
+/// A request's arguments, read without exceptions. The first argument that is missing, of the
+/// wrong type or out of range becomes the refusal the client is answered with (the client stays);
+/// later reads return their fallback. Exceptions stay out of this path on purpose: the requests
+/// are served on the main thread between two sc_start()s, and in a sanitizer build ASan takes that
+/// thread for one without a stack once SystemC has switched back to it (its coroutine switches
+/// announce the main coroutine with an empty stack), so a throw there cannot unpoison the frames it
+/// unwinds and leaves their stack poison behind for the next call to trip over.
+class Args {
+public:
+    explicit Args(const nlohmann::json& m) : m_(m) {}
+    const nlohmann::json& json() const { return m_; }
+    bool ok() const { return refusal_.empty(); }
+    const std::string& refusal() const { return refusal_; }
+    /// Refuses the request with `why` (the first refusal counts); returns an empty reply.
+    nlohmann::json refuse(const std::string& why) {
+        if (refusal_.empty()) refusal_ = why;
+        return nlohmann::json::object();
+    }
+
+    double number(const char* key, double lo, double hi, std::optional<double> fallback = {}) {
+        const double none = fallback.value_or(lo);
+        if (!m_.contains(key)) {
+            if (!fallback) refuse(std::string("missing \"") + key + "\"");
+            return none;
+        }
+        if (!m_[key].is_number()) {
+            refuse(std::string("\"") + key + "\" must be a number");
+            return none;
+        }
+        const double v = m_[key].get<double>();
+        if (!(v >= lo && v <= hi)) {
+            refuse(std::string("\"") + key + "\" = " + m_[key].dump() + " is out of range [" +
+                   nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]");
+            return none;
+        }
+        return v;
+    }
+
+    std::string string(const char* key, std::optional<std::string> fallback = {}) {
+        if (!m_.contains(key)) {
+            if (!fallback) refuse(std::string("missing \"") + key + "\"");
+            return fallback.value_or(std::string());
+        }
+        if (!m_[key].is_string()) {
+            refuse(std::string("\"") + key + "\" must be a string");
+            return fallback.value_or(std::string());
+        }
+        return m_[key].get<std::string>();
+    }
+
+private:
+    const nlohmann::json& m_;
+    std::string refusal_;
 };
 
-double number_arg(const nlohmann::json& m, const char* key, double lo, double hi, std::optional<double> fallback = {}) {
-    if (!m.contains(key)) {
-        if (fallback) return *fallback;
-        throw BadRequest(std::string("missing \"") + key + "\"");
-    }
-    if (!m[key].is_number()) throw BadRequest(std::string("\"") + key + "\" must be a number");
-    const double v = m[key].get<double>();
-    if (!(v >= lo && v <= hi))
-        throw BadRequest(std::string("\"") + key + "\" = " + m[key].dump() + " is out of range [" +
-                         nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]");
-    return v;
-}
-
-std::string string_arg(const nlohmann::json& m, const char* key, std::optional<std::string> fallback = {}) {
-    if (!m.contains(key)) {
-        if (fallback) return *fallback;
-        throw BadRequest(std::string("missing \"") + key + "\"");
-    }
-    if (!m[key].is_string()) throw BadRequest(std::string("\"") + key + "\" must be a string");
-    return m[key].get<std::string>();
-}
-
-
+namespace {
 
 /// Milliseconds (checked >= 0 by the caller) as a time, rounded to the kernel's 1 ps resolution.
 sc_time ms_time(double ms) { return ps(static_cast<std::uint64_t>(std::llround(ms * 1e9))); }
 
-FaultKind fault_kind(const std::string& k) {
+std::optional<FaultKind> fault_kind(const std::string& k) {
     if (k == "flip_data_bit") return FaultKind::flip_data_bit;
     if (k == "flip_cell") return FaultKind::flip_cell;
     if (k == "drop") return FaultKind::drop;
     if (k == "corrupt_stop") return FaultKind::corrupt_stop;
-    throw BadRequest("\"kind\" '" + k + "' is not flip_data_bit, flip_cell, drop, corrupt_stop or break");
+    return std::nullopt;
 }
 
 } // namespace
@@ -202,15 +232,15 @@ void BoardMonitor::handle(std::uint64_t client, const nlohmann::json& m) {
         if (op == "closed") subs_.erase(m.value("client", std::uint64_t{0}));
         return;
     }
+    Args args(m);
     nlohmann::json out;
     try {
-        out = execute(client, op, m);
-        out["type"] = op == "snapshot" ? "snapshot" : "ok";
-    } catch (const BadRequest& e) {
-        out = {{"type", "error"}, {"error", e.what()}};
+        out = execute(client, op, args);
     } catch (const std::invalid_argument& e) { // refused by a model (a frame it cannot encode, ...)
-        out = {{"type", "error"}, {"error", e.what()}};
+        args.refuse(e.what());
     }
+    if (args.ok()) out["type"] = op == "snapshot" ? "snapshot" : "ok";
+    else out = {{"type", "error"}, {"error", args.refusal()}};
     out["op"] = op;
     if (m.contains("id")) out["id"] = m["id"];
     reply(client, std::move(out));
@@ -221,20 +251,22 @@ void BoardMonitor::reply(std::uint64_t client, nlohmann::json msg) {
     server_.send(client, std::make_shared<const std::string>(msg.dump()));
 }
 
-// One request; returns the reply's fields, throws BadRequest for a request that cannot be done.
-nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op, const nlohmann::json& m) {
+// One request; returns the reply's fields, or refuses it through `a` (and then changes nothing:
+// every argument is read and checked before the request acts).
+nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op, Args& a) {
     if (op == "snapshot") return {{"data", snapshot()}};
     if (op == "subscribe") {
-        const std::string clock = string_arg(m, "clock", std::string("wall"));
-        if (clock != "wall" && clock != "sim") throw BadRequest("\"clock\" must be \"wall\" or \"sim\"");
-        const double period = number_arg(m, "period_ms", clock == "sim" ? 0.01 : 10, 60'000, 100.0);
+        const std::string clock = a.string("clock", std::string("wall"));
+        if (a.ok() && clock != "wall" && clock != "sim") return a.refuse("\"clock\" must be \"wall\" or \"sim\"");
+        const double period = a.number("period_ms", clock == "sim" ? 0.01 : 10, 60'000, 100.0);
+        if (!a.ok()) return {};
         Subscription s;
         s.sim_clock = clock == "sim";
         s.sim_period = ms_time(period);
         s.next_sim = sc_core::sc_time_stamp();
         s.wall_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(period));
         s.next_wall = Clock::now();
-        if (m.value("path", true) == false) s.path_sent = SIZE_MAX;
+        if (a.json().value("path", true) == false) s.path_sent = SIZE_MAX;
         subs_[client] = s;
         return {{"clock", clock}, {"period_ms", period}};
     }
@@ -252,47 +284,61 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
     }
     if (op == "step") {
-        step(ms_time(number_arg(m, "ms", 0.001, kMaxStepMs)));
+        const double ms = a.number("ms", 0.001, kMaxStepMs);
+        if (!a.ok()) return {};
+        step(ms_time(ms));
         return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
     }
     if (op == "set_rtf") {
-        const double rtf = number_arg(m, "rtf", 0, 1e6);
-        if (rtf > 0 && rtf < 0.01) throw BadRequest("\"rtf\" must be 0 (as fast as possible) or in [0.01, 1e6]");
+        const double rtf = a.number("rtf", 0, 1e6);
+        if (!a.ok()) return {};
+        if (rtf > 0 && rtf < 0.01) return a.refuse("\"rtf\" must be 0 (as fast as possible) or in [0.01, 1e6]");
         bench_.pacer->set_rtf(rtf);
         rtf_target_ = rtf;
         return {{"rtf", rtf}};
     }
     if (op == "motion") {
-        const std::string token = string_arg(m, "token");
-        if (token.size() != 2) throw BadRequest("\"token\" must be two characters (docs/system.md §7)");
-        const Outcome o = bench_.ctl.main.execute_local(token, string_arg(m, "data", std::string()));
+        const std::string token = a.string("token");
+        if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
+        const std::string data = a.string("data", std::string());
+        if (!a.ok()) return {};
+        const Outcome o = bench_.ctl.main.execute_local(token, data);
         return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
     }
-    const double port_arg = number_arg(m, "port", 0, Bench::kPorts - 1, 0.0);
-    if (port_arg != std::floor(port_arg)) throw BadRequest("\"port\" must be a whole number 0..2");
+    if (op != "send_frame" && op != "inject_fault") return a.refuse("unknown op '" + op + "' (docs/monitor.md)");
+    const double port_arg = a.number("port", 0, Bench::kPorts - 1, 0.0);
+    if (!a.ok()) return {};
+    if (port_arg != std::floor(port_arg)) return a.refuse("\"port\" must be a whole number 0..2");
     const auto port = static_cast<unsigned>(port_arg);
     if (op == "send_frame") {
-        if (!bench_.protocol[port]) throw BadRequest("port " + std::to_string(port) + " has no protocol host to send as");
-        const std::string token = string_arg(m, "token");
-        if (token.size() != 2) throw BadRequest("\"token\" must be two characters (docs/system.md §7)");
-        bench_.protocol[port]->send(proto::Frame{token, 0, string_arg(m, "data", std::string())});
+        if (!bench_.protocol[port]) return a.refuse("port " + std::to_string(port) + " has no protocol host to send as");
+        const std::string token = a.string("token");
+        if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
+        const std::string data = a.string("data", std::string());
+        if (!a.ok()) return {};
+        bench_.protocol[port]->send(proto::Frame{token, 0, data});
         return {{"port", port}};
     }
-    if (op == "inject_fault") {
-        const std::string from = string_arg(m, "from", std::string("host"));
-        if (from != "host" && from != "controller") throw BadRequest("\"from\" must be \"host\" or \"controller\"");
-        const auto side = from == "host" ? SerialLine::b : SerialLine::a;
-        const std::string kind = string_arg(m, "kind");
-        SerialLine& line = bench_.lines[port];
-        if (kind == "break") {
-            line.insert_break(side, ms_time(number_arg(m, "duration_ms", 0.001, 10'000, 5.0)));
-            return {{"port", port}};
-        }
-        const std::uint64_t index = line.next_index(side);
-        line.inject(side, index, fault_kind(kind), static_cast<unsigned>(number_arg(m, "bit", 0, 11, 0.0)));
-        return {{"port", port}, {"index", index}};
+    // inject_fault
+    const std::string from = a.string("from", std::string("host"));
+    if (a.ok() && from != "host" && from != "controller") return a.refuse("\"from\" must be \"host\" or \"controller\"");
+    const auto side = from == "host" ? SerialLine::b : SerialLine::a;
+    const std::string kind = a.string("kind");
+    if (!a.ok()) return {};
+    SerialLine& line = bench_.lines[port];
+    if (kind == "break") {
+        const double ms = a.number("duration_ms", 0.001, 10'000, 5.0);
+        if (!a.ok()) return {};
+        line.insert_break(side, ms_time(ms));
+        return {{"port", port}};
     }
-    throw BadRequest("unknown op '" + op + "' (docs/monitor.md)");
+    const std::optional<FaultKind> fault = fault_kind(kind);
+    if (!fault) return a.refuse("\"kind\" '" + kind + "' is not flip_data_bit, flip_cell, drop, corrupt_stop or break");
+    const auto bit = static_cast<unsigned>(a.number("bit", 0, 11, 0.0));
+    if (!a.ok()) return {};
+    const std::uint64_t index = line.next_index(side);
+    line.inject(side, index, *fault, bit);
+    return {{"port", port}, {"index", index}};
 }
 
 // Stepping runs unpaced (as a debugger's step does) and leaves the run paused.

@@ -26,6 +26,8 @@
 
 namespace rcsim::monitor {
 
+class Args; // a request's arguments and its refusal (board_monitor.cpp)
+
 /// A motion command the monitor issues by itself at a simulated time (the scenario's
 /// `monitor.commands`), as a client's "motion" request would.
 struct ScriptedCommand {
@@ -106,7 +108,7 @@ private:
     void hook_bench();
     void serve();
     void handle(std::uint64_t client, const nlohmann::json& m);
-    nlohmann::json execute(std::uint64_t client, const std::string& op, const nlohmann::json& m);
+    nlohmann::json execute(std::uint64_t client, const std::string& op, Args& a);
     void run_due_commands();
     void send_updates();
     void step(const sc_core::sc_time& t);

@@ -20,9 +20,9 @@ namespace rcsim::trace {
 
 namespace {
 
-/// A frame's function: the code symbol starting at `linear`; an entry point inside a symbol (a
-/// local label called as a helper: the maps list global symbols only) is "symbol+0xOFF"; an
-/// address no code symbol holds is its linear address "F1234".
+/// A frame's function: the code symbol starting at `linear`; an entry point inside a symbol (an
+/// assembly routine's local label called as a helper: symbol tables from ld86 maps leave those
+/// labels out) is "symbol+0xOFF"; an address no code symbol holds is its linear address "F1234".
 std::string function_name(const debug::SymbolTable& symbols, std::uint32_t linear) {
     char buf[24];
     const debug::Symbol* s = symbols.containing(linear);

@@ -13,7 +13,9 @@
 #include <array>
 #include <map>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 namespace rcsim::debug {
@@ -48,10 +50,13 @@ SymbolTable load_nasm(const std::string& p) { return SymbolTable::load_nasm_map(
 
 TEST(Symbols, Ld86MapOfTheBuiltFirmwareMatchesTheGeneratedHeader) {
     const auto table = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
-    ASSERT_EQ(table.size(), std::size(comm_fw::symbols));
+    // The header lists the globals; the table has the C statics besides (the next test).
+    ASSERT_EQ(std::count_if(table.symbols().begin(), table.symbols().end(), [](const Symbol& s) { return !s.local; }),
+              std::ptrdiff_t(std::size(comm_fw::symbols)));
     for (const auto& s : comm_fw::symbols) {
         const Symbol* got = table.find(s.name);
         ASSERT_NE(got, nullptr) << s.name;
+        EXPECT_FALSE(got->local) << s.name;
         EXPECT_EQ(got->address, s.linear) << s.name;
         EXPECT_EQ(got->kind, s.code ? Kind::code : Kind::data) << s.name;
     }
@@ -67,6 +72,41 @@ TEST(Symbols, Ld86MapOfTheBuiltFirmwareMatchesTheGeneratedHeader) {
     EXPECT_NE(table.containing(next), isr);
     EXPECT_EQ(table.find("_rs232_isr"), nullptr); // bcc's underscore is dropped
     EXPECT_EQ(table.find("__segoff"), nullptr);   // linker symbols bound regions, name nothing
+}
+
+// The firmware's C statics (comm_cpu/firmware/main.c declares these `static`) come from the map's
+// local (r) lines: each function's symbol is where bcc's prologue stands in the ROM, and the
+// global before them (mb_post) no longer runs over them.
+TEST(Symbols, Ld86MapOfTheBuiltFirmwareNamesItsStaticFunctions) {
+    const auto table = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
+    std::ifstream in(RCSIM_COMM_FW_ROM, std::ios::binary);
+    const std::vector<std::uint8_t> rom((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(rom.size(), 0x10000u);
+    // bcc -0's function entry: push bp; mov bp,sp; push di; push si.
+    const std::vector<std::uint8_t> prologue{0x55, 0x89, 0xE5, 0x57, 0x56};
+    for (const char* name : {"mb_pump", "to_dpram", "rx_watch", "rx_drop", "start_tx", "send_enq", "send_data",
+                             "tx_watch", "quench_watch", "area_watch", "t1_ticks"}) {
+        const Symbol* s = table.find(name);
+        ASSERT_NE(s, nullptr) << name;
+        EXPECT_TRUE(s->local) << name;
+        EXPECT_EQ(s->kind, Kind::code) << name;
+        ASSERT_GE(s->address, SymbolTable::rom_base) << name;
+        const std::size_t at = s->address - SymbolTable::rom_base;
+        ASSERT_LE(at + prologue.size(), rom.size()) << name;
+        EXPECT_TRUE(std::equal(prologue.begin(), prologue.end(), rom.begin() + std::ptrdiff_t(at))) << name;
+        EXPECT_EQ(table.containing(s->address), s) << name;
+    }
+    for (const char* name : {"mbq", "mb_head", "mb_tail", "mb_t"}) { // static variables
+        const Symbol* s = table.find(name);
+        ASSERT_NE(s, nullptr) << name;
+        EXPECT_TRUE(s->local && s->kind == Kind::data) << name;
+    }
+    const Symbol* post = table.find("mb_post");
+    ASSERT_NE(post, nullptr);
+    EXPECT_EQ(post->address + post->size, table.find("mb_pump")->address); // mb_pump follows it in main.c
+    // The assembly's local labels stay out: rs232_isr's branch targets (isr.s) name nothing.
+    EXPECT_EQ(table.find("rs_loop"), nullptr);
+    EXPECT_EQ(table.find("rx_char"), nullptr);
 }
 
 // ---- ld86 -M by hand ----
@@ -111,6 +151,57 @@ TEST(Symbols, Ld86MapWithoutDataSegLoadsCodeOnlyUnlessTheLayoutSaysWhere) {
     Ld86Layout layout;
     layout.data_base = 0x2000;
     EXPECT_EQ(SymbolTable::load_ld86_map(path, layout).find("v")->address, 0x2000u);
+}
+
+// A firmware-like map: a C module `main` with a global (_main), a static function (_helper) and
+// a static variable (_count), an assembly module `isr` with a global (_isr) and a local label
+// (loop), and a static `_send` in both `main` and `isr`. Code: _isr 0x00, loop 0x08, _send(isr)
+// 0x10, _main 0x20, _helper 0x30, _send(main) 0x38, end of code 0x40 (__segoff 4 paragraphs).
+const char* const ld86_statics_map =
+    "                 isr                  _isr  0  00000000  R\n"
+    "                 isr                  loop  0  00000008  r\n"
+    "                 isr                 _send  0  00000010  r\n"
+    "                main                 _main  0  00000020  R\n"
+    "                main               _helper  0  00000030  r\n"
+    "                main                 _send  0  00000038  r\n"
+    "                main                _count  3  00000002  r\n"
+    "                crt0              DATA_SEG  0  00000040  a\n"
+    "                crt0              __segoff  0  00000004  R\n"
+    "                crt0                 __end  3  00000006  R\n";
+
+TEST(Symbols, Ld86MapLoadsCStaticsAsLocalsAndLeavesAssemblyLabelsOut) {
+    const auto table = SymbolTable::load(write(ld86_statics_map));
+    ASSERT_EQ(table.size(), 6u); // isr, main, helper, isr:send, main:send, count
+    const Symbol* helper = table.find("helper");
+    ASSERT_NE(helper, nullptr);
+    EXPECT_TRUE(helper->local);
+    EXPECT_EQ(helper->address, 0xF0030u);
+    EXPECT_EQ(helper->size, 8u); // to main's _send at 0x38
+    EXPECT_FALSE(table.find("main")->local);
+    EXPECT_EQ(table.find("main")->size, 0x10u); // cut by the static that follows it
+    // The label is no symbol: _isr runs over it to isr's _send.
+    EXPECT_EQ(table.find("loop"), nullptr);
+    EXPECT_EQ(table.find("isr")->size, 0x10u);
+    EXPECT_EQ(table.containing(0xF0009)->name, "isr");
+    // The two statics named send, each by its module.
+    EXPECT_EQ(table.find("send"), nullptr);
+    EXPECT_EQ(table.find("isr:send")->address, 0xF0010u);
+    EXPECT_EQ(table.find("main:send")->address, 0xF0038u);
+    EXPECT_EQ(table.find("main:send")->size, 8u); // to the end of code, 0x40
+    const Symbol* count = table.find("count");
+    ASSERT_NE(count, nullptr);
+    EXPECT_TRUE(count->local);
+    EXPECT_EQ(count->kind, Kind::data);
+    EXPECT_EQ(count->address, 0x402u); // DATA_SEG 0x40 * 16 + 2
+    EXPECT_EQ(count->size, 4u);        // to __end, 6
+}
+
+TEST(Symbols, AStaticWithAGlobalsNameIsNamedByItsModule) {
+    const auto table = SymbolTable::load(write("  main _f 0 00000000 R\n  util _f 0 00000010 r\n"));
+    ASSERT_EQ(table.size(), 2u);
+    EXPECT_FALSE(table.find("f")->local);
+    EXPECT_EQ(table.find("f")->address, 0xF0000u);
+    EXPECT_TRUE(table.find("util:f")->local);
 }
 
 TEST(Symbols, Ld86MapErrorsNameTheLine) {
@@ -244,6 +335,39 @@ TEST(Symbols, ElfImageHoldsEverySymbolAsTheSystemVAbiLaysItOut) {
     EXPECT_EQ(found["isr"], (std::array<std::uint32_t, 3>{0xF0100, 0x20, 2}));  // STT_FUNC
     EXPECT_EQ(found["rx_len"], (std::array<std::uint32_t, 3>{0x488, 2, 1}));    // STT_OBJECT
     EXPECT_NE(shndx[0], shndx[1]); // .text and .data
+}
+
+TEST(Symbols, ElfImageListsTheStaticsAsLocalsBeforeTheGlobals) {
+    const auto elf = elf_image(SymbolTable::load(write(ld86_statics_map)));
+    const std::uint32_t shoff = u32(elf, 32);
+    const unsigned shnum = u16(elf, 48);
+    // The System V ABI: STB_LOCAL (0) entries first; the symtab's sh_info is the first global's index.
+    bool seen_symtab = false;
+    for (unsigned i = 0; i < shnum; ++i) {
+        const std::size_t sh = shoff + 40 * i;
+        if (u32(elf, sh + 4) != 2) continue;
+        seen_symtab = true;
+        const std::uint32_t off = u32(elf, sh + 16), size = u32(elf, sh + 20), link = u32(elf, sh + 24);
+        const std::uint32_t info = u32(elf, sh + 28);
+        const std::uint32_t strtab = u32(elf, shoff + 40 * link + 16);
+        std::map<std::string, std::uint32_t> index, bind;
+        for (std::uint32_t e = off + 16, k = 1; e < off + size; e += 16, ++k) {
+            const std::string name = reinterpret_cast<const char*>(elf.data() + strtab + u32(elf, e));
+            index[name] = k;
+            bind[name] = elf[e + 12] >> 4;
+        }
+        ASSERT_EQ(index.size(), 6u);
+        EXPECT_EQ(info, 5u); // null + 4 locals
+        for (const char* local : {"helper", "isr:send", "main:send", "count"}) {
+            EXPECT_EQ(bind[local], 0u) << local;
+            EXPECT_LT(index[local], info) << local;
+        }
+        for (const char* global : {"isr", "main"}) {
+            EXPECT_EQ(bind[global], 1u) << global;
+            EXPECT_GE(index[global], info) << global;
+        }
+    }
+    EXPECT_TRUE(seen_symtab);
 }
 
 } // namespace

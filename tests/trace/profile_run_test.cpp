@@ -124,6 +124,16 @@ TEST(ProfileRun, TableFoldedStacksAndTheProbeAgree) {
         EXPECT_EQ(calls, report["interrupts"][source]["count"].get<std::uint64_t>()) << fn;
         EXPECT_GT(per_context[ctx], 0u) << ctx;
     }
+
+    // main_loop calls the static functions of main.c by name: mb_pump once per pass and
+    // area_watch once per port and pass, so both completed calls in the main context. Their time
+    // is theirs, not that of the global before them in the ROM (mb_post) at an offset.
+    for (const char* fn : {"mb_pump", "area_watch"}) {
+        ASSERT_TRUE(rows.count({fn, "main"})) << fn << " has no row of its own";
+        EXPECT_GT(rows.at({fn, "main"}).calls, 0u) << fn;
+    }
+    EXPECT_GE(rows.at({"area_watch", "main"}).calls, 3 * rows.at({"mb_pump", "main"}).calls);
+    for (const auto& [k, r] : rows) EXPECT_NE(k.first.rfind("mb_post+0x", 0), 0u) << k.first;
 }
 
 TEST(ProfileRun, BadUseIsOneMessageAndExitCode2) {
