@@ -26,7 +26,8 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-# AddressSanitizer + UndefinedBehaviorSanitizer (RCSIM_SANITIZE), with debug info for the reports.
+# AddressSanitizer + UndefinedBehaviorSanitizer (RCSIM_SANITIZE), with line tables for the reports
+# (RCSIM_SANITIZE makes RelWithDebInfo -O1 -g1, see CMakeLists.txt).
 # RCSIM_SANITIZE builds with -fno-sanitize-recover=undefined, so a UBSan report ends the program
 # with a failure and turns its test red. (LeakSanitizer is off in the programs themselves.)
 $(ASAN_BUILD)/CMakeCache.txt: | deps
