@@ -343,28 +343,20 @@ void Cpu::eu_cycle_untraced(bool last) {
     waits_left_ = 0;
 }
 
-// From T1, T2, T3 or Tw to T4 of the cycle on the bus (T4 itself not yet clocked). Without a
-// trace in one step: the EU does nothing meanwhile, so the T2 decision sees the same inputs
-// whichever clock it is taken in, and a scheduled prefetch cannot start on a busy bus.
+// From T1, T2, T3 or Tw to T4 of the cycle on the bus (T4 itself not yet clocked).
 void Cpu::to_t4() {
     if (trace_) {
         while (t_ != TState::T4) clk();
         return;
     }
     if (t_ == TState::T4) return;
-    unsigned k = waits_left_ + 1; // T3 and every Tw
-    if (t_ == TState::T1) {
-        if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first; // LOCK from T2 (clk())
-        t_ = TState::T2;
-        ++k;
-    }
-    if (t_ == TState::T2) {
-        fetch_next_ = !eu_claim_ && !fetch_suspended_ && q_len_ + (cur_.fetch ? cur_.width : 0) <= 4;
-        ++k;
-    }
+    if (t_ == TState::T1) clk();
+    if (t_ == TState::T2) clk();
+    // T3 and every Tw: a clock each, none of them Ti, so a scheduled prefetch only counts down.
+    const unsigned rest = waits_left_ + 1;
     waits_left_ = 0;
     t_ = TState::T4;
-    cycle_ += k;
+    quiet(rest);
 }
 
 // From T2 (just clocked) to the clock before the transfer: T3, or the last Tw.
