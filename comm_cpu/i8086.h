@@ -113,7 +113,11 @@ public:
     /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
     void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
     /// Per-cycle trace into `out` (nullptr turns it off).
-    void set_cycle_trace(std::vector<CycleRecord>* out) { trace_ = out; }
+    void set_cycle_trace(std::vector<CycleRecord>* out) {
+        trace_ = out;
+        last_qop_ = qop_at_ + 1 == cycle_ ? qop_ : QueueOp::idle; // the lines of the first row
+        last_qbyte_ = qbyte_;
+    }
 
     // --- reset and state ---
     /// Hardware reset: CS=FFFF, IP=0, flags cleared, queue empty.
@@ -205,11 +209,15 @@ private:
         bool inta_first = false; // the first of the two INTA cycles: LOCK from its T2
     };
 
-    /// One CLK: the T-state transition of the BIU, the scheduled prefetch, the QS lines.
+    /// One CLK: the T-state transition of the BIU and the scheduled prefetch. Nothing here
+    /// counts down: a scheduled prefetch and the last queue operation carry the cycle they
+    /// belong to (fetch_t1_, qop_at_), so a clock without a transition costs a switch.
     void clk() {
-        if (trace_) record_cycle();
+        if (trace_) trace_clock();
         switch (t_) {
-        case TState::Ti: break;
+        case TState::Ti:
+            if (fetch_sched_) fetch_tick();
+            break;
         case TState::T1:
             // LOCK runs from T2 of the first INTA cycle to T2 of the second (data sheet).
             if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
@@ -231,11 +239,14 @@ private:
             break;
         case TState::T4: clk_t4(); break;
         }
-        if (fetch_sched_) fetch_tick();
-        last_qop_ = qop_;
-        last_qbyte_ = qbyte_;
-        qop_ = QueueOp::idle;
         ++cycle_;
+    }
+    /// With a trace: the row of this clock, then the QS lines for the next one (the queue
+    /// operation made in this clock, if any).
+    void trace_clock() {
+        record_cycle();
+        last_qop_ = qop_at_ == cycle_ ? qop_ : QueueOp::idle;
+        last_qbyte_ = qbyte_;
     }
     void clk_t4();
     void fetch_tick();
@@ -258,7 +269,7 @@ private:
                     quiet(n);
                     return;
                 }
-                const unsigned starts = fetch_delay_ ? fetch_delay_ : 1;
+                const unsigned starts = fetch_t1_ > cycle_ ? unsigned(fetch_t1_ - cycle_) : 1;
                 if (n < starts) {
                     quiet(n);
                     return;
@@ -272,14 +283,8 @@ private:
     }
     /// k idle clocks at once (trace off, bus idle, no prefetch starting within them): the same
     /// state as k calls of clk().
-    void quiet(unsigned k) {
-        if (k == 0) return;
-        cycle_ += k;
-        if (fetch_sched_) fetch_delay_ = fetch_delay_ > k ? fetch_delay_ - k : 0;
-        last_qop_ = k >= 2 ? QueueOp::idle : qop_;
-        last_qbyte_ = qbyte_;
-        qop_ = QueueOp::idle;
-    }
+    void quiet(unsigned k) { cycle_ += k; }
+    void eu_cycle_untraced(bool last);
     void to_t4();
     void to_last_transfer();
     void wait_queue();
@@ -287,8 +292,32 @@ private:
     void bus_start(const BusOp& op, cycles_t t1);
     void bus_transfer();
     bool queue_room() const { return q_len_ + (cur_.fetch && t_ != TState::Ti ? 2 : 0) <= 4; }
-    void start_fetch();
-    std::uint8_t q_read(QueueOp op);
+    [[gnu::always_inline]] inline void start_fetch();
+    [[gnu::noinline]] void observe_fetch(const MemRegion* r, const std::uint8_t* p, std::uint16_t d);
+    [[gnu::noinline]] void fetch_from_handler(std::uint32_t addr, std::uint8_t width);
+    /// One queue read (one clock; reported on the QS lines in the next one). Inline: every
+    /// opcode, ModR/M and immediate byte passes here.
+    std::uint8_t q_read(QueueOp op) {
+        if (q_len_ == 0) wait_queue();
+        const std::uint8_t b = q_[q_head_];
+        q_head_ = q_head_ == 5 ? 0 : q_head_ + 1;
+        --q_len_;
+        qop_ = op;
+        qbyte_ = b;
+        qop_at_ = cycle_;
+        // Two free bytes wake an idle BIU; it starts the fetch three clocks after this one. A
+        // cycle still before its T2 decision will take the room into account itself.
+        if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_) {
+            if (t_ == TState::Ti) {
+                fetch_sched_ = true;
+                fetch_t1_ = cycle_ + 3;
+            } else if (t_ != TState::T1 && t_ != TState::T2) {
+                fetch_after_t4_ = true; // decided after this cycle's T4
+            }
+        }
+        clk();
+        return b;
+    }
     void flush_queue();
     void suspend_fetch();
     void susp();
@@ -297,6 +326,10 @@ private:
                          bool last);
     unsigned direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
                                cycles_t start);
+    [[gnu::noinline]] unsigned direct_noted(const MemRegion* r, std::uint8_t* p, bool write, std::uint32_t addr,
+                                            std::uint16_t& data, unsigned width, cycles_t start);
+    [[gnu::noinline]] unsigned handler_access(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
+                                              cycles_t start);
 
     // ---- memory operand access (byte-lane splits) ----
     std::uint8_t read8(int seg, std::uint16_t off);
@@ -505,13 +538,18 @@ private:
     std::uint16_t eu_data_ = 0;    // value read by the last EU bus cycle
     std::uint64_t rom_writes_ = 0;
     bool fetch_sched_ = false;     // a prefetch is scheduled once the bus is idle ...
-    unsigned fetch_delay_ = 0;     // ... and this many clocks have passed
+    cycles_t fetch_t1_ = 0;        // ... with its T1 not before this clock
+    /// Clocks until the scheduled prefetch may begin (its T1), 0 once it may.
+    unsigned fetch_delay() const { return fetch_t1_ > cycle_ ? unsigned(fetch_t1_ - cycle_) : 0; }
     bool fetch_next_ = false;      // decided at T2: next fetch follows T4 directly
     bool fetch_after_t4_ = false;  // room appeared in T3/T4: prefetch four clocks after T4
     bool eu_claim_ = false;        // the EU has asked for the bus; no prefetch may start
     bool fetch_suspended_ = false; // EU asked the BIU not to prefetch (e.g. before a flush)
+    // The last queue operation (QS1/QS0 and the byte), made in clock qop_at_: reported on the QS
+    // lines in the clock after it. last_* hold the lines for the current clock while tracing.
     QueueOp qop_ = QueueOp::idle, last_qop_ = QueueOp::idle;
     std::uint8_t qbyte_ = 0, last_qbyte_ = 0;
+    cycles_t qop_at_ = ~cycles_t(0);
     bool last_ale_ = false;
     bool lock_pin_ = false;        // LOCK output: a LOCK-prefixed instruction, or the INTA pair
 

@@ -45,7 +45,7 @@ void Cpu::reset() {
     t_ = TState::Ti;
     cur_ = BusOp{};
     fetch_sched_ = true;
-    fetch_delay_ = 0;
+    fetch_t1_ = cycle_;
     fetch_next_ = eu_claim_ = false;
     fetch_suspended_ = fetch_after_t4_ = false;
     qop_ = last_qop_ = QueueOp::idle;
@@ -77,6 +77,29 @@ void Cpu::set_nmi(bool level) {
 // ---------------------------------------------------------------------------------------------
 // One clock.
 
+// A prefetch's T1 in the next clock. The common case, from RAM/ROM by direct pointer, is
+// bus_start() without the general path; anything else takes it (fetch_from_handler).
+inline void Cpu::start_fetch() {
+    const std::uint32_t addr = linear(r_.s[CS], fetch_ip_);
+    // The 8086 fetches a word from an even address, a single byte from an odd one.
+    const std::uint8_t width = (addr & 1) ? 1 : 2;
+    const MemRegion* r = page_[addr >> kPageBits];
+    if (__builtin_expect(!r || (width == 2 && !r->contains(addr + 1)), 0)) {
+        fetch_from_handler(addr, width);
+        return;
+    }
+    cur_ = BusOp{Bus::code_fetch, SegStatus::CS, addr, 0, width, true, false, false};
+    t_ = TState::T1;
+    latch_ = addr;
+    cur_start_ = cycle_ + 1;
+    const std::uint8_t* p = r->data + (addr - r->base);
+    const std::uint16_t d = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+    data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
+    cur_waits_ = waits_left_ = r->wait_states;
+    via_handler_ = false;
+    if (ff_recording_ || hook_) observe_fetch(r, p, d);
+}
+
 // The T4 clock: fetched bytes enter the queue, then the next cycle is decided (clk() in
 // i8086.h runs the simple transitions inline).
 void Cpu::clk_t4() {
@@ -105,18 +128,19 @@ void Cpu::clk_t4() {
         // Room appeared in T3/T4 of this cycle: the prefetch starts four clocks after T4.
         fetch_after_t4_ = false;
         fetch_sched_ = true;
-        fetch_delay_ = 4;
+        fetch_t1_ = cycle_ + 4;
+    } else if (fetch_sched_ && !eu_claim_ && cycle_ + 1 >= fetch_t1_) {
+        fetch_tick(); // one scheduled earlier (a flush during this cycle) is due now
     }
     fetch_next_ = false;
 }
 
-// A prefetch scheduled once the bus is idle and its delay has passed.
+// A prefetch scheduled once the bus is idle: it begins at the end of the clock before its T1
+// (fetch_t1_), never while the EU claims the bus.
 void Cpu::fetch_tick() {
-    if (fetch_delay_) --fetch_delay_;
-    if (t_ == TState::Ti && !eu_claim_ && fetch_delay_ == 0) {
-        fetch_sched_ = false;
-        if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
-    }
+    if (eu_claim_ || cycle_ + 1 < fetch_t1_) return;
+    fetch_sched_ = false;
+    if (!fetch_suspended_ && q_len_ <= 4) start_fetch();
 }
 
 void Cpu::record_cycle() {
@@ -145,8 +169,10 @@ void Cpu::record_cycle() {
 // ---------------------------------------------------------------------------------------------
 // Bus cycles.
 
-unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
-                                cycles_t start) {
+// The device of a bus cycle: RAM/ROM by direct pointer (inline: the common case), anything
+// else through the BusHandler. Its Tw count.
+inline unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width,
+                                       cycles_t start) {
     const bool write = kind == Bus::mem_write;
     via_handler_ = false;
     if (kind == Bus::mem_read || kind == Bus::code_fetch || write) {
@@ -154,29 +180,49 @@ unsigned Cpu::direct_or_handler(Bus kind, std::uint32_t addr, std::uint16_t& dat
         if (!r) r = mem_.find(addr);
         if (r && (width == 1 || r->contains(addr + 1))) {
             std::uint8_t* p = r->data + (addr - r->base);
+            if (__builtin_expect(ff_recording_ || (write && !r->writable), 0))
+                return direct_noted(r, p, write, addr, data, width, start);
             if (write) {
-                if (r->writable) {
-                    if (ff_recording_) {
-                        ff_note_write(p, addr);
-                        if (width == 2) ff_note_write(p + 1, addr + 1);
-                    }
-                    p[0] = data & 0xFF;
-                    if (width == 2) p[1] = data >> 8;
-                } else {
-                    ++rom_writes_;
-                    ff_recording_ = false; // a side effect the fast-forward does not replay
-                    if (handler_) handler_->write_ignored(addr, width, start);
-                }
+                p[0] = data & 0xFF;
+                if (width == 2) p[1] = data >> 8;
             } else {
                 data = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
-                if (ff_recording_ && r->writable) {
-                    ff_note_read(p, addr);
-                    if (width == 2) ff_note_read(p + 1, addr + 1);
-                }
             }
             return r->wait_states;
         }
     }
+    return handler_access(kind, addr, data, width, start);
+}
+
+// A direct access the fast-forward records, or a write into ROM (dropped, counted, logged).
+unsigned Cpu::direct_noted(const MemRegion* r, std::uint8_t* p, bool write, std::uint32_t addr,
+                           std::uint16_t& data, unsigned width, cycles_t start) {
+    if (write) {
+        if (r->writable) {
+            if (ff_recording_) {
+                ff_note_write(p, addr);
+                if (width == 2) ff_note_write(p + 1, addr + 1);
+            }
+            p[0] = data & 0xFF;
+            if (width == 2) p[1] = data >> 8;
+        } else {
+            ++rom_writes_;
+            ff_recording_ = false; // a side effect the fast-forward does not replay
+            if (handler_) handler_->write_ignored(addr, width, start);
+        }
+    } else {
+        data = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+        if (ff_recording_ && r->writable) {
+            ff_note_read(p, addr);
+            if (width == 2) ff_note_read(p + 1, addr + 1);
+        }
+    }
+    return r->wait_states;
+}
+
+// I/O, INTA, memory outside the direct map: the BusHandler (open bus without one).
+unsigned Cpu::handler_access(Bus kind, std::uint32_t addr, std::uint16_t& data, unsigned width, cycles_t start) {
+    const bool write = kind == Bus::mem_write;
     if (handler_) {
         via_handler_ = true;
         sent_ = data;
@@ -210,39 +256,26 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
         data_bus_ = d;
     }
     if (op.kind != Bus::code_fetch) eu_data_ = d;
-    observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
+    if (ff_recording_ || hook_) observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
 }
 
-void Cpu::start_fetch() {
-    const std::uint32_t addr = linear(r_.s[CS], fetch_ip_);
-    // The 8086 fetches a word from an even address, a single byte from an odd one.
-    const std::uint8_t width = (addr & 1) ? 1 : 2;
-    const MemRegion* r = page_[addr >> kPageBits];
-    if (!r || (width == 2 && !r->contains(addr + 1))) {
-        BusOp op;
-        op.kind = Bus::code_fetch;
-        op.seg = SegStatus::CS;
-        op.addr = addr;
-        op.width = width;
-        op.fetch = true;
-        bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
-        return;
-    }
-    // The common case, from RAM/ROM by direct pointer: bus_start() without the general path.
-    cur_ = BusOp{Bus::code_fetch, SegStatus::CS, addr, 0, width, true, false, false};
-    t_ = TState::T1;
-    latch_ = addr;
-    cur_start_ = cycle_ + 1;
-    const std::uint8_t* p = r->data + (addr - r->base);
-    const std::uint16_t d = width == 2 ? std::uint16_t(p[0] | (p[1] << 8)) : p[0];
+// The observers of a direct prefetch (out of line: most runs have none).
+void Cpu::observe_fetch(const MemRegion* r, const std::uint8_t* p, std::uint16_t d) {
     if (ff_recording_ && r->writable) { // code in RAM: the loop depends on it
-        ff_note_read(p, addr);
-        if (width == 2) ff_note_read(p + 1, addr + 1);
+        ff_note_read(p, cur_.addr);
+        if (cur_.width == 2) ff_note_read(p + 1, cur_.addr + 1);
     }
-    data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
-    cur_waits_ = waits_left_ = r->wait_states;
-    via_handler_ = false;
-    observe(BusRecord{Bus::code_fetch, addr, d, width, cur_waits_, cur_start_});
+    observe(BusRecord{Bus::code_fetch, cur_.addr, d, cur_.width, cur_waits_, cur_start_});
+}
+
+void Cpu::fetch_from_handler(std::uint32_t addr, std::uint8_t width) {
+    BusOp op;
+    op.kind = Bus::code_fetch;
+    op.seg = SegStatus::CS;
+    op.addr = addr;
+    op.width = width;
+    op.fetch = true;
+    bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
 }
 
 std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
@@ -257,7 +290,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
         if (t_ == TState::Ti) {
             // A prefetch the BIU has already begun to set up (its T1 still two clocks away)
             // costs the EU one more clock; one about to start (T1 next clock) simply waits.
-            clks(fetch_sched_ && fetch_delay_ >= 2 ? 4 : 3);
+            clks(fetch_sched_ && fetch_delay() >= 2 ? 4 : 3);
         } else {
             const bool early = t_ == TState::T1 || t_ == TState::T2;
             to_t4();
@@ -274,6 +307,10 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
     op.inta_first = kind == Bus::int_ack && !lock_pin_; // the second INTA finds LOCK active
     bus_start(op, cycle_);
     eu_claim_ = false;
+    if (!trace_) {
+        eu_cycle_untraced(last);
+        return eu_data_;
+    }
     clk(); // T1
     clk(); // T2
     if (last) {
@@ -288,6 +325,23 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
 // Runs of clocks in which only the BIU moves (the EU waits for the bus or the queue). With a
 // trace every clock is recorded; without one the T-states are advanced in one step, to the
 // state the same clocks one by one would leave (tests/comm_cpu/sst_trace_skip_test.cpp).
+
+// The clocks of an EU bus cycle from its T1 without a trace, in one step: the same state as
+// clk() T1, clk() T2, then to_last_transfer() or to_t4(). In T1 and T2 only LOCK (INTA) and
+// the T2 prefetch decision happen (the EU claim is released, this is no prefetch); a prefetch
+// scheduled meanwhile cannot start on a busy bus.
+void Cpu::eu_cycle_untraced(bool last) {
+    if (cur_.kind == Bus::int_ack) lock_pin_ = cur_.inta_first;
+    fetch_next_ = !fetch_suspended_ && q_len_ <= 4;
+    if (last) {
+        t_ = waits_left_ ? TState::Tw : TState::T3;
+        cycle_ += 2 + waits_left_;
+    } else {
+        t_ = TState::T4;
+        cycle_ += 3 + waits_left_;
+    }
+    waits_left_ = 0;
+}
 
 // From T1, T2, T3 or Tw to T4 of the cycle on the bus (T4 itself not yet clocked).
 void Cpu::to_t4() {
@@ -321,7 +375,7 @@ void Cpu::to_last_transfer() {
 void Cpu::wait_queue() {
     while (q_len_ == 0) {
         if (!trace_) {
-            if (t_ == TState::Ti && fetch_sched_ && !eu_claim_ && fetch_delay_ > 1) quiet(fetch_delay_ - 1);
+            if (t_ == TState::Ti && fetch_sched_ && !eu_claim_ && fetch_delay() > 1) quiet(fetch_delay() - 1);
             else if (t_ != TState::Ti && t_ != TState::T4) to_t4();
         }
         clk();
@@ -331,37 +385,17 @@ void Cpu::wait_queue() {
 // ---------------------------------------------------------------------------------------------
 // Queue.
 
-std::uint8_t Cpu::q_read(QueueOp op) {
-    if (q_len_ == 0) wait_queue();
-    const std::uint8_t b = q_[q_head_];
-    q_head_ = q_head_ == 5 ? 0 : q_head_ + 1;
-    --q_len_;
-    qop_ = op;
-    qbyte_ = b;
-    // Two free bytes wake an idle BIU; it starts the fetch three clocks after this one. A
-    // cycle still before its T2 decision will take the room into account itself.
-    if (q_len_ <= 4 && !fetch_sched_ && !fetch_next_) {
-        if (t_ == TState::Ti) {
-            fetch_sched_ = true;
-            fetch_delay_ = 3;
-        } else if (t_ != TState::T1 && t_ != TState::T2) {
-            fetch_after_t4_ = true; // decided after this cycle's T4
-        }
-    }
-    clk();
-    return b;
-}
-
 void Cpu::flush_queue() {
     if (t_ != TState::Ti && cur_.fetch) cur_.discard = true; // its bytes belong to the old stream
     q_head_ = q_len_ = 0;
     fetch_ip_ = r_.ip;
     qop_ = QueueOp::flush;
+    qop_at_ = cycle_;
     fetch_suspended_ = false;
     fetch_next_ = false;
     fetch_after_t4_ = false;
     fetch_sched_ = true;
-    fetch_delay_ = 3;
+    fetch_t1_ = cycle_ + 3;
 }
 
 void Cpu::suspend_fetch() {

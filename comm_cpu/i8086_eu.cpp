@@ -32,7 +32,7 @@ constexpr SegStatus seg_status(int seg) {
 }
 
 // Opcodes whose second byte is a ModR/M byte (read in the clock right after the opcode).
-constexpr bool has_modrm(std::uint8_t op) {
+constexpr bool modrm_form(unsigned op) {
     if (op < 0x40) return (op & 0x04) == 0;
     if (op >= 0x80 && op <= 0x8F) return true;
     if (op == 0xC4 || op == 0xC5 || op == 0xC6 || op == 0xC7) return true;
@@ -41,6 +41,16 @@ constexpr bool has_modrm(std::uint8_t op) {
     if (op == 0xF6 || op == 0xF7 || op == 0xFE || op == 0xFF) return true;
     return false;
 }
+
+// The same as a table (step() asks it for every instruction).
+struct ModrmTable {
+    bool has[256];
+    constexpr ModrmTable() : has() {
+        for (unsigned op = 0; op < 256; ++op) has[op] = modrm_form(op);
+    }
+};
+constexpr ModrmTable kModrm{};
+constexpr bool has_modrm(std::uint8_t op) { return kModrm.has[op]; }
 
 } // namespace
 
@@ -175,27 +185,33 @@ void Cpu::rm_write16(std::uint16_t v, bool last) {
 // ---------------------------------------------------------------------------------------------
 // ALU.
 
-void Cpu::set_szp(std::uint16_t v, bool word) {
+// SF, ZF and PF of a result, as bits of the flags word.
+static inline std::uint16_t szp_bits(std::uint16_t v, bool word) {
     const std::uint16_t sign = word ? 0x8000 : 0x80;
     const std::uint16_t mask = word ? 0xFFFF : 0xFF;
-    set_flag(flag::SF, v & sign);
-    set_flag(flag::ZF, (v & mask) == 0);
-    set_flag(flag::PF, parity(std::uint8_t(v)));
+    return std::uint16_t(((v & sign) ? flag::SF : 0) | ((v & mask) == 0 ? flag::ZF : 0) |
+                         (parity(std::uint8_t(v)) ? flag::PF : 0));
 }
 
-// op: 0 ADD, 1 OR, 2 ADC, 3 SBB, 4 AND, 5 SUB, 6 XOR, 7 CMP.
+void Cpu::set_szp(std::uint16_t v, bool word) {
+    r_.flags = std::uint16_t((r_.flags & ~(flag::SF | flag::ZF | flag::PF)) | szp_bits(v, word));
+}
+
+// op: 0 ADD, 1 OR, 2 ADC, 3 SBB, 4 AND, 5 SUB, 6 XOR, 7 CMP. The six arithmetic flags are
+// composed as one word and stored once (every ALU instruction passes here).
 std::uint16_t Cpu::alu(unsigned op, std::uint16_t a, std::uint16_t b, bool word) {
     const std::uint32_t mask = word ? 0xFFFF : 0xFF;
     const std::uint32_t sign = word ? 0x8000 : 0x80;
     std::uint32_t res = 0;
+    std::uint16_t f = 0; // CF, OF, AF (AF is bit 4 of the flags, as of the carry out of bit 3)
     switch (op) {
     case 0:
     case 2: {
         const std::uint32_t c = (op == 2 && get_flag(flag::CF)) ? 1 : 0;
         res = std::uint32_t(a) + b + c;
-        set_flag(flag::CF, res > mask);
-        set_flag(flag::OF, (a ^ res) & (b ^ res) & sign);
-        set_flag(flag::AF, (a ^ b ^ res) & 0x10);
+        if (res > mask) f |= flag::CF;
+        if ((a ^ res) & (b ^ res) & sign) f |= flag::OF;
+        f |= (a ^ b ^ res) & flag::AF;
         break;
     }
     case 3:
@@ -203,22 +219,18 @@ std::uint16_t Cpu::alu(unsigned op, std::uint16_t a, std::uint16_t b, bool word)
     case 7: {
         const std::uint32_t c = (op == 3 && get_flag(flag::CF)) ? 1 : 0;
         res = std::uint32_t(a) - b - c;
-        set_flag(flag::CF, std::uint32_t(a) < std::uint32_t(b) + c);
-        set_flag(flag::OF, (a ^ b) & (a ^ res) & sign);
-        set_flag(flag::AF, (a ^ b ^ res) & 0x10);
+        if (std::uint32_t(a) < std::uint32_t(b) + c) f |= flag::CF;
+        if ((a ^ b) & (a ^ res) & sign) f |= flag::OF;
+        f |= (a ^ b ^ res) & flag::AF;
         break;
     }
     case 1: res = a | b; break;
     case 4: res = a & b; break;
     case 6: res = a ^ b; break;
     }
-    if (op == 1 || op == 4 || op == 6) {
-        set_flag(flag::CF, false);
-        set_flag(flag::OF, false);
-        set_flag(flag::AF, false);
-    }
     res &= mask;
-    set_szp(std::uint16_t(res), word);
+    constexpr std::uint16_t kArith = flag::CF | flag::PF | flag::AF | flag::ZF | flag::SF | flag::OF;
+    r_.flags = std::uint16_t((r_.flags & ~kArith) | f | szp_bits(std::uint16_t(res), word));
     return std::uint16_t(res);
 }
 
@@ -391,7 +403,8 @@ void Cpu::step() {
     // still points at it) when an interrupt is taken.
     if (boundary_pending_) {
         boundary_pending_ = false;
-        if (check_interrupts()) {
+        // (the cheap test first: nothing to check when no request, inhibit or trap is set)
+        if ((inhibit_ || rep_interrupted_ || nmi_pending_ || intr_ || trap_armed_) && check_interrupts()) {
             opcode_ = q_read(QueueOp::first);
             return;
         }

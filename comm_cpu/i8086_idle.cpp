@@ -75,7 +75,7 @@ Cpu::Snapshot Cpu::snapshot() const {
     p.put(latch_);
     p.put(eu_data_);
     p.put(fetch_sched_);
-    p.put(std::uint16_t(fetch_delay_));
+    p.put(std::uint16_t(fetch_delay()));
     p.put(fetch_next_);
     p.put(fetch_after_t4_);
     p.put(eu_claim_);
@@ -247,6 +247,8 @@ bool Cpu::ff_forward() {
         ff_answers_.clear(); // the period is committed: its answers are not for a re-execution
         cycle_ += l.period;
         cur_start_ += l.period;
+        fetch_t1_ += l.period; // the BIU's times move with the clock (qop_at_: the QS lines)
+        qop_at_ += l.period;
         instructions_ += l.instructions;
         ff_cycles_ += l.period;
     }
