@@ -145,8 +145,8 @@ public:
     /// Steps until cycles() >= limit or stop_run() is called (e.g. by a bus handler that needs
     /// the caller to sync). While halted, the remaining cycles are consumed as idle clocks
     /// only if `burn_halt`; otherwise it returns at once. `horizon` (>= limit; default: limit)
-    /// is the first cycle at which an input may change: the idle fast-forward may run whole
-    /// loop periods up to it, past `limit` (the inputs do not change before it).
+    /// is the first cycle at which an input may change: the idle fast-forward never stops
+    /// past the last boundary at or before it (nor past the first one at `limit`).
     void run_until(cycles_t limit, bool burn_halt = true, cycles_t horizon = 0);
     void stop_run() { stop_ = true; }
     /// Lowers the limit and the horizon of the run_until() in progress (never raises them).
@@ -158,12 +158,14 @@ public:
     /// Exact idle fast-forward (docs/cpu8086.md "Idle fast-forward"; off by default): inside
     /// run_until(), when the whole state (registers, flags, queue, BIU phase, the RAM the loop
     /// wrote) returns to the same value at the same instruction after a period of clocks, the
-    /// following periods are not executed clock by clock: their bus cycles are replayed (the
-    /// bus hook sees each one; I/O and non-RAM memory still go to the BusHandler, at the same
-    /// start cycle) and the cycle counter moves by whole periods, never past the horizon. A
-    /// handler answer that differs from the recorded one (data, wait states) or that ends the
-    /// run falls back to executing the period from its start. Never used while a step hook or
-    /// a cycle trace is attached (every instruction and clock is then executed).
+    /// period is kept with the state at each of its instruction boundaries, and from any later
+    /// boundary with one of those states the clocks are not executed one by one: the bus
+    /// cycles are replayed (the bus hook sees each one; I/O and non-RAM memory still go to the
+    /// BusHandler, at the same start cycle), the RAM writes made and the recorded state put
+    /// back at the boundary where the run would stop clock by clock (the first at the limit,
+    /// or the last at or before the horizon). A handler answer that differs from the recorded
+    /// one (data, wait states) or that ends the run falls back to executing. Never used while a
+    /// step hook or a cycle trace is attached (every instruction and clock is then executed).
     void set_fast_forward(bool on);
     /// Clocks advanced by the fast-forward so far (included in cycles()).
     cycles_t forwarded_cycles() const { return ff_cycles_; }
