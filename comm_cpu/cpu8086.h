@@ -49,9 +49,10 @@ public:
     /// INTR/NMI); the slice limit is lowered to any event the access scheduled. Off: every
     /// access ends the slice (the reference behaviour; the results are the same).
     void set_fast_sync(bool on) { fast_sync_ = on; }
-    /// The core's exact idle fast-forward (i8086::Cpu::set_fast_forward): whole periods of a
-    /// loop whose state repeats, up to the next pending kernel event (not bounded by the
-    /// quantum: no input changes before that event). Off: every instruction is executed.
+    /// The core's exact idle fast-forward (i8086::Cpu::set_fast_forward): a loop whose state
+    /// repeats is advanced along its recorded path to where the slice would end clock by clock
+    /// (its limit, or the last boundary before the next pending kernel event). Off: every
+    /// instruction is executed.
     void set_fast_forward(bool on) { core_.set_fast_forward(on); }
 
     i8086::Cpu& core() { return core_; }

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace rcsim::i8086 {
@@ -148,8 +149,8 @@ public:
     /// Steps until cycles() >= limit or stop_run() is called (e.g. by a bus handler that needs
     /// the caller to sync). While halted, the remaining cycles are consumed as idle clocks
     /// only if `burn_halt`; otherwise it returns at once. `horizon` (>= limit; default: limit)
-    /// is the first cycle at which an input may change: the idle fast-forward may run whole
-    /// loop periods up to it, past `limit` (the inputs do not change before it).
+    /// is the first cycle at which an input may change: the idle fast-forward never stops
+    /// past the last boundary at or before it (nor past the first one at `limit`).
     void run_until(cycles_t limit, bool burn_halt = true, cycles_t horizon = 0);
     void stop_run() { stop_ = true; }
     /// Lowers the limit and the horizon of the run_until() in progress (never raises them).
@@ -161,12 +162,14 @@ public:
     /// Exact idle fast-forward (docs/cpu8086.md "Idle fast-forward"; off by default): inside
     /// run_until(), when the whole state (registers, flags, queue, BIU phase, the RAM the loop
     /// wrote) returns to the same value at the same instruction after a period of clocks, the
-    /// following periods are not executed clock by clock: their bus cycles are replayed (the
-    /// bus hook sees each one; I/O and non-RAM memory still go to the BusHandler, at the same
-    /// start cycle) and the cycle counter moves by whole periods, never past the horizon. A
-    /// handler answer that differs from the recorded one (data, wait states) or that ends the
-    /// run falls back to executing the period from its start. Never used while a step hook or
-    /// a cycle trace is attached (every instruction and clock is then executed).
+    /// period is kept with the state at each of its instruction boundaries, and from any later
+    /// boundary with one of those states the clocks are not executed one by one: the bus
+    /// cycles are replayed (the bus hook sees each one; I/O and non-RAM memory still go to the
+    /// BusHandler, at the same start cycle), the RAM writes made and the recorded state put
+    /// back at the boundary where the run would stop clock by clock (the first at the limit,
+    /// or the last at or before the horizon). A handler answer that differs from the recorded
+    /// one (data, wait states) or that ends the run falls back to executing. Never used while a
+    /// step hook or a cycle trace is attached (every instruction and clock is then executed).
     void set_fast_forward(bool on);
     /// Clocks advanced by the fast-forward so far (included in cycles()).
     cycles_t forwarded_cycles() const { return ff_cycles_; }
@@ -425,47 +428,76 @@ private:
         BusRecord rec;          // start: cycle number as recorded
         std::uint16_t sent;     // the data value handed to the handler (reads: as initialised)
         bool handler;           // answered by the BusHandler (else RAM/ROM or open bus)
+        cycles_t at;            // cycles() and instructions() when the cycle was asked for (the
+        std::uint64_t instructions_at; // handler may suspend the caller there)
     };
     struct LoopWrite {
         std::uint8_t* at;       // a RAM byte the recorded run wrote (at linear address addr) ...
         std::uint32_t addr;
         std::uint8_t before;    // ... and its value before that write
     };
+    /// A boundary while recording: the state there, its cycle and instruction count, and the
+    /// positions in the logs (ff_log_ / ff_writes_ / ff_reads_). In a learned Loop the same,
+    /// relative to the period's start: the points the forwarding can stop at inside a period.
+    struct LoopPoint {
+        Snapshot state;
+        cycles_t cycle;
+        std::uint64_t instructions;
+        std::size_t cycles_at, writes_at, reads_at;
+        std::uint32_t pc;
+    };
     struct LoopMark {           // a boundary at the candidate instruction while recording
         Snapshot state;
         cycles_t cycle;
         std::uint64_t instructions;
         std::size_t cycles_at, writes_at, reads_at; // positions in ff_log_ / ff_writes_ / ff_reads_
+        std::size_t points_at;                      // ... and in ff_points_
     };
-    /// A period found: where it starts, the state there, its bus cycles (start relative to the
-    /// period's first clock) and the RAM it depends on (every byte it read or wrote, with the
-    /// value at its start). It repeats from any later visit of `pc` with the same state and
-    /// the same values in those bytes.
+    /// A period found: its bus cycles (start relative to the period's first clock), every
+    /// boundary in it (LoopPoint, relative), the RAM it wrote (in order, the value before and
+    /// after each write) and read (the value read). It repeats from any later boundary whose
+    /// state is that of one of its points, when every RAM byte the period reads before writing
+    /// it (counted from that point, around the period) holds the value it read.
     struct Loop {
         bool valid = false;
-        std::uint32_t pc = 0;
-        Snapshot state{};
         cycles_t period = 0;
         std::uint64_t instructions = 0;
         std::vector<LoopCycle> cycles;
-        std::vector<LoopWrite> footprint;
+        std::vector<LoopPoint> points;          // points[0]: the period's start, offset 0
+        std::vector<LoopWrite> writes, reads;
+        std::vector<std::uint8_t> written;      // writes[i]'s value
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> by_pc; // (pc, point index), sorted
+        // Per point, once asked: the RAM bytes read before written from there, with the value
+        // read (ff_holds_at); `needs_known` says which lists are filled.
+        std::vector<std::vector<LoopWrite>> needs;
+        std::vector<bool> needs_known;
     };
-    /// At a boundary inside run_until(): the cheap test, inline; the rest in ff_boundary().
+    /// At a boundary inside run_until(): the cheap tests, inline; the rest in ff_try_forward()
+    /// (a boundary of the learned loop) and ff_boundary() (recording).
     bool ff_visit() {
         if (rep_suspended_) return false; // parked inside a REP run: not an instruction boundary
         const std::uint32_t here = pc();
         const bool backward = here < ff_last_pc_;
         ff_last_pc_ = here;
-        if (here != ff_loop_.pc && !(ff_recording_ ? here == ff_pc_ || backward : backward)) return false;
+        if (ff_loop_.valid && (ff_pc_bits_[here >> 6] >> (here & 63) & 1) && ff_try_forward(here)) return true;
+        if (!ff_recording_ && !backward) return false;
         return ff_boundary(here, backward);
     }
     bool ff_boundary(std::uint32_t here, bool backward);
     void ff_start();
     bool ff_ram_restored(std::size_t writes_at);
     void ff_learn(const LoopMark& m);
-    bool ff_footprint_holds() const;
-    bool ff_forward();
+    void ff_drop_loop();
+    bool ff_try_forward(std::uint32_t here);
+    bool ff_holds_at(std::size_t k);
+    bool ff_forward(std::size_t k);
+    bool ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64_t instructions_base, cycles_t end);
+    void ff_apply_writes(std::size_t from, std::size_t to);
+    void ff_restore(const LoopPoint& p, cycles_t at);
     void ff_reexecute(unsigned delivered);
+    void ff_record_point(const Snapshot& s);
+    /// The fields of snapshot(), in order, to a packer or from an unpacker (i8086_idle.cpp).
+    template <class Self, class V> static void state_fields(Self& c, V& v);
     void ff_note_cycle(const BusRecord& r);
     void ff_note_write(std::uint8_t* p, std::uint32_t addr) {
         if (ff_writes_.size() < kFfMaxWrites) ff_writes_.push_back(LoopWrite{p, addr & 0xFFFFF, *p});
@@ -476,6 +508,10 @@ private:
         else ff_recording_ = false;
     }
     static constexpr std::size_t kFfMaxCycles = 8192, kFfMaxWrites = 8192, kFfMaxMarks = 64;
+    static constexpr std::size_t kFfMaxPoints = 16384;
+    // Boundaries of the loop's code whose state matches none of its points before the loop is
+    // given up (after an interrupt the state comes back to one within a few jumps).
+    static constexpr unsigned kFfMaxMisses = 4096;
     static constexpr cycles_t kFfMaxSpan = 32768; // clocks recorded before a candidate is given up
 
     bool ff_on_ = false;
@@ -490,7 +526,15 @@ private:
     std::vector<LoopWrite> ff_writes_;
     std::vector<LoopWrite> ff_reads_;         // RAM bytes read (data and code), value as read
     std::vector<LoopMark> ff_marks_;
+    std::vector<LoopPoint> ff_points_;        // every boundary of the recording
     Loop ff_loop_;
+    std::vector<std::uint64_t> ff_pc_bits_;  // one bit per linear address: a pc of the loop's points
+    unsigned ff_misses_ = 0;
+    // Where the last forwarding stopped (cycle, instructions, point): a boundary still there has
+    // the RAM that point needs (the forwarding made it so, nothing has run since).
+    cycles_t ff_landed_cycle_ = ~cycles_t(0);
+    std::uint64_t ff_landed_instructions_ = 0;
+    std::size_t ff_landed_point_ = 0;
     std::vector<std::uint32_t> ff_seen_;      // per RAM byte: the last check that saw a write to it
     std::uint32_t ff_check_ = 0;
     struct Answer {

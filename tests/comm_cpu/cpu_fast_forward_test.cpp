@@ -11,10 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 using namespace rcsim::i8086;
 using rcsim::i8086::test::Board;
+using rcsim::i8086::test::kStack;
 
 namespace {
 
@@ -75,7 +77,7 @@ void poll_ram(Board& b, bool forward, cycles_t irq, cycles_t horizon) {
         if (r.kind == Bus::int_ack && b.intas % 2 == 0) b.cpu.set_intr(false);
     };
     b.cpu.set_fast_forward(forward);
-    b.cpu.run_until(irq, false, horizon);
+    b.cpu.run_until(horizon, false, horizon); // the forwarding never passes the limit either
     b.cpu.set_intr(true);
     b.cpu.run_until(irq + 100'000, false);
 }
@@ -105,8 +107,8 @@ TEST(CpuFastForward, RamFlagLoopStopsAtTheHorizonAndSeesTheInterrupt) {
 }
 
 TEST(CpuFastForward, SkippingPastAnEventIsSeen) {
-    // The same run with the horizon told to lie 20 000 clocks beyond the interrupt: the loop is
-    // forwarded past the INTR rise, so the interrupt is taken late and the comparison differs.
+    // The same run with the limit and horizon told to lie 20 000 clocks beyond the interrupt: the
+    // loop is forwarded past the INTR rise, so the interrupt is taken late and the comparison differs.
     constexpr cycles_t irq = 150'001;
     Board wrong, off;
     poll_ram(wrong, true, irq, irq + 20'000);
@@ -119,6 +121,99 @@ TEST(CpuFastForward, SkippingPastAnEventIsSeen) {
         return cycles_t(0);
     };
     EXPECT_GT(first_inta(wrong), first_inta(off) + 10'000);
+}
+
+// A loop whose period writes RAM in the middle and puts it back before its end: STI, then
+//   loop: CALL sub / MOV [0104h],AL / INC byte [0106h] / DEC byte [0106h] / CMP byte [0100h],0 /
+//         JE loop / HLT        sub: IN AL,40h / PUSH AX / POP BX / RET
+// (the CALL and the PUSH write the stack, [0106h] is 1 between INC and DEC). The ISR at 0500h
+// sets [0100h]. INTR rises at `irq`; before it the run goes in slices of `slice` clocks, each
+// limit also its horizon, so the forwarding stops inside a period at every slice end. Returns
+// the clocks executed one by one (not forwarded) up to the INTR rise.
+cycles_t call_loop(Board& b, bool forward, cycles_t irq, cycles_t slice) {
+    b.load({0xFB, 0xE8, 0x13, 0x00, 0xA2, 0x04, 0x01, 0xFE, 0x06, 0x06, 0x01, 0xFE, 0x0E, 0x06, 0x01,
+            0x80, 0x3E, 0x00, 0x01, 0x00, 0x74, 0xEB, 0xF4, 0xE4, 0x40, 0x50, 0x5B, 0xC3});
+    b.load({0xC6, 0x06, 0x00, 0x01, 0x01, 0xCF}, 0x500);
+    for (std::uint32_t a = 0x30100; a < 0x30108; ++a) b.ram[a] = 0;
+    b.on_access = [&b](const BusRecord& r) {
+        if (r.kind == Bus::int_ack && b.intas % 2 == 0) b.cpu.set_intr(false);
+    };
+    b.cpu.set_fast_forward(forward);
+    while (b.cpu.cycles() < irq) {
+        const cycles_t limit = std::min(irq, b.cpu.cycles() + slice);
+        b.cpu.run_until(limit, false, limit);
+    }
+    const cycles_t executed = b.cpu.cycles() - b.cpu.forwarded_cycles();
+    b.cpu.set_intr(true);
+    b.cpu.run_until(irq + 100'000, false);
+    return executed;
+}
+
+void expect_same_ram(const Board& on, const Board& off) {
+    for (std::uint32_t a = kStack; a < kStack + 0x100; ++a) ASSERT_EQ(on.ram[a], off.ram[a]) << "stack byte " << a;
+    for (std::uint32_t a = 0x30100; a < 0x30108; ++a) ASSERT_EQ(on.ram[a], off.ram[a]) << "data byte " << a;
+}
+
+TEST(CpuFastForward, StopsInsideAPeriodAtEachSliceEnd) {
+    // 100 slices of a prime number of clocks, each ending somewhere inside the loop's period.
+    constexpr cycles_t slice = 1009, irq = 100 * slice + 17;
+    Board on, off;
+    const cycles_t executed = call_loop(on, true, irq, slice);
+    call_loop(off, false, irq, slice);
+    ASSERT_TRUE(off.cpu.halted());
+    ASSERT_EQ(off.intas, 2u);
+    EXPECT_EQ(on.ram[0x30106], 0);
+    expect_same_run(on, off);
+    expect_same_ram(on, off);
+    // The period, from the clock-by-clock run: the distance between two IN cycles.
+    cycles_t period = 0;
+    for (std::size_t i = 1; i < off.calls.size() && !period; ++i)
+        if (off.calls[i].kind == Bus::io_read) period = off.calls[i].start - off.calls[i - 1].start;
+    ASSERT_GT(period, 100u); // 10 instructions, CALL/RET and a taken JE among them
+    // Clocks executed one by one: the recording (a few periods), then in each slice only the
+    // instruction that crosses its end, never longer than the CALL or the taken JE with their
+    // fetches (under 40 clocks, well below half a period). A forwarding that stops only at whole
+    // periods would execute half a period per slice on average (50 slices' worth of periods).
+    // (10 periods allowed for the recording: it needs two visits with the same state.)
+    EXPECT_LT(executed, 10 * period + 100 * 40) << "period " << period;
+}
+
+TEST(CpuFastForward, StopsInsideAPeriodAtTheInterrupt) {
+    // One run up to an INTR rise that falls between two boundaries of the loop: the forwarding
+    // gets to the last boundary before it, the rest is executed; the interrupt is taken at the
+    // same boundary as clock by clock, with the RAM of that point of the period.
+    for (cycles_t irq : {cycles_t(150'001), cycles_t(150'037), cycles_t(150'121)}) {
+        Board on, off;
+        call_loop(on, true, irq, irq);
+        call_loop(off, false, irq, irq);
+        ASSERT_TRUE(off.cpu.halted());
+        ASSERT_EQ(off.intas, 2u);
+        expect_same_run(on, off);
+        expect_same_ram(on, off);
+        EXPECT_GT(on.cpu.forwarded_cycles(), irq - 10'000) << "irq " << irq;
+        // The case is the one named: the last boundary before the rise is not the loop head
+        // (CALL at 1000:0001) and the rise is not at a boundary.
+        struct Seen {
+            cycles_t irq, last = 0;
+            std::uint32_t pc = 0;
+            bool at_boundary = false;
+        } seen{irq};
+        Board hooked;
+        hooked.cpu.set_step_hook(
+            [](void* c, const Cpu& cpu) {
+                auto* s = static_cast<Seen*>(c);
+                if (cpu.cycles() == s->irq) s->at_boundary = true;
+                if (cpu.cycles() < s->irq) {
+                    s->last = cpu.cycles();
+                    s->pc = cpu.pc();
+                }
+                return false;
+            },
+            &seen);
+        call_loop(hooked, false, irq, irq);
+        EXPECT_FALSE(seen.at_boundary) << "irq " << irq;
+        EXPECT_NE(seen.pc, 0x10001u) << "irq " << irq;
+    }
 }
 
 TEST(CpuFastForward, NotWhileAStepHookIsSet) {
