@@ -82,4 +82,11 @@ int report_exception(const std::string& prefix, const std::string& input) {
     return code;
 }
 
+namespace {
+int g_command_exit_code = kExitPassed;
+} // namespace
+
+void set_command_exit_code(int code) { g_command_exit_code = code; }
+int command_exit_code() { return g_command_exit_code; }
+
 } // namespace rcsim

@@ -79,7 +79,7 @@ int sc_main(int argc, char* argv[]) {
         for (int i = 1; i < argc; ++i) args += (i > 1 ? " " : "") + std::string(argv[i]);
         return rcsim::report_exception("rcsim", "rcsim " + args);
     }
-    return 0;
+    return rcsim::command_exit_code();
 }
 
 #ifdef RCSIM_SANITIZE_BUILD

@@ -93,7 +93,7 @@ void add_run_command(CLI::App& app) {
         } catch (...) {
             code = report_exception("rcsim run", input);
         }
-        throw CLI::RuntimeError(code);
+        set_command_exit_code(code);
     });
 }
 
