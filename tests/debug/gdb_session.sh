@@ -33,6 +33,9 @@ print("%x %x %x" % (s["rs232_isr"]["linear"], s["tick_div"]["linear"], j["code_s
 
 "$rcsim" run "$scenario" --out "$work/ref" --reproducible > "$work/ref.out" || fail "the run without gdb failed"
 
+# The background job opens its redirections after the fork: made here first, so that the polling
+# below never reads a file the child has not created yet.
+: > "$work/dbg.out"
 "$rcsim" run "$scenario" --out "$work/dbg" --reproducible --gdb 127.0.0.1:0 --gdb-wait \
   > "$work/dbg.out" 2> "$work/dbg.err" &
 pid=$!
