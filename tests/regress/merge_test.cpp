@@ -1,4 +1,5 @@
 // Merging run directories: flattening, the summary files, order and split independence.
+#include "tests/support/files.h"
 #include "models/config_error.h"
 #include "scenarios/merge.h"
 
@@ -14,6 +15,8 @@ using namespace rcsim::regress;
 using json = nlohmann::json;
 
 namespace {
+
+using rcsim::test::slurp;
 
 fs::path scratch() {
     const fs::path d = fs::path(::testing::TempDir()) /
@@ -35,13 +38,6 @@ void make_run(const fs::path& dir, const std::string& id, double margin, bool pa
                          {"checks_off", json::array({"frames_failed"})},
                          {"passed", passed}};
     std::ofstream(dir / id / "report.json") << report.dump(2);
-}
-
-std::string slurp(const fs::path& f) {
-    std::ifstream in(f, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 } // namespace

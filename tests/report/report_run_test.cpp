@@ -1,5 +1,6 @@
 // report.html and interrupts.csv from real runs of a short three-port scenario: the CSV against
 // report.json, and two runs of the rcsim executable giving byte-identical files.
+#include "tests/support/files.h"
 #include "scenarios/runner.h"
 #include "tests/support/sc_test.h"
 
@@ -17,12 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& f) {
-    std::ifstream in(f, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using rcsim::test::slurp;
 
 std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> f;

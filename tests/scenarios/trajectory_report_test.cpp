@@ -1,4 +1,5 @@
 // trajectory.csv and trajectory.svg from a hand-made recording (scenarios/trajectory_report.h).
+#include "tests/support/files.h"
 #include "models/config_error.h"
 #include "scenarios/trajectory_report.h"
 
@@ -13,12 +14,7 @@ using namespace rcsim;
 
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using rcsim::test::slurp;
 
 /// An L-shaped path on axes 0 and 1: (0,0) -> (1000,0) -> (1000,1000); the actual position lags
 /// one sample behind. Axis 2 stays at 7.

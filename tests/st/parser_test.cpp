@@ -2,6 +2,7 @@
 // compiles; every invalid one fails with exactly the message in its .expect file, which names
 // file:line:column and what was expected or is wrong. The plotter program of the shipped scenario
 // is in the valid set too.
+#include "tests/support/files.h"
 #include "tests/st/st_test.h"
 
 #include <filesystem>
@@ -14,12 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using rcsim::test::slurp;
 
 std::vector<fs::path> files(const fs::path& dir) {
     std::vector<fs::path> out;

@@ -1,11 +1,11 @@
 // `rcsim run --profile` through the executable (scenarios/trace/profile_run.h) on the built
 // firmware: the files it writes, their agreement with each other and with the interrupt probe's
 // counts, and a report that does not change.
+#include "tests/support/files.h"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
-
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -17,18 +17,12 @@ using nlohmann::json;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using rcsim::test::slurp;
 
 int rcsim(const std::string& args, const fs::path& log) {
     const std::string cmd = std::string("\"") + RCSIM_EXE + "\" run \"" + RCSIM_TRACE_DATA + "/short_trace.yaml\" " +
                             args + " > \"" + log.string() + "\" 2>&1";
-    const int rc = std::system(cmd.c_str());
-    return rc == -1 || !WIFEXITED(rc) ? -1 : WEXITSTATUS(rc);
+    return rcsim::test::exit_code_of(cmd);
 }
 
 struct Profiled {

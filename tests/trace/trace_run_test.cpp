@@ -1,10 +1,9 @@
 // `rcsim run --trace` through the executable (scenarios/trace/perfetto_trace.h): the file is a
 // valid trace (trace_check.h), it holds what the report counts, and it changes nothing else.
+#include "tests/support/files.h"
 #include "tests/trace/trace_check.h"
 
 #include <gtest/gtest.h>
-
-#include <sys/wait.h>
 
 #include <cmath>
 #include <filesystem>
@@ -18,18 +17,12 @@ using nlohmann::json;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using rcsim::test::slurp;
 
 /// Runs rcsim with `args`; returns its exit code, `log` gets stdout and stderr.
 int rcsim(const std::string& args, const fs::path& log) {
     const std::string cmd = std::string("\"") + RCSIM_EXE + "\" run " + args + " > \"" + log.string() + "\" 2>&1";
-    const int rc = std::system(cmd.c_str());
-    return rc == -1 || !WIFEXITED(rc) ? -1 : WEXITSTATUS(rc);
+    return rcsim::test::exit_code_of(cmd);
 }
 
 const std::string kScenario = std::string("\"") + RCSIM_TRACE_DATA + "/short_trace.yaml\"";
