@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <random>
+
 using namespace rcsim;
 
 namespace {
@@ -62,3 +66,33 @@ TEST(SvgChart, LegendRowsGoDownWithTheirSamples) {
 }
 
 } // namespace
+
+// svg::num's digits are those of printf("%.*f"), the format every report column is documented
+// in: the C conversion rounds the exact binary value, ties to even. Exact ties (0.125, 2.5),
+// values just off a tie, negative zero, large and tiny numbers, and random picosecond times
+// at the interrupts.csv precision of 6 decimals.
+TEST(SvgChart, NumberDigitsAreThoseOfPrintfFixed) {
+    const auto printf_fixed = [](double v, int decimals) {
+        char buf[400];
+        std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+        std::string s = buf;
+        if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+        return s;
+    };
+    EXPECT_EQ(svg::num(0.125, 2), "0.12"); // a tie in binary: to even
+    EXPECT_EQ(svg::num(0.375, 2), "0.38");
+    EXPECT_EQ(svg::num(2.5, 0), "2");
+    EXPECT_EQ(svg::num(-0.04, 1), "0.0"); // no negative zero
+    EXPECT_EQ(svg::num(1e300, 0).size(), 301u);
+    for (double v : {0.0, -0.0, 0.05, 0.15, 0.25, 1.005, 4805.25, 1e-7, 123456789.123456789, -3.75, 1e21, 5e-324})
+        for (int d = 0; d <= 9; ++d) EXPECT_EQ(svg::num(v, d), printf_fixed(v, d)) << v << " " << d;
+    std::mt19937_64 rng(13);
+    for (int i = 0; i < 100000; ++i) {
+        const double ps = static_cast<double>(rng() % 20'000'000'000'000ull); // up to 20 s
+        const double us = ps / 1e6;
+        ASSERT_EQ(svg::num(us, 6), printf_fixed(us, 6)) << us;
+        const double any = std::ldexp(static_cast<double>(rng() >> 11), int(rng() % 80) - 60) * (i % 2 ? 1 : -1);
+        const int d = static_cast<int>(rng() % 10);
+        ASSERT_EQ(svg::num(any, d), printf_fixed(any, d)) << any << " " << d;
+    }
+}
