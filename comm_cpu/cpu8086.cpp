@@ -159,14 +159,15 @@ void Cpu8086::after_access() {
 }
 
 void Cpu8086::install_bus_observers() {
-    if (!debug_bus_observer_.hook) core_.set_bus_hook(bus_observer_.hook, bus_observer_.context);
+    if (!debug_bus_observer_.hook) core_.set_bus_hook(bus_observer_.hook, bus_observer_.context, bus_observer_.kinds);
     else if (!bus_observer_.hook) core_.set_bus_hook(debug_bus_observer_.hook, debug_bus_observer_.context);
-    else core_.set_bus_hook(&Cpu8086::bus_fanout, this);
+    else core_.set_bus_hook(&Cpu8086::bus_fanout, this); // the debugger sees every cycle
 }
 
 void Cpu8086::bus_fanout(void* self, const i8086::BusRecord& record) {
     const auto* cpu = static_cast<Cpu8086*>(self);
-    cpu->bus_observer_.hook(cpu->bus_observer_.context, record);
+    if (cpu->bus_observer_.kinds & i8086::bus_kind_bit(record.kind))
+        cpu->bus_observer_.hook(cpu->bus_observer_.context, record);
     cpu->debug_bus_observer_.hook(cpu->debug_bus_observer_.context, record);
 }
 

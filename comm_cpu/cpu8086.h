@@ -64,14 +64,20 @@ public:
 
     /// Bus-cycle observation: called once per bus cycle with the cycle's record; convert the
     /// start cycle with time_of(). nullptr turns it off (the default; free when unused).
-    void set_bus_observer(i8086::BusHook hook, void* context) {
-        bus_observer_ = {hook, context};
+    void set_bus_observer(i8086::BusHook hook, void* context, i8086::BusKinds kinds = i8086::kAllBusKinds) {
+        bus_observer_ = {hook, context, kinds};
         install_bus_observers();
+    }
+    /// The kinds of cycle the observer is called for from now on (i8086::Cpu::set_bus_hook_kinds);
+    /// a debug observer still sees every cycle.
+    void set_bus_observer_kinds(i8086::BusKinds kinds) {
+        bus_observer_.kinds = kinds;
+        core_.set_bus_hook_kinds(debug_bus_observer_.hook ? i8086::kAllBusKinds : kinds);
     }
     /// A second bus-cycle observer beside set_bus_observer's, called after it (the debugger's
     /// watchpoints, while the interrupt probe keeps the first). nullptr removes it.
     void set_debug_bus_observer(i8086::BusHook hook, void* context) {
-        debug_bus_observer_ = {hook, context};
+        debug_bus_observer_ = {hook, context, i8086::kAllBusKinds};
         install_bus_observers();
     }
     /// Instruction-boundary hook of the core (debugger, profiler); see i8086::StepHook.
@@ -107,6 +113,7 @@ private:
     struct Observer {
         i8086::BusHook hook = nullptr;
         void* context = nullptr;
+        i8086::BusKinds kinds = i8086::kAllBusKinds;
     };
     /// The core has one hook: the first observer directly, or both through bus_fanout.
     void install_bus_observers();

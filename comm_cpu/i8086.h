@@ -63,6 +63,10 @@ struct BusRecord {
     cycles_t start;       // cycle number of T1
 };
 using BusHook = void (*)(void* context, const BusRecord& record);
+/// A set of bus-cycle kinds, one bit each (bus_kind_bit): the cycles a bus hook is called for.
+using BusKinds = std::uint8_t;
+constexpr BusKinds bus_kind_bit(Bus b) { return static_cast<BusKinds>(1u << static_cast<unsigned>(b)); }
+constexpr BusKinds kAllBusKinds = 0xFF;
 
 class Cpu;
 /// Called at each instruction boundary, before the instruction at cpu.pc() executes (its opcode
@@ -110,7 +114,20 @@ public:
     void map_memory(const MemRegion& region);
     const MemoryMap& memory() const { return mem_; }
     void set_bus_handler(BusHandler* handler) { handler_ = handler; }
-    void set_bus_hook(BusHook hook, void* context) { hook_ = hook; hook_ctx_ = context; }
+    /// The bus-cycle observer, called for every cycle of a kind in `kinds` (nullptr: none).
+    void set_bus_hook(BusHook hook, void* context, BusKinds kinds = kAllBusKinds) {
+        hook_ = hook;
+        hook_ctx_ = context;
+        set_bus_hook_kinds(kinds);
+    }
+    /// The kinds the hook is called for from now on. An observer that ignores most cycles in
+    /// some state (the interrupt probe outside interrupts: all but INTA and memory writes)
+    /// narrows it, so those cycles keep the direct path and a fast-forward does not replay
+    /// them to it one by one.
+    void set_bus_hook_kinds(BusKinds kinds) {
+        hook_kinds_ = hook_ ? kinds : 0;
+        hook_fetch_ = hook_kinds_ & bus_kind_bit(Bus::code_fetch);
+    }
     /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
     void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
     /// Per-cycle trace into `out` (nullptr turns it off).
@@ -254,13 +271,15 @@ private:
     void clk_t4();
     void fetch_tick();
     /// Every bus cycle at its T1 decision: the fast-forward's record, then the bus hook.
+    /// Call sites test observed(kind) first. A re-execution mutes the cycles the hook was
+    /// already handed (counted whatever their kind: the kinds may have changed since).
     void observe(const BusRecord& r) {
         if (ff_recording_) ff_note_cycle(r);
-        if (hook_) {
-            if (ff_hook_mute_) --ff_hook_mute_;
-            else hook_(hook_ctx_, r);
-        }
+        if (ff_hook_mute_) --ff_hook_mute_;
+        else if (hook_kinds_ & bus_kind_bit(r.kind)) hook_(hook_ctx_, r);
     }
+    bool observed(Bus kind) const { return ff_recording_ || ff_hook_mute_ || (hook_kinds_ & bus_kind_bit(kind)); }
+    bool fetch_observed() const { return ff_recording_ || ff_hook_mute_ || hook_fetch_; }
     /// n clocks of the EU's own (no queue read, no bus request of its own). Without a trace,
     /// runs of clocks in which the BIU only counts down are taken in one step (clks_quiet).
     void clks(unsigned n) {
@@ -558,6 +577,8 @@ private:
     std::array<const MemRegion*, ((1u << 20) >> kPageBits)> page_{};
     BusHandler* handler_ = nullptr;
     BusHook hook_ = nullptr;
+    BusKinds hook_kinds_ = 0;      // the kinds hook_ is called for (0 without a hook)
+    bool hook_fetch_ = false;      // ... code_fetch among them (the prefetch path's test)
     void* hook_ctx_ = nullptr;
     StepHook step_hook_ = nullptr;
     void* step_hook_ctx_ = nullptr;

@@ -97,7 +97,7 @@ inline void Cpu::start_fetch() {
     data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
     cur_waits_ = waits_left_ = r->wait_states;
     via_handler_ = false;
-    if (ff_recording_ || hook_) observe_fetch(r, p, d);
+    if (fetch_observed()) observe_fetch(r, p, d);
 }
 
 // The T4 clock: fetched bytes enter the queue, then the next cycle is decided (clk() in
@@ -256,7 +256,7 @@ void Cpu::bus_start(const BusOp& op, cycles_t t1) {
         data_bus_ = d;
     }
     if (op.kind != Bus::code_fetch) eu_data_ = d;
-    if (ff_recording_ || hook_) observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
+    if (observed(op.kind)) observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
 }
 
 // The observers of a direct prefetch (out of line: most runs have none).

@@ -419,7 +419,7 @@ bool Cpu::ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64
                 return false;
             }
         }
-        if (hook_) hook_(hook_ctx_, r);
+        if (hook_kinds_ & bus_kind_bit(r.kind)) hook_(hook_ctx_, r);
         ++delivered;
     }
     ff_answers_.clear(); // the segment is committed: its answers are not for a re-execution

@@ -21,6 +21,14 @@ InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::
     for (IrqLine* line : ir_) sensitive << line->value_changed_event();
     dont_initialize();
     cpu_.set_bus_observer(&InterruptProbe::bus_hook, this);
+    watch_kinds();
+}
+
+void InterruptProbe::watch_kinds() {
+    using i8086::bus_kind_bit;
+    const bool everything = !stack_.empty() || forward_;
+    cpu_.set_bus_observer_kinds(everything ? i8086::kAllBusKinds
+                                           : bus_kind_bit(Bus::int_ack) | bus_kind_bit(Bus::mem_write));
 }
 
 void InterruptProbe::sample_lines() {
@@ -86,6 +94,7 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
     o.rec.inta1 = t;
     o.rec.depth = static_cast<unsigned>(stack_.size());
     stack_.push_back(o);
+    if (stack_.size() == 1) watch_kinds();
 }
 
 void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
@@ -100,7 +109,10 @@ void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
     if (keep_) done_.push_back(rec);
     held_.push_back(rec);
     // Back in the main program: everything entered so far has completed.
-    if (stack_.empty()) hand_over(start_horizon());
+    if (stack_.empty()) {
+        watch_kinds();
+        hand_over(start_horizon());
+    }
 }
 
 void InterruptProbe::hand_over(const sc_core::sc_time& horizon) {

@@ -89,6 +89,7 @@ public:
     void forward_cycles(i8086::BusHook hook, void* context) {
         forward_ = hook;
         forward_ctx_ = context;
+        watch_kinds();
     }
 
 private:
@@ -125,6 +126,10 @@ private:
     std::vector<InterruptRecord> done_;
 
     void sample_lines();
+    /// The cycles the probe needs from the CPU: every one inside an interrupt (or with a
+    /// forward observer), else only INTA and memory writes (DP-RAM writes), so that the main
+    /// program's fetches and reads keep the core's direct path.
+    void watch_kinds();
     static void bus_hook(void* self, const i8086::BusRecord& r);
     void on_cycle(const i8086::BusRecord& r);
     void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);

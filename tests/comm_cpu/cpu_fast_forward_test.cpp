@@ -227,4 +227,78 @@ TEST(CpuFastForward, NotWhileAStepHookIsSet) {
     EXPECT_EQ(steps, b.cpu.instructions()); // once before every instruction (HLT included)
 }
 
+// ---------------------------------------------------------------------------------------------
+// Bus hook kinds (Cpu::set_bus_hook_kinds): a hook told to watch some kinds of cycle is called
+// for exactly those cycles of the full list, in order, with the fast-forward off and on (the
+// replay hands it only those too).
+
+std::vector<BusRecord> of_kinds(const std::vector<BusRecord>& all, BusKinds kinds) {
+    std::vector<BusRecord> out;
+    for (const BusRecord& r : all)
+        if (kinds & bus_kind_bit(r.kind)) out.push_back(r);
+    return out;
+}
+
+void expect_same_cycles(const std::vector<BusRecord>& a, const std::vector<BusRecord>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) ASSERT_TRUE(same(a[i], b[i])) << "bus cycle " << i;
+}
+
+TEST(CpuBusHookKinds, TheHookSeesOnlyItsKindsWithAndWithoutForwarding) {
+    constexpr cycles_t slice = 1009, irq = 100 * slice + 17;
+    constexpr BusKinds kinds = bus_kind_bit(Bus::int_ack) | bus_kind_bit(Bus::mem_write);
+    Board all, off, on;
+    call_loop(all, false, irq, slice);
+    off.cpu.set_bus_hook_kinds(kinds);
+    on.cpu.set_bus_hook_kinds(kinds);
+    call_loop(off, false, irq, slice);
+    call_loop(on, true, irq, slice);
+    const std::vector<BusRecord> want = of_kinds(all.cycles, kinds);
+    // The case is the one named: both kinds occur, and most cycles are of other kinds.
+    ASSERT_EQ(of_kinds(want, bus_kind_bit(Bus::int_ack)).size(), 2u);
+    ASSERT_GT(of_kinds(want, bus_kind_bit(Bus::mem_write)).size(), 100u);
+    ASSERT_LT(2 * want.size(), all.cycles.size());
+    EXPECT_GT(on.cpu.forwarded_cycles(), irq / 2);
+    expect_same_cycles(off.cycles, want);
+    expect_same_cycles(on.cycles, want);
+}
+
+// The hook changes its kinds as it goes (the interrupt probe widens them at an INTA): here it
+// watches I/O reads only until it sees the port answer 1, then every cycle. In the forwarded run
+// the answer's change makes a replayed segment diverge and run again: the cycles already handed
+// over in it are not handed over twice, whatever their kind, and none is lost.
+struct Widening {
+    Board* board;
+    std::vector<BusRecord> seen;
+    static void hook(void* c, const BusRecord& r) {
+        auto* w = static_cast<Widening*>(c);
+        w->seen.push_back(r);
+        if (r.kind == Bus::io_read && r.data == 1) w->board->cpu.set_bus_hook_kinds(kAllBusKinds);
+    }
+};
+
+TEST(CpuBusHookKinds, KindsChangedByTheHookSurviveAReplayThatDiverges) {
+    constexpr cycles_t ready = 200'003;
+    Board all, off, on;
+    poll_port(all, false, ready);
+    Widening woff{&off, {}}, won{&on, {}};
+    off.cpu.set_bus_hook(&Widening::hook, &woff, bus_kind_bit(Bus::io_read));
+    on.cpu.set_bus_hook(&Widening::hook, &won, bus_kind_bit(Bus::io_read));
+    poll_port(off, false, ready);
+    poll_port(on, true, ready);
+    ASSERT_TRUE(on.cpu.halted());
+    EXPECT_GT(on.cpu.forwarded_cycles(), ready / 2);
+    // Clock by clock: the I/O reads up to the one that answered 1, then every cycle after it.
+    std::size_t first_one = 0;
+    while (first_one < all.cycles.size() &&
+           !(all.cycles[first_one].kind == Bus::io_read && all.cycles[first_one].data == 1))
+        ++first_one;
+    ASSERT_LT(first_one + 3, all.cycles.size()); // the fetches and the HLT after it
+    std::vector<BusRecord> want =
+        of_kinds({all.cycles.begin(), all.cycles.begin() + std::ptrdiff_t(first_one)}, bus_kind_bit(Bus::io_read));
+    want.insert(want.end(), all.cycles.begin() + std::ptrdiff_t(first_one), all.cycles.end());
+    expect_same_cycles(woff.seen, want);
+    expect_same_cycles(won.seen, want);
+}
+
 } // namespace
