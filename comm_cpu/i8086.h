@@ -311,7 +311,8 @@ private:
     void to_last_transfer();
     void wait_queue();
     void record_cycle();
-    void bus_start(const BusOp& op, cycles_t t1);
+    void bus_start(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, std::uint8_t width, bool fetch,
+                   cycles_t t1);
     void bus_transfer();
     bool queue_room() const { return q_len_ + (cur_.fetch && t_ != TState::Ti ? 2 : 0) <= 4; }
     [[gnu::always_inline]] inline void start_fetch();

@@ -238,25 +238,35 @@ unsigned Cpu::handler_access(Bus kind, std::uint32_t addr, std::uint16_t& data, 
     return 0;
 }
 
-// Begins T1 of `op` in the next clock: the device is asked now (start cycle = this clock),
-// so its wait states are known before T3.
-void Cpu::bus_start(const BusOp& op, cycles_t t1) {
-    cur_ = op;
+// Begins T1 of a bus cycle in the next clock: the device is asked now (start cycle = this
+// clock), so its wait states are known before T3. The cycle comes as scalars, not as a BusOp
+// the caller builds: a struct written with narrow stores and read back whole at once stalls
+// the load (store forwarding), which was half of this function's time.
+void Cpu::bus_start(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, std::uint8_t width, bool fetch,
+                    cycles_t t1) {
+    cur_.kind = kind;
+    cur_.seg = seg;
+    cur_.addr = addr;
+    cur_.data = data;
+    cur_.width = width;
+    cur_.fetch = fetch;
+    cur_.discard = false;
+    cur_.inta_first = kind == Bus::int_ack && !lock_pin_; // the second INTA finds LOCK active
     t_ = TState::T1;
-    latch_ = op.addr;
+    latch_ = addr;
     cur_start_ = t1;
-    std::uint16_t d = op.data;
-    cur_waits_ = waits_left_ = direct_or_handler(op.kind, op.addr, d, op.width, t1);
+    std::uint16_t d = data;
+    cur_waits_ = waits_left_ = direct_or_handler(kind, addr, d, width, t1);
     // A byte on the odd lane travels on D8-D15.
-    if (op.kind == Bus::mem_write || op.kind == Bus::io_write) {
-        data_bus_ = op.width == 1 && (op.addr & 1) ? std::uint16_t(op.data << 8) : op.data;
-    } else if (op.width == 1 && (op.addr & 1)) {
+    if (kind == Bus::mem_write || kind == Bus::io_write) {
+        data_bus_ = width == 1 && (addr & 1) ? std::uint16_t(data << 8) : data;
+    } else if (width == 1 && (addr & 1)) {
         data_bus_ = std::uint16_t((d & 0xFF) << 8);
     } else {
         data_bus_ = d;
     }
-    if (op.kind != Bus::code_fetch) eu_data_ = d;
-    if (observed(op.kind)) observe(BusRecord{op.kind, op.addr, d, op.width, cur_waits_, cur_start_});
+    if (kind != Bus::code_fetch) eu_data_ = d;
+    if (observed(kind)) observe(BusRecord{kind, addr, d, width, cur_waits_, cur_start_});
 }
 
 // The observers of a direct prefetch (out of line: most runs have none).
@@ -269,13 +279,7 @@ void Cpu::observe_fetch(const MemRegion* r, const std::uint8_t* p, std::uint16_t
 }
 
 void Cpu::fetch_from_handler(std::uint32_t addr, std::uint8_t width) {
-    BusOp op;
-    op.kind = Bus::code_fetch;
-    op.seg = SegStatus::CS;
-    op.addr = addr;
-    op.width = width;
-    op.fetch = true;
-    bus_start(op, cycle_ + 1); // called at the end of a clock: T1 is the next one
+    bus_start(Bus::code_fetch, SegStatus::CS, addr, 0, width, true, cycle_ + 1); // T1 is the next clock
 }
 
 std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, unsigned width,
@@ -297,15 +301,7 @@ std::uint16_t Cpu::eu_bus(Bus kind, SegStatus seg, std::uint32_t addr, std::uint
             clks(early ? 1 : 3);
         }
     }
-    BusOp op;
-    op.kind = kind;
-    op.seg = seg;
-    op.addr = addr;
-    op.data = data;
-    op.width = static_cast<std::uint8_t>(width);
-    op.fetch = false;
-    op.inta_first = kind == Bus::int_ack && !lock_pin_; // the second INTA finds LOCK active
-    bus_start(op, cycle_);
+    bus_start(kind, seg, addr, data, static_cast<std::uint8_t>(width), false, cycle_);
     eu_claim_ = false;
     if (!trace_) {
         eu_cycle_untraced(last);
