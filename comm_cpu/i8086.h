@@ -444,6 +444,8 @@ private:
     /// The state a boundary's future depends on besides memory and the cycle number, packed.
     using Snapshot = std::array<std::uint8_t, 128>;
     Snapshot snapshot() const;
+    /// The registers now are those packed at the start of `s`.
+    bool registers_match(const Snapshot& s) const;
     struct LoopCycle {
         BusRecord rec;          // start: cycle number as recorded
         std::uint16_t sent;     // the data value handed to the handler (reads: as initialised)
@@ -491,6 +493,11 @@ private:
         // read (ff_holds_at); `needs_known` says which lists are filled.
         std::vector<std::vector<LoopWrite>> needs;
         std::vector<bool> needs_known;
+        // For the replay: notable_[i] is the first cycle at or after i that goes to the handler
+        // or is of a kind in notable_kinds (the hook's); the others need no work at all.
+        std::vector<std::uint32_t> notable;
+        BusKinds notable_kinds = 0;
+        bool notable_known = false;
     };
     /// At a boundary inside run_until(): the cheap tests, inline; the rest in ff_try_forward()
     /// (a boundary of the learned loop) and ff_boundary() (recording).
@@ -513,6 +520,7 @@ private:
     bool ff_forward(std::size_t k);
     bool ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64_t instructions_base, cycles_t end);
     void ff_apply_writes(std::size_t from, std::size_t to);
+    void ff_index_notable();
     void ff_restore(const LoopPoint& p, cycles_t at);
     void ff_reexecute(unsigned delivered);
     void ff_record_point(const Snapshot& s);

@@ -27,15 +27,17 @@ namespace rcsim::i8086 {
 namespace {
 
 // Packs the state fields into a snapshot buffer (compared byte for byte: no padding, no stale
-// bytes) ...
+// bytes). Every field has a fixed place (the queue too), so once snapshot() has the field list
+// inlined, the position is a constant and each field one store; the size check folds away.
 class Packer {
 public:
-    explicit Packer(std::uint8_t* out, std::size_t size) : out_(out), size_(size) { std::memset(out, 0, size); }
+    Packer(std::uint8_t* out, std::size_t size) : out_(out), size_(size) {}
     template <typename T> void operator()(const T& v) { put(v); }
     template <typename N, typename T> void as(const T& v) { put(static_cast<N>(v)); }
+    // The queue as its length and six bytes, those past the length zero.
     void queue(const std::uint8_t* q, unsigned head, unsigned len) {
         put(std::uint8_t(len));
-        for (unsigned i = 0; i < len; ++i) put(q[(head + i) % 6]);
+        for (unsigned i = 0; i < 6; ++i) put(std::uint8_t(i < len ? q[(head + i) % 6] : 0));
     }
     void relative(cycles_t c, cycles_t now) { put(std::int32_t(std::int64_t(c) - std::int64_t(now))); }
     // A time the BIU waits for (the next prefetch's T1): only how far ahead of now it lies
@@ -46,13 +48,18 @@ public:
     void recent(cycles_t c, cycles_t now) {
         put(std::int8_t(c == now ? 0 : c + 1 == now ? -1 : -2));
     }
+    /// Zeroes the bytes after the fields.
+    void finish() { std::memset(out_ + n_, 0, size_ - n_); }
 
 private:
     template <typename T> void put(const T& v) {
         static_assert(std::is_trivially_copyable<T>::value, "scalars only");
-        if (n_ + sizeof v > size_) throw std::logic_error("i8086 fast-forward: snapshot buffer too small");
+        if (__builtin_expect(n_ + sizeof v > size_, 0)) too_small();
         std::memcpy(out_ + n_, &v, sizeof v);
         n_ += sizeof v;
+    }
+    [[noreturn, gnu::noinline, gnu::cold]] static void too_small() {
+        throw std::logic_error("i8086 fast-forward: snapshot buffer too small");
     }
     std::uint8_t* out_;
     std::size_t size_, n_ = 0;
@@ -73,7 +80,7 @@ public:
         get(n);
         head = 0;
         len = n;
-        for (unsigned i = 0; i < len; ++i) get(q[i]);
+        for (unsigned i = 0; i < 6; ++i) get(q[i]);
     }
     void relative(cycles_t& c, cycles_t now) {
         std::int32_t d;
@@ -106,6 +113,8 @@ private:
 // number and the run's limits. Queue bytes as a sequence; the current bus cycle's start
 // relative to now. One list for snapshot() and ff_restore().
 template <class Self, class V> void Cpu::state_fields(Self& c, V& v) {
+    // The registers first, in the layout of Registers: a snapshot starts with their bytes
+    // (registers_match() compares them without packing the rest).
     for (auto& x : c.r_.r) v(x);
     for (auto& x : c.r_.s) v(x);
     v(c.r_.ip);
@@ -172,16 +181,24 @@ void Cpu::set_fast_forward(bool on) {
     if (!on) ff_drop_loop();
 }
 
-Cpu::Snapshot Cpu::snapshot() const {
+static_assert(sizeof(Registers) == 28 && std::is_trivially_copyable<Registers>::value,
+              "Registers is the first 28 bytes of a snapshot, without padding");
+
+bool Cpu::registers_match(const Snapshot& s) const { return std::memcmp(s.data(), &r_, sizeof r_) == 0; }
+
+// Flattened: with the field list inlined the packer is a local the compiler keeps in registers
+// (out of line, every byte store through it could alias its own position and was reloaded).
+[[gnu::flatten]] Cpu::Snapshot Cpu::snapshot() const {
     Snapshot s;
     Packer p(s.data(), s.size());
     state_fields(*this, p);
+    p.finish();
     return s;
 }
 
 // The CPU at point `p` of the loop, now at cycle `at` (registers, queue, BIU, decode latches:
 // all of snapshot(); memory is the caller's).
-void Cpu::ff_restore(const LoopPoint& p, cycles_t at) {
+[[gnu::flatten]] void Cpu::ff_restore(const LoopPoint& p, cycles_t at) {
     cycle_ = at;
     Unpacker u(p.state.data());
     state_fields(*this, u);
@@ -269,6 +286,7 @@ void Cpu::ff_learn(const LoopMark& m) {
     for (std::size_t i = 0; i < l.points.size(); ++i) l.by_pc.emplace_back(l.points[i].pc, std::uint32_t(i));
     l.needs.assign(l.points.size(), {});
     l.needs_known.assign(l.points.size(), false);
+    l.notable_known = false;
     std::sort(l.by_pc.begin(), l.by_pc.end());
     l.writes.assign(ff_writes_.begin() + static_cast<std::ptrdiff_t>(m.writes_at), ff_writes_.end());
     l.reads.assign(ff_reads_.begin() + static_cast<std::ptrdiff_t>(m.reads_at), ff_reads_.end());
@@ -322,11 +340,19 @@ bool Cpu::ff_holds_at(std::size_t k) {
 bool Cpu::ff_try_forward(std::uint32_t here) {
     if (cycle_ >= horizon_ || stop_) return false;
     const Loop& l = ff_loop_;
-    const Snapshot now = snapshot();
+    // The whole state is packed only for a point whose registers are those of now: after an
+    // interrupt most boundaries differ there, and packing is the costly part of a miss.
+    Snapshot now;
+    bool packed = false;
     auto it = std::lower_bound(l.by_pc.begin(), l.by_pc.end(), std::make_pair(here, std::uint32_t(0)));
     // Still where the last forwarding stopped: its RAM is the point's (nothing ran since).
     const bool landed = cycle_ == ff_landed_cycle_ && instructions_ == ff_landed_instructions_;
     for (; it != l.by_pc.end() && it->first == here; ++it) {
+        if (!registers_match(l.points[it->second].state)) continue;
+        if (!packed) {
+            now = snapshot();
+            packed = true;
+        }
         const bool ram_ok = landed && it->second == ff_landed_point_;
         if (l.points[it->second].state == now && (ram_ok || ff_holds_at(it->second))) {
             ff_misses_ = 0;
@@ -397,10 +423,10 @@ bool Cpu::ff_forward(std::size_t k) {
 // executed again from its start (nothing of it was committed).
 bool Cpu::ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64_t instructions_base, cycles_t end) {
     ff_answers_.clear();
-    unsigned delivered = 0;
+    if (!ff_loop_.notable_known || ff_loop_.notable_kinds != hook_kinds_) ff_index_notable();
     const cycles_t cycle = cycle_, limit = limit_;
     const std::uint64_t instructions = instructions_;
-    for (std::size_t i = from; i < to; ++i) {
+    for (std::size_t i = ff_loop_.notable[from]; i < to; i = ff_loop_.notable[i + 1]) {
         const LoopCycle& e = ff_loop_.cycles[i];
         BusRecord r = e.rec;
         r.start += base;
@@ -415,15 +441,31 @@ bool Cpu::ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64
             ff_answers_.push_back(Answer{d, waits});
             // (A lowered limit may end the run before `end`: executed, the steps find where.)
             if ((read && d != r.data) || waits != r.wait_states || stop_ || end > horizon_ || limit_ != limit) {
-                ff_reexecute(delivered);
+                ff_reexecute(unsigned(i - from)); // the cycles before this one were handed over
                 return false;
             }
         }
-        if (hook_kinds_ & bus_kind_bit(r.kind)) hook_(hook_ctx_, r);
-        ++delivered;
+        if (hook_kinds_ & bus_kind_bit(r.kind)) {
+            hook_(hook_ctx_, r);
+            if (ff_loop_.notable_kinds != hook_kinds_) ff_index_notable(); // the hook changed them
+        }
     }
     ff_answers_.clear(); // the segment is committed: its answers are not for a re-execution
     return true;
+}
+
+// The replay's index of the loop's notable cycles for the hook's kinds now.
+void Cpu::ff_index_notable() {
+    Loop& l = ff_loop_;
+    const std::size_t n = l.cycles.size();
+    l.notable.resize(n + 1);
+    l.notable[n] = std::uint32_t(n);
+    for (std::size_t i = n; i-- > 0;) {
+        const LoopCycle& e = l.cycles[i];
+        l.notable[i] = e.handler || (hook_kinds_ & bus_kind_bit(e.rec.kind)) ? std::uint32_t(i) : l.notable[i + 1];
+    }
+    l.notable_kinds = hook_kinds_;
+    l.notable_known = true;
 }
 
 // The RAM writes [from, to) of the loop, in order (the last one to a byte holds).
