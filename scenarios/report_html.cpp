@@ -6,6 +6,7 @@
 #include "scenarios/svg.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -70,14 +71,75 @@ void write_csv_header(std::ostream& os) {
           "service_us,depth,rx,dpram_read_bytes,dpram_write_bytes,handler\n";
 }
 
+namespace {
+
+/// Appends printf("%.6f", us) for a time in microseconds that came from whole picoseconds
+/// (exact_us, InterruptRow::difference_us). Below 2^31 us (about 36 minutes) the double is
+/// within 0.25 ps of its picosecond count and us * 1e6 within 0.25 ps more, so the count is
+/// llround(us * 1e6) and its digits are the printf digits; beyond that, and for negative
+/// values, svg::num formats it. (One row a few hundred instructions instead of thousands: a
+/// run writes a row per interrupt.)
+void append_us6(std::string& out, double us) {
+    if (!(us >= 0 && us < 2147483648.0)) {
+        out += num(us, 6);
+        return;
+    }
+    const auto ps = static_cast<unsigned long long>(std::llround(us * 1e6));
+    char buf[32];
+    char* end = std::to_chars(buf, buf + sizeof buf, ps / 1000000).ptr;
+    *end++ = '.';
+    const unsigned long long frac = ps % 1000000;
+    char digits[8];
+    const char* d_end = std::to_chars(digits, digits + sizeof digits, frac).ptr;
+    const std::size_t n = static_cast<std::size_t>(d_end - digits);
+    for (std::size_t i = n; i < 6; ++i) *end++ = '0';
+    for (const char* d = digits; d < d_end; ++d) *end++ = *d;
+    out.append(buf, end);
+}
+
+template <typename N> void append_int(std::string& out, N v) {
+    char buf[24];
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+} // namespace
+
 void write_csv_row(const InterruptRow& r, std::ostream& os) {
-    char handler[16];
-    std::snprintf(handler, sizeof handler, "%05X", static_cast<unsigned>(r.handler));
-    os << r.source << ',' << r.level << ',' << r.vector << ',' << (r.has_rise ? num(r.ir_rise_us, 6) : "")
-       << ',' << num(r.inta1_us, 6) << ',' << num(r.inta2_us, 6) << ',' << num(r.first_isr_us, 6) << ','
-       << (r.has_eoi ? num(r.eoi_us, 6) : "") << ',' << num(r.iret_done_us, 6) << ','
-       << (r.has_rise ? num(r.latency_us(), 6) : "") << ',' << num(r.service_us(), 6) << ',' << r.depth
-       << ',' << (r.rx ? 1 : 0) << ',' << r.dpram_reads << ',' << r.dpram_writes << ',' << handler << '\n';
+    static const char hex[] = "0123456789ABCDEF";
+    std::string line;
+    line.reserve(192);
+    line += r.source;
+    line += ',';
+    append_int(line, r.level);
+    line += ',';
+    append_int(line, r.vector);
+    line += ',';
+    if (r.has_rise) append_us6(line, r.ir_rise_us);
+    for (double t : {r.inta1_us, r.inta2_us, r.first_isr_us}) {
+        line += ',';
+        append_us6(line, t);
+    }
+    line += ',';
+    if (r.has_eoi) append_us6(line, r.eoi_us);
+    line += ',';
+    append_us6(line, r.iret_done_us);
+    line += ',';
+    if (r.has_rise) append_us6(line, r.latency_us());
+    line += ',';
+    append_us6(line, r.service_us());
+    line += ',';
+    append_int(line, r.depth);
+    line += r.rx ? ",1," : ",0,";
+    append_int(line, r.dpram_reads);
+    line += ',';
+    append_int(line, r.dpram_writes);
+    line += ',';
+    // The handler's linear address, "%05X": five hex digits (20 bits), more if ever wider.
+    std::string h;
+    for (std::uint32_t v = r.handler; v || h.size() < 5; v >>= 4) h.insert(h.begin(), hex[v & 15]);
+    line += h;
+    line += '\n';
+    os.write(line.data(), static_cast<std::streamsize>(line.size()));
 }
 
 void write_interrupts_csv(const std::vector<InterruptRow>& rows, std::ostream& os) {

@@ -5,6 +5,7 @@
 #include "tests/support/sc_test.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -150,6 +151,60 @@ TEST(ReportCsv, OneLinePerRowWithHeaderAndEmptyFieldsForMissingEvents) {
         ++n;
     }
     EXPECT_EQ(n, rows.size());
+}
+
+// The CSV's numbers are those of the documented printf formats: "%.6f" for every time and
+// difference in microseconds, "%05X" for the handler. Rows with times made as the probe makes
+// them (whole picoseconds / 1e6), from 0 to beyond 2^31 us (where the writer's integer path
+// ends), with and without a rise and an EOI, against a writer built on snprintf.
+TEST(ReportCsv, NumbersAreThoseOfPrintf) {
+    const auto f6 = [](double v) {
+        char b[400];
+        std::snprintf(b, sizeof b, "%.6f", v);
+        std::string s = b;
+        if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+        return s;
+    };
+    const auto reference = [&f6](const InterruptRow& r) {
+        char handler[16];
+        std::snprintf(handler, sizeof handler, "%05X", static_cast<unsigned>(r.handler));
+        std::ostringstream os;
+        os << r.source << ',' << r.level << ',' << r.vector << ',' << (r.has_rise ? f6(r.ir_rise_us) : "") << ','
+           << f6(r.inta1_us) << ',' << f6(r.inta2_us) << ',' << f6(r.first_isr_us) << ','
+           << (r.has_eoi ? f6(r.eoi_us) : "") << ',' << f6(r.iret_done_us) << ','
+           << (r.has_rise ? f6(r.latency_us()) : "") << ',' << f6(r.service_us()) << ',' << r.depth << ','
+           << (r.rx ? 1 : 0) << ',' << r.dpram_reads << ',' << r.dpram_writes << ',' << handler << '\n';
+        return os.str();
+    };
+    std::mt19937_64 rng(61131);
+    const unsigned long long spans[] = {1'000'000ull, 20'000'000'000'000ull, 2'147'483'648'000'000ull,
+                                        4'000'000'000'000'000ull};
+    for (int i = 0; i < 40000; ++i) {
+        const unsigned long long span = spans[i % 4];
+        const unsigned long long t0 = rng() % span;
+        const auto us = [](unsigned long long ps) { return static_cast<double>(ps) / 1e6; };
+        InterruptRow r;
+        r.level = static_cast<unsigned>(rng() % 8);
+        r.source = source_name(r.level);
+        r.vector = 0x20 + r.level;
+        r.has_rise = rng() % 4 != 0;
+        r.has_eoi = rng() % 4 != 0;
+        r.ir_rise_us = r.has_rise ? us(t0) : 0;
+        r.inta1_us = us(t0 + rng() % 5'000'000);
+        r.inta2_us = us(t0 + 5'000'000 + rng() % 1000);
+        r.first_isr_us = us(t0 + 6'000'000 + rng() % 1'000'000'000);
+        r.eoi_us = r.has_eoi ? us(t0 + 1'006'000'000 + rng() % 1000) : 0;
+        r.iret_done_us = us(t0 + 1'007'000'000 + rng() % 1000);
+        r.depth = static_cast<unsigned>(rng() % 3);
+        r.rx = rng() % 2;
+        r.dpram_reads = rng() % 400;
+        r.dpram_writes = rng() % 400;
+        r.handler = static_cast<std::uint32_t>(rng() % 0x100000);
+        if (i % 1000 == 0) r.handler = i % 2000 ? 0 : 0x123456; // zero-padded; wider than five digits
+        std::ostringstream os;
+        write_csv_row(r, os);
+        ASSERT_EQ(os.str(), reference(r)) << "row " << i;
+    }
 }
 
 TEST(ReportHtml, HasEverySectionAndAnSvgPerChart) {
