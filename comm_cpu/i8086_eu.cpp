@@ -186,7 +186,7 @@ void Cpu::rm_write16(std::uint16_t v, bool last) {
 // ALU.
 
 // SF, ZF and PF of a result, as bits of the flags word.
-static inline std::uint16_t szp_bits(std::uint16_t v, bool word) {
+[[gnu::always_inline]] static inline std::uint16_t szp_bits(std::uint16_t v, bool word) {
     const std::uint16_t sign = word ? 0x8000 : 0x80;
     const std::uint16_t mask = word ? 0xFFFF : 0xFF;
     return std::uint16_t(((v & sign) ? flag::SF : 0) | ((v & mask) == 0 ? flag::ZF : 0) |

@@ -18,7 +18,7 @@ namespace {
 enum class Group : std::uint8_t { alu, alu_imm, test, incdec_r16, bcd, shift, group3, group5, move, stack, io,
                                   string, jump, ret, aam, aad, misc };
 
-constexpr Group group_of(unsigned op) {
+[[gnu::always_inline]] constexpr Group group_of(unsigned op) {
     if (op < 0x40) {
         if ((op & 7) == 6 || (op & 7) == 7) {
             if ((op & 0x27) == 0x26) return Group::misc; // segment prefixes (consumed by step())

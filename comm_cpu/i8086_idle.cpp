@@ -376,7 +376,7 @@ bool Cpu::ff_forward(std::size_t k) {
     ff_recording_ = false;
     const cycles_t start = cycle_;
     bool period_written = false; // the RAM holds what the loop's writes leave at its start
-    const auto after = [&l](std::size_t from, cycles_t offset) { // first point past `from` at/after offset
+    const auto after = [&l](std::size_t from, cycles_t offset) __attribute__((always_inline)) { // first point past `from` at/after offset
         return std::size_t(std::lower_bound(l.points.begin() + static_cast<std::ptrdiff_t>(from) + 1, l.points.end(), offset,
                                             [](const LoopPoint& q, cycles_t c) { return q.cycle < c; }) -
                            l.points.begin());

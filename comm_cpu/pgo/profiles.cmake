@@ -1,0 +1,30 @@
+# cmake -DTRAINED=<objects> [-DUSED=<objects>] -DSTEP=clear|copy -P profiles.cmake
+# The training copy's profile is a .gcda beside each of its objects (the object's name with .gcda
+# for .o). clear: removes them before a training run. copy: puts each beside the object of
+# rcsim_cpu8086_core compiled from the same source (matched by file name), where -fprofile-use
+# looks for it; fails when the training left a profile missing.
+foreach(object IN LISTS TRAINED)
+  string(REGEX REPLACE "\\.o(bj)?$" ".gcda" profile "${object}")
+  if(STEP STREQUAL "clear")
+    file(REMOVE "${profile}")
+  elseif(STEP STREQUAL "copy")
+    if(NOT EXISTS "${profile}")
+      message(FATAL_ERROR "the training run left no profile ${profile}")
+    endif()
+    get_filename_component(name "${object}" NAME)
+    set(found FALSE)
+    foreach(target_object IN LISTS USED)
+      get_filename_component(target_name "${target_object}" NAME)
+      if(target_name STREQUAL name)
+        string(REGEX REPLACE "\\.o(bj)?$" ".gcda" destination "${target_object}")
+        file(COPY_FILE "${profile}" "${destination}")
+        set(found TRUE)
+      endif()
+    endforeach()
+    if(NOT found)
+      message(FATAL_ERROR "no object of the core for the profile ${profile}")
+    endif()
+  else()
+    message(FATAL_ERROR "STEP must be clear or copy")
+  endif()
+endforeach()
