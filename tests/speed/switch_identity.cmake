@@ -2,6 +2,8 @@
 # DURATION) with `board: {SWITCH: false}` and one with `board: {SWITCH: true}`, runs both with
 # `rcsim run --reproducible` and fails unless report.json and interrupts.csv are identical.
 # The pseudo-switch `seed` varies the seed instead (1 vs 2): a difference the check must see.
+# The pseudo-switch `binary` runs the same scenario with RCSIM and with RCSIM_OTHER (another
+# build of the program).
 foreach(var RCSIM SCENARIOS SWITCHES DURATION WORK)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "switch_identity.cmake: -D${var}=... is required")
@@ -19,6 +21,8 @@ function(write_variant src dst switch value)
   if(switch STREQUAL "seed")
     string(REGEX REPLACE "\nseed:[^\n]*" "" text "${text}")
     set(text "${text}\nseed: ${value}\n")
+  elseif(switch STREQUAL "binary")
+    # the scenario as it is; the program differs
   else()
     set(text "${text}\nboard: {${switch}: ${value}}\n")
   endif()
@@ -31,6 +35,11 @@ foreach(scenario IN LISTS SCENARIOS)
   foreach(switch IN LISTS SWITCHES)
     if(switch STREQUAL "seed")
       set(values 1 2)
+    elseif(switch STREQUAL "binary")
+      if(NOT DEFINED RCSIM_OTHER)
+        message(FATAL_ERROR "switch_identity.cmake: the switch binary needs -DRCSIM_OTHER=...")
+      endif()
+      set(values first other)
     else()
       set(values false true)
     endif()
@@ -40,7 +49,11 @@ foreach(scenario IN LISTS SCENARIOS)
       get_filename_component(srcdir ${scenario} DIRECTORY)
       set(yaml ${WORK}/${stem}_${switch}_${value}.yaml)
       write_variant(${scenario} ${yaml} ${switch} ${value})
-      execute_process(COMMAND ${RCSIM} run ${yaml} --out ${dir} --reproducible
+      set(program ${RCSIM})
+      if(switch STREQUAL "binary" AND value STREQUAL "other")
+        set(program ${RCSIM_OTHER})
+      endif()
+      execute_process(COMMAND ${program} run ${yaml} --out ${dir} --reproducible
                       RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
       if(NOT rc EQUAL 0 AND NOT rc EQUAL 1)
         message(FATAL_ERROR "${yaml}: rcsim exited with ${rc}: ${err}")
