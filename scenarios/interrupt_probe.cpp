@@ -20,15 +20,25 @@ InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::
     SC_METHOD(sample_lines);
     for (IrqLine* line : ir_) sensitive << line->value_changed_event();
     dont_initialize();
-    cpu_.set_bus_observer(&InterruptProbe::bus_hook, this);
-    watch_kinds();
+    cpu_.set_bus_observer(&InterruptProbe::bus_hook, this, watched_);
 }
 
 void InterruptProbe::watch_kinds() {
     using i8086::bus_kind_bit;
-    const bool everything = !stack_.empty() || forward_;
-    cpu_.set_bus_observer_kinds(everything ? i8086::kAllBusKinds
-                                           : bus_kind_bit(Bus::int_ack) | bus_kind_bit(Bus::mem_write));
+    i8086::BusKinds kinds = bus_kind_bit(Bus::int_ack) | bus_kind_bit(Bus::mem_write);
+    if (forward_) {
+        kinds = i8086::kAllBusKinds;
+    } else if (!stack_.empty()) {
+        // Inside an interrupt every kind but code fetches; those only until the handler's first
+        // fetch and once the return IP is popped (the fetch at the return address closes it).
+        const Open& top = stack_.back();
+        kinds = i8086::kAllBusKinds;
+        if (top.entered && !top.popped) kinds &= ~bus_kind_bit(Bus::code_fetch);
+    }
+    if (kinds != watched_) {
+        watched_ = kinds;
+        cpu_.set_bus_observer_kinds(kinds);
+    }
 }
 
 void InterruptProbe::sample_lines() {
@@ -49,6 +59,7 @@ void InterruptProbe::bus_hook(void* self, const BusRecord& r) {
     auto* probe = static_cast<InterruptProbe*>(self);
     if (probe->forward_) probe->forward_(probe->forward_ctx_, r);
     probe->on_cycle(r);
+    probe->watch_kinds(); // the cycle may have opened, entered, popped or closed an interrupt
 }
 
 void InterruptProbe::on_cycle(const BusRecord& r) {
@@ -94,7 +105,6 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
     o.rec.inta1 = t;
     o.rec.depth = static_cast<unsigned>(stack_.size());
     stack_.push_back(o);
-    if (stack_.size() == 1) watch_kinds();
 }
 
 void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
@@ -109,10 +119,7 @@ void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
     if (keep_) done_.push_back(rec);
     held_.push_back(rec);
     // Back in the main program: everything entered so far has completed.
-    if (stack_.empty()) {
-        watch_kinds();
-        hand_over(start_horizon());
-    }
+    if (stack_.empty()) hand_over(start_horizon());
 }
 
 void InterruptProbe::hand_over(const sc_core::sc_time& horizon) {

@@ -126,10 +126,14 @@ private:
     std::vector<InterruptRecord> done_;
 
     void sample_lines();
-    /// The cycles the probe needs from the CPU: every one inside an interrupt (or with a
-    /// forward observer), else only INTA and memory writes (DP-RAM writes), so that the main
-    /// program's fetches and reads keep the core's direct path.
+    /// The cycles the probe needs from the CPU, told to it after each cycle it sees: outside
+    /// interrupts only INTA and memory writes (DP-RAM writes); inside one every kind, but code
+    /// fetches only until the handler's first fetch and after the return IP is popped; every
+    /// cycle with a forward observer. So the main program's fetches and reads, and a handler's
+    /// own fetches, keep the core's direct path. (ProfileRun's test compares a run whose probe
+    /// sees every cycle: the reports are identical.)
     void watch_kinds();
+    i8086::BusKinds watched_ = i8086::bus_kind_bit(i8086::Bus::int_ack) | i8086::bus_kind_bit(i8086::Bus::mem_write);
     static void bus_hook(void* self, const i8086::BusRecord& r);
     void on_cycle(const i8086::BusRecord& r);
     void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);
