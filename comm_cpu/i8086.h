@@ -444,8 +444,6 @@ private:
     /// The state a boundary's future depends on besides memory and the cycle number, packed.
     using Snapshot = std::array<std::uint8_t, 128>;
     Snapshot snapshot() const;
-    /// The registers now are those packed at the start of `s`.
-    bool registers_match(const Snapshot& s) const;
     struct LoopCycle {
         BusRecord rec;          // start: cycle number as recorded
         std::uint16_t sent;     // the data value handed to the handler (reads: as initialised)
@@ -493,7 +491,7 @@ private:
         // read (ff_holds_at); `needs_known` says which lists are filled.
         std::vector<std::vector<LoopWrite>> needs;
         std::vector<bool> needs_known;
-        // For the replay: notable_[i] is the first cycle at or after i that goes to the handler
+        // For the replay: notable[i] is the first cycle at or after i that goes to the handler
         // or is of a kind in notable_kinds (the hook's); the others need no work at all.
         std::vector<std::uint32_t> notable;
         BusKinds notable_kinds = 0;

@@ -185,7 +185,8 @@ void Cpu::rm_write16(std::uint16_t v, bool last) {
 // ---------------------------------------------------------------------------------------------
 // ALU.
 
-// SF, ZF and PF of a result, as bits of the flags word.
+// SF, ZF and PF of a result, as bits of the flags word. (always_inline: inlined alike in the
+// profile-generating copy of the core; comm_cpu/pgo/README.md.)
 [[gnu::always_inline]] static inline std::uint16_t szp_bits(std::uint16_t v, bool word) {
     const std::uint16_t sign = word ? 0x8000 : 0x80;
     const std::uint16_t mask = word ? 0xFFFF : 0xFF;

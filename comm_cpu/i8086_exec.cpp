@@ -18,6 +18,7 @@ namespace {
 enum class Group : std::uint8_t { alu, alu_imm, test, incdec_r16, bcd, shift, group3, group5, move, stack, io,
                                   string, jump, ret, aam, aad, misc };
 
+// (always_inline: inlined alike in the profile-generating copy of the core; pgo/README.md)
 [[gnu::always_inline]] constexpr Group group_of(unsigned op) {
     if (op < 0x40) {
         if ((op & 7) == 6 || (op & 7) == 7) {

@@ -113,8 +113,6 @@ private:
 // number and the run's limits. Queue bytes as a sequence; the current bus cycle's start
 // relative to now. One list for snapshot() and ff_restore().
 template <class Self, class V> void Cpu::state_fields(Self& c, V& v) {
-    // The registers first, in the layout of Registers: a snapshot starts with their bytes
-    // (registers_match() compares them without packing the rest).
     for (auto& x : c.r_.r) v(x);
     for (auto& x : c.r_.s) v(x);
     v(c.r_.ip);
@@ -180,11 +178,6 @@ void Cpu::set_fast_forward(bool on) {
     if (on && ff_pc_bits_.empty()) ff_pc_bits_.assign((std::size_t(1) << 20) / 64, 0);
     if (!on) ff_drop_loop();
 }
-
-static_assert(sizeof(Registers) == 28 && std::is_trivially_copyable<Registers>::value,
-              "Registers is the first 28 bytes of a snapshot, without padding");
-
-bool Cpu::registers_match(const Snapshot& s) const { return std::memcmp(s.data(), &r_, sizeof r_) == 0; }
 
 // Flattened: with the field list inlined the packer is a local the compiler keeps in registers
 // (out of line, every byte store through it could alias its own position and was reloaded).
@@ -340,19 +333,11 @@ bool Cpu::ff_holds_at(std::size_t k) {
 bool Cpu::ff_try_forward(std::uint32_t here) {
     if (cycle_ >= horizon_ || stop_) return false;
     const Loop& l = ff_loop_;
-    // The whole state is packed only for a point whose registers are those of now: after an
-    // interrupt most boundaries differ there, and packing is the costly part of a miss.
-    Snapshot now;
-    bool packed = false;
+    const Snapshot now = snapshot();
     auto it = std::lower_bound(l.by_pc.begin(), l.by_pc.end(), std::make_pair(here, std::uint32_t(0)));
     // Still where the last forwarding stopped: its RAM is the point's (nothing ran since).
     const bool landed = cycle_ == ff_landed_cycle_ && instructions_ == ff_landed_instructions_;
     for (; it != l.by_pc.end() && it->first == here; ++it) {
-        if (!registers_match(l.points[it->second].state)) continue;
-        if (!packed) {
-            now = snapshot();
-            packed = true;
-        }
         const bool ram_ok = landed && it->second == ff_landed_point_;
         if (l.points[it->second].state == now && (ram_ok || ff_holds_at(it->second))) {
             ff_misses_ = 0;
@@ -376,7 +361,9 @@ bool Cpu::ff_forward(std::size_t k) {
     ff_recording_ = false;
     const cycles_t start = cycle_;
     bool period_written = false; // the RAM holds what the loop's writes leave at its start
-    const auto after = [&l](std::size_t from, cycles_t offset) __attribute__((always_inline)) { // first point past `from` at/after offset
+    // The first point past `from` at or after `offset`. (always_inline: inlined alike in the
+    // profile-generating copy of the core; comm_cpu/pgo/README.md.)
+    const auto after = [&l](std::size_t from, cycles_t offset) __attribute__((always_inline)) {
         return std::size_t(std::lower_bound(l.points.begin() + static_cast<std::ptrdiff_t>(from) + 1, l.points.end(), offset,
                                             [](const LoopPoint& q, cycles_t c) { return q.cycle < c; }) -
                            l.points.begin());
