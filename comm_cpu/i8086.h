@@ -126,7 +126,6 @@ public:
     /// them to it one by one.
     void set_bus_hook_kinds(BusKinds kinds) {
         hook_kinds_ = hook_ ? kinds : 0;
-        hook_fetch_ = hook_kinds_ & bus_kind_bit(Bus::code_fetch);
     }
     /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
     void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
@@ -279,7 +278,6 @@ private:
         else if (hook_kinds_ & bus_kind_bit(r.kind)) hook_(hook_ctx_, r);
     }
     bool observed(Bus kind) const { return ff_recording_ || ff_hook_mute_ || (hook_kinds_ & bus_kind_bit(kind)); }
-    bool fetch_observed() const { return ff_recording_ || ff_hook_mute_ || hook_fetch_; }
     /// n clocks of the EU's own (no queue read, no bus request of its own). Without a trace,
     /// runs of clocks in which the BIU only counts down are taken in one step (clks_quiet).
     void clks(unsigned n) {
@@ -492,10 +490,10 @@ private:
         std::vector<std::vector<LoopWrite>> needs;
         std::vector<bool> needs_known;
         // For the replay: notable[i] is the first cycle at or after i that goes to the handler
-        // or is of a kind in notable_kinds (the hook's); the others need no work at all.
+        // or is of a kind in notable_kinds (the hook's); the others need no work at all. Empty
+        // until the first replay of this loop.
         std::vector<std::uint32_t> notable;
         BusKinds notable_kinds = 0;
-        bool notable_known = false;
     };
     /// At a boundary inside run_until(): the cheap tests, inline; the rest in ff_try_forward()
     /// (a boundary of the learned loop) and ff_boundary() (recording).
@@ -585,7 +583,6 @@ private:
     BusHandler* handler_ = nullptr;
     BusHook hook_ = nullptr;
     BusKinds hook_kinds_ = 0;      // the kinds hook_ is called for (0 without a hook)
-    bool hook_fetch_ = false;      // ... code_fetch among them (the prefetch path's test)
     void* hook_ctx_ = nullptr;
     StepHook step_hook_ = nullptr;
     void* step_hook_ctx_ = nullptr;

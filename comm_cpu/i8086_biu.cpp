@@ -97,7 +97,7 @@ inline void Cpu::start_fetch() {
     data_bus_ = width == 2 ? d : std::uint16_t(d << 8); // an odd byte travels on D8-D15
     cur_waits_ = waits_left_ = r->wait_states;
     via_handler_ = false;
-    if (fetch_observed()) observe_fetch(r, p, d);
+    if (observed(Bus::code_fetch)) observe_fetch(r, p, d);
 }
 
 // The T4 clock: fetched bytes enter the queue, then the next cycle is decided (clk() in

@@ -279,7 +279,7 @@ void Cpu::ff_learn(const LoopMark& m) {
     for (std::size_t i = 0; i < l.points.size(); ++i) l.by_pc.emplace_back(l.points[i].pc, std::uint32_t(i));
     l.needs.assign(l.points.size(), {});
     l.needs_known.assign(l.points.size(), false);
-    l.notable_known = false;
+    l.notable.clear();
     std::sort(l.by_pc.begin(), l.by_pc.end());
     l.writes.assign(ff_writes_.begin() + static_cast<std::ptrdiff_t>(m.writes_at), ff_writes_.end());
     l.reads.assign(ff_reads_.begin() + static_cast<std::ptrdiff_t>(m.reads_at), ff_reads_.end());
@@ -410,7 +410,7 @@ bool Cpu::ff_forward(std::size_t k) {
 // executed again from its start (nothing of it was committed).
 bool Cpu::ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64_t instructions_base, cycles_t end) {
     ff_answers_.clear();
-    if (!ff_loop_.notable_known || ff_loop_.notable_kinds != hook_kinds_) ff_index_notable();
+    if (ff_loop_.notable.empty() || ff_loop_.notable_kinds != hook_kinds_) ff_index_notable();
     const cycles_t cycle = cycle_, limit = limit_;
     const std::uint64_t instructions = instructions_;
     for (std::size_t i = ff_loop_.notable[from]; i < to; i = ff_loop_.notable[i + 1]) {
@@ -452,7 +452,6 @@ void Cpu::ff_index_notable() {
         l.notable[i] = e.handler || (hook_kinds_ & bus_kind_bit(e.rec.kind)) ? std::uint32_t(i) : l.notable[i + 1];
     }
     l.notable_kinds = hook_kinds_;
-    l.notable_known = true;
 }
 
 // The RAM writes [from, to) of the loop, in order (the last one to a byte holds).

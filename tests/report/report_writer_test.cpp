@@ -2,6 +2,7 @@
 // sections and charts of report.html.
 #include "scenarios/report_html.h"
 #include "scenarios/svg.h"
+#include "tests/support/printf_fixed.h"
 #include "tests/support/sc_test.h"
 
 #include <algorithm>
@@ -158,13 +159,7 @@ TEST(ReportCsv, OneLinePerRowWithHeaderAndEmptyFieldsForMissingEvents) {
 // them (whole picoseconds / 1e6), from 0 to beyond 2^31 us (where the writer's integer path
 // ends), with and without a rise and an EOI, against a writer built on snprintf.
 TEST(ReportCsv, NumbersAreThoseOfPrintf) {
-    const auto f6 = [](double v) {
-        char b[400];
-        std::snprintf(b, sizeof b, "%.6f", v);
-        std::string s = b;
-        if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
-        return s;
-    };
+    const auto f6 = [](double v) { return rcsim::test::printf_fixed(v, 6); };
     const auto reference = [&f6](const InterruptRow& r) {
         char handler[16];
         std::snprintf(handler, sizeof handler, "%05X", static_cast<unsigned>(r.handler));

@@ -1,14 +1,15 @@
 // The chart module's drawing calls (scenarios/svg.h): each element's exact markup, so that the
 // same picture is always the same bytes (numbers with one decimal, text escaped).
 #include "scenarios/svg.h"
+#include "tests/support/printf_fixed.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <random>
 
 using namespace rcsim;
+using rcsim::test::printf_fixed;
 
 namespace {
 
@@ -72,13 +73,6 @@ TEST(SvgChart, LegendRowsGoDownWithTheirSamples) {
 // values just off a tie, negative zero, large and tiny numbers, and random picosecond times
 // at the interrupts.csv precision of 6 decimals.
 TEST(SvgChart, NumberDigitsAreThoseOfPrintfFixed) {
-    const auto printf_fixed = [](double v, int decimals) {
-        char buf[400];
-        std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-        std::string s = buf;
-        if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
-        return s;
-    };
     EXPECT_EQ(svg::num(0.125, 2), "0.12"); // a tie in binary: to even
     EXPECT_EQ(svg::num(0.375, 2), "0.38");
     EXPECT_EQ(svg::num(2.5, 0), "2");
