@@ -14,8 +14,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <stdexcept>
 
@@ -105,16 +103,10 @@ double bench_sst(const std::string& dir, double min_seconds, std::uint64_t* cycl
     return double(cycles) / s;
 }
 
-std::vector<std::uint8_t> read_image(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot open the bench image " + path);
-    return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // Rounds alternate between the two emulators so that both see the same host load; the best
 // round of each is compared (the least disturbed one). Returns false when the runs disagree.
 bool bench_anchor(const std::string& image_path, unsigned rounds) {
-    const std::vector<std::uint8_t> image = read_image(image_path);
+    const std::vector<std::uint8_t> image = anchor::read_image(image_path);
     anchor::Outcome core, ref;
     double core_best = 0, ref_best = 0;
     for (unsigned i = 0; i < rounds; ++i) {

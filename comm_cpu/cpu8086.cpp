@@ -59,7 +59,10 @@ void Cpu8086::run() {
     for (;;) {
         // Sync: kernel time catches up with the core.
         const sc_time core_time = clock_.cycles(core_.cycles());
-        if (core_time > sc_time_stamp()) wait(core_time - sc_time_stamp());
+        if (core_time > sc_time_stamp()) {
+            ++kernel_waits_;
+            wait(core_time - sc_time_stamp());
+        }
         const sc_time now = sc_time_stamp();
         sample_inputs();
         const bool fresh_change = intr_changed_ == now || nmi_changed_ == now;
@@ -67,6 +70,7 @@ void Cpu8086::run() {
         if (core_.halted() && !(intr_now_ && (core_.regs().flags & i8086::flag::IF)) && !nmi_now_) {
             // HLT: sleep until INTR or NMI changes; the core resumes at the first clock edge
             // after the change.
+            ++kernel_waits_;
             wait(intr.value_changed_event() | nmi.value_changed_event());
             track_inputs();
             core_.skip_to(to_ps(sc_time_stamp()) / period + 1);
@@ -115,7 +119,10 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
                              i8086::cycles_t start) {
     // Sync so the target sees sc_time_stamp() == T1 of this cycle.
     const sc_time t1 = clock_.cycles(start);
-    if (t1 > sc_time_stamp()) wait(t1 - sc_time_stamp());
+    if (t1 > sc_time_stamp()) {
+        ++kernel_waits_;
+        wait(t1 - sc_time_stamp());
+    }
     std::uint8_t buf[2] = {std::uint8_t(data), std::uint8_t(data >> 8)};
     BusResult r;
     switch (kind) {

@@ -86,6 +86,10 @@ public:
     void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
 
     std::uint64_t slices() const { return slices_; }
+    /// The times this thread handed control to the kernel (wait()): kernel time catching up
+    /// with the core at a slice start or before a bus access, and HLT's sleep. Each is a
+    /// kernel round trip, the floor of a run's host time (`rcsim bench system`).
+    std::uint64_t kernel_waits() const { return kernel_waits_; }
 
     /// Debugger memory access (no bus cycle, no time, no device side effect): RAM and ROM
     /// through the direct map (ROM writable here), everything else through the memory socket's
@@ -127,6 +131,7 @@ private:
     bool fast_sync_ = true;
     std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
     std::uint64_t slices_ = 0;
+    std::uint64_t kernel_waits_ = 0;
     BusErrorLog bus_errors_;
     bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
     i8086::cycles_t slice_limit_ = 0; // the cycle the current slice runs to

@@ -189,6 +189,9 @@ public:
     void set_fast_forward(bool on);
     /// Clocks advanced by the fast-forward so far (included in cycles()).
     cycles_t forwarded_cycles() const { return ff_cycles_; }
+    /// Instructions advanced by the fast-forward so far (included in instructions()): the
+    /// others were executed.
+    std::uint64_t forwarded_instructions() const { return ff_instructions_; }
     /// One step() that parks a REP run between elements once `limit` is reached.
     void step_within(cycles_t limit) {
         limit_ = limit;
@@ -571,6 +574,7 @@ private:
     bool via_handler_ = false;                // the last bus cycle went to the BusHandler
     std::uint16_t sent_ = 0;                  // ... with this data value
     cycles_t ff_cycles_ = 0;
+    std::uint64_t ff_instructions_ = 0;
     cycles_t horizon_ = ~cycles_t(0);
 
     // state

@@ -379,6 +379,7 @@ bool Cpu::ff_forward(std::size_t k) {
             period_written = period_written || k == 0;
             ff_restore(l.points[0], base + l.period);
             instructions_ += l.instructions - p.instructions;
+            ff_instructions_ += l.instructions - p.instructions;
             ff_cycles_ += l.period - p.cycle;
             k = 0;
             continue;
@@ -391,6 +392,7 @@ bool Cpu::ff_forward(std::size_t k) {
         ff_apply_writes(p.writes_at, q.writes_at);
         ff_restore(q, base + q.cycle);
         instructions_ += q.instructions - p.instructions;
+        ff_instructions_ += q.instructions - p.instructions;
         ff_cycles_ += q.cycle - p.cycle;
         k = j;
         break;

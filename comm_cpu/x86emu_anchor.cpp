@@ -6,6 +6,8 @@
 #include <x86emu.h>
 
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <ctime>
 #include <memory>
 #include <stdexcept>
@@ -56,6 +58,12 @@ struct CoreBoard : i8086::BusHandler {
 };
 
 } // namespace
+
+std::vector<std::uint8_t> read_image(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open the bench image " + path);
+    return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 Outcome run_x86emu(const std::vector<std::uint8_t>& image) {
     std::unique_ptr<std::uint8_t[]> mem = load(image);

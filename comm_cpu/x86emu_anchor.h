@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace rcsim::anchor {
@@ -39,6 +40,8 @@ struct LoopPorts {
 /// Load segment of the image (both runs start at 1000:0000 with a 1 MB RAM).
 constexpr std::uint32_t kLoadSegment = 0x1000;
 
+/// The bytes of an image file (std::runtime_error naming the file when it cannot be read).
+std::vector<std::uint8_t> read_image(const std::string& path);
 /// Runs `image` on libx86emu from 1000:0000 until HLT.
 Outcome run_x86emu(const std::vector<std::uint8_t>& image);
 /// Runs `image` on the rcsim core (trace off) from 1000:0000 until HLT.

@@ -223,6 +223,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (stop_signal() == 0) bench.drain(s.drain_s);
     bench.finish_observers();
     bench.finish();
+    if (opt.on_finished) opt.on_finished(bench);
     if (perfetto) perfetto->finish();
     const std::string flame_svg = profile ? profile->finish(opt.out_dir) : std::string();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

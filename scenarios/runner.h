@@ -28,6 +28,9 @@ struct RunOptions {
     /// Called with the assembled bench (ROM loaded) just before the simulation starts: the gdb
     /// stub attaches here (scenarios/debug/gdb_run.h). Empty: nothing.
     std::function<void(Bench&)> on_bench;
+    /// Called with the bench once the simulation and its drain are over, before the report is
+    /// built: figures the report does not hold (`rcsim bench system`). Empty: nothing.
+    std::function<void(Bench&)> on_finished;
     std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
     bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
     std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)

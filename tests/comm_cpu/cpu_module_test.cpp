@@ -163,6 +163,14 @@ void check_against_reference(Top& top) {
     EXPECT_EQ(top.per.inta_times.size(), 2 * std::size(kRaise));
 }
 
+// Every slice ends with a wait for kernel time to reach the core (the last one still waiting
+// when sc_start returns) and every I/O and INTA cycle waits for its T1 (the core is past the
+// kernel's time by then: the instruction's fetch and decode came first); the program does not
+// halt, so nothing else waits.
+void expect_kernel_waits(const Top& top) {
+    EXPECT_EQ(top.cpu.kernel_waits(), top.cpu.slices() + top.per.io_times.size() + top.per.inta_times.size());
+}
+
 } // namespace
 
 TEST(Cpu8086Module, LookaheadMatchesCycleByCycleReference) {
@@ -181,6 +189,7 @@ TEST(Cpu8086Module, FastSyncOffMatchesReference) {
     check_against_reference(top);
     // Each of the program's I/O accesses ended a slice.
     EXPECT_GE(top.cpu.slices(), top.per.io_times.size());
+    expect_kernel_waits(top);
 }
 
 // Fast sync on: an I/O access that leaves no kernel activity (this target only answers) does
@@ -194,6 +203,7 @@ TEST(Cpu8086Module, FastSyncKeepsTheSliceAcrossQuietAccesses) {
     check_against_reference(top);
     ASSERT_GT(top.per.io_times.size(), 100u);
     EXPECT_LT(top.cpu.slices() * 4, top.per.io_times.size());
+    expect_kernel_waits(top);
 }
 
 TEST(Cpu8086Module, OneClockQuantumMatchesReference) {
@@ -233,7 +243,14 @@ TEST(Cpu8086Module, HltSleepsUntilIntr) {
     sc_start(us(19));
     EXPECT_TRUE(top.cpu.core().halted());
     const auto instr = top.cpu.instructions();
-    sc_start(us(12)); // 31 us: the first INTR (20 us) has been taken and the ISR has run
+    // The slice that ran STI and HLT ended with a wait for kernel time to reach the core, then
+    // the thread sleeps in one wait until INTR rises (20 us), not one per quantum.
+    const auto waits = top.cpu.kernel_waits();
+    EXPECT_EQ(waits, top.cpu.slices() + 1);
+    sc_start(ns(900));
+    EXPECT_EQ(top.cpu.kernel_waits(), waits);
+    EXPECT_TRUE(top.cpu.core().halted());
+    sc_start(ns(11100)); // 31 us: the first INTR (20 us) has been taken and the ISR has run
     EXPECT_GT(top.cpu.instructions(), instr);
     ASSERT_EQ(top.per.inta_times.size(), 2u);
     EXPECT_GE(top.per.inta_times[0], us(20));
