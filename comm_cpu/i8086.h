@@ -263,6 +263,11 @@ private:
         }
         ++cycle_;
     }
+    /// A named one-clock step of i8086_microcode.h (kJump, kSuspLine, ...) spent as one clk(),
+    /// where the EU has always taken its one clock with clk() rather than clks(1): the same
+    /// clock, and the cheaper code on those paths. `step` only names it (one of the steps the
+    /// header checks to be 1).
+    void clk(unsigned /*step*/) { clk(); }
     /// With a trace: the row of this clock, then the QS lines for the next one (the queue
     /// operation made in this clock, if any).
     void trace_clock() {

@@ -10,6 +10,7 @@
 //   an EU request that finds a prefetch in progress starts three clocks after that T4;
 // - a queue read is reported on the QS lines in the following clock.
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 namespace rcsim::i8086 {
 
@@ -406,17 +407,18 @@ void Cpu::suspend_fetch() {
 void Cpu::susp() {
     suspend_fetch();
     if (t_ != TState::Ti && t_ != TState::T4) to_t4();
-    clk();
+    clk(kSuspLine);
 }
 
-// The RELJMP tail shared by the near jumps: SUSP, three clocks (CORR, the addition), then the
-// queue flush, reported in the following clock.
+// The RELJMP tail shared by the near jumps: SUSP (0D2), CORR (0D3) and the addition (0D4), then
+// the queue flush (0D5), reported in the following clock. CALL rel16 runs the same lines at
+// 07E-081.
 void Cpu::reljmp(std::uint16_t target) {
     susp();
-    clks(3);
+    clks(kCorr + kReljmpAdd);
     r_.ip = target;
     flush_queue();
-    clk();
+    clk(kFlushLine);
 }
 
 } // namespace rcsim::i8086

@@ -7,9 +7,10 @@
 // instruction) as captured on a P80C86A-2 in the SingleStepTests 8086 suite.
 //
 // Timing: every clock the EU spends is explicit: a queue read (q_read, 1 clock), an internal
-// clock (clks), or a bus cycle through the BIU (eu_bus). Internal clock counts come from the
-// 8086 microcode sequences as observed on the captured hardware (docs/cpu8086.md).
+// clock (clks), or a bus cycle through the BIU (eu_bus). Internal clock counts are the named
+// microcode steps of i8086_microcode.h, as observed on the captured hardware (docs/cpu8086.md).
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 namespace rcsim::i8086 {
 namespace {
@@ -129,19 +130,23 @@ void Cpu::decode_modrm() {
 }
 
 // EA clocks as measured on the P80C86A-2 (clocks after the ModR/M read until the EU asks for
-// the operand): [disp16] reads its displacement one clock after the ModR/M byte; a base or
-// index register takes 3 clocks before a displacement (3 in all without one: [SI]/[DI]/[BX]),
-// [BX+SI]/[BP+DI] 5 and [BX+DI]/[BP+SI] 6 (one more each without a displacement); after a
-// displacement byte, 3 clocks (2 after the high byte of a 16-bit displacement). The same EA
+// the operand), as the EA routines of the microcode listing run: the jump into the routine,
+// its lines and its jump to EAOFFSET: [BX+SI] 1D4-1D6 and [BP+DI] 1D7-1D9 (5 clocks in all),
+// [BX+DI] 1DA and a jump to 1D8-1D9, [BP+SI] 1DB and a jump to 1D5-1D6 (6), a base or index
+// register alone 003 [SI], 01F [DI], 023 [BP], 037 [BX] (3). Without a displacement the EA is
+// complete with that last jump; EAOFFSET reads a displacement (1DE-1DF) and adds it (kEaDispAdd;
+// after a byte, 1DE's MOD1 jump over 1DF first). [disp16] is a routine of its own: the jump into
+// it, the displacement (1DC-1DD), the jump to EAFINISH. Then EALOAD reads the operand or EADONE
+// completes a write-only one (kEaLoadReturn, kEaDone: counted by the instructions). The same EA
 // clocks hold for every instruction form (read, write, read-modify-write, LEA).
 void Cpu::calc_ea() {
-    static constexpr std::uint8_t pre[8] = {5, 6, 6, 5, 3, 3, 3, 3};
+    static constexpr std::uint8_t pre[8] = {5, 6, 6, 5, 3, 3, 3, 3}; // to the jump to EAOFFSET
     std::uint16_t ea = 0;
     if (mod_ == 0 && rm_ == 6) {
-        clk();
+        clk(kJump);
         ea = imm16();
         ea_seg_ = DS;
-        clk();
+        clk(kJump); // 1DD's UNC EAFINISH
     } else {
         switch (rm_) {
         case 0: ea = r_.r[BX] + r_.r[SI]; ea_seg_ = DS; break;
@@ -153,16 +158,16 @@ void Cpu::calc_ea() {
         case 6: ea = r_.r[BP]; ea_seg_ = SS; break;
         case 7: ea = r_.r[BX]; ea_seg_ = DS; break;
         }
-        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 4, 2, 2, 2, 2}; // no displacement
+        static constexpr std::uint8_t pre0[8] = {4, 5, 5, 4, 2, 2, 2, 2}; // pre[] before that jump
         clks(mod_ == 0 ? pre0[rm_] : pre[rm_]);
         if (mod_ == 1) {
             ea = std::uint16_t(ea + std::int8_t(imm8()));
-            clks(3);
+            clks(kJump + kEaDispAdd);
         } else if (mod_ == 2) {
             ea = std::uint16_t(ea + imm16());
-            clks(2);
+            clks(kEaDispAdd);
         } else {
-            clk();
+            clk(kJump); // UNC EAOFFSET, the EA complete without a displacement
         }
     }
     ea_ = ea;
@@ -308,19 +313,20 @@ void Cpu::jump_far(std::uint16_t cs, std::uint16_t ip) {
     flush_queue();
 }
 
-// The NEARCALL microcode tail: jump (the flush is reported in the next clock), three clocks,
-// push the return IP.
+// The NEARCALL microcode tail: jump (the flush is reported in the next clock), 077-079, push the
+// return IP (07A).
 void Cpu::call_near(std::uint16_t ip) {
     const std::uint16_t ret = r_.ip;
     jump_near(ip);
-    clks(3);
+    clks(kNearCall);
     push(ret, true);
 }
 
-// The FARCALL tail shared by CALL far and interrupt entry: push CS, three clocks, NEARCALL.
+// The FARCALL tail shared by CALL far and interrupt entry: push CS (06D), 06E-06F and the jump,
+// NEARCALL.
 void Cpu::call_far(std::uint16_t cs, std::uint16_t ip) {
     push(r_.s[CS]);
-    clks(3);
+    clks(kFarCallToNear);
     r_.s[CS] = cs;
     call_near(ip);
 }
@@ -333,26 +339,26 @@ void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
         // LOCK is asserted from T2 of the first INTA to T2 of the second; the 8259A drives
         // the type on D7-D0 in the second.
         suspend_fetch();
-        clks(1);
+        clks(kIrqToInta);
         eu_bus(Bus::int_ack, SegStatus::none, 0, 0, 1, false);
         vector = std::uint8_t(eu_bus(Bus::int_ack, SegStatus::none, 0, 0, 1, false));
-        clks(1);
+        clks(kIntaToIntr);
     }
-    // From SUSP on (measured on the P80C86A-2 for INT n): two clocks, read IP, one clock,
-    // read CS, two clocks, push FLAGS, four clocks, push CS, three clocks, flush (reported in
-    // the next clock), two clocks, push IP.
+    // The INTR routine from SUSP on (measured on the P80C86A-2 for INT n): 19E-19F, read IP
+    // (1A0), 1A1, read CS (1A2), 1A3-1A4, push FLAGS (1A5), 1A6 and the jump to FARCALL2, 06C
+    // (CORR), then FARCALL from its CS push (06D) and NEARCALL.
     susp(); // a prefetch in progress completes first
-    clks(2);
+    clks(kIntrVectorAddr);
     const std::uint32_t ivt = std::uint32_t(vector) * 4;
     const std::uint16_t new_ip = eu_bus(Bus::mem_read, SegStatus::none, ivt, 0, 2, false);
-    clks(1);
+    clks(kIntrIpToCs);
     const std::uint16_t new_cs = eu_bus(Bus::mem_read, SegStatus::none, ivt + 2, 0, 2, false);
-    clks(2);
+    clks(kIntrCsToFlags);
     const std::uint16_t old_flags = r_.flags;
     set_flag(flag::IF, false);
     set_flag(flag::TF, false);
     push(old_flags);
-    clks(4);
+    clks(kIntrToFarCall2 + kCorr);
     call_far(new_cs, new_ip);
     halted_ = false;
 }
@@ -411,7 +417,7 @@ void Cpu::step() {
         }
     }
     if (halted_) {
-        clk(); // HLT: the EU idles until NMI or an enabled INTR
+        clk(kHaltIdle); // HLT: the EU idles until NMI or an enabled INTR
         boundary_pending_ = true;
         return;
     }
@@ -460,14 +466,14 @@ void Cpu::step() {
         } else {
             break;
         }
-        clk();
+        clk(kPrefix);
         op = q_read(QueueOp::first);
         ++r_.ip;
     }
     opcode_ = op;
     rep_interrupted_ = false;
     if (has_modrm(op)) decode_modrm();
-    else clk();
+    else clk(kLoaderClock);
     execute(op);
     if (rep_suspended_) return; // parked inside a REP run at the end of a slice
     lock_pin_ = false;

@@ -9,6 +9,7 @@
 //   i8086_ops_control.cpp  jumps, calls, returns, INT/INTO/IRET
 //   i8086_muldiv.cpp       MUL/IMUL/DIV/IDIV/AAM/AAD (the CORX/CORD microcode timing)
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 #include <array>
 
@@ -97,17 +98,17 @@ void Cpu::exec_aad(std::uint8_t) { aad(imm8()); }
 // Flag operations, HLT, WAIT, SALC, ESC.
 void Cpu::exec_misc(std::uint8_t op) {
     switch (op) {
-    case 0x9B: clks(3); break; // WAIT: TEST# is held active on this board, so it falls through
-    case 0xD6: set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00); clks(1); break; // SALC
+    case 0x9B: clks(kWaitTestActive); break; // WAIT: TEST# is held active on this board, so it falls through
+    case 0xD6: set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00); clks(kSalcTest); break; // SALC
     case 0xD8: case 0xD9: case 0xDA: case 0xDB: case 0xDC: case 0xDD: case 0xDE: case 0xDF:
         // ESC: no coprocessor; a memory operand is still read.
         if (mod_ != 3) read16(ea_seg_, ea_);
-        clks(1);
+        clks(kEscDone);
         break;
     case 0xF4: // HLT: prefetching stops; the EU idles until NMI or an enabled INTR
         halted_ = true;
         suspend_fetch();
-        clks(1);
+        clks(kHaltEnter);
         break;
     case 0xF5: set_flag(flag::CF, !get_flag(flag::CF)); break;
     case 0xF8: set_flag(flag::CF, false); break;
@@ -120,7 +121,7 @@ void Cpu::exec_misc(std::uint8_t op) {
         break;
     case 0xFC: set_flag(flag::DF, false); break;
     case 0xFD: set_flag(flag::DF, true); break;
-    default: clks(1); break; // prefix bytes never reach here (step() consumes them)
+    default: clks(kPrefix); break; // prefix bytes never reach here (step() consumes them)
     }
 }
 

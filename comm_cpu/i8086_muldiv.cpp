@@ -9,6 +9,7 @@
 // internal clocks (the operand is read before it starts), so only the total is spent.
 // Checked against the SingleStepTests 8086 v1 captures (F6/F7 /4-/7, D4, D5: level 3 exact).
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 namespace rcsim::i8086 {
 namespace {
@@ -262,8 +263,8 @@ void Cpu::multiply(bool word, bool sign) {
     }
     set_flag(flag::CF, !fits);
     set_flag(flag::OF, !fits);
-    // A memory operand takes a clock into tmpb; one more to write the result back (RNI).
-    clks(mul_clocks(acc, src, word ? 16 : 8, sign, rep, fits) + (mem ? 1 : 0) + 1);
+    // A memory operand takes a clock more; the last result move (157 / 15F) before RNI.
+    clks(mul_clocks(acc, src, word ? 16 : 8, sign, rep, fits) + (mem ? kMulDivMemOperand : 0) + kMulDivResult);
 }
 
 // DIV/IDIV r/m (F6/F7 /6 /7); returns false when the divide error (type 0) was taken. The
@@ -295,9 +296,9 @@ bool Cpu::divide(bool word, bool sign) {
             r_.r[AX] = std::uint16_t((rem << 8) | q);
         }
     }
-    // Around the microcode: a memory operand takes a clock into tmpb; then one clock before
-    // the results are written back, or three to reach the type-0 entry on an error.
-    clks(t.clocks + (mod_ != 3 ? 1 : 0) + (t.fault ? 3 : 1));
+    // Around the microcode: a memory operand takes a clock more; then the last result move (166
+    // / 16E) before RNI, or the way to the type-0 entry on an error.
+    clks(t.clocks + (mod_ != 3 ? kMulDivMemOperand : 0) + (t.fault ? kDivToInt0 : kMulDivResult));
     if (t.fault) {
         // The FLAGS image the error pushes holds what the microcode left: the flags of the last
         // subtraction with F (the first trial for an error found by CORD), and CF from CORD's
@@ -312,7 +313,7 @@ bool Cpu::divide(bool word, bool sign) {
 // AAM (D4): AH = AL / imm, AL = AL % imm through CORD; a zero base takes the divide error.
 void Cpu::aam(std::uint8_t base) {
     if (base == 0) {
-        clks(2);
+        clks(kAamZeroBase);
         interrupt(0);
         return;
     }
@@ -323,7 +324,7 @@ void Cpu::aam(std::uint8_t base) {
     set_szp(reg8(0), false);
     // The division loop (measured): one clock per one bit of the quotient, two more when the
     // quotient is odd.
-    clks(74 + popcount16(q) + ((q & 1) ? 2 : 0));
+    clks(kAamLoop + kAamPerQuotientOne * popcount16(q) + ((q & 1) ? kAamOddQuotient : 0));
 }
 
 // AAD (D5): AL = AL + AH * imm, flags as the addition. 170-171 and the call (3), CORX with the

@@ -5,69 +5,53 @@
 // the BCD adjustments (27, 2F, 37, 3F). ModR/M and EA are decoded before these run (step()).
 //
 // Timing: the operand read and the write-back are bus cycles (rm_read*/rm_write*: the EU's
-// request goes to the BIU); what is named below are the internal clocks between them, as
-// measured on the captured P80C86A-2 (SingleStepTests 8086 v1, level 3 exact). A write-back
-// to memory is the instruction's last bus cycle, overlapped with the next opcode read (RNI).
+// request goes to the BIU); the internal clocks between them are the named microcode steps of
+// i8086_microcode.h, as measured on the captured P80C86A-2 (SingleStepTests 8086 v1, level 3
+// exact). A memory r/m operand is read by EALOAD, whose return (kEaLoadReturn) comes first. A
+// write-back to memory is the instruction's last bus cycle, overlapped with the next opcode
+// read (RNI).
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 namespace rcsim::i8086 {
-namespace {
-
-// op r/m,reg / op reg,r/m (00-3B): the ALU micro-instruction on registers (1); with a memory
-// operand the result path to the flags (3) and, for a memory destination, the write-back
-// request after it (2 more).
-constexpr unsigned kAluReg = 1;
-constexpr unsigned kAluMem = 3;
-constexpr unsigned kWriteBack = 2;
-// op r/m,imm (80-83) with a memory operand: the immediate is read two clocks after the
-// operand's T4; after it, CMP needs 2 clocks (1 with a 16-bit immediate, whose second byte
-// took one) and the other operations one more for the write-back.
-constexpr unsigned kImmAfterMem = 2;
-// INC/DEC/NOT/NEG r/m: one ALU clock on a register; on memory 4 until the write-back request.
-constexpr unsigned kUnaryReg = 1;
-constexpr unsigned kUnaryMem = 4;
-// Shifts by CL: 4 clocks of set-up and 4 per bit (User's Manual: 8 + 4/bit for registers);
-// then the write-back: 5 for memory (4 for the shift-by-one forms), 2 for a register (0).
-constexpr unsigned kShiftSetup = 4;
-constexpr unsigned kShiftPerBit = 4;
-
-} // namespace
 
 // ALU r/m,reg (d=0), reg,r/m (d=1), acc,imm (04/05 forms): op = 8 * operation + form.
 void Cpu::exec_alu(std::uint8_t op) {
     const unsigned f = op >> 3; // 0 ADD, 1 OR, 2 ADC, 3 SBB, 4 AND, 5 SUB, 6 XOR, 7 CMP
     const bool compare = f == 7;
     const bool mem = mod_ != 3;
+    // 008 (XI) on the operands; a memory destination then takes 009 (WB,NX) and 00A (SIGMA -> M)
+    // before the write, a register one gets the result with the next opcode read.
     switch (op & 7) {
     case 0: { // op r/m8, reg8
         const std::uint8_t r = std::uint8_t(alu(f, rm_read8(), reg8(reg_), false));
-        clks(mem ? kAluMem + (compare ? 0 : kWriteBack) : kAluReg);
+        clks(mem ? kEaLoadReturn + kAluXi + (compare ? 0 : kWriteBackTest + kResultToM) : kAluXi);
         if (!compare) rm_write8(r);
         break;
     }
     case 1: { // op r/m16, reg16
         const std::uint16_t r = alu(f, rm_read16(), r_.r[reg_], true);
-        clks(mem ? kAluMem + (compare ? 0 : kWriteBack) : kAluReg);
+        clks(mem ? kEaLoadReturn + kAluXi + (compare ? 0 : kWriteBackTest + kResultToM) : kAluXi);
         if (!compare) rm_write16(r);
         break;
     }
     case 2: { // op reg8, r/m8
         const std::uint8_t b = rm_read8();
         const std::uint8_t r = std::uint8_t(alu(f, reg8(reg_), b, false));
-        clks(mem ? kAluMem : kAluReg);
+        clks(mem ? kEaLoadReturn + kAluXi : kAluXi);
         if (!compare) set_reg8(reg_, r);
         break;
     }
     case 3: { // op reg16, r/m16
         const std::uint16_t b = rm_read16();
         const std::uint16_t r = alu(f, r_.r[reg_], b, true);
-        clks(mem ? kAluMem : kAluReg);
+        clks(mem ? kEaLoadReturn + kAluXi : kAluXi);
         if (!compare) r_.r[reg_] = r;
         break;
     }
-    case 4: { // op AL, imm8: the ALU clock after the immediate
+    case 4: { // op AL, imm8: 018's L8 jumps over the high byte's line (01A runs with RNI)
         const std::uint8_t r = std::uint8_t(alu(f, reg8(0), imm8(), false));
-        clks(kAluReg);
+        clks(kJump);
         if (!compare) set_reg8(0, r);
         break;
     }
@@ -87,12 +71,13 @@ void Cpu::exec_alu_imm(std::uint8_t op) {
     const bool mem = mod_ != 3;
     const bool imm_word = op == 0x81;
     const std::uint16_t a = word ? rm_read16() : rm_read8();
-    if (mem) clks(kImmAfterMem);
+    if (mem) clks(kEaLoadReturn);
     const std::uint16_t b = imm_word ? imm16() : word ? std::uint16_t(std::int8_t(imm8())) : imm8();
     const std::uint16_t r = alu(f, a, b, word);
-    // The second byte of a 16-bit immediate took the ALU clock.
-    const unsigned imm_clock = imm_word ? 0 : 1;
-    clks(mem ? imm_clock + 1 + (compare ? 0 : 1) : imm_clock);
+    // 00C's L8 jump over the high byte's line (an 8-bit immediate, 83 too); on memory 00E (XI)
+    // and, unless CMP, 00F (SIGMA -> M); on a register 00E runs with the next opcode read.
+    const unsigned imm_clock = imm_word ? 0 : kJump;
+    clks(mem ? imm_clock + kAluXi + (compare ? 0 : kResultToM) : imm_clock);
     if (compare) return;
     if (word) rm_write16(r);
     else rm_write8(std::uint8_t(r));
@@ -101,9 +86,9 @@ void Cpu::exec_alu_imm(std::uint8_t op) {
 // TEST r/m,reg (84, 85), TEST acc,imm (A8, A9): AND without the write-back.
 void Cpu::exec_test(std::uint8_t op) {
     switch (op) {
-    case 0x84: alu(4, rm_read8(), reg8(reg_), false); clks(mod_ == 3 ? kAluReg : kAluMem); break;
-    case 0x85: alu(4, rm_read16(), r_.r[reg_], true); clks(mod_ == 3 ? kAluReg : kAluMem); break;
-    case 0xA8: alu(4, reg8(0), imm8(), false); clks(kAluReg); break;
+    case 0x84: alu(4, rm_read8(), reg8(reg_), false); clks(mod_ == 3 ? kAluXi : kEaLoadReturn + kAluXi); break;
+    case 0x85: alu(4, rm_read16(), r_.r[reg_], true); clks(mod_ == 3 ? kAluXi : kEaLoadReturn + kAluXi); break;
+    case 0xA8: alu(4, reg8(0), imm8(), false); clks(kJump); break; // 09C's L8 jump (09E with RNI)
     default: alu(4, r_.r[AX], imm16(), true); break; // A9: as op AX,imm16
     }
 }
@@ -122,19 +107,20 @@ void Cpu::exec_group3(std::uint8_t op) {
     switch (reg_) {
     case 0:
     case 1: {
-        // The immediate follows the operand by 2 clocks (1 on a register); then the ALU clock,
-        // which a 16-bit immediate's second byte covers on a register.
+        // The immediate (098-099) follows EALOAD's return (kRegOperand on a register); then
+        // 098's L8 jump for a byte immediate and, on memory, 09A (AND; on a register it runs
+        // with the next opcode read).
         const std::uint16_t a = word ? rm_read16() : rm_read8();
-        clks(mem ? 2 : 1);
+        clks(mem ? kEaLoadReturn : kRegOperand);
         alu(4, a, word ? imm16() : imm8(), word);
-        clks(mem ? (word ? 1 : 2) : (word ? 0 : 1));
+        clks(mem ? (word ? kAluXi : kJump + kAluXi) : (word ? 0 : kJump));
         break;
     }
     case 2:
     case 3: {
         const std::uint16_t a = word ? rm_read16() : rm_read8();
         const std::uint16_t r = reg_ == 2 ? std::uint16_t(~a) : alu(5, 0, a, word);
-        clks(mem ? kUnaryMem : kUnaryReg);
+        clks(mem ? kEaLoadReturn + kAluXi + kResultToM : kAluXi); // 04C/050, 04D/051
         if (word) rm_write16(r);
         else rm_write8(std::uint8_t(r));
         break;
@@ -152,7 +138,7 @@ void Cpu::exec_incdec_rm(std::uint8_t op) {
     const std::uint16_t a = word ? rm_read16() : rm_read8();
     const std::uint16_t r = alu(reg_ ? 5 : 0, a, 1, word);
     set_flag(flag::CF, cf);
-    clks(mod_ == 3 ? kUnaryReg : kUnaryMem);
+    clks(mod_ == 3 ? kAluXi : kEaLoadReturn + kAluXi + kResultToM); // 020, 021
     if (word) rm_write16(r);
     else rm_write8(std::uint8_t(r));
 }
@@ -164,9 +150,12 @@ void Cpu::exec_shift(std::uint8_t op) {
     const bool mem = mod_ != 3;
     const unsigned count = by_cl ? reg8(1) : 1;
     const std::uint16_t v = word ? rm_read16() : rm_read8();
-    if (by_cl) clks(kShiftSetup + kShiftPerBit * count);
+    if (by_cl) clks(kShiftClSetup + kShiftClPerBit * count);
     const std::uint16_t r = shift(reg_, v, count, word);
-    clks(mem ? (by_cl ? 5 : 4) : (by_cl ? 2 : 0));
+    // The loop's exit (by one: 088, XI; on a register it runs with the next opcode read); on
+    // memory EALOAD's return is spent here, after the loop, and 092 / 089 puts the result into M.
+    clks(mem ? (by_cl ? kEaLoadReturn + kShiftClExit + kResultToM : kEaLoadReturn + kAluXi + kResultToM)
+             : (by_cl ? kShiftClExit : 0));
     if (word) rm_write16(r);
     else rm_write8(std::uint8_t(r));
 }
@@ -192,7 +181,7 @@ void Cpu::exec_bcd(std::uint8_t op) {
         set_szp(v, false);
         set_flag(flag::AF, new_af);
         set_flag(flag::CF, new_cf);
-        clks(2);
+        clks(kDaaSetup);
         return;
     }
     const bool adj = (al & 0x0F) > 9 || get_flag(flag::AF);
@@ -205,7 +194,7 @@ void Cpu::exec_bcd(std::uint8_t op) {
     set_flag(flag::CF, adj);
     set_szp(reg8(0), false);
     set_reg8(0, reg8(0) & 0x0F);
-    clks(adj ? 6 : 7); // the adjustment branch is one clock shorter than the jump over it
+    clks(adj ? kAaaTest : kAaaTest + kJump); // no adjustment: 14D's jump over 14E
 }
 
 } // namespace rcsim::i8086

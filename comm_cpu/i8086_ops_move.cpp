@@ -5,32 +5,24 @@
 // registers, r/m and FLAGS (06/07.., 50-5F, 8F, FF /6 /7, 9C, 9D); IN/OUT (E4-E7, EC-EF); MOVS,
 // CMPS, STOS, LODS, SCAS with REP (A4-AF).
 //
-// Timing: the internal clocks between the bus cycles as measured on the captured P80C86A-2
-// (SingleStepTests 8086 v1, level 3 exact; MOVS has no v1 file and keeps an estimate).
+// Timing: the internal clocks between the bus cycles are the named microcode steps of
+// i8086_microcode.h, as measured on the captured P80C86A-2 (SingleStepTests 8086 v1, level 3
+// exact; MOVS has no v1 file and keeps an estimate). A memory operand that is read comes through
+// EALOAD (kEaLoadReturn after its read), one that is only written through EADONE (kEaDone).
 #include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086_microcode.h"
 
 namespace rcsim::i8086 {
-namespace {
-
-// PUSH: SP - 2 into the address register before the write (3 clocks).
-constexpr unsigned kPushSetup = 3;
-// MOV r/m,reg to memory: the write request 4 clocks after the EA; MOV reg,r/m from memory: 2
-// clocks to move the operand into the register after its T4.
-constexpr unsigned kMovToMem = 4;
-constexpr unsigned kMovFromMem = 2;
-constexpr unsigned kMovSregToMem = 3; // MOV r/m,sreg: one clock less than from a register
-
-} // namespace
 
 // MOV, XCHG, LEA, LDS/LES, XLAT and the accumulator forms.
 void Cpu::exec_move(std::uint8_t op) {
     const bool mem = mod_ != 3;
     switch (op) {
     case 0x86:
-    case 0x87: { // XCHG r/m,reg: 2 clocks on registers, 6 between the memory read and write
+    case 0x87: { // XCHG r/m,reg: 0A4-0A5; on memory after EALOAD, then 0A6 (WB,NX), 0A7 (tmpa -> M)
         const bool word = op & 1;
         const std::uint16_t a = word ? rm_read16() : rm_read8();
-        clks(mem ? 6 : 2);
+        clks(mem ? kEaLoadReturn + kXchgLoad + kWriteBackTest + kResultToM : kXchgLoad);
         if (word) {
             rm_write16(r_.r[reg_]);
             r_.r[reg_] = a;
@@ -40,61 +32,65 @@ void Cpu::exec_move(std::uint8_t op) {
         }
         break;
     }
-    case 0x88: if (mem) clks(kMovToMem); rm_write8(reg8(reg_)); break;
-    case 0x89: if (mem) clks(kMovToMem); rm_write16(r_.r[reg_]); break;
-    case 0x8A: set_reg8(reg_, rm_read8()); if (mem) clks(kMovFromMem); break;
-    case 0x8B: r_.r[reg_] = rm_read16(); if (mem) clks(kMovFromMem); break;
-    case 0x8C: if (mem) clks(kMovSregToMem); rm_write16(r_.s[reg_ & 3]); break;
-    case 0x8D: r_.r[reg_] = ea_; clks(2); break; // LEA: the EA goes to the register
+    // MOV r/m,reg to memory: EADONE, 000 (WB,NX), 001 (tmpb -> M); from memory: EALOAD's
+    // return (000-001 run with the next opcode read); MOV r/m,sreg: EADONE, 0EC (R -> M).
+    case 0x88: if (mem) clks(kEaDone + kWriteBackTest + kResultToM); rm_write8(reg8(reg_)); break;
+    case 0x89: if (mem) clks(kEaDone + kWriteBackTest + kResultToM); rm_write16(r_.r[reg_]); break;
+    case 0x8A: set_reg8(reg_, rm_read8()); if (mem) clks(kEaLoadReturn); break;
+    case 0x8B: r_.r[reg_] = rm_read16(); if (mem) clks(kEaLoadReturn); break;
+    case 0x8C: if (mem) clks(kEaDone + kResultToM); rm_write16(r_.s[reg_ & 3]); break;
+    case 0x8D: r_.r[reg_] = ea_; clks(kEaDone); break; // LEA: EADONE, then 004 (IND -> R) with RNI
     case 0x8E:
         // Only two bits of reg select the segment register; MOV CS works on the 8086. The next
         // instruction runs before an interrupt is recognised.
         r_.s[reg_ & 3] = rm_read16();
-        if (mem) clks(kMovFromMem);
+        if (mem) clks(kEaLoadReturn);
         inhibit_ = true;
         break;
     case 0x90: case 0x91: case 0x92: case 0x93: case 0x94: case 0x95: case 0x96: case 0x97: {
         const std::uint16_t t = r_.r[AX];
         r_.r[AX] = r_.r[op & 7];
         r_.r[op & 7] = t;
-        clks(1);
+        clks(kXchgAxLoad);
         break;
     }
     case 0x98: r_.r[AX] = std::uint16_t(std::int8_t(reg8(0))); break; // CBW
-    case 0x99: // CWD: one clock more to fill DX with ones
+    case 0x99: // CWD: a negative AX takes 05A's jump (to ONES -> DE)
         r_.r[DX] = (r_.r[AX] & 0x8000) ? 0xFFFF : 0;
-        clks((r_.r[AX] & 0x8000) ? 4 : 3);
+        clks((r_.r[AX] & 0x8000) ? kCwdTest + kJump : kCwdTest);
         break;
-    case 0x9E: r_.flags = std::uint16_t((r_.flags & 0xFF00) | (reg8(4) & 0xD5) | 0x02); clks(2); break; // SAHF
+    case 0x9E: r_.flags = std::uint16_t((r_.flags & 0xFF00) | (reg8(4) & 0xD5) | 0x02); clks(kSahfLoad); break; // SAHF
     case 0x9F: set_reg8(4, std::uint8_t(r_.flags)); break;                                              // LAHF
-    // MOV acc,moffs / moffs,acc: the address is the immediate; a write waits one clock.
+    // MOV acc,moffs / moffs,acc: the address is the immediate; a read is requested with it (062),
+    // a write after 066 (tmpb -> IND).
     case 0xA0: { const std::uint16_t a = imm16(); set_reg8(0, read8(data_seg(DS), a)); break; }
     case 0xA1: { const std::uint16_t a = imm16(); r_.r[AX] = read16(data_seg(DS), a); break; }
-    case 0xA2: { const std::uint16_t a = imm16(); clk(); write8(data_seg(DS), a, reg8(0), true); break; }
-    case 0xA3: { const std::uint16_t a = imm16(); clk(); write16(data_seg(DS), a, r_.r[AX], true); break; }
+    case 0xA2: { const std::uint16_t a = imm16(); clk(kAddrToInd); write8(data_seg(DS), a, reg8(0), true); break; }
+    case 0xA3: { const std::uint16_t a = imm16(); clk(kAddrToInd); write16(data_seg(DS), a, r_.r[AX], true); break; }
     case 0xB0: case 0xB1: case 0xB2: case 0xB3: case 0xB4: case 0xB5: case 0xB6: case 0xB7:
         set_reg8(op & 7, imm8());
-        clk();
+        clk(kJump); // 01C's L8 jump over the high byte's line
         break;
     case 0xB8: case 0xB9: case 0xBA: case 0xBB: case 0xBC: case 0xBD: case 0xBE: case 0xBF:
         r_.r[op & 7] = imm16();
         break;
     case 0xC4:
-    case 0xC5: { // LES/LDS: offset, 4 clocks, segment
+    case 0xC5: { // LES/LDS: offset, EALOAD's return, 0F0 (OPR -> R), 0F1 (INC2), segment
         const std::uint16_t off = read16(ea_seg_, ea_);
-        clks(4);
+        clks(kEaLoadReturn + kLdsOffset + kFarPtrSegAddr);
         const std::uint16_t seg = read16(ea_seg_, std::uint16_t(ea_ + 2));
         r_.r[reg_] = off;
         r_.s[op == 0xC4 ? ES : DS] = seg;
         break;
     }
-    case 0xC6: // MOV r/m,imm (reg is ignored by the 8086): the immediate 2 clocks after the EA
+    case 0xC6: // MOV r/m,imm (reg is ignored by the 8086): EADONE, the immediate (014-015), then
+               // 014's L8 jump for a byte and 016 (tmpb -> M)
         if (!mem) {
             set_reg8(rm_, imm8());
         } else {
-            clks(2);
+            clks(kEaDone);
             const std::uint8_t v = imm8();
-            clks(2);
+            clks(kJump + kResultToM);
             write8(ea_seg_, ea_, v, true);
         }
         break;
@@ -102,14 +98,14 @@ void Cpu::exec_move(std::uint8_t op) {
         if (!mem) {
             r_.r[rm_] = imm16();
         } else {
-            clks(2);
+            clks(kEaDone);
             const std::uint16_t v = imm16();
-            clks(1);
+            clks(kResultToM);
             write16(ea_seg_, ea_, v, true);
         }
         break;
-    default: // D7 XLAT: 3 clocks to form BX + AL
-        clks(3);
+    default: // D7 XLAT: 10C-10E form BX + AL
+        clks(kXlatAddr);
         set_reg8(0, read8(data_seg(DS), std::uint16_t(r_.r[BX] + reg8(0))));
         break;
     }
@@ -139,7 +135,7 @@ void Cpu::exec_stack(std::uint8_t op) {
         break;
     case 0x8F: { // POP r/m
         const std::uint16_t v = pop();
-        clks(1);
+        clks(kPopRmSp);
         rm_write16(v);
         break;
     }
@@ -148,7 +144,7 @@ void Cpu::exec_stack(std::uint8_t op) {
     default: { // FE/FF /6 /7: PUSH r/m (8-bit forms push 0xFF in the high byte)
         const bool word = op & 1;
         const std::uint16_t v = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());
-        clks(mod_ == 3 ? kPushSetup + 1 : kPushSetup + 2);
+        clks(mod_ == 3 ? kRegOperand + kPushSetup : kEaLoadReturn + kPushSetup); // 024-026
         r_.r[SP] = std::uint16_t(r_.r[SP] - 2);
         // PUSH SP through r/m pushes the decremented value as well.
         write16(SS, r_.r[SP], (mod_ == 3 && rm_ == SP) ? r_.r[SP] : v, true);
@@ -157,17 +153,17 @@ void Cpu::exec_stack(std::uint8_t op) {
     }
 }
 
-// IN/OUT with an immediate port (E4-E7: the port byte, then 1 clock for IN, 2 for OUT) or DX
-// (EC-EF: OUT waits one clock).
+// IN/OUT with an immediate port (E4-E7: the port byte, widened (0AD / 0B1); OUT moves it into
+// IND on a line of its own (0B2)) or DX (EC-EF: IN requests with 0B4, OUT after 0B8).
 void Cpu::exec_io(std::uint8_t op) {
     const bool word = op & 1;
     const bool output = op & 2;
     std::uint16_t port = r_.r[DX];
     if (op < 0xE8) {
         port = imm8();
-        clks(output ? 2 : 1);
+        clks(output ? kPortWiden + kAddrToInd : kPortWiden);
     } else if (output) {
-        clks(1);
+        clks(kAddrToInd);
     }
     if (output) out(port, word ? r_.r[AX] : reg8(0), word, true);
     else if (word) r_.r[AX] = in(port, true);
@@ -187,9 +183,9 @@ void Cpu::string_element(std::uint8_t op, bool last) {
     };
     switch (op) {
     case 0xA4:
-    case 0xA5: { // MOVS (no v1 captures: an estimate)
+    case 0xA5: { // MOVS (no v1 captures: an estimate; no clock for 12C before the read)
         const std::uint16_t v = load(src_seg, r_.r[SI]);
-        clks(1);
+        clks(kMovsStep);
         if (word) write16(ES, r_.r[DI], v, last);
         else write8(ES, r_.r[DI], std::uint8_t(v), last);
         r_.r[SI] += step;
@@ -197,39 +193,39 @@ void Cpu::string_element(std::uint8_t op, bool last) {
         break;
     }
     case 0xA6:
-    case 0xA7: { // CMPS: 2 clocks before each read, 4 to compare
-        clks(2);
+    case 0xA7: { // CMPS: 120-121, read DS:SI, 123-124, read ES:DI, 126-128
+        clks(kRptsTest + kCmpsScasSelect);
         const std::uint16_t a = load(src_seg, r_.r[SI]);
-        clks(2);
+        clks(kCmpsKeepFirst);
         const std::uint16_t b = load(ES, r_.r[DI]);
-        clks(4);
+        clks(kStrCompare);
         alu(7, a, b, word);
         r_.r[SI] += step;
         r_.r[DI] += step;
         break;
     }
     case 0xAA:
-    case 0xAB: // STOS: 1 clock before the write, 2 after it
-        clks(1);
+    case 0xAB: // STOS: 11C, the write (11D), 11E
+        clks(kRptsTest);
         if (word) write16(ES, r_.r[DI], r_.r[AX], false);
         else write8(ES, r_.r[DI], reg8(0), false);
-        clks(2);
+        clks(kStosStep);
         r_.r[DI] += step;
         break;
     case 0xAC:
-    case 0xAD: { // LODS: 1 clock before the read, 3 after it
-        clks(1);
+    case 0xAD: { // LODS: 12C, the read (12D), 12E and its jump to 1F8
+        clks(kRptsTest);
         const std::uint16_t v = load(src_seg, r_.r[SI]);
         if (word) r_.r[AX] = v;
         else set_reg8(0, std::uint8_t(v));
         r_.r[SI] += step;
-        clks(3);
+        clks(kLodsStep);
         break;
     }
-    default: { // SCAS: 3 clocks before the read, 4 to compare
-        clks(3);
+    default: { // SCAS: 120-121 and 121's jump to 125, read ES:DI, 126-128
+        clks(kRptsTest + kCmpsScasSelect + kJump);
         const std::uint16_t b = load(ES, r_.r[DI]);
-        clks(4);
+        clks(kStrCompare);
         alu(7, word ? r_.r[AX] : reg8(0), b, word);
         r_.r[DI] += step;
         break;
@@ -237,9 +233,10 @@ void Cpu::string_element(std::uint8_t op, bool last) {
     }
 }
 
-// A string instruction, with its REP run. REP timings measured on the P80C86A-2: a 4-clock
-// prologue (CX tested in the fifth), a 3-clock set-up before the first element, a per-element
-// overhead when the run goes on, and an end-of-run tail.
+// A string instruction, with its REP run. REP timings measured on the P80C86A-2, named after
+// RPTS and the routines' loop lines: the entry into RPTS (CX tested in the fifth clock), its
+// return to the first element, an overhead between elements when the run goes on, and the
+// end of the run (the same overhead, or a compare's F1ZZ jump).
 void Cpu::exec_string(std::uint8_t op) {
     if (!rep_) {
         string_element(op, true);
@@ -248,21 +245,22 @@ void Cpu::exec_string(std::uint8_t op) {
     const bool compare = op == 0xA6 || op == 0xA7 || op == 0xAE || op == 0xAF;
     const bool lods = op == 0xAC || op == 0xAD;
     const bool stos = op == 0xAA || op == 0xAB;
-    const unsigned overhead = lods ? 3 : stos ? 1 : 2; // per element when the run goes on
+    // per element when the run goes on (LODS: 1F8's F1 jump to 131 first)
+    const unsigned overhead = lods ? kJump + kRepNext : stos ? kRepNextStos : kRepNext;
     bool first = !rep_suspended_;
-    clks(first ? 4 : overhead); // resuming a parked run: the overhead of the element boundary
+    clks(first ? kRepStart : overhead); // resuming a parked run: the overhead of the element boundary
     rep_suspended_ = false;
     for (;;) {
         if (r_.r[CX] == 0) {
-            clks(1);
+            clks(kRptsCxTest);
             return;
         }
-        if (first) clks(3);
+        if (first) clks(kRptsToElement);
         first = false;
         string_element(op, false);
         r_.r[CX] = std::uint16_t(r_.r[CX] - 1);
         if (compare && (get_flag(flag::ZF) != (rep_ == 0xF3))) {
-            clk(); // REPE/REPNE: the compare ended the run
+            clk(kJump); // REPE/REPNE: the compare ended the run (129's F1ZZ jump to 1F4)
             return;
         }
         if (r_.r[CX] == 0) {
