@@ -121,6 +121,7 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     const sc_time t1 = clock_.cycles(start);
     if (t1 > sc_time_stamp()) {
         ++kernel_waits_;
+        ++access_waits_;
         wait(t1 - sc_time_stamp());
     }
     std::uint8_t buf[2] = {std::uint8_t(data), std::uint8_t(data >> 8)};

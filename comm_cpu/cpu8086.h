@@ -90,6 +90,9 @@ public:
     /// with the core at a slice start or before a bus access, and HLT's sleep. Each is a
     /// kernel round trip, the floor of a run's host time (`rcsim bench system`).
     std::uint64_t kernel_waits() const { return kernel_waits_; }
+    /// Of kernel_waits(), those before a bus access (the sync the access needs; the others end
+    /// a slice or sleep in HLT).
+    std::uint64_t access_waits() const { return access_waits_; }
 
     /// Debugger memory access (no bus cycle, no time, no device side effect): RAM and ROM
     /// through the direct map (ROM writable here), everything else through the memory socket's
@@ -132,6 +135,7 @@ private:
     std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
     std::uint64_t slices_ = 0;
     std::uint64_t kernel_waits_ = 0;
+    std::uint64_t access_waits_ = 0;
     BusErrorLog bus_errors_;
     bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
     i8086::cycles_t slice_limit_ = 0; // the cycle the current slice runs to
