@@ -59,7 +59,7 @@ int run_cputest(const CputestOptions& o) {
         try {
             if (!o.status.empty() && meta.lookup(std::filesystem::path(f).filename().string().substr(0, 4)).status.empty())
                 continue;
-            r = runner.run_file(f, meta);
+            r = runner.run_file(f, meta, o.status);
         } catch (const InputError& e) {
             std::cerr << "cputest: " << e.what() << "\n";
             return 2;

@@ -105,9 +105,12 @@ constexpr unsigned kXlatAddr = 3;
 /// PUSH: SP -> tmpa with DEC2, SIGMA -> IND, SIGMA -> SP (024-026 r/m, 028-02A reg, 02C-02E
 /// sreg, 030-032 PUSHF) before the stack write.
 constexpr unsigned kPushSetup = 3;
-/// POP r/m: 042 (IND -> SP) after the stack read (8F is not exact in the captures: the memory
-/// form's 043-044 are not modelled).
+/// POP r/m: 040, the line before the stack read.
+constexpr unsigned kPopRmStart = 1;
+/// POP r/m: 042 (IND -> SP) after the stack read.
 constexpr unsigned kPopRmSp = 1;
+/// POP r/m to memory: 043-044 before the write to the operand.
+constexpr unsigned kPopRmToMem = 2;
 
 // ---- string instructions and REP (i8086_ops_move.cpp) ---------------------------------------
 
@@ -229,7 +232,8 @@ constexpr unsigned kAamOddQuotient = 2;
 
 // The steps the EU spends with Cpu::clk(step), one plain clock each.
 static_assert(kJump == 1 && kSuspLine == 1 && kFlushLine == 1 && kPrefix == 1 && kLoaderClock == 1 &&
-                  kHaltIdle == 1 && kBranchTest == 1 && kJmpFarPc == 1 && kAddrToInd == 1,
+                  kHaltIdle == 1 && kBranchTest == 1 && kJmpFarPc == 1 && kAddrToInd == 1 && kPopRmStart == 1 &&
+                  kPopRmSp == 1,
               "Cpu::clk(step) spends one clock");
 
 } // namespace rcsim::i8086

@@ -84,9 +84,10 @@ void Cpu::exec_move(std::uint8_t op) {
         break;
     }
     case 0xC6: // MOV r/m,imm (reg is ignored by the 8086): EADONE, the immediate (014-015), then
-               // 014's L8 jump for a byte and 016 (tmpb -> M)
+               // 014's L8 jump for a byte (a register operand too) and 016 (tmpb -> M)
         if (!mem) {
             set_reg8(rm_, imm8());
+            clk(kJump);
         } else {
             clks(kEaDone);
             const std::uint8_t v = imm8();
@@ -133,9 +134,13 @@ void Cpu::exec_stack(std::uint8_t op) {
     case 0x58: case 0x59: case 0x5A: case 0x5B: case 0x5C: case 0x5D: case 0x5E: case 0x5F:
         r_.r[op & 7] = pop();
         break;
-    case 0x8F: { // POP r/m
+    case 0x8F: { // POP r/m: a memory operand's EADONE, 040, the stack read, 042, 043-044 (memory)
+        const bool mem = mod_ != 3;
+        if (mem) clks(kEaDone);
+        clk(kPopRmStart);
         const std::uint16_t v = pop();
-        clks(kPopRmSp);
+        clk(kPopRmSp);
+        if (mem) clks(kPopRmToMem);
         rm_write16(v);
         break;
     }

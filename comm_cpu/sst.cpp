@@ -141,7 +141,20 @@ OpcodeInfo Metadata::lookup(const std::string& stem) const {
     if (!ops.contains(op)) return info;
     const json* e = &ops[op];
     if (!reg.empty() && e->contains("reg") && (*e)["reg"].contains(reg)) e = &(*e)["reg"][reg];
-    if (e->contains("status") && (*e)["status"].is_string()) info.status = (*e)["status"].get<std::string>();
+    if (e->contains("status") && (*e)["status"].is_string()) {
+        info.status = (*e)["status"].get<std::string>();
+    } else if (reg.empty() && e->contains("reg") && (*e)["reg"].is_object()) {
+        info.by_reg = true;
+        info.status = "by reg";
+        for (unsigned r = 0; r < 8; ++r) {
+            const std::string key = std::to_string(r);
+            const json& regs = (*e)["reg"];
+            if (regs.contains(key) && regs[key].contains("status") && regs[key]["status"].is_string())
+                info.reg_status[r] = regs[key]["status"].get<std::string>();
+            else
+                info.reg_status[r] = "unknown";
+        }
+    }
     if (e->contains("flags-mask") && (*e)["flags-mask"].is_number_unsigned())
         info.flags_mask = static_cast<std::uint16_t>((*e)["flags-mask"].get<unsigned>());
     return info;
@@ -150,6 +163,21 @@ OpcodeInfo Metadata::lookup(const std::string& stem) const {
 // ---------------------------------------------------------------------------------------------
 
 namespace {
+
+// The reg field of the byte after the prefixes and the opcode of a test's "bytes" (-1 when the
+// instruction ends before it).
+int modrm_reg(const json& bytes, const std::string& file, const std::string& where) {
+    std::size_t i = 0;
+    auto at = [&](std::size_t k) { return get_u32(bytes[k], file, where + ".bytes", 0xFF); };
+    while (i < bytes.size()) {
+        const std::uint32_t b = at(i);
+        const bool prefix = (b & 0xE7) == 0x26 || (b & 0xFC) == 0xF0; // ES/CS/SS/DS; LOCK, REP
+        if (!prefix) break;
+        ++i;
+    }
+    if (i + 1 >= bytes.size()) return -1;
+    return int((at(i + 1) >> 3) & 7);
+}
 
 void parse_regs(const json& j, const std::string& file, const std::string& where, std::uint16_t* vals,
                 bool* present, bool require_all) {
@@ -262,7 +290,7 @@ Runner::Runner() : ram_(new std::uint8_t[kRamSize]) {
         this);
 }
 
-FileResult Runner::run_file(const std::string& path, const Metadata& meta) {
+FileResult Runner::run_file(const std::string& path, const Metadata& meta, const std::string& only) {
     FileResult result;
     result.path = path;
     result.stem = stem_of(path);
@@ -275,7 +303,21 @@ FileResult Runner::run_file(const std::string& path, const Metadata& meta) {
         throw InputError(path + ": malformed or truncated JSON (" + e.what() + ")");
     }
     if (!tests.is_array()) throw InputError(path + ": top level is not an array of tests");
-    result.cycles = run_tests(tests, path, info, &result, true);
+    if (!info.by_reg || only.empty()) {
+        result.cycles = run_tests(tests, path, info, &result, true);
+        return result;
+    }
+    // The tests of status `only`, and the stem with their reg values.
+    std::vector<Test> list = convert(tests, path);
+    list.erase(std::remove_if(list.begin(), list.end(), [&](const Test& t) { return info.status_of(t.modrm_reg) != only; }),
+               list.end());
+    result.status = only;
+    for (unsigned r = 0; r < 8; ++r)
+        if (info.reg_status[r] == only) result.stem += "/" + std::to_string(r);
+    const std::uint64_t c0 = cpu_.cycles();
+    for (const Test& t : list) run_one(t, info, &result, true);
+    result.tests = list.size();
+    result.cycles = cpu_.cycles() - c0;
     return result;
 }
 
@@ -327,6 +369,7 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
         if (j.contains("bytes")) {
             if (!j["bytes"].is_array()) fail(file, where + ".bytes is not an array");
             t.code_bytes = j["bytes"].size();
+            t.modrm_reg = modrm_reg(j["bytes"], file, where);
         }
         if (ini.contains("queue")) {
             if (!ini["queue"].is_array() || ini["queue"].size() > 6)

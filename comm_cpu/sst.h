@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -33,6 +34,13 @@ public:
 struct OpcodeInfo {
     std::string status = "unknown";
     std::uint16_t flags_mask = 0xFFFF;
+    /// A file that holds every ModR/M reg value of an opcode whose metadata gives a status per
+    /// reg value (8F, C6, C7: only /0 is defined): `status` is "by reg", each test has the
+    /// status of its reg field.
+    bool by_reg = false;
+    std::array<std::string, 8> reg_status{};
+    /// The status of a test whose ModR/M reg field is `reg` (-1: no ModR/M byte).
+    const std::string& status_of(int reg) const { return by_reg && reg >= 0 ? reg_status[std::size_t(reg)] : status; }
 };
 
 class Metadata {
@@ -71,6 +79,7 @@ struct Test {
     std::vector<std::pair<std::uint32_t, std::uint8_t>> ram_in, ram_out;
     std::vector<std::uint8_t> queue;
     std::size_t code_bytes = ~std::size_t(0); // length of "bytes": the harness then feeds NOPs
+    int modrm_reg = -1; // the reg field of the byte after the prefixes and the opcode (-1: none)
     std::uint16_t fin[14] = {}; // final registers (8 general, 4 segment, ip, flags) ...
     bool fin_present[14] = {};  // ... and whether each was listed
     const nlohmann::json* cycles = nullptr;
@@ -86,8 +95,10 @@ public:
     /// Runs converted tests without comparison, with the per-cycle trace on or off, and returns
     /// the cycles each one took (the idle-clock skip is taken only with the trace off).
     std::vector<std::uint64_t> cycles_per_test(const std::vector<Test>& tests, bool trace);
-    /// Runs every test of one file; throws InputError on unreadable or malformed content.
-    FileResult run_file(const std::string& path, const Metadata& meta);
+    /// Runs every test of one file; throws InputError on unreadable or malformed content. With
+    /// `only` set, a file whose status is by reg runs the tests of that status alone, and its
+    /// stem names their reg values ("8F/0").
+    FileResult run_file(const std::string& path, const Metadata& meta, const std::string& only = "");
     /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
     std::uint64_t run_tests(const nlohmann::json& tests, const std::string& file, const OpcodeInfo& info,
                             FileResult* result, bool trace);

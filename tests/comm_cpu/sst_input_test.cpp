@@ -90,6 +90,43 @@ TEST(SstInput, MissingFileIsNamed) {
     }
 }
 
+// 8F, C6 and C7 come as one file each whose metadata gives a status per ModR/M reg value (only
+// /0 is defined): with a status asked for, only the tests whose reg field has it run, found
+// past any prefixes, and the stem says which reg values they are.
+TEST(SstInput, StatusPerRegValueSelectsTheTests) {
+    const std::string dir = (std::filesystem::temp_directory_path() / "rcsim_sst_by_reg").string();
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/metadata.json")
+        << R"({"opcodes":{"8F":{"reg":{"0":{"status":"normal"},"1":{"status":"undefined"},"2":{"status":"undefined"},
+              "3":{"status":"undefined"},"4":{"status":"undefined"},"5":{"status":"undefined"},
+              "6":{"status":"undefined"},"7":{"status":"undefined"}}}}})";
+    auto with_bytes = [](const std::string& bytes) {
+        std::string t = std::string(kGood).substr(1); // one test object, without the array's brackets
+        t.pop_back();
+        return t.replace(t.find("[144],\"initial\""), 5, bytes);
+    };
+    // POP [BX] (/0), ES: POP [BX] (/0 after a prefix), /1 [BX] (undefined), and a bare 8F.
+    std::ofstream(dir + "/8F.json") << "[" << with_bytes("[143,7]") << "," << with_bytes("[38,143,7]") << ","
+                                    << with_bytes("[143,15]") << "," << with_bytes("[143]") << "]";
+    const Metadata meta = Metadata::load(dir + "/metadata.json");
+    const OpcodeInfo info = meta.lookup("8F");
+    EXPECT_TRUE(info.by_reg);
+    EXPECT_EQ(info.status_of(0), "normal");
+    EXPECT_EQ(info.status_of(1), "undefined");
+    Runner r;
+    const FileResult normal = r.run_file(dir + "/8F.json", meta, "normal");
+    EXPECT_EQ(normal.tests, 2u);
+    EXPECT_EQ(normal.stem, "8F/0");
+    EXPECT_EQ(normal.status, "normal");
+    const FileResult undefined = r.run_file(dir + "/8F.json", meta, "undefined");
+    EXPECT_EQ(undefined.tests, 1u);
+    EXPECT_EQ(undefined.stem, "8F/1/2/3/4/5/6/7");
+    const FileResult all = r.run_file(dir + "/8F.json", meta);
+    EXPECT_EQ(all.tests, 4u);
+    EXPECT_EQ(all.status, "by reg");
+    std::filesystem::remove_all(dir);
+}
+
 TEST(SstInput, SharedVectorsPassLevel1) {
     const std::string dir = rcsim::test::sst_dir();
     if (dir.empty()) GTEST_SKIP() << "SingleStepTests 8086 vectors not present (set RCSIM_SST_DIR)";
