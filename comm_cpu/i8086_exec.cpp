@@ -99,7 +99,10 @@ void Cpu::exec_aad(std::uint8_t) { aad(imm8()); }
 void Cpu::exec_misc(std::uint8_t op) {
     switch (op) {
     case 0x9B: clks(kWaitTestActive); break; // WAIT: TEST# is held active on this board, so it falls through
-    case 0xD6: set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00); clks(kSalcTest); break; // SALC
+    case 0xD6: // SALC
+        set_reg8(0, get_flag(flag::CF) ? 0xFF : 0x00);
+        clks(get_flag(flag::CF) ? kSalcTest + kJump : kSalcTest);
+        break;
     case 0xD8: case 0xD9: case 0xDA: case 0xDB: case 0xDC: case 0xDD: case 0xDE: case 0xDF:
         // ESC: no coprocessor; a memory operand is still read.
         if (mod_ != 3) read16(ea_seg_, ea_);

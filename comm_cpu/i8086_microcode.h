@@ -205,8 +205,7 @@ constexpr unsigned kIntrToFarCall2 = 2;
 
 /// WAIT with TEST# active (held so on this board): measured 3.
 constexpr unsigned kWaitTestActive = 3;
-/// SALC: 0A0 (CY 2), the CF test (its jump for CF = 1 is not modelled: D6 is not exact in the
-/// captures).
+/// SALC: 0A0 (CY 2), the CF test; with CF = 1 its jump adds kJump.
 constexpr unsigned kSalcTest = 1;
 /// ESC: one clock after the (discarded) operand, measured (ESC is not exact in the captures).
 constexpr unsigned kEscDone = 1;
