@@ -104,9 +104,12 @@ void Cpu::exec_misc(std::uint8_t op) {
         clks(get_flag(flag::CF) ? kSalcTest + kJump : kSalcTest);
         break;
     case 0xD8: case 0xD9: case 0xDA: case 0xDB: case 0xDC: case 0xDD: case 0xDE: case 0xDF:
-        // ESC: no coprocessor; a memory operand is still read.
-        if (mod_ != 3) read16(ea_seg_, ea_);
-        clks(kEscDone);
+        // ESC: no coprocessor; a memory operand is still read (EALOAD), then the next
+        // instruction (MartyPC's 108; a register operand costs nothing more).
+        if (mod_ != 3) {
+            read16(ea_seg_, ea_);
+            clks(kEaLoadReturn);
+        }
         break;
     case 0xF4: // HLT: prefetching stops; the EU idles until NMI or an enabled INTR
         halted_ = true;

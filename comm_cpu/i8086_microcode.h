@@ -207,8 +207,6 @@ constexpr unsigned kIntrToFarCall2 = 2;
 constexpr unsigned kWaitTestActive = 3;
 /// SALC: 0A0 (CY 2), the CF test; with CF = 1 its jump adds kJump.
 constexpr unsigned kSalcTest = 1;
-/// ESC: one clock after the (discarded) operand, measured (ESC is not exact in the captures).
-constexpr unsigned kEscDone = 1;
 /// HLT: one clock after prefetching stops, then the halt state (measured).
 constexpr unsigned kHaltEnter = 1;
 
