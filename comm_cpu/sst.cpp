@@ -160,6 +160,8 @@ OpcodeInfo Metadata::lookup(const std::string& stem) const {
     return info;
 }
 
+OpcodeInfo Metadata::lookup_file(const std::string& path) const { return lookup(stem_of(path)); }
+
 // ---------------------------------------------------------------------------------------------
 
 namespace {

@@ -41,6 +41,13 @@ struct OpcodeInfo {
     std::array<std::string, 8> reg_status{};
     /// The status of a test whose ModR/M reg field is `reg` (-1: no ModR/M byte).
     const std::string& status_of(int reg) const { return by_reg && reg >= 0 ? reg_status[std::size_t(reg)] : status; }
+    /// Whether any test of the file can have status `s`.
+    bool has(const std::string& s) const {
+        if (!by_reg) return status == s;
+        for (const std::string& r : reg_status)
+            if (r == s) return true;
+        return false;
+    }
 };
 
 class Metadata {
@@ -49,6 +56,8 @@ public:
     static Metadata load(const std::string& path);
     /// The entry for a file stem such as "00" or "F6.7".
     OpcodeInfo lookup(const std::string& stem) const;
+    /// The entry for a test file's path (its stem: the name without .json/.json.gz).
+    OpcodeInfo lookup_file(const std::string& path) const;
     bool empty() const { return root_.is_null(); }
 
 private:

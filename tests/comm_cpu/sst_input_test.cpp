@@ -113,6 +113,11 @@ TEST(SstInput, StatusPerRegValueSelectsTheTests) {
     EXPECT_TRUE(info.by_reg);
     EXPECT_EQ(info.status_of(0), "normal");
     EXPECT_EQ(info.status_of(1), "undefined");
+    EXPECT_TRUE(info.has("normal"));
+    EXPECT_TRUE(info.has("undefined"));
+    EXPECT_FALSE(info.has("alias"));
+    EXPECT_TRUE(meta.lookup_file(dir + "/8F.json").by_reg);
+    EXPECT_FALSE(meta.lookup_file(dir + "/8E.json.gz").has("normal")); // no entry: status unknown
     Runner r;
     const FileResult normal = r.run_file(dir + "/8F.json", meta, "normal");
     EXPECT_EQ(normal.tests, 2u);
