@@ -305,17 +305,13 @@ FileResult Runner::run_file(const std::string& path, const Metadata& meta, const
         throw InputError(path + ": malformed or truncated JSON (" + e.what() + ")");
     }
     if (!tests.is_array()) throw InputError(path + ": top level is not an array of tests");
-    if (!info.by_reg || only.empty()) {
-        result.cycles = run_tests(tests, path, info, &result, true);
-        return result;
-    }
-    // The tests of status `only`, and the stem with their reg values.
     std::vector<Test> list = convert(tests, path);
-    list.erase(std::remove_if(list.begin(), list.end(), [&](const Test& t) { return info.status_of(t.modrm_reg) != only; }),
-               list.end());
-    result.status = only;
-    for (unsigned r = 0; r < 8; ++r)
-        if (info.reg_status[r] == only) result.stem += "/" + std::to_string(r);
+    if (info.by_reg && !only.empty()) { // the tests of status `only`, the stem with their reg values
+        list = tests_of_status(std::move(list), info, only);
+        result.status = only;
+        for (unsigned r = 0; r < 8; ++r)
+            if (info.reg_status[r] == only) result.stem += "/" + std::to_string(r);
+    }
     const std::uint64_t c0 = cpu_.cycles();
     for (const Test& t : list) run_one(t, info, &result, true);
     result.tests = list.size();
@@ -323,13 +319,11 @@ FileResult Runner::run_file(const std::string& path, const Metadata& meta, const
     return result;
 }
 
-std::uint64_t Runner::run_tests(const json& tests, const std::string& file, const OpcodeInfo& info,
-                                FileResult* result, bool trace) {
-    const std::vector<Test> list = convert(tests, file);
-    const std::uint64_t c0 = cpu_.cycles();
-    for (const Test& t : list) run_one(t, info, result, trace);
-    if (result) result->tests += list.size();
-    return cpu_.cycles() - c0;
+std::vector<Test> tests_of_status(std::vector<Test> tests, const OpcodeInfo& info, const std::string& status) {
+    tests.erase(std::remove_if(tests.begin(), tests.end(),
+                               [&](const Test& t) { return info.status_of(t.modrm_reg) != status; }),
+                tests.end());
+    return tests;
 }
 
 std::uint64_t Runner::run_converted(const std::vector<Test>& tests) {

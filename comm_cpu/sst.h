@@ -94,6 +94,9 @@ struct Test {
     const nlohmann::json* cycles = nullptr;
 };
 
+/// The tests whose status (OpcodeInfo::status_of, by their ModR/M reg field) is `status`.
+std::vector<Test> tests_of_status(std::vector<Test> tests, const OpcodeInfo& info, const std::string& status);
+
 class Runner {
 public:
     Runner();
@@ -108,9 +111,6 @@ public:
     /// `only` set, a file whose status is by reg runs the tests of that status alone, and its
     /// stem names their reg values ("8F/0").
     FileResult run_file(const std::string& path, const Metadata& meta, const std::string& only = "");
-    /// Runs the tests of an already parsed array (used by benchmarks): returns cycles executed.
-    std::uint64_t run_tests(const nlohmann::json& tests, const std::string& file, const OpcodeInfo& info,
-                            FileResult* result, bool trace);
     /// Keep a side-by-side trace (expected | emulated, first mismatch marked) of the first `n`
     /// tests per file that fail at `level` (2 or 3) in FileResult::diffs.
     void set_diff(std::size_t n, int level) {

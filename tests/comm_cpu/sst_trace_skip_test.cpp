@@ -7,8 +7,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <filesystem>
 
 using namespace rcsim::i8086::sst;
 
@@ -19,21 +17,16 @@ TEST(SstTraceSkip, TraceOffAndOnGiveTheSameCyclesOnEveryNormalFile) {
     Runner off, on;
     std::size_t files = 0, tests = 0;
     for (const std::string& path : collect({dir})) {
-        std::string stem = std::filesystem::path(path).filename().string();
-        stem = stem.substr(0, stem.find(".json"));
-        const OpcodeInfo info = meta.lookup(stem);
-        if (info.status != "normal" && !info.by_reg) continue;
-        std::vector<rcsim::i8086::sst::Test> list = Runner::convert(nlohmann::json::parse(read_text(path)), path);
-        // A file with a status per ModR/M reg value (8F, C6, C7): its normal tests.
-        list.erase(std::remove_if(list.begin(), list.end(),
-                                  [&](const rcsim::i8086::sst::Test& t) { return info.status_of(t.modrm_reg) != "normal"; }),
-                   list.end());
-        if (list.empty()) continue;
+        const OpcodeInfo info = meta.lookup_file(path);
+        if (!info.has("normal")) continue;
+        // (a file with a status per ModR/M reg value, 8F, C6, C7: its normal tests)
+        const std::vector<rcsim::i8086::sst::Test> list =
+            tests_of_status(Runner::convert(nlohmann::json::parse(read_text(path)), path), info, "normal");
         const std::vector<std::uint64_t> a = off.cycles_per_test(list, false);
         const std::vector<std::uint64_t> b = on.cycles_per_test(list, true);
         ASSERT_EQ(a.size(), b.size());
         for (std::size_t i = 0; i < a.size(); ++i)
-            EXPECT_EQ(a[i], b[i]) << stem << " test " << i << " (" << list[i].name << ")";
+            EXPECT_EQ(a[i], b[i]) << path << " test " << i << " (" << list[i].name << ")";
         ++files;
         tests += list.size();
     }
