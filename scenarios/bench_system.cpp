@@ -34,18 +34,19 @@ double cpu_now() {
     return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
 }
 
+struct Sample {
+    double cpu_s = 0, wall_s = 0, sim_s = 0, cycles = 0;
+    // the comm CPU's: Cpu8086::kernel_waits, access_waits, the instructions not forwarded
+    double kernel_waits = 0, access_waits = 0, executed = 0;
+    int status = 0; // 0: ran; else the child failed
+};
+
 struct Variant {
     std::string name;
     std::function<void(Scenario&)> apply;
     int baseline = -1; // the variant it differs from by one switch off (-1: none)
-    double best_cpu_s = 0, wall_s = 0, sim_s = 0, cycles = 0;
-    // the comm CPU's: Cpu8086::kernel_waits, access_waits, the instructions not forwarded
-    double kernel_waits = 0, access_waits = 0, executed = 0;
-};
-
-struct Sample {
-    double cpu_s = 0, wall_s = 0, sim_s = 0, cycles = 0, kernel_waits = 0, access_waits = 0, executed = 0;
-    int status = 0; // 0: ran; else the child failed
+    double best_cpu_s = 0, wall_s = 0; // of the fastest round
+    Sample last{};                     // the last round's: its simulated figures are every round's
 };
 
 // SystemC elaborates once per process: each measurement runs in a child process that sends
@@ -107,11 +108,7 @@ void run_variant(const Scenario& base, Variant& v, bool first) {
         v.best_cpu_s = r.cpu_s;
         v.wall_s = r.wall_s;
     }
-    v.sim_s = r.sim_s;
-    v.cycles = r.cycles;
-    v.kernel_waits = r.kernel_waits;
-    v.access_waits = r.access_waits;
-    v.executed = r.executed;
+    v.last = r;
 }
 
 std::vector<Variant> variants() {
@@ -193,11 +190,12 @@ void print_floors(const std::vector<Variant>& list, const Floors& floors) {
                 "  instructions it executed (not forwarded) ran at libx86emu's rate, everything else free:\n",
                 wait_ns, rate / 1e6);
     for (const Variant& v : list) {
-        const double waits_s = v.kernel_waits * wait_ns * 1e-9, exec_s = v.executed / rate;
+        const Sample& r = v.last;
+        const double waits_s = r.kernel_waits * wait_ns * 1e-9, exec_s = r.executed / rate;
         std::printf("    %s: %.0f kernel waits (%.0f before accesses) %.1f ms + %.3f M instructions %.1f ms"
                     " -> at most %.1fx\n",
-                    v.name.c_str(), v.kernel_waits, v.access_waits, waits_s * 1e3, v.executed / 1e6, exec_s * 1e3,
-                    v.sim_s / (waits_s + exec_s));
+                    v.name.c_str(), r.kernel_waits, r.access_waits, waits_s * 1e3, r.executed / 1e6, exec_s * 1e3,
+                    r.sim_s / (waits_s + exec_s));
     }
 }
 
@@ -221,8 +219,8 @@ void add_bench_system(CLI::App& bench) {
         std::cout << "system: " << base.name << ", best of " << *rounds
                   << " alternating rounds; RTF = simulated s / host CPU s\n";
         for (const Variant& v : list)
-            std::cout << "  " << v.name << ": " << v.sim_s << " s simulated, RTF " << v.sim_s / v.best_cpu_s
-                      << "x (wall " << v.wall_s << " s), " << v.cycles / v.best_cpu_s / 1e6
+            std::cout << "  " << v.name << ": " << v.last.sim_s << " s simulated, RTF " << v.last.sim_s / v.best_cpu_s
+                      << "x (wall " << v.wall_s << " s), " << v.last.cycles / v.best_cpu_s / 1e6
                       << " M 8086 cycles per host CPU second\n";
         for (const Variant& v : list)
             if (v.baseline >= 0)
