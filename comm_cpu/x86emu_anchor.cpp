@@ -6,9 +6,9 @@
 #include <x86emu.h>
 
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iterator>
-#include <ctime>
 #include <memory>
 #include <stdexcept>
 
