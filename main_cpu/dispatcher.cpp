@@ -48,10 +48,6 @@ bool parse_param_id(const std::string& s, long& id) {
     return true;
 }
 
-bool is_motion_token(const std::string& t) {
-    return t == "SV" || t == "HM" || t == "RS" || t == "MA" || t == "MR" || t == "MV" || t == "ML" || t == "LM" || t == "MC";
-}
-
 } // namespace
 
 const char* to_string(ProgramState s) {

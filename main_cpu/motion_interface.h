@@ -1,7 +1,7 @@
 // rcsim — the seam between the main CPU's token dispatcher and the motion layer.
 //
-// The dispatcher (main_cpu/) hands every motion token of docs/system.md §7.2 (SV HM RS MA MR ML MC ES)
-// to a MotionInterface and sends back its reply as the response frame. The motion layer
+// The dispatcher (main_cpu/) hands every motion token of docs/system.md §7.2 (kMotionTokens below,
+// and ES) to a MotionInterface and sends back its reply as the response frame. The motion layer
 // (main_cpu/motion/: PLCopen function blocks over the CAMC-QI chip and CiA402 drives) implements
 // it; a dispatcher built without one answers BCH 04 ("not allowed in the current state").
 #pragma once
@@ -10,9 +10,35 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rcsim {
+
+/// A motion token of docs/system.md §7.2, and whether it starts a move: accepted (BCH 00), a move
+/// token is paired with the move's first pulse (MoveRecord, the command latency).
+struct MotionToken {
+    std::string_view name;
+    bool starts_move;
+};
+
+/// The one table of the motion tokens (ES, the emergency stop, is the dispatcher's own first).
+inline constexpr MotionToken kMotionTokens[] = {
+    {"SV", false}, {"HM", true}, {"RS", false}, {"MA", true}, {"MR", true},
+    {"MV", true},  {"ML", true}, {"LM", true},  {"MC", true},
+};
+
+inline bool is_motion_token(std::string_view token) {
+    for (const MotionToken& t : kMotionTokens)
+        if (t.name == token) return true;
+    return false;
+}
+
+inline bool starts_move(std::string_view token) {
+    for (const MotionToken& t : kMotionTokens)
+        if (t.name == token) return t.starts_move;
+    return false;
+}
 
 /// The response to one command: BCH status (docs/system.md §7.1: 00 ok, 01 unknown token, 02 bad data,
 /// 03 busy, 04 not allowed in the current state, 05 axis error) and response data.

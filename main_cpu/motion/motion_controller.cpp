@@ -336,9 +336,7 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         arc->start_y = static_cast<double>(chip_.command_position(1));
     }
     MotionReply r = execute(token, data);
-    if (r.bch == 0 && (token == "MA" || token == "MR" || token == "ML" || token == "MC" || token == "HM" ||
-                       token == "MV" || token == "LM"))
-        note_move(token);
+    if (r.bch == 0 && starts_move(token)) note_move(token);
     if (r.bch == 0 && arc) {
         arc->center_x = arc->start_x + circle_.CenterX, arc->center_y = arc->start_y + circle_.CenterY;
         arc->end_x = arc->start_x + circle_.EndX, arc->end_y = arc->start_y + circle_.EndY;

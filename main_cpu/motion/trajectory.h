@@ -1,6 +1,6 @@
 // rcsim — the trajectory recorder: commanded and actual positions of every axis at each control
 // cycle. The files drawn from it (trajectory.csv, trajectory.svg) are written by the top floor
-// (scenarios/trajectory_report.h).
+// (scenarios/report/trajectory_report.h).
 #pragma once
 
 #include <cstdint>

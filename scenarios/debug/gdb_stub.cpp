@@ -4,7 +4,7 @@
 #include "comm_cpu/comm_board.h"
 #include "models/config_error.h"
 #include "scenarios/host/tcp_host.h"
-#include "scenarios/stop_signal.h"
+#include "models/stop_signal.h"
 
 #include <cstdarg>
 #include <cstdio>

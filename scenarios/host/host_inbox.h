@@ -8,7 +8,22 @@
 
 #include <systemc>
 
+#include <deque>
+#include <mutex>
+#include <optional>
+
 namespace rcsim {
+
+/// The oldest item a backend's io thread queued for its SystemC thread, taken under the backend's
+/// mutex; none when the queue is empty.
+template <class Item>
+std::optional<Item> pop_front_locked(std::mutex& mu, std::deque<Item>& queue) {
+    std::lock_guard<std::mutex> lock(mu);
+    if (queue.empty()) return std::nullopt;
+    std::optional<Item> item(std::move(queue.front()));
+    queue.pop_front();
+    return item;
+}
 
 class HostInbox : public sc_core::sc_prim_channel {
 public:

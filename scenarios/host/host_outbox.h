@@ -55,6 +55,18 @@ public:
         c.bytes_dropped = o.dropped;
         c.breaks = o.breaks;
     }
+    /// A host's counters as its counters() returns them: its own, copied under the host's mutex
+    /// (its io thread updates them), completed with the outbox's.
+    template <class HostCounters>
+    HostCounters host_counters(std::mutex& host_mu, const HostCounters& own) const {
+        HostCounters c;
+        {
+            std::lock_guard<std::mutex> lock(host_mu);
+            c = own;
+        }
+        copy_counters(c);
+        return c;
+    }
 
 private:
     const std::size_t max_bytes_;

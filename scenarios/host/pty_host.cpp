@@ -151,15 +151,7 @@ SerialFormat PtyHost::client_format() const {
     return f;
 }
 
-PtyHost::Counters PtyHost::counters() const {
-    Counters c;
-    {
-        std::lock_guard<std::mutex> lock(mu_);
-        c = counters_;
-    }
-    out_.copy_counters(c);
-    return c;
-}
+PtyHost::Counters PtyHost::counters() const { return out_.host_counters(mu_, counters_); }
 
 void PtyHost::end_of_elaboration() { require_connected(name()); }
 
@@ -169,14 +161,7 @@ void PtyHost::start_of_simulation() { attached_ = inbox_.async_attach_suspending
 void PtyHost::run() {
     const sc_core::sc_time controller_receive = cfg_.format.receive_time();
     for (;;) {
-        std::optional<Item> item;
-        {
-            std::lock_guard<std::mutex> lock(mu_);
-            if (!in_.empty()) {
-                item = in_.front();
-                in_.pop_front();
-            }
-        }
+        std::optional<Item> item = pop_front_locked(mu_, in_);
         if (!item) {
             wait(inbox_.arrived);
             continue;

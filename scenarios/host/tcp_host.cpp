@@ -96,15 +96,7 @@ bool TcpHost::client_connected() const {
     return connected_;
 }
 
-TcpHost::Counters TcpHost::counters() const {
-    Counters c;
-    {
-        std::lock_guard<std::mutex> lock(mu_);
-        c = counters_;
-    }
-    out_.copy_counters(c);
-    return c;
-}
+TcpHost::Counters TcpHost::counters() const { return out_.host_counters(mu_, counters_); }
 
 void TcpHost::end_of_elaboration() { require_connected(name()); }
 
@@ -123,14 +115,7 @@ void TcpHost::run() {
     const sc_core::sc_time frame = cfg_.format.frame_time();
     bool disconnected = false; // a client went away since the queue last emptied
     for (;;) {
-        std::optional<Item> item;
-        {
-            std::lock_guard<std::mutex> lock(mu_);
-            if (!in_.empty()) {
-                item = in_.front();
-                in_.pop_front();
-            }
-        }
+        std::optional<Item> item = pop_front_locked(mu_, in_);
         if (!item) {
             if (disconnected && cfg_.end_on_disconnect) {
                 // Every byte the client sent is on the line: the session is over.

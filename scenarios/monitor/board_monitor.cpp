@@ -4,8 +4,7 @@
 #include "models/clock.h"
 #include "models/config_error.h"
 #include "scenarios/monitor/monitor_page.h"
-#include "scenarios/stop_signal.h"
-#include "scenarios/yaml_map.h"
+#include "models/stop_signal.h"
 
 #include <algorithm>
 #include <cctype>
@@ -100,45 +99,6 @@ std::optional<FaultKind> fault_kind(const std::string& k) {
 } // namespace
 
 
-void parse_listen(const std::string& text, MonitorOptions& o) {
-    const auto colon = text.rfind(':');
-    std::string host = colon == std::string::npos ? std::string("127.0.0.1") : text.substr(0, colon);
-    const std::string port = colon == std::string::npos ? text : text.substr(colon + 1);
-    if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
-    if (host.empty()) host = "127.0.0.1";
-    const bool digits = !port.empty() && port.size() <= 5 && std::all_of(port.begin(), port.end(), ::isdigit);
-    if (!digits || std::stoul(port) > 65535)
-        throw ConfigError("--monitor '" + text + "': the port must be a number 0..65535 ([HOST:]PORT)");
-    o.host = host;
-    o.port = static_cast<unsigned>(std::stoul(port));
-}
-
-bool read_monitor_section(const Scenario& s, MonitorOptions& o) {
-    if (!s.root.IsMap() || !s.root["monitor"]) return false;
-    YamlMap m(s.root["monitor"], s.file, "monitor.");
-    if (m.has("listen")) {
-        const std::string listen = m.require<std::string>("listen");
-        try {
-            parse_listen(listen, o);
-        } catch (const ConfigError&) {
-            m.fail(m.child("listen"), "'monitor.listen' = '" + listen + "' is not [HOST:]PORT (port 0..65535)");
-        }
-    }
-    for (YamlMap c : m.maps("commands", 1000)) {
-        ScriptedCommand sc;
-        sc.at = ms_time(c.number("at_ms", 0, 0, 3.6e6));
-        sc.token = c.require<std::string>("token");
-        if (sc.token.size() != 2) c.fail(c.child("token"), "'" + c.context() + "token' must be two characters");
-        sc.data = c.get<std::string>("data", "");
-        c.finish();
-        o.commands.push_back(sc);
-    }
-    std::stable_sort(o.commands.begin(), o.commands.end(),
-                     [](const ScriptedCommand& a, const ScriptedCommand& b) { return a.at < b.at; });
-    m.finish();
-    return true;
-}
-
 std::string printable_frame_data(const std::string& s) {
     std::string out;
     static const char* hex = "0123456789ABCDEF";
@@ -153,30 +113,30 @@ std::string printable_frame_data(const std::string& s) {
 
 // ---------------------------------------------------------------------------------------------
 
-BoardMonitor::BoardMonitor(Bench& bench, const MonitorOptions& opt, std::ostream& log)
-    : bench_(bench), server_(opt.host, opt.port, kMonitorPage, log), log_(log), commands_(opt.commands) {
-    if (!bench_.pacer) {
-        bench_.pacer = std::make_unique<RealtimePacer>("monitor_pacer", 1.0);
-        bench_.pacer->set_rtf(0);
+BoardMonitor::BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log)
+    : world_(world), server_(opt.host, opt.port, kMonitorPage, log), log_(log), commands_(opt.commands) {
+    if (!world_.pacer) {
+        world_.pacer = std::make_unique<RealtimePacer>("monitor_pacer", 1.0);
+        world_.pacer->set_rtf(0);
     }
-    rtf_target_ = bench_.pacer->rtf();
+    rtf_target_ = world_.pacer->rtf();
     hook_bench();
     wall0_ = rtf_base_wall_ = Clock::now();
 }
 
-// The main CPU's last frame per port; the bench's own listeners keep running first.
+// The main CPU's last frame per port; the world's own listeners keep running first.
 void BoardMonitor::hook_bench() {
-    auto keep = [](std::array<LastFrame, Bench::kPorts>& last, const FrameRecord& f) {
-        if (f.port >= Bench::kPorts) return;
+    auto keep = [](std::array<LastFrame, World::kPorts>& last, const FrameRecord& f) {
+        if (f.port >= World::kPorts) return;
         last[f.port] = {true, f.time.to_seconds(), f.token, f.data, f.bch};
     };
-    auto prev_rx = bench_.ctl.main.on_received;
-    bench_.ctl.main.on_received = [this, prev_rx, keep](const FrameRecord& f) {
+    auto prev_rx = world_.ctl.main.on_received;
+    world_.ctl.main.on_received = [this, prev_rx, keep](const FrameRecord& f) {
         if (prev_rx) prev_rx(f);
         keep(last_rx_, f);
     };
-    auto prev_tx = bench_.ctl.main.on_sent;
-    bench_.ctl.main.on_sent = [this, prev_tx, keep](const FrameRecord& f) {
+    auto prev_tx = world_.ctl.main.on_sent;
+    world_.ctl.main.on_sent = [this, prev_tx, keep](const FrameRecord& f) {
         if (prev_tx) prev_tx(f);
         keep(last_tx_, f);
     };
@@ -220,7 +180,7 @@ void BoardMonitor::run_due_commands() {
     const sc_time now = sc_core::sc_time_stamp();
     for (; next_command_ < commands_.size() && commands_[next_command_].at <= now; ++next_command_) {
         const ScriptedCommand& c = commands_[next_command_];
-        const Outcome o = bench_.ctl.main.execute_local(c.token, c.data);
+        const Outcome o = world_.ctl.main.execute_local(c.token, c.data);
         log_ << "monitor: at " << now.to_seconds() * 1e3 << " ms: " << c.token << " " << c.data << " -> BCH "
              << static_cast<unsigned>(o.bch) << (o.note.empty() ? "" : " (" + o.note + ")") << std::endl;
     }
@@ -293,7 +253,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         const double rtf = a.number("rtf", 0, 1e6);
         if (!a.ok()) return {};
         if (rtf > 0 && rtf < 0.01) return a.refuse("\"rtf\" must be 0 (as fast as possible) or in [0.01, 1e6]");
-        bench_.pacer->set_rtf(rtf);
+        world_.pacer->set_rtf(rtf);
         rtf_target_ = rtf;
         return {{"rtf", rtf}};
     }
@@ -302,21 +262,21 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
         const std::string data = a.string("data", std::string());
         if (!a.ok()) return {};
-        const Outcome o = bench_.ctl.main.execute_local(token, data);
+        const Outcome o = world_.ctl.main.execute_local(token, data);
         return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
     }
     if (op != "send_frame" && op != "inject_fault") return a.refuse("unknown op '" + op + "' (docs/monitor.md)");
-    const double port_arg = a.number("port", 0, Bench::kPorts - 1, 0.0);
+    const double port_arg = a.number("port", 0, World::kPorts - 1, 0.0);
     if (!a.ok()) return {};
     if (port_arg != std::floor(port_arg)) return a.refuse("\"port\" must be a whole number 0..2");
     const auto port = static_cast<unsigned>(port_arg);
     if (op == "send_frame") {
-        if (!bench_.protocol[port]) return a.refuse("port " + std::to_string(port) + " has no protocol host to send as");
+        if (!world_.protocol[port]) return a.refuse("port " + std::to_string(port) + " has no protocol host to send as");
         const std::string token = a.string("token");
         if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
         const std::string data = a.string("data", std::string());
         if (!a.ok()) return {};
-        bench_.protocol[port]->send(proto::Frame{token, 0, data});
+        world_.protocol[port]->send(proto::Frame{token, 0, data});
         return {{"port", port}};
     }
     // inject_fault
@@ -325,7 +285,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     const auto side = from == "host" ? SerialLine::b : SerialLine::a;
     const std::string kind = a.string("kind");
     if (!a.ok()) return {};
-    SerialLine& line = bench_.lines[port];
+    SerialLine& line = world_.lines[port];
     if (kind == "break") {
         const double ms = a.number("duration_ms", 0.001, 10'000, 5.0);
         if (!a.ok()) return {};
@@ -345,7 +305,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
 void BoardMonitor::step(const sc_time& t) {
     paused_ = true;
     const sc_time end = sc_core::sc_time_stamp() + t;
-    bench_.pacer->set_rtf(0);
+    world_.pacer->set_rtf(0);
     while (sc_core::sc_time_stamp() < end && stop_signal() == 0) {
         const sc_time now = sc_core::sc_time_stamp();
         sc_time run = end - now;
@@ -355,13 +315,13 @@ void BoardMonitor::step(const sc_time& t) {
         run_due_commands();
         if (sc_core::sc_time_stamp() < now + run) break; // sc_pause
     }
-    bench_.pacer->set_rtf(rtf_target_);
+    world_.pacer->set_rtf(rtf_target_);
 }
 
 void BoardMonitor::resume() {
     if (paused_) log_ << "monitor: resumed at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
     paused_ = false;
-    bench_.pacer->rebase(); // wall time went on while simulated time stood still
+    world_.pacer->rebase(); // wall time went on while simulated time stood still
     rtf_base_wall_ = Clock::now();
     rtf_base_sim_ = sc_core::sc_time_stamp();
 }
@@ -372,7 +332,7 @@ void BoardMonitor::update_rates() {
     const double dt = (now - rate_base_sim_).to_seconds();
     if (dt >= 0.1) {
         for (unsigned l = 0; l < kIrqLevels; ++l) {
-            const std::uint64_t c = bench_.probe.count(l);
+            const std::uint64_t c = world_.probe.count(l);
             irq_rate_hz_[l] = static_cast<double>(c - irq_base_[l]) / dt;
             irq_base_[l] = c;
         }
@@ -425,8 +385,8 @@ void BoardMonitor::send_updates() {
 std::string BoardMonitor::path_json(Subscription& s, std::size_t max_points) {
     nlohmann::json pts = nlohmann::json::array();
     const std::size_t from = s.path_sent;
-    if (bench_.motion) {
-        const auto& samples = bench_.motion->recorder().samples();
+    if (world_.motion) {
+        const auto& samples = world_.motion->recorder().samples();
         for (std::size_t i = s.path_sent; i < samples.size() && pts.size() < max_points; ++i) {
             const auto& a = samples[i];
             const bool moved = i == 0 || a.cmd[0] != samples[i - 1].cmd[0] || a.cmd[1] != samples[i - 1].cmd[1] ||

@@ -8,7 +8,8 @@
 // simulated time stands still for the whole board; resuming rebases the real-time pacer.
 #pragma once
 
-#include "scenarios/bench.h"
+#include "scenarios/config/monitor_section.h"
+#include "scenarios/world/world.h"
 #include "scenarios/monitor/monitor_server.h"
 
 #include <systemc>
@@ -28,35 +29,14 @@ namespace rcsim::monitor {
 
 class Args; // a request's arguments and its refusal (board_monitor.cpp)
 
-/// A motion command the monitor issues by itself at a simulated time (the scenario's
-/// `monitor.commands`), as a client's "motion" request would.
-struct ScriptedCommand {
-    sc_core::sc_time at;
-    std::string token, data;
-};
-
-struct MonitorOptions {
-    std::string host = "127.0.0.1";
-    unsigned port = 0;
-    std::vector<ScriptedCommand> commands;
-};
-
-/// "[HOST:]PORT" (HOST numeric, default 127.0.0.1; PORT 0..65535, 0 = ephemeral) into `o`.
-/// Throws ConfigError naming the text.
-void parse_listen(const std::string& text, MonitorOptions& o);
-
-/// The scenario's `monitor:` section (docs/monitor.md), read strictly: errors name file and line.
-/// Returns false when the scenario has none.
-bool read_monitor_section(const Scenario& s, MonitorOptions& o);
-
 /// A frame's data for JSON: printable ASCII kept, anything else as \xHH, cut after 64 characters.
 std::string printable_frame_data(const std::string& s);
 
 class BoardMonitor {
 public:
-    /// Starts the server and hooks the bench's callbacks. Call before the first sc_start().
-    /// A bench without a real-time pacer gets one, unpaced, for set_rtf.
-    BoardMonitor(Bench& bench, const MonitorOptions& opt, std::ostream& log);
+    /// Starts the server and hooks the world's callbacks. Call before the first sc_start().
+    /// A world without a real-time pacer gets one, unpaced, for set_rtf.
+    BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log);
 
     std::string url() const { return server_.url(); }
 
@@ -83,7 +63,7 @@ private:
         unsigned bch = 0;
     };
 
-    Bench& bench_;
+    World& world_;
     MonitorServer server_;
     std::ostream& log_;
     std::vector<ScriptedCommand> commands_;
@@ -93,7 +73,7 @@ private:
     double rtf_target_ = 0; // 0 = as fast as the host goes
 
     // What the hooks collect.
-    std::array<LastFrame, Bench::kPorts> last_rx_, last_tx_;
+    std::array<LastFrame, World::kPorts> last_rx_, last_tx_;
     std::array<std::uint64_t, 8> irq_count_{};
     // Rates: counts and times at the start of the current window.
     std::array<std::uint64_t, 8> irq_base_{};

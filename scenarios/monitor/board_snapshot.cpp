@@ -1,8 +1,8 @@
 // rcsim — the monitor's snapshot of the board (docs/monitor.md "Snapshot"): read from the
-// bench's objects between two slices, never while sc_start() runs.
+// world's objects between two slices, never while sc_start() runs.
 #include "scenarios/monitor/board_monitor.h"
 
-#include "scenarios/measure.h"
+#include "scenarios/verdict/measure.h"
 
 namespace rcsim::monitor {
 
@@ -24,7 +24,7 @@ nlohmann::json samples_brief(const Samples& s) {
 nlohmann::json BoardMonitor::snapshot() {
     const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
     nlohmann::json j = {{"api", kApiVersion},
-                        {"scenario", bench_.scenario().name},
+                        {"scenario", world_.scenario().name},
                         {"sim_time_s", sc_core::sc_time_stamp().to_seconds()},
                         {"wall_time_s", wall},
                         {"paused", paused_},
@@ -36,7 +36,7 @@ nlohmann::json BoardMonitor::snapshot() {
     nlohmann::json irq = nlohmann::json::array();
     const char* names[] = {"IR0 82510 port 0", "IR1 82510 port 1", "IR2 82510 port 2", "IR3 DP-RAM INT_L"};
     for (unsigned l = 0; l < 4; ++l)
-        irq.push_back({{"level", l}, {"name", names[l]}, {"count", bench_.probe.count(l)}, {"rate_hz", irq_rate_hz_[l]}});
+        irq.push_back({{"level", l}, {"name", names[l]}, {"count", world_.probe.count(l)}, {"rate_hz", irq_rate_hz_[l]}});
     j["interrupts"] = irq;
     j["table3"] = table3_now();
     return j;
@@ -45,7 +45,7 @@ nlohmann::json BoardMonitor::snapshot() {
 // The axes (command = CAMC-QI CNT1, actual = drive position, from the latest trajectory sample),
 // their PLCopen states and every function block's outputs.
 nlohmann::json BoardMonitor::motion_json() {
-    motion::MotionController* mc = bench_.motion.get();
+    motion::MotionController* mc = world_.motion.get();
     if (!mc) return nullptr;
     const auto& samples = mc->recorder().samples();
     nlohmann::json axes = nlohmann::json::array();
@@ -81,9 +81,9 @@ nlohmann::json BoardMonitor::motion_json() {
 // Per port: the host's latest protocol step and counters, the main CPU's counters and last frames.
 nlohmann::json BoardMonitor::ports_json() {
     nlohmann::json ports = nlohmann::json::array();
-    for (unsigned p = 0; p < Bench::kPorts; ++p) {
-        nlohmann::json pj = {{"port", p}, {"host", bench_.host_kind(p)}, {"step", nullptr}};
-        if (const auto& h = bench_.protocol[p]) {
+    for (unsigned p = 0; p < World::kPorts; ++p) {
+        nlohmann::json pj = {{"port", p}, {"host", world_.host_kind(p)}, {"step", nullptr}};
+        if (const auto& h = world_.protocol[p]) {
             const auto& c = h->counters();
             pj["step"] = {{"t_s", h->last_step().at.to_seconds()}, {"text", h->last_step().text}};
             pj["host_counters"] = {{"frames_sent", c.frames_sent},     {"frames_delivered", c.frames_delivered},
@@ -91,13 +91,13 @@ nlohmann::json BoardMonitor::ports_json() {
                                    {"timeouts", c.timeouts},           {"retries", c.retries},
                                    {"responses_received", c.responses_received}};
         }
-        const MainCpuPortStats& m = bench_.ctl.main.port_stats(p);
+        const MainCpuPortStats& m = world_.ctl.main.port_stats(p);
         pj["main_cpu"] = {{"frames_received", m.frames_received}, {"frames_sent", m.frames_sent},
                           {"malformed", m.malformed},             {"ack_timeouts", m.ack_timeouts},
                           {"resets_received", m.resets_received}};
-        const auto& u = bench_.ctl.comm.uart[p].stats();
+        const auto& u = world_.ctl.comm.uart[p].stats();
         pj["uart"] = {{"overruns", u.overruns}, {"parity_errors", u.parity_errors}, {"framing_errors", u.framing_errors}};
-        const auto& line = bench_.observers[p];
+        const auto& line = world_.observers[p];
         pj["line"] = {{"host_frames", line.counts(LineObserver::host_to_controller).frames_offered},
                       {"controller_frames", line.counts(LineObserver::controller_to_host).frames_offered},
                       {"breaks", line.breaks()}};
@@ -115,9 +115,9 @@ nlohmann::json BoardMonitor::ports_json() {
 // Table 3 as measured so far (report.json "table3" has the final figures): the RS-232 receive
 // service, the DP-RAM time per byte, the budget and the margin.
 nlohmann::json BoardMonitor::table3_now() {
-    const Samples& rx = bench_.rs232_rx_service_us();
-    const auto per_byte = bench_.dpram_time().per_byte_us();
-    const double budget = budget_us(bench_, bench_.scenario());
+    const Samples& rx = world_.rs232_rx_service_us();
+    const auto per_byte = world_.dpram_time().per_byte_us();
+    const double budget = budget_us(world_, world_.scenario());
     nlohmann::json t = {{"rs232_isr_us", samples_brief(rx)},
                         {"dpram_byte_us", per_byte ? nlohmann::json(*per_byte) : nlohmann::json(nullptr)},
                         {"budget_us", budget},

@@ -1,6 +1,6 @@
 #include "scenarios/trace/flame_graph.h"
 
-#include "scenarios/svg.h"
+#include "scenarios/report/svg.h"
 
 #include <algorithm>
 

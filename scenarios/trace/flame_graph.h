@@ -1,5 +1,5 @@
 // rcsim — the flame graph of a cycle profile (scenarios/trace/profiler.h) as SVG, drawn with the
-// project's chart module (scenarios/svg.h), for report.html.
+// project's chart module (scenarios/report/svg.h), for report.html.
 //
 // The classic layout: the whole run at the bottom, the contexts (main, IR0, ...) above it, each
 // function above its caller; a box's width is its clocks (self + callees) in that call path.

@@ -1,6 +1,6 @@
 #include "scenarios/trace/perfetto_trace.h"
 
-#include "scenarios/bench.h"
+#include "scenarios/world/world.h"
 
 #include <cstdio>
 
@@ -8,7 +8,7 @@ namespace rcsim::trace {
 
 namespace {
 
-static_assert(PerfettoTrace::ports() == Bench::kPorts, "one 82510 per port");
+static_assert(PerfettoTrace::ports() == World::kPorts, "one 82510 per port");
 
 constexpr const char* kBusyLeft = "BUSY left (comm CPU)";
 constexpr const char* kBusyRight = "BUSY right (main CPU)";
@@ -16,7 +16,7 @@ constexpr const char* kBusyRight = "BUSY right (main CPU)";
 std::uint64_t ps_of(const sc_core::sc_time& t) { return t.value(); } // the kernel's resolution is 1 ps
 std::uint64_t now_ps() { return ps_of(sc_core::sc_time_stamp()); }
 
-// report.json's names of the levels (scenarios/measure.cpp).
+// report.json's names of the levels (scenarios/verdict/measure.cpp).
 std::string level_name(unsigned level) {
     static const char* names[] = {"rs232_0", "rs232_1", "rs232_2", "dpram"};
     return "IR" + std::to_string(level) + (level < 4 ? std::string(" ") + names[level] : std::string());
@@ -44,16 +44,16 @@ std::function<void(A...)> chain(std::function<void(A...)> existing, F added) {
 
 } // namespace
 
-PerfettoTrace::PerfettoTrace(Bench& bench, const std::string& path) : bench_(bench), out_(path) {
+PerfettoTrace::PerfettoTrace(World& world, const std::string& path) : world_(world), out_(path) {
     name_tracks();
-    InterruptProbe& probe = bench.probe;
-    // The bench's own listeners run first: the trace only reads what they leave.
+    InterruptProbe& probe = world.probe;
+    // The world's own listeners run first: the trace only reads what they leave.
     probe.on_record = chain(probe.on_record, [this](const InterruptRecord& r) { on_record(r); });
     probe.on_settled = chain(probe.on_settled, [this](const sc_core::sc_time& h) { flush_before(ps_of(h)); });
     for (unsigned p = 0; p < kPorts; ++p) {
-        Uart82510& uart = bench.ctl.comm.uart[p];
+        Uart82510& uart = world.ctl.comm.uart[p];
         uart.on_fifo_change = chain(uart.on_fifo_change, [this, p] { sample_fifos(p); });
-        SerialLine& line = bench.lines[p];
+        SerialLine& line = world.lines[p];
         line.on_deliver = chain(line.on_deliver, [this, p](const SerialLine::Delivered& d) {
             if (d.kind == SerialLine::Delivered::character && (d.rx.data & 0xFF) == proto::SOH && !d.rx.parity_error &&
                 !d.rx.framing_error) {
@@ -62,14 +62,14 @@ PerfettoTrace::PerfettoTrace(Bench& bench, const std::string& path) : bench_(ben
             }
             sample_states(p);
         });
-        LineObserver& observer = bench.observers[p];
+        LineObserver& observer = world.observers[p];
         observer.on_frame = chain(observer.on_frame, [this, p](LineObserver::Dir d, bool valid, const proto::Frame& f) {
             on_frame(p, d, valid, f.token);
         });
         sample_fifos(p);
         sample_states(p);
     }
-    Idt7130& dpram = bench.ctl.dpram;
+    Idt7130& dpram = world.ctl.dpram;
     for (const char* name : {kBusyLeft, kBusyRight}) out_.counter(pid_dpram, name, 0, 0); // released at reset
     dpram.on_busy = chain(dpram.on_busy, [this](const Idt7130::BusyEvent& e) {
         // One port's BUSY episodes come in order and do not overlap: each is written whole.
@@ -86,7 +86,7 @@ void PerfettoTrace::name_tracks() {
         out_.process_name(pid_uart + p, "82510 port " + std::to_string(p), 10 + static_cast<int>(p));
     out_.process_name(pid_dpram, "IDT7130 DP-RAM", 20);
     for (unsigned p = 0; p < kPorts; ++p) {
-        out_.process_name(pid_host + p, "host " + std::to_string(p) + " (" + bench_.host_kind(p) + ")",
+        out_.process_name(pid_host + p, "host " + std::to_string(p) + " (" + world_.host_kind(p) + ")",
                           30 + static_cast<int>(p));
         for (unsigned dir = 0; dir < 2; ++dir)
             out_.thread_name(pid_host + p, dir + 1, std::string("frames ") + dir_name(dir), static_cast<int>(dir));
@@ -136,7 +136,7 @@ void PerfettoTrace::counter(unsigned pid, const std::string& name, std::int64_t&
 }
 
 void PerfettoTrace::sample_fifos(unsigned port) {
-    const Uart82510& uart = bench_.ctl.comm.uart[port];
+    const Uart82510& uart = world_.ctl.comm.uart[port];
     PortCounters& c = ports_[port];
     counter(pid_uart + port, "RX FIFO", c.rx, uart.rx_level(), now_ps());
     counter(pid_uart + port, "TX FIFO", c.tx, uart.tx_level(), now_ps());
@@ -145,7 +145,7 @@ void PerfettoTrace::sample_fifos(unsigned port) {
 void PerfettoTrace::sample_states(unsigned port) {
     PortCounters& c = ports_[port];
     for (unsigned dir = 0; dir < 2; ++dir) {
-        const auto s = bench_.observers[port].state(static_cast<LineObserver::Dir>(dir));
+        const auto s = world_.observers[port].state(static_cast<LineObserver::Dir>(dir));
         counter(pid_uart + port, std::string("protocol ") + dir_name(dir), c.state[dir], static_cast<std::int64_t>(s),
                 now_ps());
     }

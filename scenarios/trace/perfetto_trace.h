@@ -33,18 +33,18 @@
 
 namespace rcsim {
 
-class Bench;
+class World;
 struct InterruptRecord;
 
 namespace trace {
 
 class PerfettoTrace {
 public:
-    /// Opens `path` and hooks the trace onto `bench` (before sc_start). ConfigError if the file
+    /// Opens `path` and hooks the trace onto `world` (before sc_start). ConfigError if the file
     /// cannot be created.
-    PerfettoTrace(Bench& bench, const std::string& path);
+    PerfettoTrace(World& world, const std::string& path);
 
-    /// After Bench::finish(): writes what is still queued and closes the file; ConfigError naming
+    /// After World::finish(): writes what is still queued and closes the file; ConfigError naming
     /// the file if any write failed.
     void finish();
 
@@ -56,7 +56,7 @@ private:
     enum Pid : unsigned { pid_pic = 1, pid_uart = 10, pid_dpram = 20, pid_host = 30 };
     static constexpr unsigned kNestingTid = 100;
 
-    Bench& bench_;
+    World& world_;
     TraceEventWriter out_;
 
     // The interrupt tracks' events not yet written, by time (equal times keep their order).

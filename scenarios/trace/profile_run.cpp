@@ -1,7 +1,8 @@
 #include "scenarios/trace/profile_run.h"
 
 #include "models/config_error.h"
-#include "scenarios/bench.h"
+#include "models/output_file.h"
+#include "scenarios/world/world.h"
 #include "scenarios/trace/flame_graph.h"
 
 #include <cerrno>
@@ -35,23 +36,21 @@ std::string function_name(const debug::SymbolTable& symbols, std::uint32_t linea
     return s->name + buf;
 }
 
-/// Writes `body` into dir/name; ConfigError naming the file when it cannot.
+/// Writes `body` into `file` (models/output_file.h).
 template <class F>
-void write_file(const std::filesystem::path& file, F body) {
-    std::ofstream out(file);
-    if (!out) throw ConfigError(file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
-    body(out);
-    out.flush();
-    if (!out) throw ConfigError(file.string(), 0, std::string("cannot write the file: ") + std::strerror(errno));
+void write_with(const std::filesystem::path& file, F body) {
+    OutputFile out(file);
+    body(out.stream());
+    out.close();
 }
 
 } // namespace
 
-ProfileRun::ProfileRun(Bench& bench, debug::SymbolTable symbols)
-    : bench_(bench), symbols_(std::move(symbols)),
+ProfileRun::ProfileRun(World& world, debug::SymbolTable symbols)
+    : world_(world), symbols_(std::move(symbols)),
       profiler_([this](std::uint32_t linear) { return function_name(symbols_, linear); }) {
-    bench.ctl.comm.cpu.set_step_observer(&ProfileRun::on_step, this);
-    bench.probe.forward_cycles(&ProfileRun::on_bus, this);
+    world.ctl.comm.cpu.set_step_observer(&ProfileRun::on_step, this);
+    world.probe.forward_cycles(&ProfileRun::on_bus, this);
 }
 
 bool ProfileRun::on_step(void* self, const i8086::Cpu& cpu) {
@@ -62,10 +61,10 @@ bool ProfileRun::on_step(void* self, const i8086::Cpu& cpu) {
 void ProfileRun::on_bus(void* self, const i8086::BusRecord& r) { static_cast<ProfileRun*>(self)->profiler_.bus(r); }
 
 std::string ProfileRun::finish(const std::filesystem::path& dir) {
-    profiler_.finish(bench_.ctl.comm.cpu.cycles());
-    const double hz = bench_.scenario().board.comm.cpu_hz;
-    write_file(dir / "profile.txt", [&](std::ostream& o) { profiler_.write_table(o, hz); });
-    write_file(dir / "profile.folded", [&](std::ostream& o) { profiler_.write_folded(o); });
+    profiler_.finish(world_.ctl.comm.cpu.cycles());
+    const double hz = world_.scenario().board.comm.cpu_hz;
+    write_with(dir / "profile.txt", [&](std::ostream& o) { profiler_.write_table(o, hz); });
+    write_with(dir / "profile.folded", [&](std::ostream& o) { profiler_.write_folded(o); });
     return flame_graph_svg(profiler_, hz);
 }
 

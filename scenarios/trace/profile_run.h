@@ -17,16 +17,16 @@
 
 namespace rcsim {
 
-class Bench;
+class World;
 
 namespace trace {
 
 class ProfileRun {
 public:
-    /// Hooks the profiler onto `bench`'s comm CPU (before sc_start); functions are named from
+    /// Hooks the profiler onto `world`'s comm CPU (before sc_start); functions are named from
     /// `symbols`: "name", "name+0x1C" for an entry point inside a symbol (a called local label),
     /// "F1234" (the linear address) where no code symbol is.
-    ProfileRun(Bench& bench, debug::SymbolTable symbols);
+    ProfileRun(World& world, debug::SymbolTable symbols);
     ProfileRun(const ProfileRun&) = delete;
     ProfileRun& operator=(const ProfileRun&) = delete;
 
@@ -37,7 +37,7 @@ public:
     const CycleProfiler& profiler() const { return profiler_; }
 
 private:
-    Bench& bench_;
+    World& world_;
     debug::SymbolTable symbols_;
     CycleProfiler profiler_;
 

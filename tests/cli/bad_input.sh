@@ -269,7 +269,7 @@ rom_with_code() { # FILE CODE-BYTES(printf escapes)
     head -c $((65536 - $(stat -c %s "$1"))) /dev/zero | tr '\0' '\364' >> "$1"
 }
 rom_with_code cascade.rom '\260\021\346\300\364'
-expect 3 "unsupported by the model: rcsim/pic8259/unsupported in bench.controller.comm.cpu.run at 2625 ns: bench.controller.comm.pic: ICW1 0x11 has SNGL=0" -- run ok.yaml --rom cascade.rom
+expect 3 "unsupported by the model: rcsim/pic8259/unsupported in world.controller.comm.cpu.run at 2625 ns: world.controller.comm.pic: ICW1 0x11 has SNGL=0" -- run ok.yaml --rom cascade.rom
 # ICW1 0x13 (single, IC4), ICW2 0x20, ICW4 0x00: uPM=0 selects MCS-80/85 mode.
 rom_with_code mcs80.rom '\260\023\346\300\260\040\346\302\260\000\346\302\364'
 expect 3 "unsupported by the model: rcsim/pic8259/unsupported" -- run ok.yaml --rom mcs80.rom

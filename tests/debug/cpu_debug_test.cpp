@@ -1,7 +1,7 @@
 // The 8086 module's debugger access (comm_cpu/cpu8086.h) on the assembled controller: memory
 // through the board's map without side effects, the second bus observer, and the core's
 // debug_jump at an instruction boundary.
-#include "scenarios/controller.h"
+#include "scenarios/board/controller.h"
 #include "tests/support/sc_test.h"
 
 #include <gtest/gtest.h>

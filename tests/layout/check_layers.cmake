@@ -10,6 +10,23 @@
 # The 8086 core (comm_cpu/i8086*, comm_cpu/sst*) is plain C++: it includes no SystemC or TLM header
 # and, of the tree, only models/memory.h.
 #
+# Inside scenarios/ the same rule holds between its code folders (scenarios/README.md), each of
+# which may include the floors of the tree and these folders of scenarios/:
+#
+#   host/                                  -> host
+#   board/                                 -> board
+#   debug/                                 -> debug host
+#   config/                                -> config board host
+#   world/    the simulated world          -> world config board host
+#   verdict/  what decides PASS            -> verdict world config board host
+#   report/   what renders                 -> report verdict config board host   (never world)
+#   trace/ monitor/                        -> itself and the folders above but run, sweep, cli
+#   run/                                   -> every folder above but sweep, cli
+#   sweep/                                 -> sweep run report verdict config board host
+#   cli/                                   -> every folder
+#
+# and the root of scenarios/ holds data only: a .cpp or .h there is a violation.
+#
 # Usage: cmake -DROOT=<source tree> -P check_layers.cmake. Prints every offending file:line and
 # fails; prints "layers: N files, 0 violations" otherwise.
 cmake_minimum_required(VERSION 3.25)
@@ -26,6 +43,20 @@ set(allowed_comm_cpu  comm_cpu pic8259 uart82510 dpram models)
 set(allowed_main_cpu  main_cpu camc_qi models)
 set(layers models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu)
 set(tree_dirs models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu scenarios tests)
+
+set(sc_host    host)
+set(sc_board   board)
+set(sc_debug   debug host)
+set(sc_config  config board host)
+set(sc_world   world config board host)
+set(sc_verdict verdict world config board host)
+set(sc_report  report verdict config board host)
+set(sc_trace   trace report verdict world config board debug host)
+set(sc_monitor monitor report verdict world config board host)
+set(sc_run     run trace monitor report verdict world config board debug host)
+set(sc_sweep   sweep run report verdict config board host)
+set(sc_cli     cli sweep run trace monitor report verdict world config board debug host)
+set(sc_folders host board debug config world verdict report trace monitor run sweep cli)
 
 set(violations 0)
 set(files_seen 0)
@@ -68,6 +99,32 @@ function(check_file file layer)
   set(violations ${bad} PARENT_SCOPE)
 endfunction()
 
+# check_scenarios_file(FILE FOLDER): every `#include "scenarios/<sub>/..."` must name a folder of
+# sc_<FOLDER>.
+function(check_scenarios_file file folder)
+  file(RELATIVE_PATH rel "${ROOT}" "${file}")
+  file(STRINGS "${file}" all_lines)
+  set(n 0)
+  set(bad ${violations})
+  foreach(line IN LISTS all_lines)
+    math(EXPR n "${n} + 1")
+    if(NOT line MATCHES "^[ \t]*#[ \t]*include[ \t]*\"scenarios/([^\"]+)\"")
+      continue()
+    endif()
+    set(header "scenarios/${CMAKE_MATCH_1}")
+    if(NOT CMAKE_MATCH_1 MATCHES "^([A-Za-z0-9_]+)/")
+      message("${rel}:${n}: scenarios/${folder}/ includes ${header} (the root of scenarios/ holds no code)")
+      math(EXPR bad "${bad} + 1")
+      continue()
+    endif()
+    if(NOT CMAKE_MATCH_1 IN_LIST sc_${folder})
+      message("${rel}:${n}: scenarios/${folder}/ includes ${header} (scenarios/${CMAKE_MATCH_1}/ is not below scenarios/${folder}/)")
+      math(EXPR bad "${bad} + 1")
+    endif()
+  endforeach()
+  set(violations ${bad} PARENT_SCOPE)
+endfunction()
+
 foreach(layer IN LISTS layers)
   file(GLOB_RECURSE sources LIST_DIRECTORIES false
     "${ROOT}/${layer}/*.h" "${ROOT}/${layer}/*.hpp" "${ROOT}/${layer}/*.cpp" "${ROOT}/${layer}/*.c")
@@ -75,6 +132,34 @@ foreach(layer IN LISTS layers)
   foreach(f IN LISTS sources)
     math(EXPR files_seen "${files_seen} + 1")
     check_file("${f}" ${layer})
+  endforeach()
+endforeach()
+
+file(GLOB root_code LIST_DIRECTORIES false "${ROOT}/scenarios/*.h" "${ROOT}/scenarios/*.cpp")
+list(SORT root_code)
+foreach(f IN LISTS root_code)
+  file(RELATIVE_PATH rel "${ROOT}" "${f}")
+  message("${rel}: code at the root of scenarios/, which holds data only (scenarios/README.md)")
+  math(EXPR files_seen "${files_seen} + 1")
+  math(EXPR violations "${violations} + 1")
+endforeach()
+file(GLOB sc_dirs LIST_DIRECTORIES true "${ROOT}/scenarios/*")
+list(SORT sc_dirs)
+foreach(d IN LISTS sc_dirs)
+  if(NOT IS_DIRECTORY "${d}")
+    continue()
+  endif()
+  get_filename_component(folder "${d}" NAME)
+  file(GLOB_RECURSE sources LIST_DIRECTORIES false "${d}/*.h" "${d}/*.cpp")
+  list(SORT sources)
+  if(sources AND NOT folder IN_LIST sc_folders)
+    message("scenarios/${folder}/: a code folder the layer rules do not name (tests/layout/check_layers.cmake)")
+    math(EXPR violations "${violations} + 1")
+    continue()
+  endif()
+  foreach(f IN LISTS sources)
+    math(EXPR files_seen "${files_seen} + 1")
+    check_scenarios_file("${f}" ${folder})
   endforeach()
 endforeach()
 

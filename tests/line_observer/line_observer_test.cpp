@@ -1,7 +1,7 @@
 // The line observer's decoder fed byte by byte, as the receivers on each side decoded them, and
 // its sequence comparison. Frames are built with the codec (docs/system.md §5.3), so the expected
 // counts follow from the transfers of docs/system.md §5.2 written out in each test.
-#include "scenarios/line_observer.h"
+#include "scenarios/board/line_observer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The figures gathered online (scenarios/measure.h) against their definitions over the whole
+// The figures gathered online (scenarios/verdict/measure.h) against their definitions over the whole
 // run's lists, which is how they were computed before they went online: the DP-RAM time per byte
 // to the last bit, and the exactly-once frame comparison.
-#include "scenarios/measure.h"
+#include "scenarios/verdict/measure.h"
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
 

@@ -2,8 +2,8 @@
 // the vector table points at (checked against the firmware's own symbol map), and its latency
 // and service figures are what the bus cycles say.
 #include "comm_fw_symbols.h"
-#include "scenarios/controller.h"
-#include "scenarios/interrupt_probe.h"
+#include "scenarios/board/controller.h"
+#include "scenarios/board/interrupt_probe.h"
 #include "scenarios/host/protocol_host.h"
 #include "tests/support/sc_test.h"
 

@@ -23,14 +23,14 @@
 //          (no Intel text gives them; docs/cpu8086.md lists hardware INTA timing as a gap).
 //   [BRD]  wait states of the board (CommBoardConfig): ROM 1, RAM 0, I/O 1; the INTA cycles go
 //          to the 8259A directly (no chip-select wait state) and the 8259A adds none.
-// The probe's definitions (scenarios/interrupt_probe.h): first_isr = end of T4 of the first code
+// The probe's definitions (scenarios/board/interrupt_probe.h): first_isr = end of T4 of the first code
 // fetch at the handler; iret_done = T1 of the first code fetch at the return address;
 // eoi = T1 of the OUT that writes the EOI; latency = first_isr - ir_rise.
 #include "comm_cpu/comm_board.h"
 #include "comm_cpu/cpu8086.h"
 #include "models/router.h"
 #include "pic8259/pic8259.h"
-#include "scenarios/interrupt_probe.h"
+#include "scenarios/board/interrupt_probe.h"
 #include "tests/support/sc_test.h"
 
 #include <tlm_utils/simple_target_socket.h>

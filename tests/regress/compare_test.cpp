@@ -1,6 +1,6 @@
 // compare: verdicts per figure and check under the tolerances, run matching, the outputs.
 #include "models/config_error.h"
-#include "scenarios/compare.h"
+#include "scenarios/sweep/compare.h"
 
 #include <gtest/gtest.h>
 

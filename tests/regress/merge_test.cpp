@@ -1,7 +1,7 @@
 // Merging run directories: flattening, the summary files, order and split independence.
 #include "tests/support/files.h"
 #include "models/config_error.h"
-#include "scenarios/merge.h"
+#include "scenarios/sweep/merge.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The process pool behind `rcsim sweep --jobs`: parallelism, exit codes, logs.
-#include "scenarios/process_pool.h"
+#include "scenarios/sweep/process_pool.h"
 
 #include <gtest/gtest.h>
 

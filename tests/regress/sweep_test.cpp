@@ -1,6 +1,6 @@
 // The sweep file: axes, zip groups, ranges, base lists, ids, key paths, shards.
 #include "models/config_error.h"
-#include "scenarios/sweep.h"
+#include "scenarios/sweep/sweep.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// report.html's motion section (scenarios/report_html.h): the control-cycle, latency and CSP
+// report.html's motion section (scenarios/report/report_html.h): the control-cycle, latency and CSP
 // figures of a run with main_cpu.motion, both trajectory pictures, and the page of a motion-only
 // run.
-#include "scenarios/report_html.h"
+#include "scenarios/report/report_html.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // report.html and interrupts.csv from real runs of a short three-port scenario: the CSV against
 // report.json, and two runs of the rcsim executable giving byte-identical files.
 #include "tests/support/files.h"
-#include "scenarios/runner.h"
+#include "scenarios/run/runner.h"
 #include "tests/support/sc_test.h"
 
 #include <cstdio>

@@ -1,7 +1,7 @@
 // The report writer on synthetic data: histogram bins, the timeline window, the CSV layout and the
 // sections and charts of report.html.
-#include "scenarios/report_html.h"
-#include "scenarios/svg.h"
+#include "scenarios/report/report_html.h"
+#include "scenarios/report/svg.h"
 #include "tests/support/printf_fixed.h"
 #include "tests/support/sc_test.h"
 

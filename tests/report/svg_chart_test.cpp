@@ -1,6 +1,6 @@
-// The chart module's drawing calls (scenarios/svg.h): each element's exact markup, so that the
+// The chart module's drawing calls (scenarios/report/svg.h): each element's exact markup, so that the
 // same picture is always the same bytes (numbers with one decimal, text escaped).
-#include "scenarios/svg.h"
+#include "scenarios/report/svg.h"
 #include "tests/support/printf_fixed.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// The verdicts of a motion run (scenarios/motion_checks.h) on hand-made trajectories: the swept
+// The verdicts of a motion run (scenarios/verdict/motion_checks.h) on hand-made trajectories: the swept
 // angle, the commanded arc, the end point, the expected outcomes. The same checks through the
 // rcsim binary, made to fail one by one, are tests/checks/cases/motion_*.yaml.
-#include "scenarios/motion_checks.h"
+#include "scenarios/verdict/motion_checks.h"
 
 #include <gtest/gtest.h>
 

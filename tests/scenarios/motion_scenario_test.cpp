@@ -1,7 +1,7 @@
-// The motion scenario runner (scenarios/motion_scenario.h): the X-Y plotter circle end to end,
+// The motion scenario runner (scenarios/run/motion_run.h): the X-Y plotter circle end to end,
 // and bad `motion:` sections, each error naming file, line and the full key path (the same
 // cases through the rcsim executable are in tests/cli/bad_input.sh).
-#include "scenarios/motion_scenario.h"
+#include "scenarios/run/motion_run.h"
 
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     EXPECT_EQ(m["state"], "STANDSTILL");
     EXPECT_EQ(m["final_cmd_pulses"][0], 0);
     EXPECT_EQ(m["final_cmd_pulses"][1], 0);
-    // Every check in the one schema (scenarios/checks.h), in report order.
+    // Every check in the one schema (scenarios/verdict/checks.h), in report order.
     std::vector<std::string> names;
     for (const auto& c : m["checks"]) {
         names.push_back(c["name"]);

@@ -1,10 +1,10 @@
-// The motion layer in a communication run (scenarios/motion_system.h): command latency pairing,
+// The motion layer in a communication run (scenarios/verdict/motion_figures.h): command latency pairing,
 // the script's report, and the scenario keys of scripted hosts and main_cpu.motion, bad ones
 // named with file and line.
 #include "models/config_error.h"
-#include "scenarios/motion_scenario.h"
-#include "scenarios/motion_system.h"
-#include "scenarios/scenario.h"
+#include "scenarios/run/motion_run.h"
+#include "scenarios/verdict/motion_figures.h"
+#include "scenarios/config/scenario.h"
 
 #include <gtest/gtest.h>
 

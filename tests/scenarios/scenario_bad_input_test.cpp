@@ -1,7 +1,7 @@
 // load_scenario() on bad scenario files: one ConfigError naming the file and line or the value
 // (the same cases through the rcsim executable are in tests/cli/bad_input.sh).
 #include "models/config_error.h"
-#include "scenarios/scenario.h"
+#include "scenarios/config/scenario.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
-// The chart module's nice axes and decimation (scenarios/svg.h): known answers of the nice-step
+// The chart module's nice axes and decimation (scenarios/report/svg.h): known answers of the nice-step
 // and nice-range rules, min/max per pixel column keeping every extreme, and trajectory pictures
 // of a long run staying under 2 MB.
-#include "scenarios/svg.h"
-#include "scenarios/trajectory_report.h"
+#include "scenarios/report/svg.h"
+#include "scenarios/report/trajectory_report.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,12 @@
-// trajectory.csv and trajectory.svg from a hand-made recording (scenarios/trajectory_report.h).
+// trajectory.csv and trajectory.svg from a hand-made recording (scenarios/report/trajectory_report.h).
 #include "tests/support/files.h"
 #include "models/config_error.h"
-#include "scenarios/trajectory_report.h"
+#include "scenarios/report/trajectory_report.h"
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -109,7 +111,9 @@ TEST(TrajectoryReport, UnwritableFileIsNamed) {
         write_trajectory_svg(l_path(), dir / "trajectory.svg", 0, 1, "t");
         FAIL() << "no error";
     } catch (const ConfigError& e) { // bad input (exit 2), naming the file
-        EXPECT_EQ(std::string(e.what()), (dir / "trajectory.svg").string() + ": cannot write the file");
+        // With the system's reason (models/output_file.h): the folder does not exist.
+        EXPECT_EQ(std::string(e.what()),
+                  (dir / "trajectory.svg").string() + ": cannot write the file: " + std::strerror(ENOENT));
     }
     EXPECT_THROW(write_trajectory_csv(l_path(), dir / "trajectory.csv"), ConfigError);
     // A full disk: the open succeeds, the write fails.

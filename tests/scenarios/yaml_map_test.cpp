@@ -1,4 +1,4 @@
-#include "scenarios/yaml_map.h"
+#include "scenarios/config/yaml_map.h"
 
 #include <gtest/gtest.h>
 

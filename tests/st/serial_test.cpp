@@ -2,9 +2,9 @@
 // a scripted serial host travel through the comm CPU's firmware and the DP-RAM to the main CPU,
 // whose control cycle runs the program; a bad program is bad input naming file, line and column.
 #include "models/config_error.h"
-#include "scenarios/bench.h"
-#include "scenarios/runner.h"
-#include "scenarios/scenario.h"
+#include "scenarios/world/world.h"
+#include "scenarios/run/runner.h"
+#include "scenarios/config/scenario.h"
 
 #include <gtest/gtest.h>
 
@@ -44,7 +44,7 @@ TEST(StSerial, RnStartsTheLoadedProgramStReportsItSpStopsIt) {
     std::vector<FrameRecord> sent; // the main CPU's responses, as handed to the DP-RAM
     RunOptions opt;
     opt.reproducible = true;
-    opt.on_bench = [&sent](Bench& b) {
+    opt.on_world = [&sent](World& b) {
         ASSERT_TRUE(b.program);
         auto observer = b.ctl.main.on_sent; // the bench's exactly-once observer: keep it
         b.ctl.main.on_sent = [observer, &sent](const FrameRecord& f) {

@@ -2,7 +2,7 @@
 // assembled boards (system_bench.h): a give-up drops one response and says so; T1 runs from the
 // moment our last character has left the line; an EOT'd frame reaches the main CPU whatever the
 // line does next; a flooded port cannot hold the others off.
-#include "scenarios/interrupt_probe.h"
+#include "scenarios/board/interrupt_probe.h"
 #include "tests/system/system_bench.h"
 #include "tests/support/sc_test.h"
 

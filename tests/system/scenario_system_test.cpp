@@ -1,7 +1,7 @@
 // End to end: the shipped three-port scenario through the scenario runner (the same code path as
 // `rcsim run scenarios/three_ports_9600.yaml`): three protocol hosts saturating their ports with
 // EC and ST commands for 2 s of simulated time, the real firmware ROM, the main CPU.
-#include "scenarios/runner.h"
+#include "scenarios/run/runner.h"
 #include "tests/support/sc_test.h"
 
 #include <string>

@@ -1,5 +1,5 @@
-#include "scenarios/controller.h"
-#include "scenarios/interrupt_probe.h"
+#include "scenarios/board/controller.h"
+#include "scenarios/board/interrupt_probe.h"
 #include "models/serial_line.h"
 #include "tests/support/sc_test.h"
 

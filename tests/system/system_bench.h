@@ -4,7 +4,7 @@
 #pragma once
 
 #include "comm_fw_symbols.h"
-#include "scenarios/controller.h"
+#include "scenarios/board/controller.h"
 #include "models/serial_line.h"
 #include "models/frame_codec.h"
 #include "scenarios/host/protocol_host.h"

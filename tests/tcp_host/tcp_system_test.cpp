@@ -3,12 +3,12 @@
 // to the same bytes at the same simulated times. Every wait is bounded.
 #include "models/clock.h"
 #include "models/config_error.h"
-#include "scenarios/controller.h"
+#include "scenarios/board/controller.h"
 #include "models/serial_line.h"
 #include "models/frame_codec.h"
 #include "scenarios/host/tcp_host.h"
-#include "scenarios/runner.h"
-#include "scenarios/scenario.h"
+#include "scenarios/run/runner.h"
+#include "scenarios/config/scenario.h"
 #include "tests/support/sc_test.h"
 #include "tests/tcp_host/tcp_test_util.h"
 

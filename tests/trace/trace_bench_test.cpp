@@ -1,10 +1,10 @@
-// The trace on an assembled bench, with an event handed to a chip's probe hook directly: BUSY of
+// The trace on an assembled world, with an event handed to a chip's probe hook directly: BUSY of
 // the DP-RAM, which no shipped scenario provokes (report.json dpram.collisions is 0 in all).
 #include "tests/trace/trace_check.h"
 
 #include "models/clock.h"
-#include "scenarios/bench.h"
-#include "scenarios/scenario.h"
+#include "scenarios/world/world.h"
+#include "scenarios/config/scenario.h"
 #include "scenarios/trace/perfetto_trace.h"
 
 #include <gtest/gtest.h>
@@ -25,15 +25,15 @@ std::vector<std::pair<double, std::int64_t>> counter(const json& d, const std::s
 
 TEST(TraceBench, EachBusyEpisodeIsAStepOnItsPortsCounter) {
     const rcsim::Scenario s = rcsim::load_scenario(RCSIM_TRACE_DATA "/short_trace.yaml");
-    rcsim::Bench bench("bench", s);
+    rcsim::World world("world", s);
     std::filesystem::create_directories(RCSIM_TRACE_WORK);
     const std::string path = RCSIM_TRACE_WORK "/busy.json";
     bool before = false; // a hook set before the trace keeps being called
-    bench.ctl.dpram.on_busy = [&before](const rcsim::Idt7130::BusyEvent&) { before = true; };
-    rcsim::trace::PerfettoTrace trace(bench, path);
+    world.ctl.dpram.on_busy = [&before](const rcsim::Idt7130::BusyEvent&) { before = true; };
+    rcsim::trace::PerfettoTrace trace(world, path);
     using E = rcsim::Idt7130::BusyEvent;
-    bench.ctl.dpram.on_busy(E{rcsim::Idt7130::left_port, 0x10, false, rcsim::ps(5'000'000), rcsim::ps(5'250'000), 2});
-    bench.ctl.dpram.on_busy(E{rcsim::Idt7130::right_port, 0x20, true, rcsim::ps(7'000'000), rcsim::ps(7'562'500), 1});
+    world.ctl.dpram.on_busy(E{rcsim::Idt7130::left_port, 0x10, false, rcsim::ps(5'000'000), rcsim::ps(5'250'000), 2});
+    world.ctl.dpram.on_busy(E{rcsim::Idt7130::right_port, 0x20, true, rcsim::ps(7'000'000), rcsim::ps(7'562'500), 1});
     trace.finish();
     EXPECT_TRUE(before);
     std::ifstream in(path);

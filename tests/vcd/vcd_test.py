@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Tests of `rcsim run --vcd` (scenarios/vcd_trace.h, docs/tools.md "VCD waveforms").
+"""Tests of `rcsim run --vcd` (scenarios/trace/vcd_trace.h, docs/tools.md "VCD waveforms").
 
 Usage: vcd_test.py CASE RCSIM SCENARIO WORKDIR, CASE one of
   toggles    the trace declares every signal of docs/tools.md, each toggles at least once, the

@@ -1,0 +1,227 @@
+#include "scenarios/board/interrupt_probe.h"
+
+#include "comm_cpu/cpu8086.h"
+
+#include <algorithm>
+
+namespace rcsim {
+
+using i8086::Bus;
+using i8086::BusRecord;
+
+double InterruptRecord::latency_us() const { return to_us(first_isr - ir_rise); }
+double InterruptRecord::service_us() const { return to_us(iret_done - first_isr); }
+
+InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
+                               std::uint16_t pic_io_base, std::uint32_t dpram_base,
+                               std::uint32_t dpram_data_size)
+    : sc_module(name), cpu_(cpu), ir_(std::move(ir)), pic_io_base_(pic_io_base), dpram_base_(dpram_base),
+      dpram_size_(dpram_data_size) {
+    SC_METHOD(sample_lines);
+    for (IrqLine* line : ir_) sensitive << line->value_changed_event();
+    dont_initialize();
+    cpu_.set_bus_observer(&InterruptProbe::bus_hook, this, watched_);
+}
+
+void InterruptProbe::watch_kinds() {
+    using i8086::bus_kind_bit;
+    i8086::BusKinds kinds = bus_kind_bit(Bus::int_ack) | bus_kind_bit(Bus::mem_write);
+    if (forward_) {
+        kinds = i8086::kAllBusKinds;
+    } else if (!stack_.empty()) {
+        // Inside an interrupt every kind but code fetches; those only until the handler's first
+        // fetch and once the return IP is popped (the fetch at the return address closes it).
+        const Open& top = stack_.back();
+        kinds = i8086::kAllBusKinds;
+        if (top.entered && !top.popped) kinds &= ~bus_kind_bit(Bus::code_fetch);
+    }
+    if (kinds != watched_) {
+        watched_ = kinds;
+        cpu_.set_bus_observer_kinds(kinds);
+    }
+}
+
+void InterruptProbe::sample_lines() {
+    for (std::size_t level = 0; level < ir_.size() && level < 8; ++level) {
+        const bool now = ir_[level]->read();
+        if (now && !last_level_[level] && !rise_pending_[level]) {
+            rise_[level] = sc_core::sc_time_stamp();
+            rise_pending_[level] = true;
+        }
+        // A request that goes away before its INTA is not served (the 8259A needs IR high until
+        // the first INTA): the next interrupt of this level belongs to a later rise.
+        if (!now) rise_pending_[level] = false;
+        last_level_[level] = now;
+    }
+}
+
+void InterruptProbe::bus_hook(void* self, const BusRecord& r) {
+    auto* probe = static_cast<InterruptProbe*>(self);
+    if (probe->forward_) probe->forward_(probe->forward_ctx_, r);
+    probe->on_cycle(r);
+    probe->watch_kinds(); // the cycle may have opened, entered, popped or closed an interrupt
+}
+
+void InterruptProbe::on_cycle(const BusRecord& r) {
+    const bool dpram_write = r.kind == Bus::mem_write && r.address - dpram_base_ < 0x400;
+    // Outside interrupts only INTA and DP-RAM writes matter: skip the rest cheaply.
+    if (stack_.empty() && r.kind != Bus::int_ack && !dpram_write) return;
+    const sc_core::sc_time t = cpu_.time_of(r.start);
+    if (r.kind == Bus::int_ack) {
+        on_inta(r, t);
+    } else if (!stack_.empty()) {
+        Open& top = stack_.back();
+        // The entry's pushes may straddle the first handler fetch: the 8086 flushes the queue to the
+        // new CS:IP between pushing CS and pushing IP (FARCALL microcode), so the BIU can fetch at the
+        // handler before the return IP is written. Until all three pushes are seen, entry cycles
+        // are matched even after the handler was entered.
+        const bool entry_cycle = (!top.entered || top.pushes < 3) && on_entry_cycle(top, r, t);
+        if (!entry_cycle && top.entered) on_handler_cycle(r, t);
+    }
+    if (dpram_write && on_dpram_write) on_dpram_write(r, t);
+}
+
+void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
+    // The two INTA cycles are back to back: a second one completes the entry opened by the first.
+    if (!stack_.empty() && !stack_.back().entered && stack_.back().rec.inta2 == sc_core::SC_ZERO_TIME &&
+        stack_.back().rec.inta1 != t) {
+        InterruptRecord& rec = stack_.back().rec;
+        rec.inta2 = t;
+        rec.vector = static_cast<std::uint8_t>(r.data & 0xFF);
+        rec.level = rec.vector & 7;
+        if (rise_pending_[rec.level]) {
+            rec.ir_rise = rise_[rec.level];
+            rec.has_rise = true;
+            rise_pending_[rec.level] = false;
+        }
+        return;
+    }
+    // A handler whose IRET has already popped its return address is finished even though the
+    // interrupted code never ran again: the CPU took the next pending interrupt at the boundary
+    // right after the IRET (the new entry pushes the same return address). Its IRET completed
+    // at that boundary, the T1 of this INTA.
+    while (!stack_.empty() && stack_.back().entered && stack_.back().popped) close_top(t);
+    Open o;
+    o.rec.inta1 = t;
+    o.rec.depth = static_cast<unsigned>(stack_.size());
+    stack_.push_back(o);
+}
+
+void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
+    InterruptRecord rec = stack_.back().rec;
+    stack_.pop_back();
+    rec.iret_done = iret_done;
+    rec.done = true;
+    const unsigned level = rec.level & 7;
+    ++count_[level];
+    if (rec.has_rise) latency_[level].add(rec.latency_us());
+    service_[level].add(rec.service_us());
+    if (keep_) done_.push_back(rec);
+    held_.push_back(rec);
+    // Back in the main program: everything entered so far has completed.
+    if (stack_.empty()) hand_over(start_horizon());
+}
+
+void InterruptProbe::hand_over(const sc_core::sc_time& horizon) {
+    // Nested records completed before the one they interrupted: entry order is by first INTA.
+    std::sort(held_.begin(), held_.end(),
+              [](const InterruptRecord& a, const InterruptRecord& b) { return a.inta1 < b.inta1; });
+    if (on_record)
+        for (const InterruptRecord& r : held_) on_record(r);
+    held_.clear();
+    if (on_settled) on_settled(horizon);
+}
+
+sc_core::sc_time InterruptProbe::start_horizon() const {
+    // A later record is entered after now (its INTA is still to come, at or after the kernel's
+    // time) and starts at that INTA or at its IR rise: one pending now, or one still to come.
+    sc_core::sc_time h = sc_core::sc_time_stamp();
+    for (const Open& o : stack_) h = std::min(h, o.rec.has_rise ? o.rec.ir_rise : o.rec.inta1);
+    for (std::size_t level = 0; level < 8; ++level)
+        if (rise_pending_[level]) h = std::min(h, rise_[level]);
+    return h;
+}
+
+void InterruptProbe::flush() { hand_over(sc_core::sc_max_time()); }
+
+bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::sc_time& t) {
+    if (o.rec.inta2 == sc_core::SC_ZERO_TIME) return false;
+    const std::uint32_t ivt = o.rec.vector * 4u;
+    if (r.kind == Bus::mem_read && o.ivt_reads < 2 && (r.address == ivt || r.address == ivt + 2)) {
+        (r.address == ivt ? o.new_ip : o.new_cs) = r.data;
+        ++o.ivt_reads;
+        return true;
+    }
+    if (r.kind == Bus::mem_write && o.ivt_reads == 2 && o.pushes < 3) {
+        // Pushes in order FLAGS, CS, IP. With an odd SP each word is two byte cycles, low byte
+        // first at the word's address (the firmware's C code can leave SP odd).
+        std::uint16_t word = r.data;
+        std::uint32_t at = r.address;
+        if (r.width == 1) {
+            if (!o.half_pending) {
+                o.half_pending = true;
+                o.half_address = r.address;
+                o.half_low = static_cast<std::uint8_t>(r.data);
+                return true;
+            }
+            o.half_pending = false;
+            at = o.half_address;
+            word = static_cast<std::uint16_t>((r.data & 0xFF) << 8 | o.half_low);
+        }
+        if (o.pushes == 1) o.ret_cs = word;
+        if (o.pushes == 2) {
+            o.ret_ip = word;
+            o.ip_slot = at;
+        }
+        ++o.pushes;
+        return true;
+    }
+    if (r.kind == Bus::code_fetch && o.ivt_reads == 2 && !o.entered) {
+        const std::uint32_t handler = ((std::uint32_t(o.new_cs) << 4) + o.new_ip) & 0xFFFFF;
+        if (r.address == handler || r.address == (handler & ~1u)) {
+            o.entered = true;
+            o.rec.handler = handler;
+            o.rec.first_isr = cpu_.time_of(r.start + 4 + r.wait_states);
+            return true;
+        }
+    }
+    (void)t;
+    return false;
+}
+
+void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time& t) {
+    Open& o = stack_.back();
+    if (!o.entered) return;
+    switch (r.kind) {
+    case Bus::io_write:
+        // OCW2 (A0=0, D4:D3 = 00) with the EOI bit (D5) set.
+        if (r.address == pic_io_base_ && (r.data & 0x18) == 0 && (r.data & 0x20) && !o.rec.has_eoi) {
+            o.rec.eoi = t;
+            o.rec.has_eoi = true;
+        }
+        break;
+    case Bus::mem_read:
+        if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_reads += r.width;
+        if (r.address == o.ip_slot && o.pushes == 3) o.popped = true; // IRET pops the return IP
+        break;
+    case Bus::mem_write:
+        if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_writes += r.width;
+        break;
+    case Bus::code_fetch: {
+        const std::uint32_t ret = ((std::uint32_t(o.ret_cs) << 4) + o.ret_ip) & 0xFFFFF;
+        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) close_top(t);
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+std::vector<const InterruptRecord*> InterruptProbe::of_level(unsigned level) const {
+    std::vector<const InterruptRecord*> out;
+    for (const auto& r : done_)
+        if (r.level == level) out.push_back(&r);
+    return out;
+}
+
+} // namespace rcsim

@@ -1,0 +1,160 @@
+// rcsim — interrupt timing probe for the communication board.
+//
+// Measures every interrupt from bus cycles and pins, never from firmware cooperation:
+//   ir_rise    the IR line of the 8259A rises (kernel event on the line)
+//   inta1/2    T1 of the first and second INTA bus cycles (the second carries the vector)
+//   first_isr  the first instruction of the handler is available: the end (T4) of the first code
+//              fetch at the handler address read from the vector table
+//   eoi        T1 of the I/O write of an EOI command (OCW2 with EOI=1) to the 8259A
+//   iret_done  the interrupted code resumes: T1 of the first code fetch at the return address
+//              that the entry pushed, after the handler popped it (IRET); or, when the CPU goes
+//              from the IRET straight into the next pending interrupt, T1 of that INTA
+// latency = first_isr - ir_rise; service = iret_done - first_isr. Nested interrupts are tracked
+// with a stack. The handler address and return address come from the entry's own bus cycles
+// (vector-table reads and the pushes of CS and IP).
+//
+// Memory stays flat over any run length: per level the probe keeps a count and the latency and
+// service sample sets (models/stats.h), and hands each completed record to `on_record` instead
+// of keeping it. Keeping every record (`keep_records`) is for short tests.
+#pragma once
+
+#include "comm_cpu/i8086.h"
+#include "models/irq.h"
+#include "models/stats.h"
+
+#include <systemc>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace rcsim {
+
+class Cpu8086;
+
+struct InterruptRecord {
+    unsigned level = 0;
+    std::uint8_t vector = 0;
+    sc_core::sc_time ir_rise, inta1, inta2, first_isr, eoi, iret_done;
+    bool has_rise = false, has_eoi = false, done = false;
+    unsigned depth = 0;            // nesting depth at entry (0 = interrupted the main program)
+    std::uint32_t handler = 0;     // physical address of the first handler instruction
+    std::uint64_t dpram_reads = 0; // DP-RAM data-area bytes the handler read (left port)
+    std::uint64_t dpram_writes = 0;
+
+    double latency_us() const;
+    double service_us() const;
+};
+
+/// Where a run sends every completed record besides its own figures (the report's interrupt log,
+/// scenarios/report/interrupt_log.h), so that the world that measures does not depend on what
+/// renders: `record` in entry order, with whether the interrupt took a character out of its port's
+/// RX FIFO (the world tells that from the RXD reads); `settle`: no record told later starts before
+/// `horizon`; `finish`: no more records.
+class InterruptSink {
+public:
+    virtual ~InterruptSink() = default;
+    virtual void record(const InterruptRecord& r, bool rx) = 0;
+    virtual void settle(const sc_core::sc_time& horizon) = 0;
+    virtual void finish() = 0;
+};
+
+class InterruptProbe : public sc_core::sc_module {
+public:
+    /// Watches `cpu`'s bus cycles; `ir` are the 8259A's request lines (index = level);
+    /// `pic_io_base` the 8259A's A0=0 I/O address; DP-RAM data bytes are counted in
+    /// [dpram_base, dpram_base + dpram_data_size).
+    SC_HAS_PROCESS(InterruptProbe);
+    InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
+                   std::uint16_t pic_io_base, std::uint32_t dpram_base, std::uint32_t dpram_data_size);
+
+    /// Completed interrupts of one level, and their latency (those with an IR rise) and service.
+    std::uint64_t count(unsigned level) const { return level < 8 ? count_[level] : 0; }
+    const Samples& latency_us(unsigned level) const { return latency_[level & 7]; }
+    const Samples& service_us(unsigned level) const { return service_[level & 7]; }
+
+    /// Every completed record, in completion order, and those of one level: kept only while
+    /// `keep_records` is on (the default, for tests of a few seconds; a long run turns it off and
+    /// listens to `on_record`).
+    void keep_records(bool on) { keep_ = on; }
+    const std::vector<InterruptRecord>& records() const { return done_; }
+    std::vector<const InterruptRecord*> of_level(unsigned level) const;
+
+    /// Completed records, in entry order (first INTA), each once it and every interrupt entered
+    /// before it have completed: the probe holds a record back while an interrupt it is nested
+    /// in still runs (the nested one completes first), and hands the lot over when the CPU is
+    /// back in the main program. `on_settled(h)` follows each such batch: every record handed over
+    /// later starts (IR rise, or first INTA without one) at h or after.
+    std::function<void(const InterruptRecord&)> on_record;
+    std::function<void(const sc_core::sc_time&)> on_settled;
+    /// The end of the run: hands over the completed records still held back (their outer
+    /// interrupt never returned) and settles at the end of time. Records still open stay out.
+    void flush();
+
+    /// Called for every memory write into the DP-RAM window [dpram_base, dpram_base + 1 KB) with
+    /// the write's T1 time (for per-byte DP-RAM measurements). Other cycles are not passed on, so
+    /// the hook costs nothing on the hot path of code fetches and RAM accesses.
+    std::function<void(const i8086::BusRecord&, const sc_core::sc_time&)> on_dpram_write;
+
+    /// Another observer of every bus cycle (the CPU has one observer slot and the probe holds
+    /// it): called for each cycle before the probe looks at it; nullptr (the default) for none.
+    void forward_cycles(i8086::BusHook hook, void* context) {
+        forward_ = hook;
+        forward_ctx_ = context;
+        watch_kinds();
+    }
+
+private:
+    Cpu8086& cpu_;
+    i8086::BusHook forward_ = nullptr;
+    void* forward_ctx_ = nullptr;
+    std::vector<IrqLine*> ir_;
+    std::uint16_t pic_io_base_;
+    std::uint32_t dpram_base_, dpram_size_;
+
+    std::array<sc_core::sc_time, 8> rise_{};
+    std::array<bool, 8> rise_pending_{};
+    std::array<bool, 8> last_level_{};
+
+    // Entry in progress: INTA cycles seen, vector-table reads and pushes to collect.
+    struct Open {
+        InterruptRecord rec;
+        unsigned ivt_reads = 0;
+        std::uint16_t new_ip = 0, new_cs = 0;
+        unsigned pushes = 0;
+        bool half_pending = false;          // low byte of a word pushed at an odd address
+        std::uint32_t half_address = 0;
+        std::uint8_t half_low = 0;
+        std::uint32_t ip_slot = 0;          // stack address where the return IP was pushed
+        std::uint16_t ret_ip = 0, ret_cs = 0;
+        bool entered = false;               // first handler fetch seen
+        bool popped = false;                // the return IP was read back
+    };
+    std::vector<Open> stack_;
+    std::vector<InterruptRecord> held_; // completed, some interrupt entered before them still open
+    std::array<std::uint64_t, 8> count_{};
+    std::array<Samples, 8> latency_, service_;
+    bool keep_ = true;
+    std::vector<InterruptRecord> done_;
+
+    void sample_lines();
+    /// The cycles the probe needs from the CPU, told to it after each cycle it sees: outside
+    /// interrupts only INTA and memory writes (DP-RAM writes); inside one every kind, but code
+    /// fetches only until the handler's first fetch and after the return IP is popped; every
+    /// cycle with a forward observer. So the main program's fetches and reads, and a handler's
+    /// own fetches, keep the core's direct path. (ProfileRun's test compares a run whose probe
+    /// sees every cycle: the reports are identical.)
+    void watch_kinds();
+    i8086::BusKinds watched_ = i8086::bus_kind_bit(i8086::Bus::int_ack) | i8086::bus_kind_bit(i8086::Bus::mem_write);
+    static void bus_hook(void* self, const i8086::BusRecord& r);
+    void on_cycle(const i8086::BusRecord& r);
+    void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);
+    bool on_entry_cycle(Open& o, const i8086::BusRecord& r, const sc_core::sc_time& t);
+    void on_handler_cycle(const i8086::BusRecord& r, const sc_core::sc_time& t);
+    void close_top(const sc_core::sc_time& iret_done);
+    void hand_over(const sc_core::sc_time& horizon);
+    sc_core::sc_time start_horizon() const;
+};
+
+} // namespace rcsim

@@ -1,0 +1,55 @@
+// rcsim — `rcsim run --gdb` (gdb_run.h).
+#include "scenarios/cli/gdb_run.h"
+
+#include "scenarios/world/world.h"
+#include "scenarios/debug/elf_symbols.h"
+#include "scenarios/report/output.h"
+#include "models/config_error.h"
+
+#include <filesystem>
+#include <ostream>
+
+#ifndef RCSIM_COMM_FW_MAP
+#define RCSIM_COMM_FW_MAP ""
+#endif
+
+namespace rcsim::debug {
+
+GdbRun::GdbRun(const GdbOptions& gdb, const Scenario& s, RunOptions& opt, std::ostream& out, std::ostream& log)
+    : out_(out), log_(log) {
+    if (s.has_motion) throw ConfigError(s.file, 0, "--gdb: a motion scenario runs no 8086 to debug");
+    config_.set_listen(gdb.listen);
+    config_.wait = gdb.wait;
+    const bool built_rom = !opt.rom && s.rom.empty();
+    try {
+        if (!gdb.symbols.empty()) symbols_ = SymbolTable::load(gdb.symbols);
+        else if (built_rom && std::string(RCSIM_COMM_FW_MAP).size()) symbols_ = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
+    } catch (const SymbolError& e) {
+        throw ConfigError(e.what());
+    }
+    if (symbols_.empty()) {
+        log_ << "gdb: no symbols for this ROM (--symbols FILE gives them)" << std::endl;
+    } else if (opt.out_dir.empty()) {
+        log_ << "gdb: " << symbols_.size() << " symbols; give --out DIR to get DIR/symbols.elf for gdb" << std::endl;
+    } else {
+        const std::string elf = (std::filesystem::path(opt.out_dir) / "symbols.elf").string();
+        prepare_out_dir(opt.out_dir);
+        try {
+            write_elf(symbols_, elf);
+        } catch (const SymbolError& e) {
+            throw ConfigError(e.what());
+        }
+        out_ << "gdb: symbols in " << elf << " (in gdb: set osabi none, file " << elf << ")" << std::endl;
+    }
+    opt.on_world = [this](World& world) {
+        stub_ = std::make_unique<GdbStub>(config_, world.ctl.comm, world.pacer.get(), log_);
+        out_ << "gdb: listening on " << stub_->endpoint()
+             << (config_.wait ? " (waiting for the debugger before the first instruction)" : "") << std::endl;
+    };
+}
+
+void GdbRun::finish(int exit_code) {
+    if (stub_) stub_->finish(exit_code);
+}
+
+} // namespace rcsim::debug

@@ -1,0 +1,100 @@
+// rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
+//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE] [--monitor [HOST:]PORT]
+#include "models/config_error.h"
+#include "scenarios/cli/gdb_run.h"
+#include "scenarios/run/failure.h"
+#include "scenarios/run/runner.h"
+#include "models/stop_signal.h"
+
+#include <CLI/CLI.hpp>
+
+#include <systemc>
+
+#include <charconv>
+#include <iostream>
+
+namespace rcsim {
+
+namespace {
+/// --seed: a decimal number 0 .. 2^64-1, all of it (CLI11 would wrap "-5" and saturate an overflow).
+std::uint64_t parse_seed(const std::string& text) {
+    std::uint64_t v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end)
+        throw ConfigError("--seed '" + text + "' is not a number 0 .. 18446744073709551615");
+    return v;
+}
+} // namespace
+
+void add_run_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
+    struct Args {
+        std::string scenario, out, rom, vcd, seed, trace, symbols, monitor;
+        bool reproducible = false;
+        bool verbose = false;
+        debug::GdbOptions gdb;
+        bool profile = false;
+    };
+    auto args = std::make_shared<Args>();
+    cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
+    cmd->add_option("--out", args->out, "Output directory for report.json and pictures");
+    auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
+    auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
+    cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
+    cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
+    auto* trace = cmd->add_option("--trace", args->trace, "Write a Trace Event Format file (ui.perfetto.dev, chrome://tracing)");
+    cmd->add_flag("--profile", args->profile,
+                  "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
+    auto* symbols = cmd->add_option("--symbols", args->symbols,
+                                    "For --profile and --gdb: the ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS "
+                                    "lines; default: the built firmware's; docs/tools.md)");
+    cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
+    auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
+                                "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");
+    auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
+    auto* monitor = cmd->add_option("--monitor", args->monitor,
+                                    "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
+    cmd->callback([args, seed, rom, trace, gdb, gdb_wait, symbols, monitor] {
+        RunOptions opt;
+        opt.out_dir = args->out;
+        if (*rom) opt.rom = args->rom;
+        // The input a run that exhausts memory is blamed on.
+        const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
+        opt.reproducible = args->reproducible;
+        opt.vcd = args->vcd;
+        opt.trace = args->trace;
+        opt.profile = args->profile;
+        opt.symbols = args->symbols;
+        if (*monitor) opt.monitor = args->monitor;
+        int code = 0;
+        // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
+        if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+        try {
+            if (*seed) opt.seed = parse_seed(args->seed);
+            if (*trace && args->trace.empty()) throw ConfigError("--trace '': an empty path (leave --trace out for no trace)");
+            if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
+            if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
+            if (*symbols && !*gdb && !args->profile) throw ConfigError("--symbols needs --gdb or --profile");
+            // Both sit on the core's one instruction-boundary hook (i8086::StepHook).
+            if (*gdb && args->profile) throw ConfigError("--gdb and --profile cannot be used together");
+            args->gdb.symbols = args->symbols;
+            install_stop_handlers();
+            nlohmann::json report;
+            Scenario scenario = load_scenario(args->scenario);
+            std::unique_ptr<debug::GdbRun> debugger; // outlives the run: it tells gdb how it ended
+            if (*gdb) debugger = std::make_unique<debug::GdbRun>(args->gdb, scenario, opt, std::cout, std::cerr);
+            code = run_scenario(std::move(scenario), opt, report);
+            if (debugger) debugger->finish(code);
+            print_summary(report, std::cout);
+            if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
+            if (!args->out.empty() && report.contains("interrupts"))
+                std::cout << "html:   " << args->out << "/report.html\n";
+        } catch (...) {
+            code = report_exception("rcsim run", input);
+        }
+        set_command_exit_code(code);
+    });
+}
+
+} // namespace rcsim

@@ -1,0 +1,195 @@
+// rcsim sweep | merge | compare: regression timing reports (docs/regression.md).
+//   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE]
+//   rcsim merge DIR... [--out DIR]
+//   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
+#include "models/config_error.h"
+#include "models/output_file.h"
+#include "scenarios/sweep/compare.h"
+#include "scenarios/sweep/merge.h"
+#include "scenarios/sweep/process_pool.h"
+#include "scenarios/sweep/sweep.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+namespace rcsim {
+
+namespace fs = std::filesystem;
+using namespace regress;
+
+namespace {
+
+std::string command_line(const std::vector<std::string>& argv) {
+    std::string s;
+    for (const auto& a : argv) s += (s.empty() ? "" : " ") + shell_quote(a);
+    return s;
+}
+
+struct SweepArgs {
+    std::string file, out, shard, rom;
+    std::size_t shards = 0;
+    unsigned jobs = 0;
+    bool list = false;
+};
+
+/// Runs this shard's runs `jobs` at a time; returns the sweep's exit code.
+int run_sweep(const SweepArgs& a, bool shards_given) {
+    const Sweep sweep = load_sweep(a.file);
+    const Shard shard = shard_from(a.shard, shards_given ? std::optional<std::size_t>(a.shards) : std::nullopt,
+                                   [](const char* v) { return std::getenv(v); });
+    std::string rom;
+    if (!a.rom.empty()) {
+        std::error_code ec;
+        if (!fs::is_regular_file(a.rom, ec)) throw ConfigError(a.rom, 0, "--rom: no such ROM image");
+        rom = fs::absolute(a.rom).lexically_normal().string();
+    }
+    const fs::path dir = fs::absolute(a.out).lexically_normal();
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir)) throw ConfigError(a.out, 0, "--out: cannot create the directory");
+    const auto mine = shard_runs(sweep.runs.size(), shard);
+    if (shard.count == 1) remove_stale_runs(sweep, dir);
+    for (std::size_t i : mine) materialise(sweep, sweep.runs[i], dir);
+    const std::string exe = self_executable();
+    if (a.list) {
+        for (std::size_t i : mine)
+            std::cout << sweep.runs[i].id << "\t" << command_line(run_argv(exe, dir, sweep.runs[i], rom)) << "\n";
+        return 0;
+    }
+    std::vector<Job> jobs;
+    for (std::size_t i : mine)
+        jobs.push_back({run_argv(exe, dir, sweep.runs[i], rom), (dir / sweep.runs[i].id / "run.log").string()});
+    const unsigned parallel = a.jobs ? a.jobs : std::max(1u, std::thread::hardware_concurrency());
+    Progress progress(jobs.size(), Progress::interactive_default());
+    const auto t0 = std::chrono::steady_clock::now();
+    auto elapsed = [&t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    std::size_t failed = 0;
+    run_jobs(jobs, parallel, [&](std::size_t j, const JobResult& r, std::size_t done) {
+        if (r.exit_code != 0) {
+            ++failed;
+            const std::string why = r.exit_code == 1 ? "a check failed" : r.exit_code == 2 ? "bad input"
+                                                                                           : "exit " + std::to_string(r.exit_code);
+            progress.note("run " + sweep.runs[mine[j]].id + ": " + why + " (" + jobs[j].log + ")");
+        }
+        progress.update(done, failed, elapsed());
+    });
+    progress.finish(failed, elapsed());
+    if (shard.count == 1) {
+        merge_runs({dir.string()}, dir);
+        std::cout << "summary: " << (dir / "summary.html").string() << "\n";
+    } else {
+        std::cout << "shard " << shard.index << "/" << shard.count << " done; merge when every shard is: rcsim merge "
+                  << shell_quote(dir.string()) << "\n";
+    }
+    return failed ? 1 : 0;
+}
+
+void add_sweep(CLI::App& app) {
+    auto* cmd = app.add_subcommand("sweep", "Run every combination of a sweep file's axes; merge the reports");
+    auto a = std::make_shared<SweepArgs>();
+    cmd->add_option("sweep", a->file, "Sweep file (YAML, see docs/regression.md)")->required();
+    cmd->add_option("--out", a->out, "Output directory: one DIR/<id>/ per run, DIR/summary.*")->required();
+    cmd->add_option("--jobs,-j", a->jobs, "Runs in parallel (default: the number of cores)")->check(CLI::Range(1u, 1024u));
+    cmd->add_flag("--list", a->list, "Write the runs' scenario files and print one line per run: id, command");
+    cmd->add_option("--shard", a->shard, "Run every N-th run starting at K (0-based), e.g. 2/8");
+    auto* shards = cmd->add_option("--shards", a->shards, "Shard count with JOB_COMPLETION_INDEX (Kubernetes)")
+                       ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+    cmd->add_option("--rom", a->rom, "ROM image for every run (instead of the built firmware)");
+    cmd->callback([a, shards] {
+        int code = 0;
+        try {
+            code = run_sweep(*a, static_cast<bool>(*shards));
+        } catch (const ConfigError& e) {
+            std::cerr << "rcsim sweep: " << e.what() << "\n";
+            code = 2;
+        }
+        throw CLI::RuntimeError(code);
+    });
+}
+
+void add_merge(CLI::App& app) {
+    auto* cmd = app.add_subcommand("merge", "Merge sweep run directories into summary.json, summary.csv, summary.html");
+    auto dirs = std::make_shared<std::vector<std::string>>();
+    auto out = std::make_shared<std::string>();
+    cmd->add_option("dirs", *dirs, "Sweep output directories (their run subdirectories are merged)")->required();
+    cmd->add_option("--out", *out, "Where the summary files go (default: the first DIR)");
+    cmd->callback([dirs, out] {
+        int code = 0;
+        try {
+            const fs::path o = out->empty() ? fs::path(dirs->front()) : fs::path(*out);
+            std::error_code ec;
+            if (!out->empty()) fs::create_directories(o, ec);
+            const std::size_t n = merge_runs(*dirs, o);
+            std::cout << "merged " << n << " runs: " << (o / "summary.json").string() << ", summary.csv, summary.html\n";
+        } catch (const ConfigError& e) {
+            std::cerr << "rcsim merge: " << e.what() << "\n";
+            code = 2;
+        } catch (const fs::filesystem_error& e) {
+            std::cerr << "rcsim merge: " << e.what() << "\n";
+            code = 2;
+        }
+        throw CLI::RuntimeError(code);
+    });
+}
+
+struct CompareArgs {
+    std::string baseline, current, tolerances, junit, html;
+    bool allow_missing = false;
+};
+
+int run_compare(const CompareArgs& a) {
+    const auto rules = a.tolerances.empty() ? default_tolerances() : load_tolerances(a.tolerances);
+    auto base = load_run_set(a.baseline);
+    auto cur = load_run_set(a.current);
+    // Two report.json files are one run each, whatever their scenario names.
+    std::error_code ec;
+    if (fs::is_regular_file(a.baseline, ec) && fs::is_regular_file(a.current, ec) && base.begin()->first != cur.begin()->first) {
+        auto node = cur.extract(cur.begin());
+        node.key() = base.begin()->first;
+        cur.insert(std::move(node));
+    }
+    const Comparison c = compare_runs(base, cur, rules, a.allow_missing);
+    print_comparison(c, std::cout);
+    if (!a.junit.empty()) write_file(a.junit, junit_xml(c));
+    if (!a.html.empty()) write_file(a.html, compare_html(c));
+    return c.regression() ? 1 : 0;
+}
+
+void add_compare(CLI::App& app) {
+    auto* cmd = app.add_subcommand("compare", "Compare runs with a baseline; exit 1 on a regression");
+    auto a = std::make_shared<CompareArgs>();
+    cmd->add_option("baseline", a->baseline, "Baseline: a report.json or a sweep output directory")->required();
+    cmd->add_option("current", a->current, "Current: a report.json or a sweep output directory")->required();
+    cmd->add_option("--tolerances", a->tolerances, "Tolerances file (YAML, docs/regression.md)");
+    cmd->add_option("--junit", a->junit, "Write JUnit XML here");
+    cmd->add_option("--html", a->html, "Write the comparison page here");
+    cmd->add_flag("--allow-missing", a->allow_missing, "Runs in only one of the two sets are not regressions");
+    cmd->callback([a] {
+        int code = 0;
+        try {
+            code = run_compare(*a);
+        } catch (const ConfigError& e) {
+            std::cerr << "rcsim compare: " << e.what() << "\n";
+            code = 2;
+        } catch (const fs::filesystem_error& e) {
+            std::cerr << "rcsim compare: " << e.what() << "\n";
+            code = 2;
+        }
+        throw CLI::RuntimeError(code);
+    });
+}
+
+} // namespace
+
+void add_regress_commands(CLI::App& app) {
+    add_sweep(app);
+    add_merge(app);
+    add_compare(app);
+}
+
+} // namespace rcsim

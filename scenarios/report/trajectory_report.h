@@ -1,0 +1,50 @@
+// rcsim — the files drawn from a motion run's trajectory recorder (main_cpu/motion/trajectory.h):
+// trajectory.csv, trajectory.svg (the X-Y path with a following-error panel), trajectory_time.svg
+// (position, velocity, following error and radial error against time) and, on request,
+// trajectory_pulses.csv (docs/motion.md "Trajectory pictures").
+//
+// Every picture is decimated (svg::ColumnDecimator, svg::PathDecimator), so its size is bounded
+// by its pixels, not by the length of the run: well under 2 MB for any run.
+#pragma once
+
+#include "scenarios/config/trajectory_options.h"
+#include "camc_qi/camc_qi.h"
+#include "main_cpu/motion/trajectory.h"
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rcsim {
+
+/// trajectory.csv: header `t_s,axis,cmd_pulses,act_pulses`, one row per axis per kept sample
+/// (every `every`-th, and the last). Throws ConfigError naming the file when it cannot be written.
+void write_trajectory_csv(const motion::TrajectoryRecorder& rec, const std::filesystem::path& file,
+                          std::size_t every = 1);
+
+/// trajectory_pulses.csv: header `t_s,axis,dir`, one row per pulse (the CAMC-QI's pulse trace).
+void write_pulse_csv(const std::vector<camc::PulseEvent>& pulses, const std::filesystem::path& file);
+
+/// The X-Y picture of axis `ax` against axis `ay`, titled `title`: commanded path solid blue,
+/// actual path dashed red, equal scales on nice tick bounds (a circle must look round), a start
+/// mark, a direction arrow and an end mark; below it the following error (command - actual) of
+/// both axes against time, which shows what the two paths, a pixel or two apart, cannot.
+std::string trajectory_svg(const motion::TrajectoryRecorder& rec, unsigned ax, unsigned ay, const std::string& title);
+/// Writes trajectory_svg() to `file`; throws ConfigError naming the file on failure.
+void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::filesystem::path& file, unsigned ax,
+                          unsigned ay, const std::string& title);
+
+/// Panels against time: position (command solid, actual dashed) and velocity per axis that moved,
+/// the following error per axis, and with `circle` the radial error of both paths over its window.
+std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
+                                const std::optional<CircleOverlay>& circle);
+
+/// Every trajectory file into `dir`: trajectory.csv, trajectory.svg (axes 0/1),
+/// trajectory_time.svg, and trajectory_pulses.csv when `pulses` is given.
+void write_trajectory_files(const motion::TrajectoryRecorder& rec, const std::filesystem::path& dir,
+                            const std::string& title, const std::optional<CircleOverlay>& circle,
+                            const TrajectoryOptions& opt, const std::vector<camc::PulseEvent>* pulses);
+
+} // namespace rcsim

@@ -1,0 +1,270 @@
+// rcsim — runs one scenario: assemble the world (world.h), run it, measure (measure.h), judge
+// (checks.h), report (output.h, report_html.h). Each step has its own file; this one only orders
+// them.
+#include "scenarios/run/runner.h"
+
+#include "scenarios/world/world.h"
+#include "scenarios/verdict/checks.h"
+#include "scenarios/verdict/measure.h"
+#include "scenarios/monitor/board_monitor.h"
+#include "scenarios/report/output.h"
+#include "scenarios/report/report_html.h"
+#include "models/stop_signal.h"
+#include "scenarios/run/motion_run.h"
+#include "scenarios/verdict/motion_figures.h"
+#include "scenarios/report/trajectory_report.h"
+#include "scenarios/trace/vcd_trace.h"
+#include "scenarios/trace/perfetto_trace.h"
+#include "scenarios/trace/profile_run.h"
+#include "models/config_error.h"
+#include "models/output_file.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+#ifndef RCSIM_COMM_FW_ROM
+#define RCSIM_COMM_FW_ROM ""
+#endif
+
+namespace rcsim {
+
+namespace {
+
+constexpr unsigned kPorts = World::kPorts;
+
+/// What every report starts with. wall_time_s and rtf are the only host-dependent fields;
+/// `reproducible` writes 0 for both.
+nlohmann::json run_header(const Scenario& s, const RunOptions& opt, double wall) {
+    const double sim_s = sc_core::sc_time_stamp().to_seconds();
+    nlohmann::json h = {{"scenario", s.name},
+                        {"seed", s.seed},
+                        {"sim_time_s", sim_s},
+                        {"wall_time_s", opt.reproducible ? 0.0 : wall},
+                        {"rtf", opt.reproducible || wall <= 0 ? 0.0 : sim_s / wall}};
+    if (stop_signal() != 0) h["interrupted"] = true; // by SIGINT/SIGTERM at sim_time_s
+    return h;
+}
+
+/// The exit code: 128 + the signal that stopped the run, else 0 (passed) or 1.
+int exit_code(bool passed) { return stop_signal() != 0 ? 128 + stop_signal() : passed ? 0 : 1; }
+
+/// A scenario with a `motion:` section: the motion side alone (main_cpu/motion, docs/motion.md).
+int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
+    const std::filesystem::path out = opt.out_dir.empty() ? std::filesystem::path(".") : std::filesystem::path(opt.out_dir);
+    const auto wall0 = std::chrono::steady_clock::now();
+    nlohmann::json motion_report;
+    const int rc = run_motion_plan(*s.motion, s.name, out, s.seed, motion_report);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const nlohmann::json& m = motion_report.contains("motion") ? motion_report["motion"] : motion_report;
+    // The error names the file and line already (run/motion_run.h).
+    if (rc == 2) throw ConfigError(m.value("error", s.file + ": bad motion section"));
+    report = run_header(s, opt, wall);
+    nlohmann::json motion = m;
+    if (opt.reproducible) {
+        // Output paths depend on where the run was started: keep the file names only.
+        for (const char* k : {"trajectory_csv", "trajectory_svg", "trajectory_time_svg", "trajectory_pulses_csv"})
+            if (motion.contains(k)) motion[k] = std::filesystem::path(motion[k].get<std::string>()).filename().string();
+    }
+    // The motion checks are report.json "checks", in the one schema of every run (checks.h).
+    report["checks"] = motion.value("checks", nlohmann::json::array());
+    motion.erase("checks");
+    report["motion"] = motion;
+    report["passed"] = rc == 0;
+    if (!opt.out_dir.empty()) {
+        write_report_json(out, report);
+        report::write_motion_report_html(out, report);
+    }
+    return exit_code(rc == 0);
+}
+
+/// The remote monitor, when --monitor or the scenario's `monitor:` section asks for one
+/// (docs/monitor.md).
+std::unique_ptr<monitor::BoardMonitor> start_monitor(World& world, const Scenario& s, const RunOptions& opt) {
+    if (!s.monitor && !opt.monitor) return nullptr;
+    monitor::MonitorOptions mo = s.monitor.value_or(monitor::MonitorOptions{});
+    if (opt.monitor) monitor::parse_listen(*opt.monitor, mo);
+    auto m = std::make_unique<monitor::BoardMonitor>(world, mo, std::cerr);
+    std::cout << "monitor: " << m->url() << " (live page; JSON API at /api/v1, docs/monitor.md)" << std::endl;
+    return m;
+}
+
+/// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
+/// and its worst case with the longest RS-232 receive service. A figure with no samples is null
+/// and named in "not_measured" with the reason.
+nlohmann::json table3_json(const World& b, const Scenario& s, const InterruptFigures& c, CheckFigures& f) {
+    const double budget = budget_us(b, s);
+    nlohmann::json j = {{"rs232_isr_us", nullptr},      {"rs232_isr_max_us", nullptr},
+                        {"dpram_byte_us", nullptr},     {"dpram_bytes_measured", c.dpram_bytes},
+                        {"paper_rs232_isr_us", kPaperRs232IsrUs}, {"paper_dpram_byte_us", kPaperDpramByteUs},
+                        {"budget_us", budget},          {"margin_us", nullptr},
+                        {"worst_margin_us", nullptr}};
+    nlohmann::json missing = nlohmann::json::object();
+    if (c.rs232_rx_service.count() == 0) {
+        missing["rs232_isr_us"] = "no RS-232 interrupt took a character out of an RX FIFO";
+    } else {
+        j["rs232_isr_us"] = c.rs232_rx_service.summary().mean;
+        j["rs232_isr_max_us"] = c.rs232_rx_service.summary().max;
+    }
+    if (!c.dpram_byte_us) missing["dpram_byte_us"] = "no chunk of two or more bytes was forwarded into DP-RAM";
+    else j["dpram_byte_us"] = *c.dpram_byte_us;
+    if (missing.empty()) {
+        const double mean = budget - (j["rs232_isr_us"].get<double>() + *c.dpram_byte_us);
+        const double worst = budget - (j["rs232_isr_max_us"].get<double>() + *c.dpram_byte_us);
+        j["margin_us"] = mean;
+        j["worst_margin_us"] = worst;
+        f.table3_margin_us = Figure::of(mean);
+        f.table3_worst_margin_us = Figure::of(worst);
+    } else {
+        std::string why;
+        for (const auto& [k, v] : missing.items()) why += (why.empty() ? "" : "; ") + k + ": " + v.get<std::string>();
+        f.table3_margin_us = f.table3_worst_margin_us = Figure::none(why);
+        j["not_measured"] = missing;
+    }
+    return j;
+}
+
+/// report.json "ports", "main_cpu", "dpram", "realtime", "motion"; fills the per-port totals the
+/// checks judge.
+void report_world(const World& world, const Scenario& s, const RunOptions& opt, nlohmann::json& report,
+                  CheckFigures& f) {
+    report["ports"] = nlohmann::json::array();
+    report["warnings"] = nlohmann::json::array();
+    for (unsigned p = 0; p < kPorts; ++p) {
+        nlohmann::json pj = port_json(world, p);
+        f.overruns += pj["overruns"].get<std::uint64_t>();
+        f.frames_failed += pj["frames_failed"].get<std::uint64_t>();
+        f.frames_delivered += pj["frames_delivered"].get<std::uint64_t>();
+        f.command_mismatches += world.observers[p].commands().mismatches();
+        f.response_mismatches += world.observers[p].responses().mismatches();
+        f.malformed += world.ctl.main.port_stats(p).malformed;
+        const Samples& lat = world.char_latency_us[p];
+        f.char_latency_max_us[p] = lat.count() ? Figure::of(lat.summary().max)
+                                               : Figure::none("the controller read no character on this port");
+        if (world.protocol[p] && s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::none) ++f.traffic_ports;
+        if (pj.contains("host_format") && pj["host_format"] != pj["controller_format"])
+            report["warnings"].push_back("port " + std::to_string(p) + ": the host sends " +
+                                         pj["host_format"].get<std::string>() + " but the controller's 82510 is set to " +
+                                         pj["controller_format"].get<std::string>());
+        if (world.protocol[p] && s.ports[p].protocol.traffic.pattern == HostTraffic::Pattern::script)
+            pj["script"] = script_json(world.protocol[p]->script_result());
+        report["ports"].push_back(pj);
+    }
+    report["main_cpu"] = world.ctl.main.report();
+    if (world.program) report["main_cpu"]["program"] = world.program->report();
+    report["dpram"] = {{"collisions", world.ctl.dpram.collisions()}};
+    if (world.pacer) {
+        const auto& ps_ = world.pacer->stats();
+        const bool r = opt.reproducible; // the pacer's figures measure the host
+        report["realtime"] = {{"rtf_target", ps_.rtf},
+                              {"naps", r ? 0 : ps_.naps},
+                              {"slept_s", r ? 0.0 : ps_.slept_s},
+                              {"max_lag_ms", r ? 0.0 : ps_.max_lag_s * 1e3},
+                              {"max_lead_ms", r ? 0.0 : ps_.max_lead_s * 1e3}};
+    }
+    if (world.motion) {
+        report["motion"] = motion_system_json(world);
+        if (!opt.out_dir.empty()) {
+            const std::filesystem::path out = opt.out_dir;
+            const bool pulses = s.trajectory.pulse_trace;
+            write_trajectory_files(world.motion->recorder(), out, s.name, circle_overlay(world, s), s.trajectory,
+                                   pulses ? &world.motion->chip().pulse_trace() : nullptr);
+        }
+    }
+}
+
+} // namespace
+
+int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
+    if (opt.seed) s.set_seed(*opt.seed);
+    prepare_out_dir(opt.out_dir);
+    StopPoller stop("stop");
+    if (s.has_motion && (!opt.trace.empty() || opt.profile))
+        throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
+    if (s.has_motion && (opt.monitor || s.monitor))
+        throw ConfigError("--monitor: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
+                          "the monitor watches the whole board (main_cpu: {motion: true}, docs/monitor.md)");
+    if (s.has_motion) return run_motion_only(s, opt, report);
+    std::string rom = opt.rom ? *opt.rom : s.rom;
+    if (rom.empty()) rom = RCSIM_COMM_FW_ROM;
+
+    // The probe's records as rows: interrupts.csv (streamed) and report.html's histograms and
+    // timeline windows.
+    report::InterruptLog interrupts;
+    World world("world", s);
+    world.set_interrupt_sink(&interrupts);
+    world.ctl.comm.load_rom(rom);
+    if (opt.on_world) opt.on_world(world);
+    std::unique_ptr<VcdTrace> vcd; // --vcd (vcd_trace.h)
+    if (!opt.vcd.empty()) vcd = std::make_unique<VcdTrace>("vcd", world, opt.vcd);
+    std::unique_ptr<trace::PerfettoTrace> perfetto;
+    if (!opt.trace.empty()) perfetto = std::make_unique<trace::PerfettoTrace>(world, opt.trace);
+    std::unique_ptr<trace::ProfileRun> profile;
+    if (opt.profile) {
+        if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
+        profile = std::make_unique<trace::ProfileRun>(world, trace::run_symbols(opt.symbols, rom));
+    }
+    // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
+    std::optional<OutputFile> csv;
+    if (!opt.out_dir.empty()) {
+        csv.emplace(std::filesystem::path(opt.out_dir) / "interrupts.csv");
+        interrupts.write_csv_to(&csv->stream());
+    }
+
+    std::unique_ptr<monitor::BoardMonitor> mon = start_monitor(world, s, opt);
+    const auto wall0 = std::chrono::steady_clock::now();
+    if (mon) mon->run_until(s.duration_s > 0 ? ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)) : sc_core::sc_max_time());
+    else if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
+    else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
+    if (stop_signal() == 0) world.drain(s.drain_s);
+    world.finish_observers();
+    world.finish();
+    if (opt.on_finished) opt.on_finished(world);
+    if (perfetto) perfetto->finish();
+    const std::string flame_svg = profile ? profile->finish(opt.out_dir) : std::string();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    if (vcd) vcd->close();
+    world.finish_files();
+
+    report = run_header(s, opt, wall);
+    report["rom"] = std::filesystem::path(rom).filename().string();
+    report["comm_cpu"] = {{"cycles", world.ctl.comm.cpu.cycles()},
+                          {"instructions", world.ctl.comm.cpu.instructions()},
+                          {"clock_hz", s.board.comm.cpu_hz},
+                          {"quantum_us", to_us(s.board.comm.quantum)}};
+    const InterruptFigures c = measure_interrupts(world);
+    report["interrupts"] = c.interrupts;
+    CheckFigures f;
+    report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
+    f.bus_errors = world.ctl.comm.cpu.bus_errors().total();
+    report["table3"] = table3_json(world, s, c, f);
+    report_world(world, s, opt, report, f);
+
+    nlohmann::json checks = nlohmann::json::array();
+    bool passed = true;
+    for (const Check& ch : communication_checks(world, s, f)) {
+        checks.push_back(to_json(ch));
+        passed = passed && ch.passed();
+    }
+    for (const Check& ch : system_motion_checks(world, s)) { // scripted hosts, main_cpu.motion
+        checks.push_back(to_json(ch));
+        passed = passed && ch.passed();
+    }
+    report["checks"] = checks;
+    report["checks_off"] = s.checks.off;
+    report["passed"] = passed;
+
+    if (!opt.out_dir.empty()) {
+        write_report_json(opt.out_dir, report);
+        csv->close();
+        report::write_report_html(opt.out_dir, report, interrupts, flame_svg);
+    }
+    return exit_code(passed);
+}
+
+} // namespace rcsim

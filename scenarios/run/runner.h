@@ -1,0 +1,47 @@
+// rcsim — runs one scenario on the assembled controller and produces its report.
+//
+// The report (report.json) and the printed summary follow docs/scenarios.md. Everything in it is a
+// function of the scenario and the seed, except `wall_time_s` and `rtf`, which measure the host
+// (set `reproducible` to zero them for byte-identical comparisons).
+#pragma once
+
+#include "scenarios/config/scenario.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace rcsim {
+
+class World;
+
+struct RunOptions {
+    std::string out_dir;                // "" = write no files
+    std::optional<std::uint64_t> seed;  // overrides the scenario's
+    std::optional<std::string> rom;     // overrides the scenario's and the built firmware
+    bool reproducible = false;          // wall_time_s = rtf = 0
+    std::string vcd;                    // "" = no VCD trace
+    /// Called with the assembled world (ROM loaded) just before the simulation starts: the gdb
+    /// stub attaches here (scenarios/cli/gdb_run.h). Empty: nothing.
+    std::function<void(World&)> on_world;
+    /// Called with the world once the simulation and its drain are over, before the report is
+    /// built: figures the report does not hold (`rcsim world system`). Empty: nothing.
+    std::function<void(World&)> on_finished;
+    std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
+    bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
+    std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
+    std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
+};
+
+/// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.
+/// Throws ConfigError for bad input (exit code 2 at the CLI).
+int run_scenario(Scenario scenario, const RunOptions& options, nlohmann::json& report);
+
+/// The human-readable summary of a report.
+void print_summary(const nlohmann::json& report, std::ostream& os);
+
+} // namespace rcsim

@@ -1,0 +1,200 @@
+// rcsim — the printed summary of a report (what `rcsim run` shows on the terminal).
+#include "scenarios/run/runner.h"
+
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace rcsim {
+
+namespace {
+/// " (INTERRUPTED at 1.234000 s)" after the verdict of a run a signal stopped, else "".
+std::string interrupted_note(const nlohmann::json& r) {
+    if (!r.value("interrupted", false)) return "";
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(6) << " (INTERRUPTED at " << r["sim_time_s"].get<double>() << " s)";
+    return os.str();
+}
+
+/// The function-block commands with their outcomes (docs/motion.md "Checks").
+void print_motion_commands(const nlohmann::json& m, std::ostream& os) {
+    os << "\n\nfunction blocks        at ms  expect   outcome\n";
+    for (const auto& c : m.value("commands", nlohmann::json::array())) {
+        if (!c.contains("outcome")) continue; // tokens and faults: no outcome of their own
+        os << "  " << std::left << std::setw(20) << c["fb"].get<std::string>() << std::right << std::setw(7)
+           << c["at_ms"].get<double>() << "  " << std::left << std::setw(8) << c["expect"].get<std::string>() << " "
+           << c["outcome"].get<std::string>() << std::right;
+        if (c.contains("error_id")) os << " (ErrorID " << c["error_id"].get<unsigned>() << ")";
+        if (c["outcome_ms"].is_number()) os << " at " << c["outcome_ms"].get<double>() << " ms";
+        os << "\n";
+    }
+}
+
+/// One line per check as in the communication summary, its detail below it.
+void print_motion_checks(const nlohmann::json& checks, std::ostream& os) {
+    // Seven significant digits: a swept angle one pulse of arc short of 2 pi still shows.
+    auto num = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::setprecision(7) << v.get<double>();
+        return s.str();
+    };
+    os << "\nchecks\n";
+    for (const auto& c : checks) {
+        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(28)
+           << c["name"].get<std::string>() << std::right << " value " << num(c["value"]) << "  limit "
+           << num(c["limit"]);
+        if (c.value("status", "") == "not measured") os << "  NOT MEASURED: " << c.value("reason", "");
+        os << "\n";
+        if (c.contains("detail")) os << "        " << c["detail"].dump() << "\n";
+    }
+}
+
+/// report.json "bus_errors": the counts, and the first cycles with address, kind and time.
+void print_bus_errors(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("bus_errors")) return;
+    const auto& b = r["bus_errors"];
+    os << "\nbus errors " << b["total"].get<std::uint64_t>() << " (unmapped " << b["unmapped"].get<std::uint64_t>()
+       << ", ROM write " << b["rom_write"].get<std::uint64_t>() << ", TLM error " << b["tlm_error"].get<std::uint64_t>()
+       << ")\n";
+    for (const auto& e : b["first"])
+        os << "  " << e["kind"].get<std::string>() << " " << e["cycle"].get<std::string>() << " "
+           << e["address"].get<std::string>() << " at " << std::fixed << std::setprecision(3)
+           << e["time_us"].get<double>() << " us\n" << std::defaultfloat;
+}
+
+void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
+    const auto& m = r["motion"];
+    os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
+       << r["sim_time_s"].get<double>() << " s";
+    if (r["wall_time_s"].get<double>() > 0)
+        os << " in " << r["wall_time_s"].get<double>() << " s wall (" << r["rtf"].get<double>() << "x real time)";
+    os << "\nmotion state " << m.value("state", std::string("?"));
+    if (m.contains("final_cmd_pulses")) os << ", final command " << m["final_cmd_pulses"].dump();
+    if (m.contains("final_act_pulses")) os << ", final actual " << m["final_act_pulses"].dump();
+    if (m.contains("max_following_error_pulses"))
+        os << "\nmax following error " << m["max_following_error_pulses"].get<double>() << " pulses";
+    print_motion_commands(m, os);
+    print_motion_checks(r["checks"], os);
+    if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
+}
+std::uint64_t u(const nlohmann::json& j, const char* k) { return j.value(k, std::uint64_t{0}); }
+
+// Per port, for every host kind: the 82510's counters, then what the line observer saw in each
+// direction, then both exactly-once comparisons (docs/scenarios.md "How each figure is measured").
+void print_ports(const nlohmann::json& ports, std::ostream& os) {
+    auto fixed1 = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(1) << v.get<double>();
+        return s.str();
+    };
+    os << "\nport  host      overruns  parity  framing  fifo-hw  char-latency max us\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        const auto& j = ports[p];
+        os << "  " << p << "   " << std::left << std::setw(9) << j.value("host", std::string("?")) << std::right
+           << std::setw(9) << u(j, "overruns") << std::setw(8) << u(j, "parity_errors") << std::setw(9)
+           << u(j, "framing_errors") << std::setw(9) << u(j, "rx_fifo_high_water") << std::setw(12)
+           << fixed1(j["char_latency_us"]["max"]) << "\n";
+        if (j.value("host", std::string()) == "protocol")
+            os << "      protocol host: sent " << u(j, "frames_sent") << ", delivered " << u(j, "frames_delivered")
+               << ", failed " << u(j, "frames_failed") << ", timeouts " << u(j, "timeouts") << ", responses "
+               << u(j, "responses_received") << ", response timeouts " << u(j, "response_timeouts") << "\n";
+    }
+    os << "\nline observer, per port and direction\n"
+       << "  port  from          enq  offered   bad   eot   nak  retry  abandoned\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        if (!ports[p].contains("line")) continue;
+        const auto& l = ports[p]["line"];
+        for (const char* d : {"host_to_controller", "controller_to_host"}) {
+            const auto& c = l[d];
+            os << "  " << std::setw(4) << p << "  " << std::left << std::setw(10)
+               << (d[0] == 'h' ? "host" : "controller") << std::right << std::setw(7) << u(c, "enqs") << std::setw(9)
+               << u(c, "frames_offered") << std::setw(6) << u(c, "frames_bad") << std::setw(6) << u(c, "frames_eot")
+               << std::setw(6) << u(c, "naks") << std::setw(7) << u(c, "retries") << std::setw(11)
+               << u(c, "abandoned") << "\n";
+        }
+    }
+    // sent: commands the host got EOT for / responses the main CPU handed to DP-RAM;
+    // received: valid frames the main CPU reassembled / responses that reached the host intact.
+    os << "\nexactly once (docs/scenarios.md)\n"
+       << "  port  frames        sent  received  matched  lost  dropped  dup  unexp  reord\n";
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+        if (!ports[p].contains("commands")) continue;
+        for (const char* k : {"commands", "responses"}) {
+            const auto& c = ports[p][k];
+            const bool cmd = k[0] == 'c';
+            const std::uint64_t dropped = cmd ? 0 : u(c["dropped"], "gave_up") + u(c["dropped"], "port_reset");
+            os << "  " << std::setw(4) << p << "  " << std::left << std::setw(10) << k << std::right << std::setw(7)
+               << u(c, cmd ? "host_eot" : "main_cpu_handed") << std::setw(10)
+               << u(c, cmd ? "main_cpu_received" : "host_received") << std::setw(9) << u(c, "matched") << std::setw(6)
+               << u(c, "lost") << std::setw(9) << dropped << std::setw(5) << u(c, "duplicates") << std::setw(7)
+               << u(c, "unexpected") << std::setw(7) << u(c, "reordered") << "\n";
+        }
+    }
+}
+
+} // namespace
+
+void print_summary(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("interrupts")) return print_motion_summary(r, os);
+    // A figure that was not measured is null in the report: printed as "-".
+    auto f = [](const nlohmann::json& v, int prec = 1) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(prec) << v.get<double>();
+        return s.str();
+    };
+    auto sum = [](const nlohmann::json& a, const nlohmann::json& b) {
+        return a.is_number() && b.is_number() ? nlohmann::json(a.get<double>() + b.get<double>()) : nlohmann::json();
+    };
+    os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
+       << f(r["sim_time_s"].get<double>(), 3) << " s";
+    if (r["wall_time_s"].get<double>() > 0)
+        os << " in " << f(r["wall_time_s"].get<double>(), 3) << " s wall (" << f(r["rtf"].get<double>(), 1)
+           << "x real time)";
+    os << "\n\ninterrupts (us)      count   latency mean/p99/max        service mean/p99/max\n";
+    for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
+        const auto& i = r["interrupts"][name];
+        const auto& l = i["latency_us"];
+        const auto& s = i["service_us"];
+        os << "  " << std::left << std::setw(16) << name << std::right << std::setw(8) << i["count"].get<std::uint64_t>()
+           << std::setw(10) << f(l["mean"]) << std::setw(9) << f(l["p99"]) << std::setw(9) << f(l["max"])
+           << std::setw(12) << f(s["mean"]) << std::setw(9) << f(s["p99"]) << std::setw(9) << f(s["max"]) << "\n";
+    }
+    const auto& t = r["table3"];
+    os << "\nTable 3               simulated      paper\n"
+       << "  RS-232 interrupt  " << std::setw(10) << f(t["rs232_isr_us"], 3) << " us" << std::setw(10)
+       << f(t["paper_rs232_isr_us"], 3) << " us   (max " << f(t["rs232_isr_max_us"], 3) << " us)\n"
+       << "  DP-RAM (1 byte)   " << std::setw(10) << f(t["dpram_byte_us"], 3) << " us" << std::setw(10)
+       << f(t["paper_dpram_byte_us"], 3) << " us\n"
+       << "  sum               " << std::setw(10)
+       << f(sum(t["rs232_isr_us"], t["dpram_byte_us"]), 3) << " us" << std::setw(10)
+       << f(sum(t["paper_rs232_isr_us"], t["paper_dpram_byte_us"]), 3) << " us\n"
+       << "  budget " << f(t["budget_us"], 3) << " us, margin " << f(t["margin_us"], 3) << " us (worst case "
+       << f(t["worst_margin_us"], 3) << " us)\n";
+    if (t.contains("not_measured"))
+        for (const auto& [k, why] : t["not_measured"].items()) os << "  not measured: " << k << ": " << why.get<std::string>() << "\n";
+    print_ports(r["ports"], os);
+    if (r.contains("main_cpu") && r["main_cpu"].contains("cycle_jitter_us")) {
+        const auto& j = r["main_cpu"]["cycle_jitter_us"];
+        os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
+    }
+    print_bus_errors(r, os);
+    for (const auto& w : r.value("warnings", nlohmann::json::array())) os << "\nwarning: " << w.get<std::string>() << "\n";
+    os << "\nchecks\n";
+    for (const auto& c : r["checks"]) {
+        const bool unmeasured = c.value("status", "") == "not measured";
+        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(33)
+           << c["name"].get<std::string>() << std::right << " value " << f(c["value"], 3) << "  limit "
+           << f(c["limit"], 3);
+        if (unmeasured) os << "  NOT MEASURED: " << c.value("reason", "");
+        os << "\n";
+    }
+    for (const auto& name : r.value("checks_off", nlohmann::json::array()))
+        os << "  off   " << name.get<std::string>() << "\n";
+    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
+}
+
+} // namespace rcsim

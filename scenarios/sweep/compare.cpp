@@ -1,0 +1,358 @@
+#include "scenarios/sweep/compare.h"
+
+#include "models/config_error.h"
+#include "scenarios/config/yaml_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <set>
+
+namespace rcsim::regress {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+bool glob_match(const std::string& p, const std::string& t) {
+    // Iterative wildcard match with backtracking to the last '*'.
+    std::size_t i = 0, j = 0, star = std::string::npos, mark = 0;
+    while (j < t.size()) {
+        if (i < p.size() && (p[i] == '?' || p[i] == t[j])) {
+            ++i, ++j;
+        } else if (i < p.size() && p[i] == '*') {
+            star = i++;
+            mark = j;
+        } else if (star != std::string::npos) {
+            i = star + 1;
+            j = ++mark;
+        } else {
+            return false;
+        }
+    }
+    while (i < p.size() && p[i] == '*') ++i;
+    return i == p.size();
+}
+
+std::vector<Tolerance> default_tolerances() {
+    std::vector<Tolerance> out;
+    for (const char* host : {"wall_time_s", "rtf", "realtime.*"}) {
+        Tolerance t;
+        t.figure = host;
+        t.ignore = true;
+        t.origin = "default (host-dependent)";
+        out.push_back(t);
+    }
+    Tolerance exact;
+    exact.origin = "default (exact)";
+    out.push_back(exact);
+    return out;
+}
+
+std::vector<Tolerance> load_tolerances(const std::string& path) {
+    std::vector<Tolerance> out;
+    const YAML::Node root = load_yaml_file(path);
+    YamlMap top(root, path, "");
+    for (YamlMap& m : top.maps("tolerances")) {
+        Tolerance t;
+        t.origin = path + ":" + std::to_string(YamlMap::line_of(m.child("figure")));
+        t.figure = m.require<std::string>("figure");
+        t.run = m.get<std::string>("run", "*");
+        t.abs = m.number("abs", 0, 0, 1e300);
+        t.rel = m.number("rel", 0, 0, 1e300);
+        const std::string better = m.choice("better", "none", {"none", "lower", "higher"});
+        t.better = better == "lower" ? Tolerance::Better::lower
+                   : better == "higher" ? Tolerance::Better::higher : Tolerance::Better::none;
+        t.ignore = m.get<bool>("ignore", false);
+        m.finish();
+        out.push_back(t);
+    }
+    top.finish();
+    for (const Tolerance& t : default_tolerances()) out.push_back(t);
+    return out;
+}
+
+const char* verdict_name(Verdict v) {
+    switch (v) {
+    case Verdict::same: return "same";
+    case Verdict::within: return "within tolerance";
+    case Verdict::ignored: return "ignored";
+    case Verdict::improvement: return "improvement";
+    case Verdict::regression: return "regression";
+    case Verdict::added: return "new";
+    }
+    return "?";
+}
+
+bool Comparison::regression() const {
+    return std::any_of(runs.begin(), runs.end(), [](const RunDiff& r) { return r.regression; });
+}
+
+std::map<std::string, RunRecord> load_run_set(const std::string& path) {
+    std::error_code ec;
+    std::map<std::string, RunRecord> out;
+    if (fs::is_regular_file(path, ec)) {
+        RunRecord r;
+        r.dir = fs::path(path).parent_path();
+        r.report = read_json_file(path);
+        if (!r.report->is_object()) throw ConfigError(path, 1, "not an rcsim report.json (not a JSON object)");
+        const json& rep = *r.report;
+        r.id = rep.contains("scenario") && rep["scenario"].is_string() ? rep["scenario"].get<std::string>()
+                                                                       : fs::path(path).stem().string();
+        r.meta = json::object();
+        out.emplace(r.id, std::move(r));
+        return out;
+    }
+    if (!fs::exists(path, ec)) throw ConfigError(path, 0, "no such report.json or run directory");
+    for (RunRecord& r : collect_runs({path})) {
+        if (r.report && !r.report->is_object())
+            throw ConfigError((r.dir / "report.json").string(), 1, "not an rcsim report.json (not a JSON object)");
+        out.emplace(r.id, std::move(r));
+    }
+    if (out.empty()) throw ConfigError(path, 0, "holds no run (no report.json, no run directories)");
+    return out;
+}
+
+namespace {
+
+const Tolerance& rule_for(const std::vector<Tolerance>& rules, const std::string& run, const std::string& key) {
+    for (const Tolerance& t : rules)
+        if (glob_match(t.run, run) && glob_match(t.figure, key)) return t;
+    static const Tolerance exact{};
+    return exact;
+}
+
+void judge(FigureDiff& f, const Tolerance& t) {
+    f.rule = t.origin;
+    if (t.ignore) f.verdict = Verdict::ignored;
+    else if (!f.has_current) f.verdict = Verdict::regression; // a figure the report no longer has
+    else if (!f.has_baseline) f.verdict = Verdict::added;
+    if (t.ignore || !f.has_current || !f.has_baseline) return;
+    if (f.baseline == f.current) return; // same (numbers compare by value: 5 == 5.0)
+    if (!f.baseline.is_number() || !f.current.is_number() || f.baseline.is_boolean() || f.current.is_boolean()) {
+        f.verdict = Verdict::regression; // null <-> number (measured or not), true <-> false
+        return;
+    }
+    const double b = f.baseline.get<double>(), c = f.current.get<double>(), d = c - b;
+    f.delta = d;
+    if (b != 0) f.rel = d / std::fabs(b);
+    if (std::fabs(d) <= t.abs || (f.rel && std::fabs(*f.rel) <= t.rel)) {
+        f.verdict = Verdict::within;
+        return;
+    }
+    const bool good = (t.better == Tolerance::Better::lower && d < 0) || (t.better == Tolerance::Better::higher && d > 0);
+    f.verdict = good ? Verdict::improvement : Verdict::regression;
+}
+
+void compare_figures(const json& base, const json& cur, const std::string& id, const std::vector<Tolerance>& rules,
+                     RunDiff& r) {
+    const Figures bf = flatten_figures(base), cf = flatten_figures(cur);
+    std::map<std::string, const json*> cm;
+    for (const auto& [k, v] : cf) cm[k] = &v;
+    std::set<std::string> seen;
+    for (const auto& [k, v] : bf) {
+        FigureDiff f;
+        f.key = k;
+        f.baseline = v;
+        seen.insert(k);
+        const auto it = cm.find(k);
+        if (it == cm.end()) f.has_current = false;
+        else f.current = *it->second;
+        judge(f, rule_for(rules, id, k));
+        r.figures.push_back(std::move(f));
+    }
+    for (const auto& [k, v] : cf) {
+        if (seen.count(k)) continue;
+        FigureDiff f;
+        f.key = k;
+        f.current = v;
+        f.has_baseline = false;
+        judge(f, rule_for(rules, id, k));
+        r.figures.push_back(std::move(f));
+    }
+}
+
+void compare_checks(const json& base, const json& cur, RunDiff& r) {
+    std::map<std::string, bool> bm, cm;
+    std::vector<std::string> order;
+    for (const auto& [k, v] : report_checks(base)) bm[k] = v.value("passed", false), order.push_back(k);
+    for (const auto& [k, v] : report_checks(cur)) {
+        cm[k] = v.value("passed", false);
+        if (!bm.count(k)) order.push_back(k);
+    }
+    for (const std::string& k : order) {
+        CheckDiff c;
+        c.name = k;
+        if (bm.count(k)) c.baseline = bm[k];
+        if (cm.count(k)) c.current = cm[k];
+        if (!c.current) c.verdict = Verdict::regression; // the check is gone
+        else if (!*c.current && (!c.baseline || *c.baseline)) c.verdict = Verdict::regression;
+        else if (*c.current && c.baseline && !*c.baseline) c.verdict = Verdict::improvement;
+        else if (!c.baseline) c.verdict = Verdict::added;
+        r.checks.push_back(c);
+    }
+}
+
+} // namespace
+
+Comparison compare_runs(const std::map<std::string, RunRecord>& baseline, const std::map<std::string, RunRecord>& current,
+                        const std::vector<Tolerance>& rules, bool allow_missing) {
+    Comparison c;
+    c.allow_missing = allow_missing;
+    std::set<std::string> ids;
+    for (const auto& [k, v] : baseline) ids.insert(k);
+    for (const auto& [k, v] : current) ids.insert(k);
+    for (const std::string& id : ids) {
+        RunDiff r;
+        r.id = id;
+        const auto b = baseline.find(id), cu = current.find(id);
+        if (cu == current.end()) {
+            r.state = RunDiff::State::missing;
+            r.regression = !allow_missing;
+            ++c.missing;
+        } else if (b == baseline.end()) {
+            r.state = RunDiff::State::extra;
+            r.regression = !allow_missing;
+            ++c.extra;
+        } else if (!cu->second.report || !b->second.report) {
+            r.state = RunDiff::State::no_report; // the run (or the baseline's) did not finish
+            r.regression = true;
+            ++c.no_report;
+        } else {
+            compare_figures(*b->second.report, *cu->second.report, id, rules, r);
+            compare_checks(*b->second.report, *cu->second.report, r);
+            for (const auto& f : r.figures) ++c.figure_counts[f.verdict], r.regression |= f.verdict == Verdict::regression;
+            for (const auto& k : r.checks) ++c.check_counts[k.verdict], r.regression |= k.verdict == Verdict::regression;
+        }
+        c.runs.push_back(std::move(r));
+    }
+    return c;
+}
+
+namespace {
+
+std::string value_text(const json& v, bool present) {
+    if (!present) return "(absent)";
+    if (v.is_null()) return "null";
+    if (v.is_number_float()) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.6g", v.get<double>());
+        return buf;
+    }
+    return v.dump();
+}
+
+std::string signed_text(std::optional<double> v, bool percent) {
+    if (!v) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, percent ? "%+.2f%%" : "%+.6g", percent ? *v * 100 : *v);
+    return buf;
+}
+
+/// One line of the console table: a figure (or check) over every run where it changed this way,
+/// with the run where it changed most.
+struct Row {
+    std::string what, run, baseline, current, delta, rel;
+    std::size_t runs = 1;
+    int tier = 4;     // 0 a run missing or unfinished, 1 a check, 2 Table 3, 3 RS-232 receive and
+                      // delivery, 4 any other figure
+    double order = 0; // |rel| of the worst run, infinite for a change from 0 or null
+};
+
+int tier_of(const std::string& key) {
+    if (key.rfind("table3.", 0) == 0) return 2;
+    if (key.rfind("interrupts.rs232_rx.", 0) == 0 || glob_match("ports[*].frames_delivered", key) ||
+        glob_match("ports[*].overruns", key))
+        return 3;
+    return 4;
+}
+
+/// The rows of one verdict, one per figure or check (grouped over the runs), the most telling first.
+std::vector<Row> rows_of(const Comparison& c, Verdict want) {
+    std::vector<Row> rows;
+    std::map<std::string, std::size_t> at; // figure or check -> its row
+    auto add = [&](Row row) {
+        const auto it = at.find(row.what);
+        if (it == at.end()) {
+            at[row.what] = rows.size();
+            rows.push_back(std::move(row));
+            return;
+        }
+        Row& old = rows[it->second];
+        const std::size_t n = old.runs + 1;
+        if (row.order > old.order) old = std::move(row);
+        old.runs = n;
+    };
+    for (const RunDiff& r : c.runs) {
+        if (want == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
+            const char* what = r.state == RunDiff::State::missing ? "run missing from current"
+                               : r.state == RunDiff::State::extra ? "run not in the baseline"
+                                                                  : "run has no report.json";
+            rows.push_back({what, r.id, "", "", "", "", 1, 0, INFINITY});
+        }
+        for (const auto& k : r.checks)
+            if (k.verdict == want)
+                add({"check " + k.name, r.id, k.baseline ? (*k.baseline ? "PASS" : "FAIL") : "(absent)",
+                     k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, 1, INFINITY});
+        for (const auto& f : r.figures)
+            if (f.verdict == want)
+                add({f.key, r.id, value_text(f.baseline, f.has_baseline), value_text(f.current, f.has_current),
+                     signed_text(f.delta, false), signed_text(f.rel, true), 1, tier_of(f.key),
+                     f.rel ? std::fabs(*f.rel) : INFINITY});
+    }
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const Row& a, const Row& b) { return a.tier != b.tier ? a.tier < b.tier : a.order > b.order; });
+    return rows;
+}
+
+void print_rows(const std::vector<Row>& rows, const char* title, std::size_t items, std::ostream& os,
+                std::size_t limit) {
+    if (rows.empty()) return;
+    std::size_t wr = 9, ww = 6;
+    for (std::size_t i = 0; i < rows.size() && i < limit; ++i)
+        wr = std::max(wr, rows[i].run.size()), ww = std::max(ww, rows[i].what.size());
+    wr = std::min<std::size_t>(wr, 40);
+    ww = std::min<std::size_t>(ww, 44);
+    const int r = static_cast<int>(wr), w = static_cast<int>(ww);
+    os << "\n" << title << ": " << items << " in " << rows.size() << " figures/checks; per figure the run where it "
+       << "changed most\n  " << std::left << std::setw(w) << "figure" << std::right << std::setw(5) << "runs"
+       << "  " << std::left << std::setw(r) << "worst run" << std::right << std::setw(13) << "baseline" << std::setw(13)
+       << "current" << std::setw(13) << "delta" << std::setw(11) << "rel" << "\n";
+    for (std::size_t i = 0; i < rows.size() && i < limit; ++i) {
+        const Row& x = rows[i];
+        os << "  " << std::left << std::setw(w) << x.what << std::right << std::setw(5) << x.runs << "  " << std::left
+           << std::setw(r) << x.run << std::right << std::setw(13) << x.baseline << std::setw(13) << x.current
+           << std::setw(13) << x.delta << std::setw(11) << x.rel << "\n";
+    }
+    if (rows.size() > limit) os << "  ... and " << rows.size() - limit << " more (--html lists every run)\n";
+}
+
+std::size_t count(const std::map<Verdict, std::size_t>& m, Verdict v) {
+    const auto it = m.find(v);
+    return it == m.end() ? 0 : it->second;
+}
+
+} // namespace
+
+void print_comparison(const Comparison& c, std::ostream& os, std::size_t limit) {
+    const std::size_t matched = c.runs.size() - c.missing - c.extra - c.no_report;
+    const auto& f = c.figure_counts;
+    os << "compare: " << matched << " runs matched, " << c.missing << " missing, " << c.extra << " extra, "
+       << c.no_report << " without a report" << (c.allow_missing && (c.missing || c.extra) ? " (--allow-missing)" : "")
+       << "\nfigures: " << count(f, Verdict::regression) << " regressions, " << count(f, Verdict::improvement)
+       << " improvements, " << count(f, Verdict::within) << " within tolerance, " << count(f, Verdict::same)
+       << " identical, " << count(f, Verdict::ignored) << " ignored, " << count(f, Verdict::added) << " new\n"
+       << "checks:  " << count(c.check_counts, Verdict::regression) << " regressions, "
+       << count(c.check_counts, Verdict::improvement) << " improvements, " << count(c.check_counts, Verdict::same)
+       << " unchanged, " << count(c.check_counts, Verdict::added) << " new\n";
+    const std::size_t regressions = count(f, Verdict::regression) + count(c.check_counts, Verdict::regression) +
+                                    (c.allow_missing ? 0 : c.missing + c.extra) + c.no_report;
+    print_rows(rows_of(c, Verdict::regression), "regressions", regressions, os, limit);
+    print_rows(rows_of(c, Verdict::improvement), "improvements",
+               count(f, Verdict::improvement) + count(c.check_counts, Verdict::improvement), os, limit);
+    os << "\n" << (c.regression() ? "REGRESSION" : "no regression") << "\n";
+}
+
+} // namespace rcsim::regress

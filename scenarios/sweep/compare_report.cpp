@@ -1,0 +1,224 @@
+// rcsim — the comparison as JUnit XML (for CI) and as one HTML page (for people). See compare.h.
+#include "scenarios/sweep/compare.h"
+#include "scenarios/sweep/summary_html.h"
+#include "scenarios/report/svg.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace rcsim::regress {
+
+using json = nlohmann::json;
+using svg::esc;
+
+namespace {
+
+std::string text_of(const json& v, bool present) {
+    if (!present) return "(absent)";
+    if (v.is_number_float()) return html::cell(v.get<double>());
+    return v.dump();
+}
+
+std::string pass_text(const std::optional<bool>& p) { return p ? (*p ? "PASS" : "FAIL") : "(absent)"; }
+
+const char* run_problem(const RunDiff& r) {
+    switch (r.state) {
+    case RunDiff::State::missing: return "the run is in the baseline but not in the current set";
+    case RunDiff::State::extra: return "the run is not in the baseline";
+    case RunDiff::State::no_report: return "the run has no report.json (it did not finish)";
+    default: return "";
+    }
+}
+
+std::string percent(const std::optional<double>& v) {
+    if (!v) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%+.2f%%", *v * 100);
+    return buf;
+}
+
+/// One <testcase>; `failure` / `skipped` empty when it passed.
+void testcase(std::ostringstream& o, const std::string& suite, const std::string& name, const std::string& failure,
+              const std::string& skipped) {
+    o << "    <testcase classname=\"" << esc(suite) << "\" name=\"" << esc(name) << "\"";
+    if (failure.empty() && skipped.empty()) {
+        o << "/>\n";
+        return;
+    }
+    o << ">";
+    if (!failure.empty()) o << "<failure type=\"regression\" message=\"" << esc(failure) << "\"/>";
+    else o << "<skipped message=\"" << esc(skipped) << "\"/>";
+    o << "</testcase>\n";
+}
+
+} // namespace
+
+std::string junit_xml(const Comparison& c) {
+    std::ostringstream suites;
+    std::size_t tests = 0, failures = 0, skipped = 0;
+    for (const RunDiff& r : c.runs) {
+        std::ostringstream cases;
+        std::size_t t = 0, f = 0, s = 0;
+        auto add = [&](const std::string& name, const std::string& failure, const std::string& skip) {
+            testcase(cases, r.id, name, failure, skip);
+            ++t;
+            f += !failure.empty();
+            s += failure.empty() && !skip.empty();
+        };
+        if (r.state != RunDiff::State::matched) {
+            add("run", r.regression ? run_problem(r) : "", r.regression ? "" : std::string(run_problem(r)) + " (--allow-missing)");
+        } else {
+            add("run", "", "");
+        }
+        for (const CheckDiff& k : r.checks)
+            add("check " + k.name,
+                k.verdict == Verdict::regression ? pass_text(k.baseline) + " -> " + pass_text(k.current) : "", "");
+        for (const FigureDiff& fd : r.figures) {
+            const std::string change = text_of(fd.baseline, fd.has_baseline) + " -> " + text_of(fd.current, fd.has_current) +
+                                       (fd.rel ? " (" + percent(fd.rel) + ")" : "") + " [" + fd.rule + "]";
+            add("figure " + fd.key, fd.verdict == Verdict::regression ? change : "",
+                fd.verdict == Verdict::ignored ? "ignored: " + fd.rule : "");
+        }
+        suites << "  <testsuite name=\"" << esc(r.id) << "\" tests=\"" << t << "\" failures=\"" << f
+               << "\" errors=\"0\" skipped=\"" << s << "\">\n"
+               << cases.str() << "  </testsuite>\n";
+        tests += t, failures += f, skipped += s;
+    }
+    std::ostringstream o;
+    o << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"rcsim compare\" tests=\"" << tests
+      << "\" failures=\"" << failures << "\" errors=\"0\" skipped=\"" << skipped << "\">\n"
+      << suites.str() << "</testsuites>\n";
+    return o.str();
+}
+
+namespace {
+
+const char* row_class(Verdict v) {
+    switch (v) {
+    case Verdict::regression: return " class=\"reg\"";
+    case Verdict::improvement: return " class=\"imp\"";
+    case Verdict::within: return " class=\"within\"";
+    case Verdict::ignored: return " class=\"ign\"";
+    default: return "";
+    }
+}
+
+void figure_row(std::ostringstream& o, const std::string& run, const FigureDiff& f) {
+    const char* sign = !f.delta ? "" : *f.delta > 0 ? " class=\"pos\"" : " class=\"neg\"";
+    o << "<tr" << row_class(f.verdict) << ">";
+    if (!run.empty()) o << "<td class=\"k\">" << esc(run) << "</td>";
+    o << "<td class=\"k\">" << esc(f.key) << "</td><td>" << esc(text_of(f.baseline, f.has_baseline)) << "</td><td>"
+      << esc(text_of(f.current, f.has_current)) << "</td><td" << sign << ">" << (f.delta ? html::cell(*f.delta) : "")
+      << "</td><td" << sign << ">" << esc(percent(f.rel)) << "</td><td class=\"k\">" << verdict_name(f.verdict)
+      << "</td></tr>\n";
+}
+
+void check_row(std::ostringstream& o, const std::string& run, const CheckDiff& k) {
+    o << "<tr" << row_class(k.verdict) << ">";
+    if (!run.empty()) o << "<td class=\"k\">" << esc(run) << "</td>";
+    o << "<td class=\"k\">check " << esc(k.name) << "</td><td>" << pass_text(k.baseline) << "</td><td>"
+      << pass_text(k.current) << "</td><td></td><td></td><td class=\"k\">" << verdict_name(k.verdict) << "</td></tr>\n";
+}
+
+const char* kHead = "<th class=\"k\">figure</th><th>baseline</th><th>current</th><th>delta</th><th>rel</th>"
+                    "<th class=\"k\">verdict</th></tr>\n";
+
+/// Every changed figure and check of one verdict, over all runs.
+void verdict_table(std::ostringstream& o, const Comparison& c, Verdict v, const char* title) {
+    std::ostringstream rows;
+    std::size_t n = 0;
+    for (const RunDiff& r : c.runs) {
+        if (v == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
+            rows << "<tr class=\"reg\"><td class=\"k\">" << esc(r.id) << "</td><td class=\"k\" colspan=\"6\">"
+                 << run_problem(r) << "</td></tr>\n";
+            ++n;
+        }
+        for (const CheckDiff& k : r.checks)
+            if (k.verdict == v) check_row(rows, r.id, k), ++n;
+        for (const FigureDiff& f : r.figures)
+            if (f.verdict == v) figure_row(rows, r.id, f), ++n;
+    }
+    o << "<h2>" << title << " (" << n << ")</h2>\n";
+    if (n) o << "<table>\n<tr><th class=\"k\">run</th>" << kHead << rows.str() << "</table>\n";
+}
+
+/// The figure paths that changed most: the largest |relative change| in any run; changes from 0
+/// (no relative change) after every one that has one.
+std::vector<std::string> worst_changed(const Comparison& c, std::size_t n) {
+    std::map<std::string, std::pair<int, double>> worst; // (has a relative change, its size)
+    for (const RunDiff& r : c.runs)
+        for (const FigureDiff& f : r.figures)
+            if (f.delta && (f.verdict == Verdict::regression || f.verdict == Verdict::improvement ||
+                            f.verdict == Verdict::within)) {
+                const std::pair<int, double> w{f.rel ? 1 : 0, f.rel ? std::fabs(*f.rel) : std::fabs(*f.delta)};
+                worst[f.key] = std::max(worst[f.key], w);
+            }
+    std::vector<std::pair<std::string, std::pair<int, double>>> v(worst.begin(), worst.end());
+    std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < v.size() && i < n; ++i) out.push_back(v[i].first);
+    return out;
+}
+
+void histograms(std::ostringstream& o, const Comparison& c) {
+    const auto keys = worst_changed(c, 6);
+    if (keys.empty()) return;
+    o << "<h2>Worst-changed figures</h2>\n<p>Each figure's values over all matched runs, baseline and current "
+         "overlaid.</p>\n<div class=\"charts\">\n";
+    for (const std::string& key : keys) {
+        std::vector<double> b, cur;
+        for (const RunDiff& r : c.runs)
+            for (const FigureDiff& f : r.figures)
+                if (f.key == key) {
+                    if (f.has_baseline && f.baseline.is_number()) b.push_back(f.baseline.get<double>());
+                    if (f.has_current && f.current.is_number()) cur.push_back(f.current.get<double>());
+                }
+        o << html::overlaid_histogram(key, b, cur) << "\n";
+    }
+    o << "</div>\n";
+}
+
+} // namespace
+
+std::string compare_html(const Comparison& c) {
+    std::ostringstream o;
+    const bool bad = c.regression();
+    o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim compare: "
+      << (bad ? "REGRESSION" : "no regression") << "</title>\n<style>" << html::kCss
+      << "</style>\n</head>\n<body>\n<h1>rcsim compare</h1>\n";
+    std::ostringstream console;
+    print_comparison(c, console, 0);
+    const std::string counts = console.str().substr(0, console.str().find("\n\n"));
+    o << "<div class=\"banner " << (bad ? "fail" : "pass") << "\">" << (bad ? "REGRESSION" : "no regression")
+      << "</div>\n<pre>" << esc(counts) << "</pre>\n";
+    verdict_table(o, c, Verdict::regression, "Regressions");
+    verdict_table(o, c, Verdict::improvement, "Improvements");
+    histograms(o, c);
+    o << "<h2>Runs side by side</h2>\n";
+    for (const RunDiff& r : c.runs) {
+        std::size_t reg = 0, imp = 0, changed = 0;
+        for (const auto& f : r.figures) {
+            reg += f.verdict == Verdict::regression, imp += f.verdict == Verdict::improvement;
+            changed += f.verdict != Verdict::same && f.verdict != Verdict::ignored;
+        }
+        for (const auto& k : r.checks) reg += k.verdict == Verdict::regression, imp += k.verdict == Verdict::improvement;
+        o << "<details" << (r.regression ? " open" : "") << "><summary>" << esc(r.id) << ": ";
+        if (r.state != RunDiff::State::matched) o << run_problem(r);
+        else o << reg << " regressions, " << imp << " improvements, " << changed << " figures changed of " << r.figures.size();
+        o << "</summary>\n";
+        if (r.state == RunDiff::State::matched) {
+            o << "<table>\n<tr>" << kHead;
+            for (const CheckDiff& k : r.checks) check_row(o, "", k);
+            for (const FigureDiff& f : r.figures) figure_row(o, "", f);
+            o << "</table>\n";
+        }
+        o << "</details>\n";
+    }
+    o << "</body>\n</html>\n";
+    return o.str();
+}
+
+} // namespace rcsim::regress

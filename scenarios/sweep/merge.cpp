@@ -1,0 +1,209 @@
+#include "scenarios/sweep/merge.h"
+
+#include "models/config_error.h"
+#include "models/output_file.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace rcsim::regress {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+nlohmann::json read_json_file(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw ConfigError(file.string(), 0, "cannot open");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string s = text.str();
+    try {
+        return nlohmann::json::parse(s);
+    } catch (const nlohmann::json::parse_error& e) {
+        // nlohmann names the byte; people read lines.
+        const std::size_t at = std::min<std::size_t>(e.byte, s.size());
+        const int line = 1 + static_cast<int>(std::count(s.begin(), s.begin() + static_cast<long>(at), '\n'));
+        std::string why = e.what();
+        const auto colon = why.find("syntax error");
+        throw ConfigError(file.string(), line, "bad JSON: " + (colon == std::string::npos ? why : why.substr(colon)));
+    }
+}
+
+namespace {
+
+/// A run directory: run.json's id (a sweep run) or the directory's name.
+RunRecord read_run(const fs::path& dir) {
+    RunRecord r;
+    r.dir = dir;
+    r.id = dir.filename().string();
+    if (fs::exists(dir / "run.json")) {
+        r.meta = read_json_file(dir / "run.json");
+        if (!r.meta.is_object() || !r.meta.contains("id") || !r.meta["id"].is_string())
+            throw ConfigError((dir / "run.json").string(), 0, "not a run.json of rcsim sweep (no \"id\")");
+        r.id = r.meta["id"].get<std::string>();
+    } else {
+        r.meta = nlohmann::json::object();
+    }
+    if (fs::exists(dir / "report.json")) r.report = read_json_file(dir / "report.json");
+    return r;
+}
+
+bool is_run_dir(const fs::path& d) { return fs::exists(d / "run.json") || fs::exists(d / "report.json"); }
+
+void flatten(const nlohmann::json& j, const std::string& path, Figures& out) {
+    if (j.is_object()) {
+        for (const auto& [k, v] : j.items()) flatten(v, path.empty() ? k : path + "." + k, out);
+    } else if (j.is_array()) {
+        for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
+    } else if (j.is_number() || j.is_boolean() || j.is_null()) {
+        out.emplace_back(path, j);
+    }
+}
+
+std::string csv_cell(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string cell_text(const json& v) {
+    if (v.is_null()) return "";
+    if (v.is_string()) return v.get<std::string>();
+    return v.dump();
+}
+
+/// The keys of `field` over all runs, in first-appearance order (runs sorted by id).
+std::vector<std::string> union_keys(const json& runs, const char* field) {
+    std::vector<std::string> keys;
+    std::set<std::string> seen;
+    for (const auto& r : runs)
+        for (const auto& [k, v] : r[field].items())
+            if (seen.insert(k).second) keys.push_back(k);
+    return keys;
+}
+
+} // namespace
+
+std::vector<RunRecord> collect_runs(const std::vector<std::string>& dirs) {
+    std::vector<RunRecord> runs;
+    std::map<std::string, fs::path> where;
+    for (const std::string& d : dirs) {
+        std::error_code ec;
+        if (!fs::is_directory(d, ec)) throw ConfigError(d, 0, "not a directory of runs");
+        std::vector<fs::path> found;
+        if (is_run_dir(d)) found.push_back(d);
+        else
+            for (const auto& e : fs::directory_iterator(d))
+                if (e.is_directory() && is_run_dir(e.path())) found.push_back(e.path());
+        for (const fs::path& p : found) {
+            RunRecord r = read_run(p);
+            const auto [it, fresh] = where.emplace(r.id, p);
+            if (!fresh)
+                throw ConfigError(p.string(), 0, "run '" + r.id + "' is also in " + it->second.string() +
+                                                     " (merge each run once)");
+            runs.push_back(std::move(r));
+        }
+    }
+    std::sort(runs.begin(), runs.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
+    return runs;
+}
+
+Figures flatten_figures(const nlohmann::json& report) {
+    Figures out;
+    for (const auto& [k, v] : report.items()) {
+        if (k == "checks" || k == "checks_off" || k == "warnings" || k == "passed") continue;
+        flatten(v, k, out);
+    }
+    return out;
+}
+
+std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann::json& report) {
+    std::vector<std::pair<std::string, nlohmann::json>> out;
+    if (!report.contains("checks") || !report["checks"].is_array()) return out;
+    for (const auto& c : report["checks"]) {
+        if (!c.is_object() || !c.contains("name")) continue;
+        nlohmann::json v = c;
+        v.erase("name");
+        v["passed"] = c.contains("passed") && c["passed"].is_boolean() && c["passed"].get<bool>(); // else: failed
+        out.emplace_back(c["name"].is_string() ? c["name"].get<std::string>() : c["name"].dump(), v);
+    }
+    return out;
+}
+
+std::string run_status(const RunRecord& run) {
+    if (!run.report) return "no report";
+    const nlohmann::json& r = *run.report;
+    return r.contains("passed") && r["passed"].is_boolean() && r["passed"].get<bool>() ? "passed" : "failed";
+}
+
+nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
+    json list = json::array();
+    std::map<std::string, std::size_t> counts{{"passed", 0}, {"failed", 0}, {"no report", 0}};
+    for (const RunRecord& r : runs) {
+        json j;
+        j["id"] = r.id;
+        j["entry"] = r.meta.contains("entry") && r.meta["entry"].is_string() ? r.meta["entry"] : json("");
+        j["status"] = run_status(r);
+        ++counts[j["status"].get<std::string>()];
+        j["parameters"] = r.meta.contains("parameters") && r.meta["parameters"].is_object() ? r.meta["parameters"]
+                                                                                            : json::object();
+        j["figures"] = json::object();
+        j["checks"] = json::object();
+        if (r.report) {
+            for (const auto& [k, v] : flatten_figures(*r.report)) j["figures"][k] = v;
+            for (const auto& [k, v] : report_checks(*r.report)) j["checks"][k] = v;
+        }
+        list.push_back(j);
+    }
+    json s;
+    s["runs"] = runs.size();
+    for (const auto& [k, n] : counts) s[k] = n;
+    s["results"] = list;
+    return s;
+}
+
+std::string summary_csv(const nlohmann::json& summary) {
+    // Columns in the summary's key order (sorted, as in report.json itself).
+    const json& runs = summary["results"];
+    const auto params = union_keys(runs, "parameters");
+    const auto figures = union_keys(runs, "figures");
+    const auto checks = union_keys(runs, "checks");
+    std::ostringstream os;
+    os << "id,entry,status";
+    for (const auto& k : params) os << "," << csv_cell("param:" + k);
+    for (const auto& k : figures) os << "," << csv_cell(k);
+    for (const auto& k : checks) os << "," << csv_cell("check:" + k);
+    os << "\n";
+    for (const auto& r : runs) {
+        os << csv_cell(r["id"].get<std::string>()) << "," << csv_cell(r["entry"].get<std::string>()) << ","
+           << csv_cell(r["status"].get<std::string>());
+        for (const auto& k : params) os << "," << (r["parameters"].contains(k) ? csv_cell(cell_text(r["parameters"][k])) : "");
+        for (const auto& k : figures) os << "," << (r["figures"].contains(k) ? csv_cell(cell_text(r["figures"][k])) : "");
+        for (const auto& k : checks) {
+            os << ",";
+            if (r["checks"].contains(k)) os << (r["checks"][k].value("passed", false) ? "PASS" : "FAIL");
+        }
+        os << "\n";
+    }
+    return os.str();
+}
+
+std::string number_text(const nlohmann::json& v) {
+    if (v.is_null()) return "null";
+    return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+std::size_t merge_runs(const std::vector<std::string>& dirs, const fs::path& out) {
+    const auto runs = collect_runs(dirs);
+    const nlohmann::json summary = summary_json(runs);
+    write_file(out / "summary.json", summary.dump(2) + "\n", "the summary");
+    write_file(out / "summary.csv", summary_csv(summary), "the summary");
+    write_file(out / "summary.html", summary_html(summary), "the summary");
+    return runs.size();
+}
+
+} // namespace rcsim::regress

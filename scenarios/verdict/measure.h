@@ -1,0 +1,64 @@
+// rcsim — the figures of a communication run, from what the world's probes saw (docs/scenarios.md
+// "How each figure is measured"). The figures that need more than a count are gathered online
+// while the run goes (DpramByteTime here, the sample sets of models/stats.h), in memory that does
+// not grow with the run; the functions below read them from the finished world and change nothing.
+#pragma once
+
+#include "scenarios/board/dpram_byte_time.h"
+#include "scenarios/board/line_observer.h"
+#include "models/dpram_layout.h"
+#include "models/frame_codec.h"
+#include "models/stats.h"
+
+#include <systemc>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace rcsim {
+
+class World;
+class MainCpu;
+class ProtocolHost;
+struct Scenario;
+
+// The paper's Table 3 (HP 8086 emulator measurements).
+constexpr double kPaperRs232IsrUs = 82.0;
+constexpr double kPaperDpramByteUs = 52.553;
+
+/// What the interrupt probe and the DP-RAM watch measured.
+struct InterruptFigures {
+    nlohmann::json interrupts = nlohmann::json::object(); // report.json "interrupts"
+    Samples rs232_rx_service, rs232_rx_latency;
+    std::optional<double> dpram_byte_us; // none: no chunk of two or more writes
+    std::uint64_t dpram_bytes = 0;
+};
+
+/// Of the finished world (World::finish()).
+InterruptFigures measure_interrupts(const World& b);
+
+/// One character time (START through STOP) of port p as its 82510 is programmed.
+double controller_char_us(const World& b, unsigned p);
+
+/// The Table 3 budget: the scenario's `budget_us`, else the mean character arrival period of all
+/// active ports together, 1 / sum(1 / t_char_p) (= t_char / 3 for three equal ports), each t_char
+/// from the format the port's 82510 is programmed with (docs/system.md §9). A port is active when
+/// a host is attached; with none, all three count.
+double budget_us(const World& b, const Scenario& s);
+
+/// report.json "ports[p]": the host's counters, the 82510's, the main CPU's, and the line
+/// observer's (call World::finish_observers() first).
+nlohmann::json port_json(const World& b, unsigned p);
+
+/// report.json "ports[p].line", ".commands", ".responses": what the observer of port p counted.
+nlohmann::json observer_json(const LineObserver& o);
+
+nlohmann::json samples_json(const Samples& s);
+
+} // namespace rcsim

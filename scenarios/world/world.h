@@ -1,0 +1,111 @@
+// rcsim — the simulated world of one communication run: the controller, three serial lines, the
+// host attached to each, and the probes that watch them (docs/scenarios.md "How each figure is
+// measured"). It assembles the world and feeds the online figures as the probes report (the
+// interrupt records, the DP-RAM time per byte, the characters' latency: nothing here grows with
+// the length of the run); verdict/measure.h reads the figures, verdict/checks.h judges them.
+#pragma once
+
+#include "scenarios/board/controller.h"
+#include "scenarios/board/dpram_byte_time.h"
+#include "scenarios/board/interrupt_probe.h"
+#include "scenarios/board/line_observer.h"
+#include "scenarios/config/scenario.h"
+#include "scenarios/host/protocol_host.h"
+#include "scenarios/host/pty_host.h"
+#include "scenarios/host/raw_host.h"
+#include "scenarios/host/replay_host.h"
+#include "scenarios/host/tcp_host.h"
+#include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/program.h"
+#include "models/serial_line.h"
+#include "models/stats.h"
+
+#include <systemc>
+
+#include <array>
+#include <deque>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+namespace rcsim {
+
+class World : public sc_core::sc_module {
+public:
+    static constexpr unsigned kPorts = CommBoard::kPorts;
+
+    Controller ctl;
+    sc_core::sc_vector<SerialLine> lines;
+    std::array<std::unique_ptr<ProtocolHost>, kPorts> protocol;
+    std::array<std::unique_ptr<RawHost>, kPorts> raw;
+    std::array<std::unique_ptr<TcpHost>, kPorts> tcp;
+    std::array<std::unique_ptr<ReplayHost>, kPorts> replay;
+    std::array<std::unique_ptr<PtyHost>, kPorts> pty;
+    std::unique_ptr<RealtimePacer> pacer; // with a tcp or pty host, or `realtime:` set
+    InterruptProbe probe;
+    std::array<Samples, kPorts> char_latency_us; // stop bit -> RXD read
+    /// The independent observer of each line, fed by the line's receivers and the main CPU's
+    /// DP-RAM side (line_observer.h).
+    std::array<LineObserver, kPorts> observers;
+    std::unique_ptr<motion::MotionController> motion;
+    /// main_cpu.program: the Structured Text program the main CPU runs (docs/st.md).
+    std::unique_ptr<st::StProgram> program;
+
+    SC_HAS_PROCESS(World);
+    World(sc_core::sc_module_name name, const Scenario& s);
+
+    /// The name of the host kind on port p ("protocol", "raw", "tcp", "replay", "pty", "none").
+    const char* host_kind(unsigned p) const;
+    const Scenario& scenario() const { return scenario_; }
+
+    /// The drain phase: the hosts start no new command; the run goes on in 10 ms steps until
+    /// nothing is in flight — every host idle (its last command answered), every response the
+    /// main CPU owes handed and finished by the comm CPU — or `drain_s` has passed, so that frames
+    /// in flight at the end are not counted as lost.
+    void drain(double drain_s);
+    /// Hands the observers what the main CPU received and sent since the last call, then closes
+    /// their comparisons. Call once, after the run.
+    void finish_observers();
+
+    /// After the run: ends the hosts' logs and record files and throws ConfigError naming the
+    /// first that could not be written completely (a full disk), so a truncated file never
+    /// passes as a complete one.
+    void finish_files();
+
+    /// The end of the run: the records the probe still holds, the open DP-RAM chunks and the
+    /// timeline windows become final. Call once, before reading the figures.
+    void finish();
+
+    /// RS-232 interrupts that took a character out of the RX FIFO (the `rs232_rx` set).
+    const Samples& rs232_rx_service_us() const { return rx_service_; }
+    const Samples& rs232_rx_latency_us() const { return rx_latency_; }
+    const DpramByteTime& dpram_time() const { return dpram_; }
+
+    /// Hands every completed interrupt record to `sink` as well (the report's interrupt log);
+    /// nullptr: none. Set before the simulation starts.
+    void set_interrupt_sink(InterruptSink* sink) { sink_ = sink; }
+
+private:
+    const Scenario& scenario_;
+    std::array<std::ofstream, kPorts> logs_;
+    // RXD reads of each port since the probe last settled: enough to tell whether an interrupt
+    // read a character, since its handler ran after that (see on_record).
+    std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
+    Samples rx_service_, rx_latency_;
+    DpramByteTime dpram_;
+    InterruptSink* sink_ = nullptr;
+
+    void attach_host(unsigned p, const PortScenario& ps);
+    void load_program(const Scenario::Program& p);
+    void inject_breaks();
+    void watch_dpram(const i8086::BusRecord& r, const sc_core::sc_time& t);
+
+    // Port resets the main CPU asked for that the observers have been told of.
+    std::array<std::uint64_t, kPorts> main_resets_seen_{};
+    void observe_line(unsigned p, const SerialLine::Delivered& d);
+    void sync_main_side();
+    void on_record(const InterruptRecord& r);
+    void on_settled(const sc_core::sc_time& horizon);
+};
+
+} // namespace rcsim
