@@ -3,6 +3,7 @@
 
 #include "models/config_error.h"
 #include "models/frame_codec.h"
+#include "models/output_file.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -20,12 +21,10 @@ RawHost::RawHost(sc_core::sc_module_name name, const RawHostConfig& cfg) : sc_mo
     // Sends run in time order; equal times keep their given order.
     std::stable_sort(cfg_.sends.begin(), cfg_.sends.end(), [](const auto& x, const auto& y) { return x.at < y.at; });
     if (!cfg_.record_path.empty()) {
-        record_.open(cfg_.record_path, std::ios::binary | std::ios::trunc);
-        if (!record_) throw ConfigError(cfg_.record_path, 0, "cannot open the record file for writing");
+        record_.emplace(cfg_.record_path, "the record file");
     }
     if (!cfg_.log_path.empty()) {
-        log_.open(cfg_.log_path, std::ios::trunc);
-        if (!log_) throw ConfigError(cfg_.log_path, 0, "cannot open the log file for writing");
+        log_.emplace(cfg_.log_path, "the log file");
     }
     SC_HAS_PROCESS(RawHost);
     SC_THREAD(run);
@@ -48,24 +47,21 @@ void RawHost::run() {
 void RawHost::rx_char(const SerialRx& c) {
     const auto byte = static_cast<std::uint8_t>(c.data);
     received_.push_back(Received{c.stop, byte, c.parity_error, c.framing_error});
-    if (record_.is_open()) record_.put(static_cast<char>(byte)).flush();
-    if (log_.is_open())
-        log_ << c.stop.value() << ' ' << proto::hex2(byte) << ' ' << (c.parity_error ? "P" : "")
+    if (record_) record_->stream().put(static_cast<char>(byte)).flush();
+    if (log_)
+        log_->stream() << c.stop.value() << ' ' << proto::hex2(byte) << ' ' << (c.parity_error ? "P" : "")
              << (c.framing_error ? "F" : "") << '\n'
              << std::flush;
 }
 
 void RawHost::rx_break(bool active) {
     breaks_.emplace_back(sc_core::sc_time_stamp(), active);
-    if (log_.is_open()) log_ << sc_core::sc_time_stamp().value() << " BREAK " << (active ? "on" : "off") << '\n' << std::flush;
+    if (log_) log_->stream() << sc_core::sc_time_stamp().value() << " BREAK " << (active ? "on" : "off") << '\n' << std::flush;
 }
 
 void RawHost::finish_files() {
-    for (auto [os, path] : {std::pair{&record_, &cfg_.record_path}, std::pair{&log_, &cfg_.log_path}}) {
-        if (!os->is_open()) continue;
-        os->flush();
-        if (!*os) throw ConfigError(*path, 0, std::string("cannot write the file: ") + std::strerror(errno));
-    }
+    for (std::optional<OutputFile>* f : {&record_, &log_})
+        if (*f) (*f)->check();
 }
 
 std::string RawHost::text() const {

@@ -7,13 +7,14 @@
 // and "<time ps> BREAK on|off".
 #pragma once
 
+#include "models/output_file.h"
 #include "models/serial_line.h"
 #include "scenarios/host/host_line.h"
 
 #include <systemc>
 
 #include <cstdint>
-#include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,7 +64,7 @@ private:
     std::vector<Received> received_;
     std::vector<std::pair<sc_core::sc_time, bool>> breaks_;
     std::uint64_t sent_ = 0;
-    std::ofstream record_, log_;
+    std::optional<OutputFile> record_, log_; // models/output_file.h
 
     void end_of_elaboration() override;
     void run();

@@ -91,9 +91,8 @@ void World::attach_host(unsigned p, const PortScenario& ps) {
         protocol[p]->connect(lines[p], SerialLine::b);
         protocol[p]->keep_history(false);
         if (!ps.log_path.empty()) {
-            logs_[p].open(ps.log_path);
-            if (!logs_[p]) throw ConfigError(ps.log_path, 0, "cannot write the host log");
-            protocol[p]->log_to(&logs_[p]);
+            logs_[p].emplace(ps.log_path, "the host log");
+            protocol[p]->log_to(&logs_[p]->stream());
         }
     } else if (ps.host == PortScenario::Host::raw) {
         raw[p] = std::make_unique<RawHost>(n.c_str(), ps.raw);
@@ -239,11 +238,7 @@ void World::drain(double drain_s) {
 
 void World::finish_files() {
     for (unsigned p = 0; p < kPorts; ++p) {
-        if (logs_[p].is_open()) {
-            logs_[p].flush();
-            if (!logs_[p])
-                throw ConfigError(scenario_.ports[p].log_path, 0, std::string("cannot write the host log: ") + std::strerror(errno));
-        }
+        if (logs_[p]) logs_[p]->check();
         if (raw[p]) raw[p]->finish_files();
         if (tcp[p]) tcp[p]->finish_log();
         if (replay[p]) replay[p]->finish_log();

@@ -237,7 +237,7 @@ scen r_big.yaml 'duration_s: 0\nports:\n  - host: replay\n    file: r_big.log\n'
 expect 2 "r_big.log: session log is 68157440 bytes; at most 67108864 are read" -- run r_big.yaml
 touch a_file
 scen record.yaml 'ports:\n  - host: raw\n    record: a_file/x.bin\n'
-expect 2 "a_file/x.bin: cannot open the record file for writing" -- run record.yaml
+expect 2 "a_file/x.bin: cannot write the record file" -- run record.yaml
 
 # --- ROM images -----------------------------------------------------------------------------
 scen ok.yaml '{duration_s: 0.001}\n'
@@ -279,7 +279,7 @@ scen w_log.yaml 'duration_s: 0.01\nports:\n  - host: protocol\n    traffic: satu
 expect 2 "/dev/full: cannot write the host log: No space left on device" -- run w_log.yaml
 # The firmware answers an ENQ with ACK: one byte for the record file.
 scen w_rec.yaml 'duration_s: 0.3\nports:\n  - host: raw\n    record: /dev/full\n    send: [{at_ms: 100, bytes: "\\\\x05"}]\n'
-expect 2 "/dev/full: cannot write the file: No space left on device" -- run w_rec.yaml
+expect 2 "/dev/full: cannot write the record file: No space left on device" -- run w_rec.yaml
 scen w_tcp.yaml 'duration_s: 0.01\nports:\n  - host: tcp\n    record: /dev/full\n'
 expect 2 "/dev/full: cannot write the session log: No space left on device" -- run w_tcp.yaml
 ln -s /dev/full full.vcd

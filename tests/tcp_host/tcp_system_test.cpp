@@ -6,6 +6,7 @@
 #include "scenarios/board/controller.h"
 #include "models/serial_line.h"
 #include "models/frame_codec.h"
+#include "models/output_file.h"
 #include "scenarios/host/tcp_host.h"
 #include "scenarios/run/runner.h"
 #include "scenarios/config/scenario.h"
@@ -103,8 +104,6 @@ TEST(TcpSystem, AClientTalksToTheRealFirmwareAtRealTime) {
 }
 
 namespace {
-
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 /// The in/out lines of a session log (times and bytes), without connect/listen/end.
 std::vector<std::string> traffic(const fs::path& p) {
