@@ -5,20 +5,12 @@
 #include "camc_qi/drive.h"
 
 #include "models/bus.h"
+#include "models/hex.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 namespace rcsim::camc {
-
-namespace {
-std::string hex(unsigned v) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%02X", v);
-    return buf;
-}
-} // namespace
 
 CamcQi::CamcQi(sc_core::sc_module_name name, unsigned wait_states)
     : sc_module(name), socket("socket"), irq("irq"), wait_states_(wait_states), wake_("wake"),
@@ -180,7 +172,7 @@ void CamcQi::execute(unsigned axis, std::uint8_t code) {
                 case qi::STAT3: return mech_status(axis);
                 case qi::IFLAG1: return a.iflag;
                 default:
-                    SC_REPORT_WARNING(name(), ("read command code " + hex(code) + " is not modelled").c_str());
+                    SC_REPORT_WARNING(name(), ("read command code 0x" + hex(code) + " is not modelled").c_str());
                     return 0;
                 }
             }();
@@ -225,7 +217,7 @@ void CamcQi::write_register(unsigned axis, std::uint8_t reg, std::uint32_t v) {
         break;
     case qi::IMASK1: a.imask1 = v; break;
     default:
-        SC_REPORT_WARNING(name(), ("write command code " + hex(reg | qi::write) + " is not modelled").c_str());
+        SC_REPORT_WARNING(name(), ("write command code 0x" + hex(reg | qi::write) + " is not modelled").c_str());
     }
 }
 
