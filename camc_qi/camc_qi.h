@@ -205,7 +205,7 @@ public:
     void command(unsigned axis, std::uint8_t code, std::uint32_t data = 0);
 
 private:
-    struct Drive;
+    struct Drive; // drive.h
     struct Axis {
         // registers
         std::uint32_t range = 1, std_speed = 100, obj = 1000, rate1 = 10000, rate2 = 10000;

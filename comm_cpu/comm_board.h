@@ -32,7 +32,7 @@ struct CommBoardConfig {
     std::uint16_t uart_io_base = 0x80, uart_io_stride = 0x10;
     std::uint16_t pic_io_base = 0xC0;
     unsigned ram_wait = 0, rom_wait = 1, dpram_wait = 0, io_wait = 1;
-    sc_core::sc_time quantum = us(100); // upper bound of one decoupled CPU slice (docs/performance.md)
+    sc_core::sc_time quantum = us(Cpu8086::kDefaultQuantumUs); // upper bound of one decoupled CPU slice
     bool lookahead = true;             // bound slices by the next pending kernel event
     bool fast_sync = true;             // a TLM access ends the slice only when it left activity now
     bool fast_forward = true;          // the core's exact idle fast-forward (docs/performance.md)

@@ -13,7 +13,7 @@ static_assert(static_cast<BusCycle>(i8086::Bus::io_write) == BusCycle::io_write 
 
 Cpu8086::Cpu8086(sc_module_name name, const Clock& clock)
     : sc_module(name), io("io"), mem("mem"), inta("inta"), intr("intr"), nmi("nmi"), clock_(clock),
-      quantum_(us(10)) {
+      quantum_(us(kDefaultQuantumUs)) {
     core_.set_bus_handler(this);
     SC_HAS_PROCESS(Cpu8086);
     SC_THREAD(run);

@@ -35,11 +35,18 @@ public:
     sc_core::sc_in<bool> intr;
     sc_core::sc_in<bool> nmi;
 
+    /// The default quantum, the board's too (CommBoardConfig::quantum): 100 us. The lookahead
+    /// already ends a slice at every pending kernel event, so the quantum only bounds how far
+    /// the core runs ahead when nothing is scheduled; 100 us gives the same reports as 10 us
+    /// in fewer slices (docs/performance.md). Microseconds rather than an sc_time: a static
+    /// sc_time would be built before sc_main, and building one fixes the kernel's resolution.
+    static constexpr std::uint64_t kDefaultQuantumUs = 100;
+
     explicit Cpu8086(sc_core::sc_module_name name, const Clock& clock = Clock(8'000'000));
 
     /// A RAM/ROM region reached by direct pointer with its wait states (before simulation).
     void map_memory(const MemRegion& region) { core_.map_memory(region); }
-    /// Upper bound of one decoupled slice (default 10 us). Must be at least one clock.
+    /// Upper bound of one decoupled slice (default kDefaultQuantumUs). Must be at least one clock.
     void set_quantum(const sc_core::sc_time& q);
     const sc_core::sc_time& quantum() const { return quantum_; }
     /// With lookahead off, every slice is one quantum regardless of pending events.

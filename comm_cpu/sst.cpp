@@ -1,6 +1,8 @@
 // rcsim — SingleStepTests 8086 runner. See sst.h.
 #include "comm_cpu/sst.h"
 
+#include "models/hex.h"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -227,12 +229,6 @@ const char* qop_name(QueueOp q) {
     case QueueOp::flush: return "E";
     default: return "-";
     }
-}
-
-std::string hex(std::uint32_t v, int w) {
-    char b[16];
-    std::snprintf(b, sizeof b, "%0*X", w, v);
-    return b;
 }
 
 // One trace row in a fixed layout: ALE+address, bus status, T-state, queue op+byte, data.

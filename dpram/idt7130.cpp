@@ -2,9 +2,9 @@
 #include "dpram/idt7130.h"
 
 #include "models/clock.h"
+#include "models/hex.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <string>
 
 namespace rcsim {
@@ -12,12 +12,6 @@ namespace rcsim {
 namespace {
 
 constexpr const char* kMsgType = "rcsim/idt7130";
-
-std::string hex3(std::uint64_t v) {
-    char buf[24];
-    std::snprintf(buf, sizeof buf, "0x%03llX", static_cast<unsigned long long>(v));
-    return buf;
-}
 
 // Whole clocks needed to cover t (t > 0), in exact integer picoseconds.
 unsigned clocks_to_cover(const sc_core::sc_time& t, const sc_core::sc_time& clock) {
@@ -102,7 +96,7 @@ bool Idt7130::check(Port port, tlm::tlm_generic_payload& gp) {
         problem = "byte enables (not supported: use 1-byte accesses)";
         status = tlm::TLM_BYTE_ENABLE_ERROR_RESPONSE;
     } else if (address >= kSize || address + len > kSize) {
-        problem = "address " + hex3(address) + " (+" + std::to_string(len) + " bytes), outside 0x000-0x3FF";
+        problem = "address 0x" + hex(address, 3) + " (+" + std::to_string(len) + " bytes), outside 0x000-0x3FF";
         status = tlm::TLM_ADDRESS_ERROR_RESPONSE;
     }
     if (status == tlm::TLM_OK_RESPONSE) return true;

@@ -2,8 +2,9 @@
 #include "models/bus_error_log.h"
 
 #include "models/clock.h"
+#include "models/hex.h"
 
-#include <cstdio>
+#include <string>
 
 namespace rcsim {
 
@@ -26,9 +27,8 @@ nlohmann::json to_json(const BusErrorLog& log) {
     nlohmann::json first = nlohmann::json::array();
     for (const auto& r : log.first()) {
         // I/O ports are 16 bits, memory addresses 20: four or five hex digits.
-        char a[16];
-        std::snprintf(a, sizeof a, is_io(r.cycle) ? "0x%04X" : "0x%05X", static_cast<unsigned>(r.address));
-        first.push_back({{"kind", to_string(r.kind)}, {"address", a}, {"cycle", to_string(r.cycle)},
+        const std::string address = "0x" + hex(r.address, is_io(r.cycle) ? 4 : 5);
+        first.push_back({{"kind", to_string(r.kind)}, {"address", address}, {"cycle", to_string(r.cycle)},
                          {"time_us", to_us(r.time)}});
     }
     return {{"total", log.total()},

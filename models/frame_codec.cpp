@@ -1,6 +1,8 @@
 // rcsim — the serial frame of docs/system.md §5.3 (see frame_codec.h).
 #include "models/frame_codec.h"
 
+#include "models/hex.h"
+
 #include <cctype>
 #include <stdexcept>
 
@@ -13,10 +15,7 @@ unsigned hex_value(std::uint8_t c) { return c <= '9' ? c - '0' : c - 'A' + 10; }
 constexpr std::size_t body_head = 5;
 } // namespace
 
-std::string hex2(std::uint8_t v) {
-    const char* d = "0123456789ABCDEF";
-    return {d[v >> 4], d[v & 15]};
-}
+std::string hex2(std::uint8_t v) { return hex(v, 2); }
 
 std::uint8_t sum8(const std::string& bytes) {
     unsigned s = 0;

@@ -1,7 +1,8 @@
 // rcsim — Intel 8259A Programmable Interrupt Controller. See pic8259.h and README.md.
 #include "pic8259/pic8259.h"
 
-#include <cstdio>
+#include "models/hex.h"
+
 #include <string>
 
 namespace rcsim {
@@ -14,12 +15,6 @@ constexpr const char* kMsgType = "rcsim/pic8259";
 constexpr const char* kUnsupported = "rcsim/pic8259/unsupported";
 
 std::uint8_t bit(unsigned n) { return static_cast<std::uint8_t>(1u << n); }
-
-std::string hex2(unsigned v) {
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "0x%02X", v & 0xFF);
-    return buf;
-}
 
 const char* expected_icw(Pic8259::InitState s) {
     switch (s) {
@@ -152,7 +147,7 @@ void Pic8259::write_register(bool a0, std::uint8_t value) {
         case InitState::icw4: write_icw4(value); break;
         case InitState::ready: write_ocw1(value); break;
         case InitState::power_on:
-            SC_REPORT_WARNING(kMsgType, (std::string(name()) + ": OCW1 " + hex2(value) +
+            SC_REPORT_WARNING(kMsgType, (std::string(name()) + ": OCW1 0x" + hex(value) +
                                          " written before ICW1 (chip not initialised): ignored").c_str());
             break;
         }
@@ -161,7 +156,7 @@ void Pic8259::write_register(bool a0, std::uint8_t value) {
         const std::string why = init_ == InitState::power_on
                                     ? "before ICW1 (chip not initialised)"
                                     : std::string("while ") + expected_icw(init_) + " is expected";
-        SC_REPORT_WARNING(kMsgType, (std::string(name()) + ": " + which + " " + hex2(value) + " written " +
+        SC_REPORT_WARNING(kMsgType, (std::string(name()) + ": " + which + " 0x" + hex(value) + " written " +
                                      why + ": ignored").c_str());
     } else if (value & OCW3_SEL) {
         write_ocw3(value);
@@ -175,13 +170,13 @@ void Pic8259::write_register(bool a0, std::uint8_t value) {
 // rotate-in-AEOI flag are not touched.
 void Pic8259::write_icw1(std::uint8_t value) {
     if (!(value & ICW1_IC4)) {
-        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 " + hex2(value) +
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 0x" + hex(value) +
                                        " has IC4=0, which selects MCS-80/85 mode; only 8086 mode is "
                                        "modelled (set IC4 and ICW4.uPM, e.g. ICW1 0x13)").c_str());
         return; // only reached when errors are configured not to throw: the write is dropped
     }
     if (!(value & ICW1_SNGL)) {
-        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 " + hex2(value) +
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW1 0x" + hex(value) +
                                        " has SNGL=0 (cascade mode), which is not modelled: the board has "
                                        "one 8259A (set SNGL, e.g. ICW1 0x13)").c_str());
         return;
@@ -212,7 +207,7 @@ void Pic8259::write_icw3(std::uint8_t value) {
 
 void Pic8259::write_icw4(std::uint8_t value) {
     if (!(value & ICW4_UPM)) {
-        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW4 " + hex2(value) +
+        SC_REPORT_ERROR(kUnsupported, (std::string(name()) + ": ICW4 0x" + hex(value) +
                                        " has uPM=0, which selects MCS-80/85 mode; only 8086 mode is "
                                        "modelled (e.g. ICW4 0x01)").c_str());
         return;

@@ -9,8 +9,8 @@
 !                   with the chunk copy take_chunk.
 !   _tx_fill, _tx_retry, _ger_update, _take_chunk: the same paths for the C main loop.
 !
-! docs/firmware.md describes the behaviour (it is the C firmware's, kept in c/) and gives the
-! cycle budget of the common path.
+! docs/firmware.md describes the behaviour (it is the C firmware's, kept in frozen_all_c/) and
+! gives the cycle budget of the common path.
 !
 ! Conventions
 ! * DS = SS = DATA_SEG from start-up on: nothing changes DS (the DP-RAM is reached through

@@ -9,8 +9,9 @@
 // FFFF:0000) a far jump to F000:start. The tool checks that the data image sits where the
 // start-up code copies it from, that code + data fit below the reset stub, and that the
 // variables leave room for the stack below STACK_TOP.
+#include "models/hex.h"
+
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -79,12 +80,6 @@ const Symbol& need(const std::map<std::string, Symbol>& syms, const std::string&
     return it->second;
 }
 
-std::string hex(std::uint32_t v, int digits) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%0*X", digits, static_cast<unsigned>(v));
-    return buf;
-}
-
 std::string plain(const std::string& name) { return name[0] == '_' ? name.substr(1) : name; }
 
 void write_file(const std::string& path, const std::string& text) {
@@ -115,8 +110,8 @@ int run(int argc, char** argv) {
         throw std::runtime_error("code + data (" + std::to_string(image.size()) +
                                  " bytes) overlap the reset stub at FFF0");
     if (end + min_stack > stack_top)
-        throw std::runtime_error("variables end at DS:" + hex(end, 4) + ", leaving less than " +
-                                 std::to_string(min_stack) + " bytes of stack below " + hex(stack_top, 4));
+        throw std::runtime_error("variables end at DS:0x" + rcsim::hex(end, 4) + ", leaving less than " +
+                                 std::to_string(min_stack) + " bytes of stack below 0x" + rcsim::hex(stack_top, 4));
 
     std::vector<std::uint8_t> rom(rom_size, 0xFF);
     std::copy(image.begin(), image.end(), rom.begin());
@@ -145,9 +140,9 @@ int run(int argc, char** argv) {
         json << (first ? "\n" : ",\n") << "    \"" << plain(name) << "\": {\"linear\": " << linear
              << ", \"offset\": " << s.value << ", \"kind\": \"" << (code ? "code" : "data") << "\"}";
         first = false;
-        (code ? code_h : data_h) << "constexpr std::uint32_t " << plain(name) << " = " << hex(linear, 5)
+        (code ? code_h : data_h) << "constexpr std::uint32_t " << plain(name) << " = 0x" << rcsim::hex(linear, 5)
                                  << ";\n";
-        table << "    {\"" << plain(name) << "\", " << hex(linear, 5) << ", " << (code ? "true" : "false")
+        table << "    {\"" << plain(name) << "\", 0x" << rcsim::hex(linear, 5) << ", " << (code ? "true" : "false")
               << "},\n";
     }
     json << "\n  }\n}\n";
@@ -158,15 +153,15 @@ int run(int argc, char** argv) {
       << "// Linear (20-bit physical) addresses of the communication firmware's global symbols.\n"
       << "#pragma once\n\n#include <cstdint>\n\nnamespace rcsim::comm_fw {\n\n"
       << "constexpr const char* rom_path = \"" << rom_path << "\";\n"
-      << "constexpr std::uint32_t rom_base = " << hex(rom_base, 5) << ";\n"
-      << "constexpr std::uint32_t rom_size = " << hex(rom_size, 5) << ";\n"
-      << "constexpr std::uint16_t code_segment = " << hex(code_seg, 4) << ";\n"
-      << "constexpr std::uint16_t data_segment = " << hex(data_seg, 4) << ";\n"
+      << "constexpr std::uint32_t rom_base = 0x" << rcsim::hex(rom_base, 5) << ";\n"
+      << "constexpr std::uint32_t rom_size = 0x" << rcsim::hex(rom_size, 5) << ";\n"
+      << "constexpr std::uint16_t code_segment = 0x" << rcsim::hex(code_seg, 4) << ";\n"
+      << "constexpr std::uint16_t data_segment = 0x" << rcsim::hex(data_seg, 4) << ";\n"
       << "constexpr std::uint32_t code_bytes = " << text_end << ";\n"
       << "constexpr std::uint32_t data_bytes = " << edata << ";\n"
       << "constexpr std::uint32_t bss_bytes = " << (end - edata) << ";\n\n"
       << "/// ROM offset of the initial value of an initialised variable (data::x < data_end).\n"
-      << "constexpr std::uint32_t data_end = " << hex(data_seg * 16u + edata, 5) << ";\n"
+      << "constexpr std::uint32_t data_end = 0x" << rcsim::hex(data_seg * 16u + edata, 5) << ";\n"
       << "constexpr std::uint32_t rom_offset_of(std::uint32_t data_linear) {\n"
       << "    return code_bytes + (data_linear - data_segment * 16u);\n}\n\n"
       << "/// Functions and ISR entries (CS = code_segment).\nnamespace code {\n" << code_h.str()

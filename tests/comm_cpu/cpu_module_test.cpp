@@ -243,6 +243,8 @@ struct HaltTop : Top {
 
 TEST(Cpu8086Module, HltSleepsUntilIntr) {
     HaltTop top;
+    // A quantum shorter than the 20 us sleep: a thread that woke once per quantum would show.
+    top.cpu.set_quantum(us(10));
     sc_start(us(19));
     EXPECT_TRUE(top.cpu.core().halted());
     const auto instr = top.cpu.instructions();

@@ -1,9 +1,9 @@
 // The firmware's protocol on the plain 8086 core with the bench's fakes: the test plays the host
 // (bytes into 82510 #p, bytes out of TXD) and the main CPU (DP-RAM and the mailbox words).
 #include "fw_bench.h"
+#include "models/hex.h"
 #include "tests/support/sc_test.h"
 
-#include <cstdio>
 #include <string>
 
 namespace {
@@ -12,11 +12,8 @@ using namespace fwbench;
 
 const char SOH = 0x01, STX = 0x02, ETX = 0x03, EOT = 0x04, ENQ = 0x05, ACK = 0x06, NAK = 0x15;
 
-std::string hex2(unsigned v) {
-    char b[3];
-    std::snprintf(b, sizeof b, "%02X", v & 0xFF);
-    return b;
-}
+/// The low byte of `v` as two hex digits, as a frame carries its BCH and checksum.
+std::string hex2(unsigned v) { return rcsim::hex(v & 0xFF); }
 
 // SOH T1 T2 STX B1 B2 data C1 C2 ETX; checksum = sum of T1 .. last data byte.
 std::string frame(const std::string& token, const std::string& data, unsigned bch = 0, int sum_delta = 0) {

@@ -8,7 +8,7 @@
 #   models/     the ground floor                               -> models
 #
 # The 8086 core (comm_cpu/i8086*, comm_cpu/sst*) is plain C++: it includes no SystemC or TLM header
-# and, of the tree, only models/memory.h.
+# and, of the tree, only the plain C++ headers models/memory.h and models/hex.h.
 #
 # Inside scenarios/ the same rule holds between its code folders (scenarios/README.md), each of
 # which may include the floors of the tree and these folders of scenarios/:
@@ -42,6 +42,8 @@ set(allowed_camc_qi   camc_qi models)
 set(allowed_comm_cpu  comm_cpu pic8259 uart82510 dpram models)
 set(allowed_main_cpu  main_cpu camc_qi models)
 set(layers models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu)
+# The headers of models/ the plain C++ 8086 core may include (no SystemC behind them).
+set(core_models models/memory.h models/hex.h)
 set(tree_dirs models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu scenarios tests)
 
 set(sc_host    host)
@@ -79,7 +81,7 @@ function(check_file file layer)
     set(quote "${CMAKE_MATCH_1}") # each MATCHES below resets CMAKE_MATCH_n
     set(header "${CMAKE_MATCH_2}")
     if(core AND (header MATCHES "^(systemc|tlm)" OR (quote STREQUAL "\"" AND
-        NOT header MATCHES "^comm_cpu/(i8086|sst)" AND NOT header STREQUAL "models/memory.h")))
+        NOT header MATCHES "^comm_cpu/(i8086|sst)" AND NOT header IN_LIST core_models)))
       message("${rel}:${n}: the plain C++ 8086 core includes ${header}")
       math(EXPR bad "${bad} + 1")
       continue()

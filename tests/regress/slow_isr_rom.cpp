@@ -1,7 +1,8 @@
 // slow_isr_rom — a deliberately slowed firmware: the built ROM with a delay loop spliced into the
-// common RS-232 interrupt entry (comm_cpu/firmware/c/crt0.s `rs232_entry`, in the frozen C firmware comm_fw_c.rom, which every 82510
-// interrupt that reaches the C handler passes). Used by the regression tests and the worked
-// example of docs/regression.md to show that `rcsim compare` catches a slower ISR.
+// common RS-232 interrupt entry (comm_cpu/firmware/frozen_all_c/crt0.s `rs232_entry`, in the
+// frozen C firmware comm_fw_c.rom, which every 82510 interrupt that reaches the C handler passes).
+// Used by the regression tests and the worked example of docs/regression.md to show that
+// `rcsim compare` catches a slower ISR.
 //
 //   slow_isr_rom IN.rom SYMBOLS.json OUT.rom LOOPS
 //
