@@ -12,6 +12,7 @@
 #include "models/bus.h"
 #include "models/clock.h"
 #include "models/dpram_layout.h"
+#include "models/hex.h"
 #include "models/irq.h"
 #include "pic8259/pic8259.h"
 
@@ -56,11 +57,7 @@ std::string stamp(const sc_core::sc_time& t, int width = 0) {
     return buf;
 }
 
-std::string hex(unsigned v, int digits = 2) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%0*X", digits, v);
-    return buf;
-}
+std::string hex0x(unsigned v, unsigned digits = 2) { return "0x" + hex(v, digits); }
 
 /// The timeline: one line per event, stamped with the simulated time it is written at.
 class Timeline {
@@ -165,7 +162,7 @@ private:
                   std::uint8_t& value, int who) {
         const BusResult r = bus_access(s, write ? BusCycle::mem_write : BusCycle::mem_read, address, &value, 1,
                                        sc_core::sc_time_stamp(), who);
-        if (!r.ok()) SC_REPORT_ERROR("rcsim/demo", ("DP-RAM access to " + hex(address, 3) + " failed").c_str());
+        if (!r.ok()) SC_REPORT_ERROR("rcsim/demo", ("DP-RAM access to " + hex0x(address, 3) + " failed").c_str());
         return r;
     }
 
@@ -187,13 +184,13 @@ private:
     void on_inta(const Pic8259::IntaEvent& e) {
         if (e.cycle == 1)
             tl_.log("INTA #1: IR" + std::to_string(e.level) + (e.spurious ? " (spurious)" : "") + " in service, ISR " +
-                    hex(pic.isr()) + ", IRR " + hex(pic.irr()));
+                    hex0x(pic.isr()) + ", IRR " + hex0x(pic.irr()));
         else
-            tl_.log("INTA #2: vector " + hex(e.data));
+            tl_.log("INTA #2: vector " + hex0x(e.data));
     }
 
     void on_busy(const Idt7130::BusyEvent& e) {
-        tl_.log(std::string("BUSY_") + (e.port == Idt7130::left_port ? "L" : "R") + " on " + hex(e.address, 3) +
+        tl_.log(std::string("BUSY_") + (e.port == Idt7130::left_port ? "L" : "R") + " on " + hex0x(e.address, 3) +
                 ": low at " + stamp(e.busy_low) + ", high at " + stamp(e.busy_high) + " -> " +
                 std::to_string(e.wait_states) + " wait state(s) for the " + to_string(e.port) + " port's " +
                 (e.write ? "write" : "read"));
@@ -219,7 +216,7 @@ private:
             const unsigned level = v - kVectorBase;
             order.push_back(level);
             handler(level);
-            tl_.log("comm CPU: EOI " + hex(kRotateOnEoi) + " (rotate): IR" + std::to_string(level) +
+            tl_.log("comm CPU: EOI " + hex0x(kRotateOnEoi) + " (rotate): IR" + std::to_string(level) +
                     " now lowest, IR" + std::to_string((level + 1) & 7) + " highest");
             out(false, kRotateOnEoi);
             wait_clocks(kIret);
@@ -245,11 +242,11 @@ private:
         mem(left, false, Idt7130::kMailboxLeft, word, Idt7130::left_port);
         wait_clocks(4);
         mem(left, false, 0x000, data, Idt7130::left_port);
-        tl_.log("comm CPU: read int2ext = " + hex(word) + ", data[0][0] = " + hex(data));
+        tl_.log("comm CPU: read int2ext = " + hex0x(word) + ", data[0][0] = " + hex0x(data));
         wait_clocks(kHandlerBody);
         std::uint8_t ack = static_cast<std::uint8_t>(0x20 | (word & 0x0F));
         mem(left, true, Idt7130::kMailboxRight, ack, Idt7130::left_port);
-        tl_.log("comm CPU: writes int2rbt = " + hex(ack) + " (ACK)");
+        tl_.log("comm CPU: writes int2rbt = " + hex0x(ack) + " (ACK)");
         wait_clocks(4);
     }
 
@@ -265,7 +262,7 @@ private:
         sc_core::wait(us(2));
         std::uint8_t ack = 0;
         mem(right, false, Idt7130::kMailboxRight, ack, Idt7130::right_port);
-        tl_.log("main CPU: reads int2rbt = " + hex(ack));
+        tl_.log("main CPU: reads int2rbt = " + hex0x(ack));
 
         sc_core::wait(us(250) + ns(100) - sc_core::sc_time_stamp());
         std::uint8_t flag = 2; // RBT_USE
@@ -292,7 +289,7 @@ int run_demo(std::ostream& out) {
         << " IR3=" << pic.acks(3) << " spurious=" << pic.spurious_acks() << "\n";
     out << "IDT7130: collisions=" << ram.collisions() << ", BUSY wait left=" << ram.stats(Idt7130::left_port).wait_states
         << " right=" << ram.stats(Idt7130::right_port).wait_states << " clock(s), pflag[0] = "
-        << hex(ram.peek(kPflag0)) << " (the later write landed last, none lost)\n";
+        << hex0x(ram.peek(kPflag0)) << " (the later write landed last, none lost)\n";
     const bool ok = board.order.size() == kServices && ram.collisions() == 1 && !ram.int_l_pending() &&
                     !ram.int_r_pending();
     return ok ? 0 : 1;

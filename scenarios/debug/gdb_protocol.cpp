@@ -1,6 +1,8 @@
 // rcsim — gdb Remote Serial Protocol packets (gdb_protocol.h).
 #include "scenarios/debug/gdb_protocol.h"
 
+#include "models/hex.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -15,7 +17,6 @@ int hex_value(char c) {
     return -1;
 }
 
-const char* const digits = "0123456789abcdef";
 
 /// A hex number of at most 8 digits filling all of `s`.
 std::optional<std::uint32_t> parse_number(std::string_view s) {
@@ -49,16 +50,16 @@ bool parse_bytes(std::string_view hex, std::vector<std::uint8_t>& out) {
     return true;
 }
 
+/// A byte in the two lower-case hex digits of the protocol.
+std::string hex2(unsigned v) { return hex(v & 0xFF, 2, HexCase::lower); }
+
+/// A 32-bit register as gdb's i386 target sends it: four bytes, least significant first.
 std::string le32(std::uint32_t v) {
     std::string s;
-    for (int i = 0; i < 4; ++i) {
-        s += digits[(v >> (8 * i + 4)) & 0xF];
-        s += digits[(v >> (8 * i)) & 0xF];
-    }
+    for (int i = 0; i < 4; ++i) s += hex2(v >> (8 * i));
     return s;
 }
 
-std::string hex2(unsigned v) { return {digits[(v >> 4) & 0xF], digits[v & 0xF]}; }
 
 // The i386 core registers after the 16 integer ones: st0..st7 (80 bits), then fctrl, fstat,
 // ftag, fiseg, fioff, foseg, fooff, fop (32 bits), the order of gdb's i386 core feature.

@@ -3,8 +3,9 @@
 
 #include "models/clock.h"
 #include "models/config_error.h"
-#include "scenarios/monitor/monitor_page.h"
+#include "models/hex.h"
 #include "models/stop_signal.h"
+#include "scenarios/monitor/monitor_page.h"
 
 #include <algorithm>
 #include <cctype>
@@ -101,11 +102,10 @@ std::optional<FaultKind> fault_kind(const std::string& k) {
 
 std::string printable_frame_data(const std::string& s) {
     std::string out;
-    static const char* hex = "0123456789ABCDEF";
     for (std::size_t i = 0; i < s.size() && out.size() < 64; ++i) {
         const auto c = static_cast<unsigned char>(s[i]);
         if (c >= 0x20 && c < 0x7F && c != '\\') out += static_cast<char>(c);
-        else out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+        else out += "\\x" + hex(c, 2);
     }
     if (out.size() >= 64) out += "...";
     return out;

@@ -6,6 +6,7 @@
 #include "scenarios/report/interrupt_log.h"
 #include "scenarios/report/report_html.h"
 #include "scenarios/report/svg.h"
+#include "models/hex.h"
 #include "models/stats.h"
 
 #include <nlohmann/json.hpp>
@@ -50,12 +51,6 @@ inline const json& jo(const json& j, const char* key) {
 /// Whole numbers without decimals, others with `dec`.
 inline std::string smart(double v, int dec = 3) {
     return (std::floor(v) == v && std::fabs(v) < 1e15) ? svg::num(v, 0) : svg::num(v, dec);
-}
-
-inline std::string hex(unsigned v, int digits) {
-    char b[16];
-    std::snprintf(b, sizeof b, "%0*X", digits, v);
-    return b;
 }
 
 /// A histogram of `v` with min, mean, p99 and max marked.

@@ -2,6 +2,7 @@
 // rows (the histograms' samples, the two timeline windows). See interrupt_log.h.
 #include "scenarios/report/interrupt_log.h"
 
+#include "models/hex.h"
 #include "scenarios/report/svg.h"
 
 #include <algorithm>
@@ -95,7 +96,6 @@ template <typename N> void append_int(std::string& out, N v) {
 } // namespace
 
 void write_csv_row(const InterruptRow& r, std::ostream& os) {
-    static const char hex[] = "0123456789ABCDEF";
     std::string line;
     line.reserve(192);
     line += r.source;
@@ -124,10 +124,8 @@ void write_csv_row(const InterruptRow& r, std::ostream& os) {
     line += ',';
     append_int(line, r.dpram_writes);
     line += ',';
-    // The handler's linear address, "%05X": five hex digits (20 bits), more if ever wider.
-    std::string h;
-    for (std::uint32_t v = r.handler; v || h.size() < 5; v >>= 4) h.insert(h.begin(), hex[v & 15]);
-    line += h;
+    // The handler's linear address: five hex digits (20 bits), more if ever wider.
+    line += hex(r.handler, 5);
     line += '\n';
     os.write(line.data(), static_cast<std::streamsize>(line.size()));
 }

@@ -1,5 +1,6 @@
 #include "scenarios/trace/perfetto_trace.h"
 
+#include "models/hex.h"
 #include "scenarios/world/world.h"
 
 #include <cstdio>
@@ -22,11 +23,7 @@ std::string level_name(unsigned level) {
     return "IR" + std::to_string(level) + (level < 4 ? std::string(" ") + names[level] : std::string());
 }
 
-std::string hex5(std::uint32_t linear) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%05X", static_cast<unsigned>(linear));
-    return buf;
-}
+std::string hex5(std::uint32_t linear) { return "0x" + hex(linear, 5); }
 
 const char* dir_name(unsigned dir) {
     return dir == LineObserver::host_to_controller ? "host to controller" : "controller to host";
