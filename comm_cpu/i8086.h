@@ -211,6 +211,11 @@ public:
 
     cycles_t cycles() const { return cycle_; }
     std::uint64_t instructions() const { return instructions_; }
+    /// The first instruction boundary (cycle number) at which an INTR could be taken, IF = 1 and
+    /// nothing inhibiting it; kNever until then. The firmware's start-up lasts until it
+    /// (docs/scenarios.md "Start-up"). Set once, never cleared.
+    static constexpr cycles_t kNever = ~cycles_t{0};
+    cycles_t interrupts_enabled_at() const { return interrupts_enabled_at_; }
     /// Linear address of CS:IP of the next instruction to execute.
     std::uint32_t pc() const { return linear(r_.s[CS], r_.ip); }
 
@@ -646,6 +651,7 @@ private:
     bool intr_ = false, nmi_level_ = false, nmi_pending_ = false;
     bool halted_ = false;
     bool inhibit_ = false;          // no INTR/NMI/TF after this instruction (MOV/POP sreg, STI)
+    cycles_t interrupts_enabled_at_ = kNever;
     bool trap_armed_ = false;       // TF was set at the start of this instruction
     bool stop_ = false;
     bool started_ = false;

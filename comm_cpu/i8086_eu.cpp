@@ -384,9 +384,12 @@ bool Cpu::check_interrupts() {
         interrupt(2);
         return true;
     }
-    if (intr_ && get_flag(flag::IF)) {
-        interrupt(0, true);
-        return true;
+    if (get_flag(flag::IF)) {
+        if (interrupts_enabled_at_ == kNever) interrupts_enabled_at_ = cycle_; // the end of start-up
+        if (intr_) {
+            interrupt(0, true);
+            return true;
+        }
     }
     if (trap_armed_ && get_flag(flag::TF)) {
         interrupt(1);

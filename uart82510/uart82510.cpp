@@ -471,6 +471,7 @@ void Uart82510::push_rx(std::uint16_t data, std::uint8_t flags, const sc_core::s
     if (rx_count_ >= rx_depth()) {
         rst_ |= RST_OE; // the new character is lost
         ++stats_.overruns;
+        if (!first_overrun_) first_overrun_ = stop;
         return;
     }
     rx_fifo_[(rx_head_ + rx_count_) % rx_fifo_.size()] = RxEntry{data, flags, stop};

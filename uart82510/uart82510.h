@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 namespace rcsim {
 
@@ -127,6 +128,9 @@ public:
     void rx_break(bool active) override;
 
     const Stats& stats() const { return stats_; }
+    /// When the first character was lost to an overrun (its stop bit found the RX FIFO full);
+    /// none without one. A failed `overruns` check names it.
+    const std::optional<sc_core::sc_time>& first_overrun() const { return first_overrun_; }
     const Config& config() const { return cfg_; }
     unsigned bank() const { return bank_; }
     unsigned rx_level() const { return rx_count_; }
@@ -193,6 +197,7 @@ private:
     sc_core::sc_event drive_ev_, inta_release_ev_;
 
     Stats stats_;
+    std::optional<sc_core::sc_time> first_overrun_;
 
     void b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time& delay);
     unsigned transport_dbg(tlm::tlm_generic_payload& gp);

@@ -93,6 +93,8 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
             rec.ir_rise = rise_[rec.level];
             rec.has_rise = true;
             rise_pending_[rec.level] = false;
+            // Interrupts are enabled by now (this is their acknowledge): was the request older?
+            rec.startup = rec.ir_rise < cpu_.time_of(cpu_.core().interrupts_enabled_at());
         }
         return;
     }
@@ -107,15 +109,38 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
     stack_.push_back(o);
 }
 
+std::string source_name(unsigned level) {
+    if (level < 3) return "rs232_" + std::to_string(level);
+    if (level == 3) return "dpram";
+    return "ir" + std::to_string(level);
+}
+
+double exact_us(const sc_core::sc_time& t) {
+    // sc_time is an integer count of picoseconds: value() / 1e6 keeps every digit.
+    return sc_core::sc_get_time_resolution() == sc_core::sc_time(1, sc_core::SC_PS)
+               ? static_cast<double>(t.value()) / 1e6
+               : t.to_seconds() * 1e6;
+}
+
+std::optional<sc_core::sc_time> InterruptProbe::interrupts_enabled() const {
+    const i8086::cycles_t at = cpu_.core().interrupts_enabled_at();
+    if (at == i8086::Cpu::kNever) return std::nullopt;
+    return cpu_.time_of(at);
+}
+
 void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
     InterruptRecord rec = stack_.back().rec;
     stack_.pop_back();
     rec.iret_done = iret_done;
     rec.done = true;
     const unsigned level = rec.level & 7;
-    ++count_[level];
-    if (rec.has_rise) latency_[level].add(rec.latency_us());
-    service_[level].add(rec.service_us());
+    if (rec.startup) {
+        startup_.push_back(rec);
+    } else {
+        ++count_[level];
+        if (rec.has_rise) latency_[level].add(rec.latency_us());
+        service_[level].add(rec.service_us());
+    }
     if (keep_) done_.push_back(rec);
     held_.push_back(rec);
     // Back in the main program: everything entered so far has completed.

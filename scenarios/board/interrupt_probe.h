@@ -27,6 +27,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace rcsim {
@@ -39,6 +41,10 @@ struct InterruptRecord {
     sc_core::sc_time ir_rise, inta1, inta2, first_isr, eoi, iret_done;
     bool has_rise = false, has_eoi = false, done = false;
     unsigned depth = 0;            // nesting depth at entry (0 = interrupted the main program)
+    /// Requested during the firmware's start-up: the IR line rose before the CPU could first take
+    /// an interrupt (i8086::Cpu::interrupts_enabled_at). Its figures are reported apart and judged
+    /// by no check (docs/scenarios.md "Start-up").
+    bool startup = false;
     std::uint32_t handler = 0;     // physical address of the first handler instruction
     std::uint64_t dpram_reads = 0; // DP-RAM data-area bytes the handler read (left port)
     std::uint64_t dpram_writes = 0;
@@ -46,6 +52,12 @@ struct InterruptRecord {
     double latency_us() const;
     double service_us() const;
 };
+
+/// The source name of an 8259A level on the communication board: rs232_0..2 (IR0..IR2), dpram
+/// (IR3), irN otherwise.
+std::string source_name(unsigned level);
+/// A simulated time in microseconds with every picosecond kept (sc_time counts picoseconds).
+double exact_us(const sc_core::sc_time& t);
 
 /// Where a run sends every completed record besides its own figures (the report's interrupt log,
 /// scenarios/report/interrupt_log.h), so that the world that measures does not depend on what
@@ -69,8 +81,14 @@ public:
     InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
                    std::uint16_t pic_io_base, std::uint32_t dpram_base, std::uint32_t dpram_data_size);
 
-    /// Completed interrupts of one level, and their latency (those with an IR rise) and service.
+    /// Completed interrupts of one level after start-up, and their latency (those with an IR
+    /// rise) and service. Start-up interrupts are counted apart (startup_records()).
     std::uint64_t count(unsigned level) const { return level < 8 ? count_[level] : 0; }
+    /// The completed start-up interrupts (at most one per level: a level's request stays pending
+    /// until it is taken), in completion order.
+    const std::vector<InterruptRecord>& startup_records() const { return startup_; }
+    /// When the CPU could first take an interrupt; none before it could.
+    std::optional<sc_core::sc_time> interrupts_enabled() const;
     const Samples& latency_us(unsigned level) const { return latency_[level & 7]; }
     const Samples& service_us(unsigned level) const { return service_[level & 7]; }
 
@@ -135,6 +153,7 @@ private:
     std::vector<InterruptRecord> held_; // completed, some interrupt entered before them still open
     std::array<std::uint64_t, 8> count_{};
     std::array<Samples, 8> latency_, service_;
+    std::vector<InterruptRecord> startup_;
     bool keep_ = true;
     std::vector<InterruptRecord> done_;
 

@@ -11,6 +11,7 @@
 #include <systemc>
 
 #include <charconv>
+#include <filesystem>
 #include <iostream>
 
 namespace rcsim {
@@ -38,7 +39,9 @@ void add_run_command(CLI::App& app) {
     };
     auto args = std::make_shared<Args>();
     cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
-    cmd->add_option("--out", args->out, "Output directory for report.json and pictures");
+    auto* out = cmd->add_option("--out", args->out,
+                                "Output folder for report.json, report.html and every file the run writes "
+                                "(default: rcsim-out/<scenario>)");
     auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
     auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
@@ -55,8 +58,12 @@ void add_run_command(CLI::App& app) {
     auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
     auto* monitor = cmd->add_option("--monitor", args->monitor,
                                     "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
-    cmd->callback([args, seed, rom, trace, gdb, gdb_wait, symbols, monitor] {
+    cmd->callback([args, out, seed, rom, trace, gdb, gdb_wait, symbols, monitor] {
         RunOptions opt;
+        // Every run writes its files somewhere it says: without --out, a folder named after the
+        // scenario under ./rcsim-out (docs/scenarios.md "Output files").
+        const bool default_out = !*out;
+        if (default_out) args->out = (std::filesystem::path("rcsim-out") / std::filesystem::path(args->scenario).stem()).string();
         opt.out_dir = args->out;
         if (*rom) opt.rom = args->rom;
         // The input a run that exhausts memory is blamed on.
@@ -71,6 +78,7 @@ void add_run_command(CLI::App& app) {
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         try {
+            if (*out && args->out.empty()) throw ConfigError("--out '': an empty path (leave --out out for rcsim-out/<scenario>)");
             if (*seed) opt.seed = parse_seed(args->seed);
             if (*trace && args->trace.empty()) throw ConfigError("--trace '': an empty path (leave --trace out for no trace)");
             if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
@@ -82,6 +90,7 @@ void add_run_command(CLI::App& app) {
             install_stop_handlers();
             nlohmann::json report;
             Scenario scenario = load_scenario(args->scenario);
+            if (default_out) std::cout << "output: " << args->out << " (no --out given)" << std::endl;
             std::unique_ptr<debug::GdbRun> debugger; // outlives the run: it tells gdb how it ended
             if (*gdb) debugger = std::make_unique<debug::GdbRun>(args->gdb, scenario, opt, std::cout, std::cerr);
             code = run_scenario(std::move(scenario), opt, report);

@@ -70,7 +70,10 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
     auto elapsed = [&t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     std::size_t failed = 0;
     run_jobs(jobs, parallel, [&](std::size_t j, const JobResult& r, std::size_t done) {
-        if (r.exit_code != 0) {
+        if (r.exit_code == 4) {
+            // Nothing judged either way: the summary says which; the sweep does not fail on it.
+            progress.note("run " + sweep.runs[mine[j]].id + ": inconclusive, a check was not measured (" + jobs[j].log + ")");
+        } else if (r.exit_code != 0) {
             ++failed;
             const std::string why = r.exit_code == 1 ? "a check failed" : r.exit_code == 2 ? "bad input"
                                                                                            : "exit " + std::to_string(r.exit_code);

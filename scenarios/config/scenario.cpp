@@ -250,10 +250,7 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
                 s.finish();
             }
         }
-        if (m.has("record")) {
-            std::filesystem::path rec = m.get<std::string>("record", "");
-            p.raw.record_path = rec.is_absolute() ? rec.string() : (dir / rec).string();
-        }
+        if (m.has("record")) p.raw.record_path = m.require<std::string>("record");
     } else if (host == "tcp") {
         p.host = PortScenario::Host::tcp;
         p.tcp.format = fmt;
@@ -263,8 +260,8 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
         } catch (const std::exception& e) {
             m.fail(m.child("listen"), std::string("bad 'listen': ") + e.what());
         }
-        if (m.has("record")) p.tcp.record_path = path_value(m, "record", dir);
-        if (m.has("port_file")) p.tcp.port_file = path_value(m, "port_file", dir);
+        if (m.has("record")) p.tcp.record_path = m.require<std::string>("record");
+        if (m.has("port_file")) p.tcp.port_file = m.require<std::string>("port_file");
         p.tcp.telnet = m.get<bool>("telnet", false);
         if (m.has("break_ms") && !p.tcp.telnet)
             m.fail(m.child("break_ms"), "'" + ctx + "break_ms' is the length of a telnet IAC BRK: it needs 'telnet: true'");
@@ -278,7 +275,7 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
         p.host = PortScenario::Host::replay;
         p.replay.file = path_value(m, "file", dir);
         if (m.has("format")) p.replay.format = fmt;
-        if (m.has("record")) p.replay.record_path = path_value(m, "record", dir);
+        if (m.has("record")) p.replay.record_path = m.require<std::string>("record");
     } else if (host == "pty") {
         p.host = PortScenario::Host::pty;
         p.pty.format = fmt;
@@ -290,8 +287,7 @@ PortScenario read_port(const YAML::Node& n, const std::string& file, const std::
         if (p.host != PortScenario::Host::protocol)
             m.fail(m.child("log"), "'" + ctx + "log' is the protocol host's transaction log; this port's host is '" +
                                        host + "'");
-        std::filesystem::path log = m.get<std::string>("log", "");
-        p.log_path = log.is_absolute() ? log.string() : (dir / log).string();
+        p.log_path = m.require<std::string>("log");
     }
     p.noise_per_bit = m.number("noise_per_bit", 0, 0, 1);
     if (m.has("faults")) {
@@ -423,7 +419,7 @@ void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
     c.max_bus_errors = m.integer("max_bus_errors", 0, 0, 1000000000000000);
     c.max_char_latency_us = optional_number(m, "max_char_latency_us", 0, 1e9);
     c.min_margin_us = m.number("min_margin_us", 0, -1e9, 1e9);
-    if (m.has("min_worst_margin_us")) c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);
+    c.min_worst_margin_us = m.number("min_worst_margin_us", 0, -1e9, 1e9);
     if (m.has("min_frames_delivered"))
         c.min_frames_delivered = m.integer("min_frames_delivered", 0, 0, 1000000000000000);
     if (m.has("circle")) {
@@ -468,6 +464,27 @@ motion::MotionConfig motion_config(const Scenario& s) {
         c.csp = k;
     }
     return c;
+}
+
+std::vector<std::string*> Scenario::output_files() {
+    std::vector<std::string*> out;
+    for (PortScenario& p : ports)
+        for (std::string* f : {&p.log_path, &p.raw.record_path, &p.tcp.record_path, &p.tcp.port_file, &p.replay.record_path})
+            if (!f->empty()) out.push_back(f);
+    return out;
+}
+
+void Scenario::place_outputs(const std::filesystem::path& out_dir) {
+    std::set<std::string> seen;
+    for (std::string* f : output_files()) {
+        const std::filesystem::path p = *f;
+        if (p.is_relative()) *f = (out_dir / p).lexically_normal().string();
+        // Two outputs in one file would interleave or overwrite each other: bad input.
+        std::error_code ec;
+        const std::filesystem::path key = std::filesystem::weakly_canonical(*f, ec);
+        if (!seen.insert(ec ? *f : key.string()).second)
+            throw ConfigError(file, 0, "two outputs of the run are the same file '" + *f + "' (log:, record:, port_file:)");
+    }
 }
 
 void Scenario::set_seed(std::uint64_t run_seed) {

@@ -16,6 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
@@ -56,7 +57,7 @@ struct CheckLimits {
     double max_char_latency_us = -1;         // stop bit -> RXD read; < 0: per port, its RX FIFO's
                                              // depth in that port's character times
     double min_margin_us = 0;                // Table 3: budget - (RS-232 ISR mean + DP-RAM byte)
-    std::optional<double> min_worst_margin_us; // budget - (longest RS-232 ISR + DP-RAM byte); no check if unset
+    double min_worst_margin_us = 0;          // the paper's rule: budget - (longest RS-232 ISR + DP-RAM byte)
     std::optional<std::uint64_t> min_frames_delivered; // all ports; unset: one per port whose host
                                                        // generates commands
     std::set<std::string> off;               // checks switched off by name (`NAME: off`)
@@ -105,6 +106,13 @@ struct Scenario {
     std::optional<MotionPlan> motion;
     /// The `monitor:` section (docs/monitor.md); none without one.
     std::optional<monitor::MonitorOptions> monitor;
+
+    /// The files a run of this scenario writes besides its reports: host logs, records, port
+    /// files. Relative as the file names them until place_outputs().
+    std::vector<std::string*> output_files();
+    /// Every relative output file goes under `out_dir` (the run's --out folder); an absolute path
+    /// is honoured. Call once, before the world is built.
+    void place_outputs(const std::filesystem::path& out_dir);
 
     /// Sets the run's seed and every seed derived from it (a --seed given on the command line
     /// goes through here too, so that no derived seed keeps the file's).

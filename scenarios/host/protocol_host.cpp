@@ -246,6 +246,7 @@ void ProtocolHost::do_command(const Frame& f) {
         }
         if (attempt == cfg_.timing.max_retries) {
             ++counters_.frames_failed;
+            if (!first_failure_) first_failure_ = Failure{sc_core::sc_time_stamp(), f.token};
             note("command " + f.token + " failed after " + std::to_string(attempt) + " retries");
             busy_ = false;
             last_failed_ = true;

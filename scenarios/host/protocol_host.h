@@ -148,6 +148,12 @@ public:
     void send(const proto::Frame& f);
 
     const Counters& counters() const { return counters_; }
+    /// The first command given up after its retries: when, and its token; none without one.
+    struct Failure {
+        sc_core::sc_time at;
+        std::string token;
+    };
+    const std::optional<Failure>& first_failure() const { return first_failure_; }
     /// responses(), delivered() and log() keep every entry while `keep_history` is on (the
     /// default, for tests); a long run turns it off and listens to on_delivered.
     void keep_history(bool on) { keep_history_ = on; }
@@ -226,6 +232,7 @@ private:
     ScriptResult script_;
     sc_core::sc_event idle_ev_;
     bool last_failed_ = false;               // the last command was given up after its retries
+    std::optional<Failure> first_failure_;
     bool last_response_timed_out_ = false;
     std::optional<proto::Frame> last_response_; // the response to the last command
     sc_core::sc_time last_etx_;              // when the last command frame's ETX left

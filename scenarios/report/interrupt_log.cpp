@@ -17,19 +17,6 @@ using svg::num;
 // ---------------------------------------------------------------------------------------------
 // rows and CSV
 
-std::string source_name(unsigned level) {
-    if (level < 3) return "rs232_" + std::to_string(level);
-    if (level == 3) return "dpram";
-    return "ir" + std::to_string(level);
-}
-
-double exact_us(const sc_core::sc_time& t) {
-    // sc_time is an integer count of picoseconds: value() / 1e6 keeps every digit.
-    return sc_core::sc_get_time_resolution() == sc_core::sc_time(1, sc_core::SC_PS)
-               ? static_cast<double>(t.value()) / 1e6
-               : t.to_seconds() * 1e6;
-}
-
 InterruptRow row_of(const InterruptRecord& r, bool rx) {
     const auto exact = exact_us;
     InterruptRow row;
@@ -46,6 +33,7 @@ InterruptRow row_of(const InterruptRecord& r, bool rx) {
     row.has_eoi = r.has_eoi;
     row.depth = r.depth;
     row.rx = rx;
+    row.startup = r.startup;
     row.dpram_reads = r.dpram_reads;
     row.dpram_writes = r.dpram_writes;
     row.handler = r.handler;
@@ -175,8 +163,10 @@ void TimelineWindows::add(const InterruptRow& r) {
     open_until_ = std::max(open_until_, r.iret_done_us);
     recent_.push_back({r, nested});
     unordered_starts_.push(r.start_us());
-    // The zoom: the first row of the longest latency so far, else the first row.
-    if (rows_ == 1 || (r.has_rise && (!worst_has_rise_ || r.latency_us() > worst_.latency_us()))) {
+    // The zoom: the first row of the longest latency so far (start-up rows aside: no check judges
+    // them), else the first row.
+    const bool judged = r.has_rise && !r.startup;
+    if (rows_ == 1 || (judged && (!worst_judged_ || r.latency_us() > worst_.latency_us()))) {
         choose_zoom(r);
     } else if (overlaps(r, z0_, z0_ + zoom_)) {
         zoom_rows_.push_back(recent_.back());
@@ -185,7 +175,7 @@ void TimelineWindows::add(const InterruptRow& r) {
 
 void TimelineWindows::choose_zoom(const InterruptRow& r) {
     worst_ = r;
-    worst_has_rise_ = r.has_rise;
+    worst_judged_ = r.has_rise && !r.startup;
     // The whole interrupt when its wait fits, else its entry and service with the IR rise named
     // at the left edge.
     zoom_ = zoom_us_;
@@ -254,13 +244,14 @@ void InterruptLog::write_csv_to(std::ostream* os) {
 
 void InterruptLog::add(const InterruptRow& r) {
     if (csv_) write_csv_row(r, *csv_);
+    timeline_.add(r);
+    if (r.startup) return; // reported apart (report.json interrupts.startup), not in the histograms
     auto put = [&r](Samples& latency, Samples& service) {
         if (r.has_rise) latency.add(r.latency_us());
         service.add(r.service_us());
     };
     if (r.level < 4) put(latency_[r.level], service_[r.level]);
     if (r.rx) put(latency_[4], service_[4]);
-    timeline_.add(r);
 }
 
 

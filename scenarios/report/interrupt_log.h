@@ -33,6 +33,7 @@ struct InterruptRow {
     bool has_rise = false, has_eoi = false;
     unsigned depth = 0;     // nesting depth at entry (0 = interrupted the main program)
     bool rx = false;        // an RS-232 interrupt that took a character out of the RX FIFO
+    bool startup = false;   // requested during the firmware's start-up (InterruptRecord::startup)
     std::uint64_t dpram_reads = 0, dpram_writes = 0;
     std::uint32_t handler = 0;
 
@@ -48,10 +49,6 @@ struct InterruptRow {
     double start_us() const { return has_rise ? ir_rise_us : inta1_us; }
 };
 
-/// The source name of an 8259A level on the communication board.
-std::string source_name(unsigned level);
-/// A simulated time in microseconds with every picosecond kept (sc_time counts picoseconds).
-double exact_us(const sc_core::sc_time& t);
 InterruptRow row_of(const InterruptRecord& r, bool rx);
 /// Sorts rows into entry order (first INTA), stable.
 void sort_rows(std::vector<InterruptRow>& rows);
@@ -80,8 +77,8 @@ struct TimelineRow {
 
 /// The two timelines of report.html, found online from rows given in entry order:
 ///   the busiest window: busiest_window() over all rows;
-///   the zoom: around the row of the longest latency (the first in entry order of those; without
-///   any IR rise, the first row), wide enough to hold it.
+///   the zoom: around the row of the longest latency after start-up (the first in entry order of
+///   those; without any such row, the first row), wide enough to hold it.
 /// Each keeps the rows drawn in it. Besides those it holds the starts not yet in order and the rows
 /// that may still fall into a later candidate window: those ending after the earliest start of a
 /// busiest window still to be counted, or within keep_us = max(window_us, 2.5 zoom_us) before
@@ -124,7 +121,7 @@ private:
     double last_counted_ = 0;
     TimeWindow best_;
     std::vector<TimelineRow> best_rows_;
-    bool worst_has_rise_ = false;
+    bool worst_judged_ = false;
     InterruptRow worst_;
     double z0_ = 0, zoom_ = 0;
     std::vector<TimelineRow> zoom_rows_;

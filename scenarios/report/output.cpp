@@ -9,12 +9,37 @@
 
 namespace rcsim {
 
+const std::vector<std::string>& run_file_names() {
+    static const std::vector<std::string> names = {
+        "report.json",   "report.html",    "interrupts.csv",      "profile.txt",           "profile.folded",
+        "trajectory.csv", "trajectory.svg", "trajectory_time.svg", "trajectory_pulses.csv"};
+    // (symbols.elf is written by --gdb before the run starts: it is always the run's own.)
+    return names;
+}
+
 void prepare_out_dir(const std::string& dir) {
     if (dir.empty()) return;
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir))
         throw ConfigError("--out '" + dir + "': cannot create the output directory" + (ec ? ": " + ec.message() : ""));
+    for (const std::string& name : run_file_names()) {
+        const std::filesystem::path f = std::filesystem::path(dir) / name;
+        if (!std::filesystem::is_regular_file(f, ec)) continue;
+        if (!std::filesystem::remove(f, ec) || ec)
+            throw ConfigError(f.string(), 0, "cannot remove the earlier run's file" + (ec ? ": " + ec.message() : ""));
+    }
+}
+
+void prepare_output_folders(const std::vector<std::string*>& files) {
+    for (const std::string* f : files) {
+        const std::filesystem::path parent = std::filesystem::path(*f).parent_path();
+        if (parent.empty()) continue;
+        std::error_code ec;
+        std::filesystem::create_directories(parent, ec);
+        if (ec || !std::filesystem::is_directory(parent))
+            throw ConfigError(*f, 0, "cannot create its folder" + (ec ? ": " + ec.message() : ""));
+    }
 }
 
 void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report) {

@@ -8,11 +8,22 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace rcsim {
 
-/// Creates --out DIR before the run, so that a bad path fails at once and not after the simulation.
+/// The files a run writes under fixed names in its folder (report.json, report.html, interrupts.csv,
+/// the profile, the trajectory files).
+const std::vector<std::string>& run_file_names();
+
+/// Creates --out DIR before the run, so that a bad path fails at once and not after the simulation,
+/// and removes the files an earlier run left there under run_file_names(): a reused folder never
+/// shows an old profile beside a new report. Other files are left alone.
 void prepare_out_dir(const std::string& dir);
+
+/// Creates the folder of each of the run's output files (a relative `log: logs/p0.log` lands in
+/// DIR/logs/); throws ConfigError naming the one it cannot create.
+void prepare_output_folders(const std::vector<std::string*>& files);
 
 /// Writes DIR/report.json.
 void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report);

@@ -7,6 +7,7 @@
 #include "scenarios/report/svg.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cerrno>
 #include <cmath>
@@ -35,7 +36,9 @@ h1{font-size:22px;margin:0}
 h2{font-size:18px;border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:34px}
 h3{font-size:15px;margin:18px 0 6px}
 .banner{display:flex;justify-content:space-between;align-items:center;padding:14px 18px;margin:16px 0 10px;border-radius:6px;color:#fff}
-.banner.pass{background:#1e7e34}.banner.fail{background:#c82333}
+.banner.pass{background:#1e7e34}.banner.fail{background:#c82333}.banner.inconclusive{background:#6c757d}
+.banner.interrupted{background:#b8860b}.verdict-reason{margin:0 0 10px;font-weight:bold}
+tr.unmeasured td.v{background:#eee}td.nm{color:#555;font-weight:bold}td.why{text-align:left;white-space:normal;font-size:13px}
 .interrupted{background:#fff3cd;border:1px solid #e0a800;padding:8px 12px;font-weight:bold}
 .verdict{font-size:26px;font-weight:bold;letter-spacing:1px}
 table{border-collapse:collapse;margin:6px 0 10px}
@@ -57,21 +60,39 @@ code{background:#f4f4f4;padding:0 3px}
 // ---------------------------------------------------------------------------------------------
 // sections
 
-std::string check_relation(const std::string& name) {
-    if (name == "frames_delivered" || name.rfind("min_", 0) == 0 || name.rfind("table3_", 0) == 0) return "&ge;";
-    return "&le;";
+/// The check's relation as report.json states it ("<=" or ">=").
+std::string check_relation(const json& c) { return js(c, "relation", "<=") == ">=" ? "&ge;" : "&le;"; }
+
+/// The run's verdict as report.json states it: passed, failed, inconclusive or interrupted.
+std::string verdict_of(const json& r) { return js(r, "verdict", r.value("passed", false) ? "passed" : "failed"); }
+
+/// The page's title, banner and, unless the run passed, the one-line reason.
+void banner(std::ostream& o, const json& r, const char* what) {
+    const std::string name = js(r, "scenario", "?");
+    std::string v = verdict_of(r);
+    const std::string css = v == "passed" ? "pass" : v == "failed" ? "fail" : v;
+    for (char& ch : v) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim: " << esc(name) << " "
+      << v << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
+    o << "<header id=\"header\"><div class=\"banner " << css << "\"><h1>" << what << ": " << esc(name)
+      << "</h1><div class=\"verdict\">" << v << "</div></div>\n";
+    const std::string why = js(r, "verdict_reason");
+    if (!why.empty()) o << "<p class=\"verdict-reason\" id=\"verdict-reason\">" << esc(why) << "</p>\n";
 }
 
 void section_checks(std::ostream& o, const json& r) {
     o << "<section id=\"checks\"><h2>Checks</h2>\n<table><tr><th class=\"l\">check</th><th>value</th><th></th>"
-         "<th>limit</th><th>result</th></tr>\n";
+         "<th>limit</th><th>result</th><th class=\"l\">why</th></tr>\n";
     for (const auto& c : jo(r, "checks")) {
         const bool ok = c.value("passed", false);
+        const bool unmeasured = c.value("status", "") == "not measured";
         const std::string name = js(c, "name");
-        o << "<tr class=\"" << (ok ? "pass" : "fail") << "\"><td class=\"l\">" << esc(name) << "</td><td class=\"v\">"
-          << smart(jd(c, "value")) << "</td><td>" << check_relation(name) << "</td><td>" << smart(jd(c, "limit"))
-          << "</td><td class=\"" << (ok ? "ok" : "ko") << "\">"
-          << (ok ? "PASS" : c.value("status", "") == "not measured" ? "FAIL (not measured)" : "FAIL") << "</td></tr>\n";
+        o << "<tr class=\"" << (ok ? "pass" : unmeasured ? "unmeasured" : "fail") << "\" id=\"check-" << esc(name)
+          << "\"><td class=\"l\">" << esc(name) << "</td><td class=\"v\">"
+          << (c["value"].is_number() ? smart(jd(c, "value")) : std::string("-")) << "</td><td>" << check_relation(c)
+          << "</td><td>" << smart(jd(c, "limit")) << "</td><td class=\"" << (ok ? "ok" : unmeasured ? "nm" : "ko")
+          << "\">" << (ok ? "PASS" : unmeasured ? "NOT MEASURED" : "FAIL") << "</td><td class=\"why\">"
+          << esc(unmeasured ? js(c, "reason") : js(c, "why")) << "</td></tr>\n";
     }
     o << "</table></section>\n";
 }
@@ -317,19 +338,17 @@ void write_page(const std::filesystem::path& dir, const std::string& page) {
 std::string render_html(const json& r, const InterruptLog& log, const HtmlOptions& opt) {
     std::ostringstream o;
     const std::string name = js(r, "scenario", "?");
-    const bool passed = r.value("passed", false);
-    o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim: " << esc(name)
-      << (passed ? " PASSED" : " FAILED") << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
-    o << "<header id=\"header\"><div class=\"banner " << (passed ? "pass" : "fail") << "\"><h1>rcsim run: "
-      << esc(name) << "</h1><div class=\"verdict\">" << (passed ? "PASSED" : "FAILED") << "</div></div>\n";
+    banner(o, r, "rcsim run");
     if (r.value("interrupted", false)) // a signal stopped the run: every figure covers only this far
         o << "<p class=\"interrupted\" id=\"interrupted\">INTERRUPTED at " << num(jd(r, "sim_time_s"), 6)
           << " s simulated: the run was stopped by a signal before its end</p>\n";
     const json& cpu = jo(r, "comm_cpu");
     const double wall = jd(r, "wall_time_s"), rtf = jd(r, "rtf");
-    std::uint64_t failed = 0;
-    for (const auto& c : jo(r, "checks"))
-        if (!c.value("passed", false)) ++failed;
+    std::uint64_t held = 0, unmeasured = 0;
+    for (const auto& c : jo(r, "checks")) {
+        if (c.value("passed", false)) ++held;
+        if (c.value("status", "") == "not measured") ++unmeasured;
+    }
     o << "<table class=\"meta\">\n"
       << "<tr><td>scenario</td><td>" << esc(name) << "</td></tr>\n"
       << "<tr><td>seed</td><td>" << (r.contains("seed") ? r["seed"].dump() : "?") << "</td></tr>\n"
@@ -342,8 +361,8 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
       << "<tr><td>comm CPU</td><td>" << num(jd(cpu, "clock_hz") / 1e6, 3) << " MHz 8086, " << ju(cpu, "cycles")
       << " cycles, " << ju(cpu, "instructions") << " instructions</td></tr>\n"
       << "<tr><td>interrupts recorded</td><td>" << log.rows() << "</td></tr>\n"
-      << "<tr><td>checks</td><td>" << (jo(r, "checks").size() - failed) << " of " << jo(r, "checks").size()
-      << " hold</td></tr>\n</table>\n";
+      << "<tr><td>checks</td><td>" << held << " of " << jo(r, "checks").size() << " hold"
+      << (unmeasured ? ", " + std::to_string(unmeasured) + " not measured" : std::string()) << "</td></tr>\n</table>\n";
     o << "<nav><a href=\"#checks\">Checks</a><a href=\"#table3\">Table 3</a><a href=\"#interrupts\">Interrupts</a>"
          "<a href=\"#timeline\">Timeline</a><a href=\"#ports\">Ports</a><a href=\"#main-cpu\">Main CPU</a>"
       << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>")
@@ -392,12 +411,8 @@ void write_report_html(const std::filesystem::path& dir, const json& report, con
 std::string render_motion_html(const json& r, const HtmlOptions& opt) {
     std::ostringstream o;
     const std::string name = js(r, "scenario", "?");
-    const bool passed = r.value("passed", false);
-    o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim: " << esc(name)
-      << (passed ? " PASSED" : " FAILED") << "</title>\n<style>" << kCss << "</style>\n</head>\n<body>\n";
-    o << "<header id=\"header\"><div class=\"banner " << (passed ? "pass" : "fail") << "\"><h1>rcsim motion run: "
-      << esc(name) << "</h1><div class=\"verdict\">" << (passed ? "PASSED" : "FAILED") << "</div></div>\n"
-      << "<table class=\"meta\">\n<tr><td>scenario</td><td>" << esc(name) << "</td></tr>\n"
+    banner(o, r, "rcsim motion run");
+    o << "<table class=\"meta\">\n<tr><td>scenario</td><td>" << esc(name) << "</td></tr>\n"
       << "<tr><td>simulated time</td><td>" << num(jd(r, "sim_time_s"), 6) << " s</td></tr>\n</table>\n"
       << "<nav><a href=\"#checks\">Checks</a><a href=\"#motion\">Motion</a></nav></header>\n";
     section_checks(o, r);

@@ -51,8 +51,13 @@ nlohmann::json run_header(const Scenario& s, const RunOptions& opt, double wall)
     return h;
 }
 
-/// The exit code: 128 + the signal that stopped the run, else 0 (passed) or 1.
-int exit_code(bool passed) { return stop_signal() != 0 ? 128 + stop_signal() : passed ? 0 : 1; }
+/// The verdict from report["checks"] into `report`; the exit code (verdict/checks.h). `idle`: why
+/// the scenario gave the controller nothing to measure ("" when it did).
+int conclude(nlohmann::json& report, const std::string& idle = "") {
+    const RunVerdict v = judge_run(report["checks"], stop_signal(), idle);
+    put_verdict(report, v);
+    return exit_code_of(v, stop_signal());
+}
 
 /// A scenario with a `motion:` section: the motion side alone (main_cpu/motion, docs/motion.md).
 int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
@@ -75,12 +80,12 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
     report["checks"] = motion.value("checks", nlohmann::json::array());
     motion.erase("checks");
     report["motion"] = motion;
-    report["passed"] = rc == 0;
+    const int code = conclude(report);
     if (!opt.out_dir.empty()) {
         write_report_json(out, report);
         report::write_motion_report_html(out, report);
     }
-    return exit_code(rc == 0);
+    return code;
 }
 
 /// The remote monitor, when --monitor or the scenario's `monitor:` section asks for one
@@ -94,6 +99,28 @@ std::unique_ptr<monitor::BoardMonitor> start_monitor(World& world, const Scenari
     return m;
 }
 
+/// Why a run may have no RS-232 receive interrupt at all: the scenario gives the controller no
+/// traffic of its own ("" when some host generates traffic). A user's tcp or pty host carries
+/// only what its user sends.
+std::string why_no_traffic(const Scenario& s) {
+    std::string driven;
+    bool any_host = false;
+    for (unsigned p = 0; p < s.ports.size(); ++p) {
+        const PortScenario& ps = s.ports[p];
+        if (ps.host == PortScenario::Host::none) continue;
+        any_host = true;
+        if (ps.host == PortScenario::Host::protocol && ps.protocol.traffic.pattern != HostTraffic::Pattern::none) return "";
+        if (ps.host == PortScenario::Host::raw && !ps.raw.sends.empty()) return "";
+        if (ps.host == PortScenario::Host::replay) return "";
+        if (ps.host == PortScenario::Host::tcp || ps.host == PortScenario::Host::pty)
+            driven += (driven.empty() ? "" : ", ") + std::string("port ") + std::to_string(p) +
+                      (ps.host == PortScenario::Host::tcp ? " (tcp)" : " (pty)");
+    }
+    if (!any_host) return "no host is attached to any port";
+    if (!driven.empty()) return "only what the user sends on " + driven + " reaches the controller, and it sent no character";
+    return "no host sent traffic";
+}
+
 /// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
 /// and its worst case with the longest RS-232 receive service. A figure with no samples is null
 /// and named in "not_measured" with the reason.
@@ -105,13 +132,15 @@ nlohmann::json table3_json(const World& b, const Scenario& s, const InterruptFig
                         {"budget_us", budget},          {"margin_us", nullptr},
                         {"worst_margin_us", nullptr}};
     nlohmann::json missing = nlohmann::json::object();
+    const std::string idle = why_no_traffic(s);
     if (c.rs232_rx_service.count() == 0) {
-        missing["rs232_isr_us"] = "no RS-232 interrupt took a character out of an RX FIFO";
+        missing["rs232_isr_us"] = "no RS-232 receive interrupt" + (idle.empty() ? std::string(" took a character out of an RX FIFO") : ": " + idle);
     } else {
         j["rs232_isr_us"] = c.rs232_rx_service.summary().mean;
         j["rs232_isr_max_us"] = c.rs232_rx_service.summary().max;
     }
-    if (!c.dpram_byte_us) missing["dpram_byte_us"] = "no chunk of two or more bytes was forwarded into DP-RAM";
+    if (!c.dpram_byte_us)
+        missing["dpram_byte_us"] = "no chunk of two or more bytes was forwarded into DP-RAM" + (idle.empty() ? "" : ": " + idle);
     else j["dpram_byte_us"] = *c.dpram_byte_us;
     if (missing.empty()) {
         const double mean = budget - (j["rs232_isr_us"].get<double>() + *c.dpram_byte_us);
@@ -121,8 +150,13 @@ nlohmann::json table3_json(const World& b, const Scenario& s, const InterruptFig
         f.table3_margin_us = Figure::of(mean);
         f.table3_worst_margin_us = Figure::of(worst);
     } else {
+        // The RS-232 interrupt first: it is what the budget is about.
         std::string why;
-        for (const auto& [k, v] : missing.items()) why += (why.empty() ? "" : "; ") + k + ": " + v.get<std::string>();
+        if (missing.size() == 2 && !idle.empty())
+            why = "no RS-232 receive interrupt and no DP-RAM chunk: " + idle;
+        else
+            for (const char* k : {"rs232_isr_us", "dpram_byte_us"})
+                if (missing.contains(k)) why += (why.empty() ? "" : "; ") + std::string(k) + ": " + missing[k].get<std::string>();
         f.table3_margin_us = f.table3_worst_margin_us = Figure::none(why);
         j["not_measured"] = missing;
     }
@@ -190,6 +224,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         throw ConfigError("--monitor: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
                           "the monitor watches the whole board (main_cpu: {motion: true}, docs/monitor.md)");
     if (s.has_motion) return run_motion_only(s, opt, report);
+    // Logs, records and port files the scenario names relatively land in the run's folder.
+    s.place_outputs(opt.out_dir.empty() ? std::filesystem::path(".") : std::filesystem::path(opt.out_dir));
+    prepare_output_folders(s.output_files());
     std::string rom = opt.rom ? *opt.rom : s.rom;
     if (rom.empty()) rom = RCSIM_COMM_FW_ROM;
 
@@ -246,25 +283,18 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report_world(world, s, opt, report, f);
 
     nlohmann::json checks = nlohmann::json::array();
-    bool passed = true;
-    for (const Check& ch : communication_checks(world, s, f)) {
-        checks.push_back(to_json(ch));
-        passed = passed && ch.passed();
-    }
-    for (const Check& ch : system_motion_checks(world, s)) { // scripted hosts, main_cpu.motion
-        checks.push_back(to_json(ch));
-        passed = passed && ch.passed();
-    }
+    for (const Check& ch : communication_checks(world, s, f)) checks.push_back(to_json(ch));
+    for (const Check& ch : system_motion_checks(world, s)) checks.push_back(to_json(ch)); // scripted hosts, motion
     report["checks"] = checks;
     report["checks_off"] = s.checks.off;
-    report["passed"] = passed;
+    const int code = conclude(report, why_no_traffic(s));
 
     if (!opt.out_dir.empty()) {
         write_report_json(opt.out_dir, report);
         csv->close();
         report::write_report_html(opt.out_dir, report, interrupts, flame_svg);
     }
-    return exit_code(passed);
+    return code;
 }
 
 } // namespace rcsim

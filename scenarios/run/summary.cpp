@@ -1,6 +1,7 @@
 // rcsim — the printed summary of a report (what `rcsim run` shows on the terminal).
 #include "scenarios/run/runner.h"
 
+#include <cctype>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -8,12 +9,24 @@
 namespace rcsim {
 
 namespace {
-/// " (INTERRUPTED at 1.234000 s)" after the verdict of a run a signal stopped, else "".
-std::string interrupted_note(const nlohmann::json& r) {
-    if (!r.value("interrupted", false)) return "";
+/// The last line of every summary: the verdict, and why unless it passed. PASSED, "FAILED:
+/// <checks>", "INCONCLUSIVE: <check>: <reason>", "INTERRUPTED at 1.234000 s: stopped by ...".
+std::string verdict_line(const nlohmann::json& r) {
+    std::string v = r.value("verdict", r.value("passed", false) ? "passed" : "failed");
+    const std::string why = r.value("verdict_reason", "");
+    for (char& c : v) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     std::ostringstream os;
-    os << std::fixed << std::setprecision(6) << " (INTERRUPTED at " << r["sim_time_s"].get<double>() << " s)";
+    if (v == "FAILED" && why.rfind("failed: ", 0) == 0) return "FAILED: " + why.substr(8);
+    os << v;
+    if (v == "INTERRUPTED") os << std::fixed << std::setprecision(6) << " at " << r["sim_time_s"].get<double>() << " s";
+    if (!why.empty()) os << ": " << why;
     return os.str();
+}
+
+/// PASS, FAIL, or ---- for a check that was not measured (neither).
+const char* check_mark(const nlohmann::json& c) {
+    if (c.value("status", "") == "not measured") return "----";
+    return c.value("passed", false) ? "PASS" : "FAIL";
 }
 
 /// The function-block commands with their outcomes (docs/motion.md "Checks").
@@ -41,8 +54,8 @@ void print_motion_checks(const nlohmann::json& checks, std::ostream& os) {
     };
     os << "\nchecks\n";
     for (const auto& c : checks) {
-        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(28)
-           << c["name"].get<std::string>() << std::right << " value " << num(c["value"]) << "  limit "
+        os << "  " << check_mark(c) << "  " << std::left << std::setw(28) << c["name"].get<std::string>()
+           << std::right << " value " << num(c["value"]) << "  " << c.value("relation", "<=") << " limit "
            << num(c["limit"]);
         if (c.value("status", "") == "not measured") os << "  NOT MEASURED: " << c.value("reason", "");
         os << "\n";
@@ -77,9 +90,29 @@ void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     print_motion_commands(m, os);
     print_motion_checks(r["checks"], os);
     if (m.contains("trajectory_svg")) os << "trajectory: " << m["trajectory_svg"].get<std::string>() << "\n";
-    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
+    os << verdict_line(r) << "\n";
 }
 std::uint64_t u(const nlohmann::json& j, const char* k) { return j.value(k, std::uint64_t{0}); }
+
+/// report.json interrupts.startup: when the firmware first let an interrupt in, and the
+/// interrupts requested before that, which no check judges (docs/scenarios.md "Start-up").
+void print_startup(const nlohmann::json& interrupts, std::ostream& os) {
+    if (!interrupts.contains("startup")) return;
+    const auto& st = interrupts["startup"];
+    os << std::fixed << std::setprecision(3);
+    if (!st["interrupts_enabled_us"].is_number()) {
+        os << "  start-up: the CPU never had interrupts enabled\n" << std::defaultfloat;
+        return;
+    }
+    os << "  start-up: interrupts first enabled at " << st["interrupts_enabled_us"].get<double>() << " us";
+    if (st["records"].empty()) os << "\n";
+    else os << "; requested before that (reported, not judged):\n";
+    for (const auto& rec : st["records"])
+        os << "    " << rec["source"].get<std::string>() << " IR at " << rec["ir_rise_us"].get<double>() << " us, latency "
+           << std::setprecision(1) << rec["latency_us"].get<double>() << " us, service " << rec["service_us"].get<double>()
+           << " us\n" << std::setprecision(3);
+    os << std::defaultfloat;
+}
 
 // Per port, for every host kind: the 82510's counters, then what the line observer saw in each
 // direction, then both exactly-once comparisons (docs/scenarios.md "How each figure is measured").
@@ -163,6 +196,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
            << std::setw(10) << f(l["mean"]) << std::setw(9) << f(l["p99"]) << std::setw(9) << f(l["max"])
            << std::setw(12) << f(s["mean"]) << std::setw(9) << f(s["p99"]) << std::setw(9) << f(s["max"]) << "\n";
     }
+    print_startup(r["interrupts"], os);
     const auto& t = r["table3"];
     os << "\nTable 3               simulated      paper\n"
        << "  RS-232 interrupt  " << std::setw(10) << f(t["rs232_isr_us"], 3) << " us" << std::setw(10)
@@ -186,15 +220,16 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {
         const bool unmeasured = c.value("status", "") == "not measured";
-        os << "  " << (c["passed"].get<bool>() ? "PASS" : "FAIL") << "  " << std::left << std::setw(33)
-           << c["name"].get<std::string>() << std::right << " value " << f(c["value"], 3) << "  limit "
+        os << "  " << check_mark(c) << "  " << std::left << std::setw(33) << c["name"].get<std::string>()
+           << std::right << " value " << f(c["value"], 3) << "  " << c.value("relation", "<=") << " limit "
            << f(c["limit"], 3);
         if (unmeasured) os << "  NOT MEASURED: " << c.value("reason", "");
         os << "\n";
+        if (c.contains("why")) os << "        " << c["why"].get<std::string>() << "\n";
     }
     for (const auto& name : r.value("checks_off", nlohmann::json::array()))
         os << "  off   " << name.get<std::string>() << "\n";
-    os << (r["passed"].get<bool>() ? "PASSED" : "FAILED") << interrupted_note(r) << "\n";
+    os << verdict_line(r) << "\n";
 }
 
 } // namespace rcsim

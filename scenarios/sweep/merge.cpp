@@ -137,12 +137,14 @@ std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann
 std::string run_status(const RunRecord& run) {
     if (!run.report) return "no report";
     const nlohmann::json& r = *run.report;
+    // passed, failed, inconclusive or interrupted; a report from before verdicts has `passed` only.
+    if (r.contains("verdict") && r["verdict"].is_string()) return r["verdict"].get<std::string>();
     return r.contains("passed") && r["passed"].is_boolean() && r["passed"].get<bool>() ? "passed" : "failed";
 }
 
 nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
     json list = json::array();
-    std::map<std::string, std::size_t> counts{{"passed", 0}, {"failed", 0}, {"no report", 0}};
+    std::map<std::string, std::size_t> counts{{"passed", 0}, {"failed", 0}, {"inconclusive", 0}, {"no report", 0}};
     for (const RunRecord& r : runs) {
         json j;
         j["id"] = r.id;

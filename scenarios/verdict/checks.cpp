@@ -3,14 +3,17 @@
 #include "scenarios/verdict/measure.h"
 
 #include <algorithm>
+#include <iomanip>
+#include <sstream>
 
 namespace rcsim {
 
 namespace {
 
-Check judge(std::string name, const Figure& f, double limit, bool holds) {
+Check judge(std::string name, Check::Relation rel, const Figure& f, double limit, bool holds) {
     Check c;
     c.name = std::move(name);
+    c.relation = rel;
     c.status = Check::Status::not_measured;
     c.figure = f;
     c.limit = limit;
@@ -18,14 +21,107 @@ Check judge(std::string name, const Figure& f, double limit, bool holds) {
     return c;
 }
 
+/// A simulated time as the explanations print it: microseconds, three decimals.
+std::string at_us(const sc_core::sc_time& t) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << to_us(t) << " us";
+    return os.str();
+}
+
+std::string us(double v) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1) << v << " us";
+    return os.str();
+}
+
+std::string joined(const std::vector<std::string>& parts) {
+    std::string s;
+    for (const std::string& p : parts) s += (s.empty() ? "" : "; ") + p;
+    return s;
+}
+
+/// overruns: per port, how many characters were lost and when the first was.
+std::string why_overruns(const World& b) {
+    std::vector<std::string> v;
+    for (unsigned p = 0; p < World::kPorts; ++p) {
+        const auto& u = b.ctl.comm.uart[p];
+        if (u.stats().overruns == 0) continue;
+        v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(u.stats().overruns) +
+                    " character(s) lost, the first arriving at " + at_us(*u.first_overrun()) +
+                    " with the RX FIFO full");
+    }
+    return joined(v);
+}
+
+/// frames_failed: per port, the commands the host gave up after its retries.
+std::string why_frames_failed(const World& b) {
+    std::vector<std::string> v;
+    for (unsigned p = 0; p < World::kPorts; ++p) {
+        const auto& h = b.protocol[p];
+        if (!h || !h->first_failure()) continue;
+        v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(h->counters().frames_failed) +
+                    " command(s) given up after their retries, the first (" + h->first_failure()->token + ") at " +
+                    at_us(h->first_failure()->at));
+    }
+    return joined(v);
+}
+
+/// frames_delivered: what each port whose host generates commands delivered.
+std::string why_frames_delivered(const World& b, const Scenario& s) {
+    std::vector<std::string> v;
+    for (unsigned p = 0; p < World::kPorts; ++p)
+        if (b.protocol[p] && s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::none)
+            v.push_back("port " + std::to_string(p) + " (host to controller): " +
+                        std::to_string(b.protocol[p]->counters().frames_delivered) + " of " +
+                        std::to_string(b.protocol[p]->counters().frames_sent) + " commands delivered");
+    return joined(v);
+}
+
+/// portN_char_latency_max_us: the character that waited longest.
+std::string why_char_latency(const World& b, unsigned p) {
+    const World::CharWait& w = b.char_latency_worst[p];
+    return "port " + std::to_string(p) + " (host to controller): a character waited " + us(w.wait_us) +
+           " in the RX FIFO, from its stop bit at " + at_us(w.stop) + " to its RXD read at " + at_us(w.read);
+}
+
+/// table3_worst_margin_us: the longest RS-232 receive interrupt and its place in the sum.
+std::string why_worst_margin(const World& b, const CheckFigures& f, double budget) {
+    if (b.rs232_rx_service_us().count() == 0) return "";
+    const InterruptRecord& r = b.rs232_rx_longest();
+    const double sum = budget - *f.table3_worst_margin_us.value; // longest + DP-RAM per byte
+    return "the longest RS-232 receive interrupt, " + source_name(r.level) + " entered at " + at_us(r.first_isr) +
+           ", took " + us(r.service_us()) + "; with the DP-RAM time per byte that is " + us(sum) + " against the " +
+           us(budget) + " budget";
+}
+
+/// table3_margin_us: the mean sum against the budget.
+std::string why_margin(const CheckFigures& f, double budget) {
+    return "RS-232 receive interrupt mean + DP-RAM time per byte = " + us(budget - *f.table3_margin_us.value) +
+           " against the " + us(budget) + " budget (mean request period of the active ports)";
+}
+
+/// bus_errors: the first cycle nothing answered.
+std::string why_bus_errors(const World& b) {
+    const auto& first = b.ctl.comm.cpu.bus_errors().first();
+    if (first.empty()) return "";
+    const nlohmann::json e = to_json(b.ctl.comm.cpu.bus_errors())["first"][0];
+    return "the first: " + e.value("kind", std::string("?")) + " " + e.value("cycle", std::string("?")) + " at " +
+           e.value("address", std::string("?")) + ", at " + us(e.value("time_us", 0.0));
+}
+
+/// Sets c.why from `why()` when c failed (the explanations read figures only a failure has).
+template <class Why> void explain(Check& c, Why why) {
+    if (c.status == Check::Status::failed) c.why = why();
+}
+
 } // namespace
 
 Check Check::at_most(std::string name, const Figure& f, double limit) {
-    return judge(std::move(name), f, limit, f.value && *f.value <= limit);
+    return judge(std::move(name), Relation::at_most, f, limit, f.value && *f.value <= limit);
 }
 
 Check Check::at_least(std::string name, const Figure& f, double limit) {
-    return judge(std::move(name), f, limit, f.value && *f.value >= limit);
+    return judge(std::move(name), Relation::at_least, f, limit, f.value && *f.value >= limit);
 }
 
 const char* status_name(Check::Status s) {
@@ -37,15 +133,70 @@ const char* status_name(Check::Status s) {
     return "?";
 }
 
+const char* relation_symbol(Check::Relation r) { return r == Check::Relation::at_least ? ">=" : "<="; }
+
 nlohmann::json to_json(const Check& c) {
     nlohmann::json j = {{"name", c.name},
                         {"passed", c.passed()},
                         {"status", status_name(c.status)},
                         {"value", c.figure.value ? nlohmann::json(*c.figure.value) : nlohmann::json(nullptr)},
+                        {"relation", relation_symbol(c.relation)},
                         {"limit", c.limit}};
     if (!c.figure.value) j["reason"] = c.figure.reason;
+    if (c.status == Check::Status::failed && !c.why.empty()) j["why"] = c.why;
     if (!c.detail.is_null()) j["detail"] = c.detail;
     return j;
+}
+
+const char* verdict_name(Verdict v) {
+    switch (v) {
+    case Verdict::passed: return "passed";
+    case Verdict::failed: return "failed";
+    case Verdict::inconclusive: return "inconclusive";
+    case Verdict::interrupted: return "interrupted";
+    }
+    return "?";
+}
+
+RunVerdict judge_run(const nlohmann::json& checks, int stop_signal, const std::string& idle) {
+    std::vector<std::string> failed, unmeasured;
+    std::string first_reason;
+    for (const auto& c : checks) {
+        const std::string status = c.value("status", "failed");
+        if (status == "failed") failed.push_back(c.value("name", "?"));
+        if (status != "not measured") continue;
+        unmeasured.push_back(c.value("name", "?"));
+        if (first_reason.empty()) first_reason = c.value("name", "?") + ": " + c.value("reason", "no samples");
+    }
+    auto list = [](const std::vector<std::string>& v, const char* sep) {
+        std::string s;
+        for (const std::string& x : v) s += (s.empty() ? "" : sep) + x;
+        return s;
+    };
+    RunVerdict v{Verdict::passed, ""};
+    if (!failed.empty()) v = {Verdict::failed, "failed: " + list(failed, ", ")};
+    else if (!unmeasured.empty())
+        v = {Verdict::inconclusive, (idle.empty() ? first_reason : idle) + "; not measured: " + list(unmeasured, ", ")};
+    if (stop_signal == 0) return v;
+    const std::string by = stop_signal == 2 ? "SIGINT" : stop_signal == 15 ? "SIGTERM" : "signal " + std::to_string(stop_signal);
+    return {Verdict::interrupted, "stopped by " + by + "; what completed: " + verdict_name(v.verdict) +
+                                      (v.reason.empty() ? "" : " (" + v.reason + ")")};
+}
+
+int exit_code_of(const RunVerdict& v, int stop_signal) {
+    switch (v.verdict) {
+    case Verdict::passed: return 0;
+    case Verdict::failed: return 1;
+    case Verdict::inconclusive: return 4;
+    case Verdict::interrupted: return 128 + stop_signal;
+    }
+    return 1;
+}
+
+void put_verdict(nlohmann::json& report, const RunVerdict& v) {
+    report["verdict"] = verdict_name(v.verdict);
+    report["verdict_reason"] = v.reason;
+    report["passed"] = v.verdict == Verdict::passed;
 }
 
 double char_latency_limit_us(const World& b, const Scenario& s, unsigned p) {
@@ -60,7 +211,9 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     const double min_delivered = L.min_frames_delivered ? double(*L.min_frames_delivered) : double(f.traffic_ports);
     std::vector<Check> checks;
     checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
+    explain(checks.back(), [&] { return why_overruns(b); });
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
+    explain(checks.back(), [&] { return why_frames_failed(b); });
     // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
     checks.push_back(Check::at_most("commands_delivered_exactly_once", count(f.command_mismatches),
                                     double(L.max_frame_mismatches)));
@@ -76,16 +229,29 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
                                         {"time_us", dropped[i].time.to_seconds() * 1e6},
                                         {"reason", dropped[i].reason}});
     }
+    if (!dropped.empty())
+        explain(malformed, [&] {
+            return "port " + std::to_string(dropped[0].port) + " (host to controller): the first at " +
+                   at_us(dropped[0].time) + ": " + dropped[0].reason;
+        });
     checks.push_back(std::move(malformed));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
+    explain(checks.back(), [&] { return why_frames_delivered(b, s); });
     if (!L.off.count("char_latency_max_us"))
         for (unsigned p = 0; p < World::kPorts; ++p)
             if (s.ports[p].host != PortScenario::Host::none)
+            {
                 checks.push_back(Check::at_most("port" + std::to_string(p) + "_char_latency_max_us",
                                                 f.char_latency_max_us[p], char_latency_limit_us(b, s, p)));
+                explain(checks.back(), [&] { return why_char_latency(b, p); });
+            }
+    const double budget = budget_us(b, s);
     checks.push_back(Check::at_least("table3_margin_us", f.table3_margin_us, L.min_margin_us));
-    if (L.min_worst_margin_us)
-        checks.push_back(Check::at_least("table3_worst_margin_us", f.table3_worst_margin_us, *L.min_worst_margin_us));
+    explain(checks.back(), [&] { return why_margin(f, budget); });
+    // The paper's rule (section 4-2): the longest interrupt processing must be shorter than the
+    // mean request period. Judged by default; a scenario relaxes it by name or a limit.
+    checks.push_back(Check::at_least("table3_worst_margin_us", f.table3_worst_margin_us, L.min_worst_margin_us));
+    explain(checks.back(), [&] { return why_worst_margin(b, f, budget); });
     for (unsigned p = 0; p < World::kPorts; ++p)
         if (const auto& h = b.replay[p]) {
             // The replayed session must draw the recorded answers: same bytes at the same times.
@@ -95,6 +261,7 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     // A cycle nothing answered reads as an open bus or is dropped: firmware that makes one runs on,
     // wrongly and silently (report.json "bus_errors" says which).
     checks.push_back(Check::at_most("bus_errors", count(f.bus_errors), double(L.max_bus_errors)));
+    explain(checks.back(), [&] { return why_bus_errors(b); });
     checks.erase(std::remove_if(checks.begin(), checks.end(),
                                 [&L](const Check& c) { return L.off.count(c.name) != 0; }),
                  checks.end());

@@ -1,11 +1,13 @@
 // rcsim — the pass/fail checks of a communication run (docs/scenarios.md "Checks"): one place
-// where each check is named, given its figure and its limit, and judged.
+// where each check is named, given its figure, its relation and limit, and judged; and the run's
+// verdict from its checks.
 //
 // A check judges a measured figure. A figure with no samples behind it (no RS-232 receive
-// interrupt, no DP-RAM chunk, no character) is "not measured": its value is null in report.json
-// and the check FAILS with the reason, because a run that measured nothing proves nothing. A
-// scenario may switch a check off by name (`checks: {NAME: off}`); switched-off checks are listed in
-// report.json "checks_off" and judge nothing.
+// interrupt, no DP-RAM chunk, no character) is "not measured": its value is null in report.json,
+// with the reason. It is neither a pass nor a failure: a run where no check failed but one was not
+// measured is INCONCLUSIVE (exit 4), because a run that measured nothing proves nothing either
+// way. A scenario may switch a check off by name (`checks: {NAME: off}`); switched-off checks are
+// listed in report.json "checks_off" and judge nothing.
 #pragma once
 
 #include "scenarios/config/check_names.h"
@@ -32,15 +34,22 @@ struct Figure {
 
 /// One verdict as report.json shows it:
 /// {"name", "passed", "status": "passed"|"failed"|"not measured", "value" (null when not
-/// measured), "limit", "reason" (not measured only), "detail" (only when the check has more to
-/// say than one figure: the motion checks' wanted and seen states, positions, commands)}.
+/// measured), "relation": "<="|">=", "limit", "reason" (not measured only), "why" (failed, when
+/// the check can say where and when), "detail" (only when the check has more to say than one
+/// figure: the offending events, the motion checks' wanted and seen states)}.
 struct Check {
     enum class Status { passed, failed, not_measured };
+    /// value <= limit (at_most) or value >= limit (at_least).
+    enum class Relation { at_most, at_least };
     std::string name;
     Status status = Status::failed;
+    Relation relation = Relation::at_most;
     Figure figure;
     double limit = 0;
     nlohmann::json detail; // null: none
+    /// A failed check in words: what, where (port, direction) and when (simulated time) of the
+    /// first offending events; "" when the figure says it all. report.json "why".
+    std::string why;
 
     bool passed() const { return status == Status::passed; }
     static Check at_most(std::string name, const Figure& f, double limit);
@@ -49,6 +58,26 @@ struct Check {
 
 nlohmann::json to_json(const Check& c);
 const char* status_name(Check::Status s);
+/// "<=" or ">=", as the summary and report.html print the relation.
+const char* relation_symbol(Check::Relation r);
+
+/// The verdict of a run: FAILED when a check failed; else INCONCLUSIVE when a check was not
+/// measured; else PASSED. A run a signal stopped is INTERRUPTED whatever its checks say (they
+/// judge what completed).
+enum class Verdict { passed, failed, inconclusive, interrupted };
+struct RunVerdict {
+    Verdict verdict = Verdict::passed;
+    std::string reason; // one line: what failed, or what was not measured and why; "" when passed
+};
+/// `checks` as report.json holds them (each with "name", "status", "reason"); `stop_signal` the
+/// signal that stopped the run, 0 when none; `idle` why the scenario gave the controller nothing
+/// to measure, if it did not ("no host sent traffic"), which leads an INCONCLUSIVE reason.
+RunVerdict judge_run(const nlohmann::json& checks, int stop_signal, const std::string& idle = "");
+const char* verdict_name(Verdict v); // "passed", "failed", "inconclusive", "interrupted"
+/// 0 passed, 1 failed, 4 inconclusive, 128 + the signal when interrupted.
+int exit_code_of(const RunVerdict& v, int stop_signal);
+/// report.json's "verdict", "verdict_reason" and "passed" (true only for PASSED).
+void put_verdict(nlohmann::json& report, const RunVerdict& v);
 
 /// The figures the communication checks judge, gathered from the world and the report.
 struct CheckFigures {

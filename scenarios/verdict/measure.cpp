@@ -41,7 +41,21 @@ InterruptFigures measure_interrupts(const World& b) {
                                 {"service_us", samples_json(c.rs232_rx_service)}};
     c.dpram_byte_us = b.dpram_time().per_byte_us();
     c.dpram_bytes = b.dpram_time().bytes();
+    c.interrupts["startup"] = startup_json(b.probe);
     return c;
+}
+
+nlohmann::json startup_json(const InterruptProbe& probe) {
+    const auto enabled = probe.interrupts_enabled();
+    nlohmann::json records = nlohmann::json::array();
+    for (const InterruptRecord& r : probe.startup_records())
+        records.push_back({{"source", source_name(r.level)},
+                           {"ir_rise_us", exact_us(r.ir_rise)},
+                           {"latency_us", r.latency_us()},
+                           {"service_us", r.service_us()}});
+    return {{"interrupts_enabled_us", enabled ? nlohmann::json(exact_us(*enabled)) : nlohmann::json(nullptr)},
+            {"count", records.size()},
+            {"records", records}};
 }
 
 double controller_char_us(const World& b, unsigned p) {

@@ -24,6 +24,7 @@
 namespace rcsim {
 
 class World;
+class InterruptProbe;
 class MainCpu;
 class ProtocolHost;
 struct Scenario;
@@ -40,8 +41,14 @@ struct InterruptFigures {
     std::uint64_t dpram_bytes = 0;
 };
 
-/// Of the finished world (World::finish()).
+/// Of the finished world (World::finish()). The per-source figures and the rs232_rx set leave
+/// the start-up interrupts out; "startup" lists them (startup_json).
 InterruptFigures measure_interrupts(const World& b);
+
+/// report.json interrupts.startup: when the CPU could first take an interrupt
+/// ("interrupts_enabled_us", null if never) and the interrupts requested before it, each with
+/// its source, IR rise, latency and service; judged by no check (docs/scenarios.md "Start-up").
+nlohmann::json startup_json(const InterruptProbe& probe);
 
 /// One character time (START through STOP) of port p as its 82510 is programmed.
 double controller_char_us(const World& b, unsigned p);

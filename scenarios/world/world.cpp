@@ -37,7 +37,10 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
         attach_host(p, s.ports[p]);
         ctl.comm.uart[p].on_char_read = [this, p](const Uart82510::CharTiming& c) {
             recent_reads_[p].push_back(c.read);
-            char_latency_us[p].add(to_us(c.read - c.stop));
+            const double wait = to_us(c.read - c.stop);
+            char_latency_us[p].add(wait);
+            if (char_latency_us[p].count() == 1 || wait > char_latency_worst[p].wait_us)
+                char_latency_worst[p] = {wait, c.stop, c.read};
         };
         lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
     }
@@ -189,7 +192,8 @@ void World::on_record(const InterruptRecord& r) {
         const auto it = std::lower_bound(reads.begin(), reads.end(), r.first_isr);
         rx = it != reads.end() && *it <= r.iret_done;
     }
-    if (rx) {
+    if (rx && !r.startup) { // start-up interrupts are reported apart, judged by no check
+        if (rx_service_.count() == 0 || r.service_us() > rx_longest_.service_us()) rx_longest_ = r;
         rx_service_.add(r.service_us());
         if (r.has_rise) rx_latency_.add(r.latency_us());
     }

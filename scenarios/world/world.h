@@ -45,6 +45,13 @@ public:
     std::unique_ptr<RealtimePacer> pacer; // with a tcp or pty host, or `realtime:` set
     InterruptProbe probe;
     std::array<Samples, kPorts> char_latency_us; // stop bit -> RXD read
+    /// The longest wait of each port's characters in the RX FIFO (the first of them), with its
+    /// stop bit and its read: what a failed char-latency check names.
+    struct CharWait {
+        double wait_us = 0;
+        sc_core::sc_time stop, read;
+    };
+    std::array<CharWait, kPorts> char_latency_worst{};
     /// The independent observer of each line, fed by the line's receivers and the main CPU's
     /// DP-RAM side (line_observer.h).
     std::array<LineObserver, kPorts> observers;
@@ -80,6 +87,9 @@ public:
     /// RS-232 interrupts that took a character out of the RX FIFO (the `rs232_rx` set).
     const Samples& rs232_rx_service_us() const { return rx_service_; }
     const Samples& rs232_rx_latency_us() const { return rx_latency_; }
+    /// The longest of those (the first of equals): the worst case of Table 3. Valid when
+    /// rs232_rx_service_us() has samples.
+    const InterruptRecord& rs232_rx_longest() const { return rx_longest_; }
     const DpramByteTime& dpram_time() const { return dpram_; }
 
     /// Hands every completed interrupt record to `sink` as well (the report's interrupt log);
@@ -93,6 +103,7 @@ private:
     // read a character, since its handler ran after that (see on_record).
     std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
     Samples rx_service_, rx_latency_;
+    InterruptRecord rx_longest_;
     DpramByteTime dpram_;
     InterruptSink* sink_ = nullptr;
 

@@ -4,11 +4,13 @@
 usage: check_case.py [--rom ROM] [--report KEY=JSON ...] RCSIM SCENARIO OUTDIR EXIT
                      [FAILING_CHECK[=STATUS] ...] [--expect=EXPR ...]
 
-EXIT is the expected exit code (0 every check holds, 1 a check failed). The FAILING_CHECKs are
-exactly the checks that must fail (all others must pass), each optionally with the status it must
-report ("failed" or "not measured"; default "failed"). The verdict is asserted in all three places a
-user reads it: the exit code, report.json (`passed`, each check's `passed` and `status`) and the
-printed summary (a FAIL line naming the check, and the last line PASSED/FAILED).
+EXIT is the expected exit code (0 every check holds, 1 a check failed, 4 inconclusive: none failed
+but one was not measured). The FAILING_CHECKs are exactly the checks that do not hold (all others
+must pass), each optionally with the status it must report ("failed" or "not measured"; default
+"failed"). The verdict follows from them (FAILED when one failed, else INCONCLUSIVE when one was not
+measured, else PASSED) and is asserted in all three places a user reads it: the exit code,
+report.json (`verdict`, `passed`, each check's `passed` and `status`) and the printed summary (a
+FAIL or ---- line naming the check, and the verdict line PASSED, FAILED: ... or INCONCLUSIVE: ...).
 
 --rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
 KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
@@ -68,12 +70,18 @@ def main():
             problems.append(f"check {name} passed, expected it to fail ({status})")
         elif failing[name] != status:
             problems.append(f"check {name} is '{failing[name]}', expected '{status}'")
-        elif f"FAIL  {name}" not in run.stdout:
-            problems.append(f"the summary has no 'FAIL  {name}' line")
+        else:
+            mark = "FAIL" if status == "failed" else "----"
+            if f"{mark}  {name}" not in run.stdout:
+                problems.append(f"the summary has no '{mark}  {name}' line")
     for name in failing:
         if name not in want:
             problems.append(f"check {name} failed too ({failing[name]}): {checks[name]}")
-    if report["passed"] != (not want):
+    verdict_want = ("failed" if any(s == "failed" for s in want.values()) else
+                    "inconclusive" if want else "passed")
+    if report.get("verdict") != verdict_want:
+        problems.append(f"report.json verdict = {report.get('verdict')!r}, expected {verdict_want!r}")
+    if report["passed"] != (verdict_want == "passed"):
         problems.append(f"report.json passed = {report['passed']}")
     for key, value in report_wants:
         try:
@@ -92,9 +100,10 @@ def main():
             expr += f"  ({type(e).__name__}: {e})"
         if not ok:
             problems.append(f"expected: {expr}")
-    verdict = [l for l in run.stdout.splitlines() if l in ("PASSED", "FAILED")]
-    if verdict != ["FAILED" if want else "PASSED"]:
-        problems.append(f"the summary's verdict lines are {verdict}")
+    verdict = [l for l in run.stdout.splitlines()
+               if l == "PASSED" or l.startswith("FAILED: ") or l.startswith("INCONCLUSIVE: ")]
+    if len(verdict) != 1 or verdict[0].split(":")[0] != verdict_want.upper():
+        problems.append(f"the summary's verdict lines are {verdict}, expected {verdict_want.upper()}")
     if problems:
         print(run.stdout)
         for p in problems:

@@ -236,8 +236,9 @@ truncate -s 65M r_big.log
 scen r_big.yaml 'duration_s: 0\nports:\n  - host: replay\n    file: r_big.log\n'
 expect 2 "r_big.log: session log is 68157440 bytes; at most 67108864 are read" -- run r_big.yaml
 touch a_file
-scen record.yaml 'ports:\n  - host: raw\n    record: a_file/x.bin\n'
-expect 2 "a_file/x.bin: cannot write the record file" -- run record.yaml
+# A relative output lands under --out (made as needed); an absolute one is honoured: under a file.
+scen record.yaml "ports:\n  - host: raw\n    record: $W/a_file/x.bin\n"
+expect 2 "a_file/x.bin: cannot create its folder" -- run record.yaml
 
 # --- ROM images -----------------------------------------------------------------------------
 scen ok.yaml '{duration_s: 0.001}\n'

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SIGINT / SIGTERM during `rcsim run`: the run stops at the simulated time it reached, writes
-# every report file with "interrupted": true and that time, ends the tcp host's session log with
-# its `end` line at the same time, and exits 128 + the signal (130, 143; docs/scenarios.md
-# "Exit codes").
+# every report file with "interrupted": true, the verdict INTERRUPTED and that time, ends the tcp
+# host's session log (in the run's --out folder) with its `end` line at the same time, and exits
+# 128 + the signal (130, 143; docs/scenarios.md "Exit codes").
 #
 # Usage: interrupt.sh RCSIM
 set -u
@@ -28,7 +28,6 @@ YAML
 # run SIGNAL WANT_RC
 run() {
     local sig=$1 want=$2 out="out_$1"
-    rm -f session.log
     "$RCSIM" run long.yaml --out "$out" > "$out.txt" 2> "$out.err" &
     local pid=$!
     sleep 1.5
@@ -47,6 +46,9 @@ run() {
         [ -s "$out/$f" ] || fail "$sig: $out/$f missing or empty"
     done
     grep -q '"interrupted": true' "$out/report.json" || fail "$sig: report.json lacks \"interrupted\": true"
+    grep -q '"verdict": "interrupted"' "$out/report.json" || fail "$sig: report.json's verdict is not interrupted"
+    grep -q '^INTERRUPTED at .*: stopped by SIG'"$sig"'; what completed: ' "$out.txt" ||
+        fail "$sig: the summary's verdict line is not 'INTERRUPTED at ...: stopped by SIG$sig; what completed: ...'"
     grep -q 'INTERRUPTED at' "$out.txt" || fail "$sig: the summary does not say INTERRUPTED"
     grep -q 'id="interrupted">INTERRUPTED at' "$out/report.html" || fail "$sig: report.html does not say INTERRUPTED"
     local sim
@@ -55,7 +57,8 @@ run() {
     awk -v s="$sim" 'BEGIN { exit !(s > 0.1 && s < 60) }' || fail "$sig: sim_time_s '$sim' is not the time reached"
     # The session log ends with `<t> end`, t the time the report gives (ps against s).
     local last
-    last=$(tail -n 1 session.log)
+    [ -s "$out/session.log" ] || fail "$sig: the session log is not in the run's folder $out"
+    last=$(tail -n 1 "$out/session.log")
     case "$last" in
         *" end") awk -v t="${last% end}" -v s="$sim" 'BEGIN { d = t / 1e12 - s; exit !(d < 1e-9 && d > -1e-9) }' ||
                      fail "$sig: session log ends at ${last% end} ps, report says $sim s" ;;

@@ -63,7 +63,7 @@ def finish(proc, out, link):
         proc.kill()
         fail("rcsim did not end after the client closed the port:\n" + proc.communicate()[0])
     print(text)
-    if proc.returncode not in (0, 1):
+    if proc.returncode not in (0, 1, 4):  # a session that sent no whole frame measures nothing
         fail("rcsim exit code %d" % proc.returncode)
     if os.path.lexists(link):
         fail("the link %s outlived the run" % link)

@@ -145,7 +145,8 @@ int in_child(const std::function<int()>& fn, milliseconds limit) {
 } // namespace
 
 // rcsim run with `host: tcp` and `record:`; the recorded session is replayed with `host: replay`
-// and draws the same answers at the same simulated times, ending at the same time.
+// and draws the same answers at the same simulated times, ending at the same time. The run's
+// outputs (port file, session logs) land in its --out folder; the replay reads the live one's.
 TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
     const fs::path dir = fs::temp_directory_path() / ("rcsim_tcp_replay." + std::to_string(::getpid()));
     fs::remove_all(dir);
@@ -154,7 +155,7 @@ TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
                                   "  - {host: tcp, listen: \"127.0.0.1:0\", format: \"9600,8E1\", "
                                   "port_file: port.txt, record: session.log}\n");
     write_file(dir / "replay.yaml", "name: replay\nduration_s: 0\nports:\n"
-                                    "  - {host: replay, file: session.log, record: replayed.log}\n");
+                                    "  - {host: replay, file: live/session.log, record: replayed.log}\n");
 
     const int live_rc = in_child(
         [&] {
@@ -162,9 +163,10 @@ TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
             std::thread client([&] {
                 // The port file appears when the scenario's tcp host has bound its port.
                 const auto end = WallClock::now() + milliseconds(10000);
-                while (!fs::exists(dir / "port.txt") && WallClock::now() < end) std::this_thread::sleep_for(milliseconds(10));
+                while (!fs::exists(dir / "live" / "port.txt") && WallClock::now() < end)
+                    std::this_thread::sleep_for(milliseconds(10));
                 unsigned port = 0;
-                std::ifstream(dir / "port.txt") >> port;
+                std::ifstream(dir / "live" / "port.txt") >> port;
                 if (port) x = ec_exchange(static_cast<unsigned short>(port), "REPLAY ME");
             });
             RunOptions opt;
@@ -178,7 +180,7 @@ TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
         milliseconds(60000));
     ASSERT_EQ(live_rc, 0) << "the live session failed";
 
-    const auto recorded = traffic(dir / "session.log");
+    const auto recorded = traffic(dir / "live" / "session.log");
     ASSERT_GT(recorded.size(), 20u);
 
     RunOptions opt;
@@ -190,7 +192,7 @@ TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
     EXPECT_EQ(r["out_mismatched"].get<std::uint64_t>(), 0u) << r.dump();
     EXPECT_EQ(r["out_missing"].get<std::uint64_t>(), 0u) << r.dump();
     EXPECT_GT(r["out_matched"].get<std::uint64_t>(), 10u) << r.dump();
-    EXPECT_EQ(traffic(dir / "replayed.log"), recorded);
+    EXPECT_EQ(traffic(dir / "replay" / "replayed.log"), recorded);
 
     nlohmann::json live;
     std::ifstream(dir / "live" / "report.json") >> live;

@@ -1,6 +1,7 @@
 // `rcsim run --trace` through the executable (scenarios/trace/perfetto_trace.h): the file is a
 // valid trace (trace_check.h), it holds what the report counts, and it changes nothing else.
 #include "tests/support/files.h"
+#include "tests/support/report_counts.h"
 #include "tests/trace/trace_check.h"
 
 #include <gtest/gtest.h>
@@ -93,7 +94,7 @@ TEST(TraceRun, TheFileIsAValidTraceWithOneIsrSlicePerReportedInterrupt) {
     }
     std::uint64_t total = 0;
     for (const char* s : {"rs232_0", "rs232_1", "rs232_2", "dpram"}) {
-        const auto count = report["interrupts"][s]["count"].get<std::uint64_t>();
+        const auto count = rcsim::test::completed(report, s);
         EXPECT_GT(count, 0u) << s;
         EXPECT_EQ(slices[s], count) << s;
         total += count;
