@@ -18,6 +18,33 @@ Check judge(std::string name, const Figure& f, double limit, bool holds) {
     return c;
 }
 
+/// The detail of an exactly-once check (docs/scenarios.md "Expected drops"): the first frames that
+/// count against it, earliest first, with port, direction and simulated time, and how many drops
+/// the scenario caused. Null (no detail) when both are nothing, so a clean run's report is
+/// unchanged.
+nlohmann::json exactly_once_detail(const World& b, bool commands) {
+    constexpr std::size_t kShown = 5;
+    const unsigned dir = commands ? LineObserver::host_to_controller : LineObserver::controller_to_host;
+    std::vector<std::pair<unsigned, const FrameEvent*>> events;
+    std::uint64_t expected = 0, counted = 0;
+    for (unsigned p = 0; p < World::kPorts; ++p) {
+        const SequenceMatcher& m = commands ? b.observers[p].command_books() : b.observers[p].response_books();
+        for (const FrameEvent& e : m.unexplained()) events.emplace_back(p, &e);
+        expected += m.counts().expected;
+        counted += m.counts().mismatches();
+    }
+    if (counted == 0 && expected == 0) return nullptr;
+    std::stable_sort(events.begin(), events.end(),
+                     [](const auto& x, const auto& y) { return x.second->time_us < y.second->time_us; });
+    nlohmann::json first = nlohmann::json::array();
+    for (std::size_t i = 0; i < events.size() && i < kShown; ++i) {
+        nlohmann::json j = frame_event_json(*events[i].second, dir);
+        j["port"] = events[i].first;
+        first.push_back(j);
+    }
+    return {{"unexplained", first}, {"expected_drops", expected}};
+}
+
 } // namespace
 
 Check Check::at_most(std::string name, const Figure& f, double limit) {
@@ -62,10 +89,13 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
     // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
-    checks.push_back(Check::at_most("commands_delivered_exactly_once", count(f.command_mismatches),
-                                    double(L.max_frame_mismatches)));
-    checks.push_back(Check::at_most("responses_delivered_exactly_once", count(f.response_mismatches),
-                                    double(L.max_frame_mismatches)));
+    for (const bool commands : {true, false}) {
+        Check c = Check::at_most(commands ? "commands_delivered_exactly_once" : "responses_delivered_exactly_once",
+                                 count(commands ? f.command_mismatches : f.response_mismatches),
+                                 double(L.max_frame_mismatches));
+        c.detail = exactly_once_detail(b, commands);
+        checks.push_back(std::move(c));
+    }
     Check malformed = Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0);
     // Which frame and why: the first few the main CPU dropped (the log has them all).
     const auto& dropped = b.ctl.main.malformed();
