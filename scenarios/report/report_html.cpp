@@ -190,8 +190,8 @@ void exactly_once_table(std::ostream& o, const json& ports) {
 }
 
 /// Below the exactly-once table, only when there is something to list (docs/scenarios.md
-/// "Expected drops"): the expected drops with their causes and the first frames that count
-/// against the exactly-once checks.
+/// "Expected drops"): the expected drops with their causes, the frames in flight at an
+/// interrupted stop, and the first frames that count against the exactly-once checks.
 void exactly_once_notes(std::ostream& o, const json& r) {
     std::ostringstream rows;
     auto ms = [](double us) { return num(us / 1e3, 3) + " ms"; };
@@ -204,6 +204,9 @@ void exactly_once_notes(std::ostream& o, const json& r) {
                      << esc(js(e, "dropped")) << "</td><td>" << ms(jd(e, "time_us")) << "</td><td class=\"l\">"
                      << esc(js(e, "frame")) << "</td><td class=\"l\">" << esc(js(e, "cause")) << " at "
                      << ms(jd(e, "cause_us")) << "</td></tr>\n";
+            if (ju(b, "in_flight"))
+                rows << "<tr><td>" << p << "</td><td class=\"l\">" << k << "</td><td class=\"l\">in flight at the stop: "
+                     << ju(b, "in_flight") << "</td><td></td><td></td><td></td></tr>\n";
         }
     for (const auto& c : jo(r, "checks")) {
         if (!c.contains("detail") || !c["detail"].is_object()) continue;
@@ -214,7 +217,7 @@ void exactly_once_notes(std::ostream& o, const json& r) {
                  << "</td><td class=\"l\">" << esc(js(e, "frame")) << "</td><td></td></tr>\n";
     }
     if (rows.str().empty()) return;
-    o << "<h3>Frames not delivered once: expected drops, the first counted</h3>\n<table><tr><th>port</th>"
+    o << "<h3>Frames not delivered once: expected drops, in flight, the first counted</h3>\n<table><tr><th>port</th>"
          "<th class=\"l\">frames</th><th class=\"l\">what</th><th>time</th><th class=\"l\">frame</th>"
          "<th class=\"l\">cause</th></tr>\n"
       << rows.str() << "</table>\n";

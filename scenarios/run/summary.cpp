@@ -136,8 +136,8 @@ void print_ports(const nlohmann::json& ports, std::ostream& os) {
 }
 
 /// Below the exactly-once table, only when there is something to say (docs/scenarios.md
-/// "Expected drops"): each port's expected drops with their causes and the first frames that
-/// count against the exactly-once checks.
+/// "Expected drops"): each port's expected drops with their causes, the frames in flight at an
+/// interrupted stop, and the first frames that count against the exactly-once checks.
 void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
     std::ostringstream out;
     auto ms = [](const nlohmann::json& us) {
@@ -157,6 +157,8 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
             const std::uint64_t listed = b.value("expected_drops", nlohmann::json::array()).size();
             if (u(b, "expected") > listed)
                 out << "  port " << p << " " << k << ": " << u(b, "expected") - listed << " more expected\n";
+            if (u(b, "in_flight") > 0)
+                out << "  port " << p << " " << k << ": " << u(b, "in_flight") << " in flight at the stop\n";
         }
     for (const auto& c : r["checks"]) {
         if (!c.contains("detail") || !c["detail"].is_object() || !c["detail"].contains("unexplained")) continue;
@@ -165,7 +167,7 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
                 << ": counted, " << e["what"].get<std::string>() << " at " << ms(e["time_us"]) << ": "
                 << e["frame"].get<std::string>() << "\n";
     }
-    if (!out.str().empty()) os << "\nexactly once: expected drops, the first counted\n" << out.str();
+    if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
 }
 
 } // namespace

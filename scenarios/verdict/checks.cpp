@@ -19,21 +19,22 @@ Check judge(std::string name, const Figure& f, double limit, bool holds) {
 }
 
 /// The detail of an exactly-once check (docs/scenarios.md "Expected drops"): the first frames that
-/// count against it, earliest first, with port, direction and simulated time, and how many drops
-/// the scenario caused. Null (no detail) when both are nothing, so a clean run's report is
-/// unchanged.
+/// count against it, earliest first, with port, direction and simulated time; how many drops the
+/// scenario caused and how many frames were in flight at an interrupted stop. Null (no detail)
+/// when all three are nothing, so a clean run's report is unchanged.
 nlohmann::json exactly_once_detail(const World& b, bool commands) {
     constexpr std::size_t kShown = 5;
     const unsigned dir = commands ? LineObserver::host_to_controller : LineObserver::controller_to_host;
     std::vector<std::pair<unsigned, const FrameEvent*>> events;
-    std::uint64_t expected = 0, counted = 0;
+    std::uint64_t expected = 0, in_flight = 0, counted = 0;
     for (unsigned p = 0; p < World::kPorts; ++p) {
         const SequenceMatcher& m = commands ? b.observers[p].command_books() : b.observers[p].response_books();
         for (const FrameEvent& e : m.unexplained()) events.emplace_back(p, &e);
         expected += m.counts().expected;
+        in_flight += m.counts().in_flight;
         counted += m.counts().mismatches();
     }
-    if (counted == 0 && expected == 0) return nullptr;
+    if (counted == 0 && expected == 0 && in_flight == 0) return nullptr;
     std::stable_sort(events.begin(), events.end(),
                      [](const auto& x, const auto& y) { return x.second->time_us < y.second->time_us; });
     nlohmann::json first = nlohmann::json::array();
@@ -42,7 +43,7 @@ nlohmann::json exactly_once_detail(const World& b, bool commands) {
         j["port"] = events[i].first;
         first.push_back(j);
     }
-    return {{"unexplained", first}, {"expected_drops", expected}};
+    return {{"unexplained", first}, {"expected_drops", expected}, {"in_flight", in_flight}};
 }
 
 } // namespace

@@ -177,6 +177,7 @@ void add_expected_drops(nlohmann::json& book, const SequenceMatcher& m, unsigned
     book["expected"] = m.counts().expected;
     book["expected_drops"] = nlohmann::json::array();
     for (const FrameEvent& e : m.expected_drops()) book["expected_drops"].push_back(frame_event_json(e, direction));
+    book["in_flight"] = m.counts().in_flight;
 }
 
 } // namespace rcsim

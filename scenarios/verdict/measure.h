@@ -68,8 +68,8 @@ const char* direction_name(unsigned d);
 /// {direction, frame, what (lost, gave_up, port_reset, duplicate, unexpected, reordered), time_us}.
 nlohmann::json frame_event_json(const FrameEvent& e, unsigned direction);
 /// Adds to one exactly-once book (report.json "ports[p].commands" or ".responses") `expected`
-/// (drops the scenario caused, docs/scenarios.md "Expected drops") and `expected_drops` (the first
-/// SequenceMatcher::kListed of them).
+/// (drops the scenario caused, docs/scenarios.md "Expected drops"), `expected_drops` (the first
+/// SequenceMatcher::kListed of them) and `in_flight` (on their way when a signal stopped the run).
 void add_expected_drops(nlohmann::json& book, const SequenceMatcher& m, unsigned direction);
 
 } // namespace rcsim

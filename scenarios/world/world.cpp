@@ -216,9 +216,11 @@ void World::sync_main_side() {
             observers[p].port_reset(true);
 }
 
+// A run a signal stopped (no drain) leaves the frames still on their way in flight, not lost.
 void World::finish_observers() {
     sync_main_side();
-    for (LineObserver& o : observers) o.finish();
+    const bool interrupted = stop_signal() != 0;
+    for (LineObserver& o : observers) o.finish(interrupted);
 }
 
 // A completed interrupt, in entry order. It is an rs232_rx interrupt when its port's RXD was
