@@ -17,6 +17,13 @@
 // A swallowed EOT makes the host send a frame the controller already accepted (the protocol has
 // no sequence numbers): the main CPU then holds it twice, and that is a duplicate.
 //
+// Expected drops (docs/scenarios.md "Expected drops"): a frame that did not arrive because of
+// something the scenario did to its port — a BREAK from the host, an injected fault or noise on a
+// character of its line — is counted apart and does not count against the exactly-once checks.
+// The world tells the observer what it did (line_fault) and the observer sees every BREAK and
+// port reset; the rule that ties a drop to a cause is LineObserver's (below). A run a signal
+// stopped leaves the frames still on their way "in flight", neither delivered nor lost.
+//
 // Plain C++ (no SystemC): the world feeds it (scenarios/world/world.h).
 #pragma once
 
@@ -27,6 +34,8 @@
 #include <deque>
 #include <functional>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace rcsim {
 
@@ -44,6 +53,28 @@ inline FrameKey frame_key(const proto::Frame& f) { return frame_key(f.token, f.b
 
 /// Why a frame that was sent did not arrive, when something reported it.
 enum class DropReason : std::uint8_t { none, gave_up, port_reset };
+
+/// Something the scenario did to a port that can keep a frame in flight there from arriving: a
+/// BREAK, an injected fault or noise on a character of its line.
+struct ScenarioCause {
+    std::string what;   // e.g. "BREAK from the host"; empty: none
+    double time_us = 0; // simulated time, when the observer was told of it
+    bool empty() const { return what.empty(); }
+};
+
+/// A short, printable name of a frame for the report: `EC 00 "HELLO" (5 bytes)`, the data cut
+/// after 16 characters.
+std::string frame_label(const std::string& token, std::uint8_t bch, const std::string& data);
+
+/// One frame that was not delivered exactly once, as the report lists it.
+struct FrameEvent {
+    enum class Kind : std::uint8_t { lost, gave_up, port_reset, duplicate, unexpected, reordered };
+    Kind kind = Kind::lost;
+    std::string frame;   // frame_label()
+    double time_us = 0;  // sent (lost), dropped (gave_up, port_reset), received (duplicate, unexpected), final (reordered)
+    ScenarioCause cause; // an expected drop's cause; empty otherwise
+};
+const char* kind_name(FrameEvent::Kind k);
 
 /// Streaming comparison of two frame sequences — `sent` (the intention) and `received` (the
 /// record) — that arrive interleaved, each in its own order, the record lagging or leading by
@@ -68,47 +99,104 @@ public:
         std::uint64_t duplicates = 0; // received again after an equal frame was matched
         std::uint64_t unexpected = 0; // received, never sent (e.g. a command the host gave up on)
         std::uint64_t dropped_gave_up = 0, dropped_port_reset = 0; // lost, with a reported reason
+        /// Of the lost and dropped, those with a cause the scenario made (expected drops).
+        std::uint64_t expected = 0;
+        /// Frames still on their way when a signal stopped the run (finish(true)): never final.
+        std::uint64_t in_flight = 0;
         /// Every frame not delivered exactly once and in order — lost, dropped (a reason does not
-        /// make it delivered), duplicated or reordered: the exactly-once check's figure.
+        /// make it delivered), duplicated or reordered — less the expected drops: the
+        /// exactly-once check's figure.
         std::uint64_t mismatches() const {
-            return lost + dropped_gave_up + dropped_port_reset + duplicates + unexpected + reordered;
+            return lost + dropped_gave_up + dropped_port_reset - expected + duplicates + unexpected + reordered;
         }
     };
 
-    /// Returns the frame's id, for explain().
-    std::uint64_t sent(const FrameKey& k) { return add(kSent, k); }
-    void received(const FrameKey& k) { add(kReceived, k); }
-    /// Gives sent frame `id` a reason, should it turn out lost. False: it is no longer waiting
-    /// (matched, or final).
-    bool explain(std::uint64_t id, DropReason why);
-    /// Makes every waiting frame final.
-    void finish();
+    /// What the report shows of a frame: its label, when this side had it, and (sent frames) a
+    /// cause the scenario made while it was on its way.
+    struct Note {
+        std::string label;
+        double time_us = 0;
+        ScenarioCause cause;
+    };
+    /// The first frames the report lists of each kind.
+    static constexpr std::size_t kListed = 8;
+
+    /// Returns the frame's id, for explain() and blame().
+    std::uint64_t sent(const FrameKey& k, Note note) { return add(kSent, k, std::move(note)); }
+    std::uint64_t sent(const FrameKey& k) { return sent(k, Note()); }
+    void received(const FrameKey& k, Note note) { add(kReceived, k, std::move(note)); }
+    void received(const FrameKey& k) { received(k, Note()); }
+    /// Gives sent frame `id` a reason, should it turn out lost, and the time it was dropped.
+    /// False: it is no longer waiting (matched, or final).
+    bool explain(std::uint64_t id, DropReason why, double time_us = 0);
+    /// Gives sent frame `id` a cause, unless it has one (`replace`: whatever it had). False: it is
+    /// no longer waiting.
+    bool blame(std::uint64_t id, const ScenarioCause& cause, bool replace = false);
+    /// Makes every waiting frame final. `interrupted` (a signal stopped the run): the frames
+    /// still on their way — waiting and not yet overtaken by a later one, nor dropped with a
+    /// reason — are counted in_flight instead.
+    void finish(bool interrupted = false);
     const Counts& counts() const { return counts_; }
+    /// The first kListed expected drops, and the first kListed frames that count against the
+    /// check (lost or dropped without a cause, duplicates, unexpected, reordered), in the order
+    /// they became final.
+    const std::vector<FrameEvent>& expected_drops() const { return expected_; }
+    const std::vector<FrameEvent>& unexplained() const { return unexplained_; }
     /// Frames waiting on either side (for tests of the bound).
     std::size_t waiting() const;
 
 private:
     enum Side : unsigned { kSent = 0, kReceived = 1 };
+    /// How a sent frame was dropped, if it was: moves with the reason between equal frames.
+    struct Drop {
+        DropReason why = DropReason::none;
+        double time_us = 0;
+        ScenarioCause cause;
+    };
     struct Item {
         FrameKey key;
         std::uint64_t id;
-        DropReason why;
+        Note note;
+        Drop drop;
     };
     std::array<std::deque<Item>, 2> pending_, overtaken_;
     std::deque<FrameKey> recent_; // the last kWindow matched frames, to tell a duplicate
     std::uint64_t next_id_ = 0;
     Counts counts_;
+    std::vector<FrameEvent> expected_, unexplained_;
 
-    std::uint64_t add(Side s, const FrameKey& k);
+    std::uint64_t add(Side s, const FrameKey& k, Note note);
+    Item* waiting_sent(std::uint64_t id);
     void overtake(Side s, std::size_t n);
     void finalize(Side s, const Item& it);
     void matched(const FrameKey& k);
+    static void list(std::vector<FrameEvent>& v, FrameEvent e);
 };
 
 /// The passive decoder of one port and its two comparisons.
+///
+/// Which drops are expected (docs/scenarios.md "Expected drops"): a cause is something the
+/// scenario did to this port — a BREAK from the host (every host is the scenario's), a BREAK the
+/// scenario injected from the controller's side, a character of this line, either direction,
+/// dropped or altered by an injected fault or by noise — and it explains
+///   - a response dropped by the comm CPU's port reset (0x3p) that followed a BREAK from the host
+///     on this port: the first such reset within kBreakResetUs of the BREAK; every response in
+///     the ring goes with it. A reset with no BREAK before it (the chunk-ACK timeout, a reset the
+///     main CPU asked for) explains nothing;
+///   - a response given up (0x4p, 0x5p) or lost when a cause hit this port while that response
+///     was the oldest in the comm CPU's transmit ring (the one it was sending);
+///   - a command the host got EOT for and the main CPU never received, when a cause hit this port
+///     during that command's transfer (from the host's ENQ that started it to the EOT): a fault
+///     can make the host read an EOT the controller never sent. A BREAK or reset after the EOT
+///     explains nothing: an EOT is a promise of delivery (docs/system.md §5.2).
+/// Duplicates, unexpected and reordered frames are never expected: exactly once is what the
+/// check asks, whatever made the sender repeat itself.
 class LineObserver {
 public:
     enum Dir : unsigned { host_to_controller = 0, controller_to_host = 1 };
+    /// The longest a BREAK from the host explains the port reset that follows it: the firmware
+    /// defers a reset until an EOT'd frame is handed over, at most its 1 s chunk-ACK timeout.
+    static constexpr double kBreakResetUs = 2e6;
 
     struct DirCounts {
         std::uint64_t enqs = 0;
@@ -120,23 +208,34 @@ public:
         std::uint64_t abandoned = 0;      // valid frames never acknowledged: a different one followed, or the run ended
     };
 
+    /// Simulated time in microseconds, for the times in the report; the world sets it. Unset: 0.
+    std::function<double()> clock;
+
     // ---- the line (from SerialLine::on_deliver) ----
     /// A character as its receiver decoded it; `error`: parity or framing error.
     void line_char(Dir d, std::uint8_t byte, bool error);
-    /// The receiver saw a BREAK begin: a frame in progress from that side is cut.
+    /// The receiver saw a BREAK begin: a frame in progress from that side is cut. A BREAK from
+    /// the host is a cause, and explains the port reset that follows it.
     void line_break(Dir d);
+    /// The scenario did something to this port's line (an injected fault, noise, a BREAK it
+    /// injected): a cause for the frames on their way (the class comment says which).
+    void line_fault(const ScenarioCause& c);
 
     // ---- the main CPU's DP-RAM side ----
-    void main_received(const FrameKey& k) { commands_.received(k); }
+    void main_received(const FrameKey& k, std::string label = {}) {
+        commands_.received(k, {std::move(label), now(), {}});
+    }
     /// A response the main CPU handed to DP-RAM (every chunk acknowledged by the comm CPU).
-    void main_handed(const FrameKey& k);
+    void main_handed(const FrameKey& k, std::string label = {});
     /// The comm CPU gave up on the response it was sending (mailbox word 0x4p or 0x5p).
     void response_given_up();
-    /// The comm CPU reset the port: its transmit ring, and every response in it, is dropped.
-    void port_reset();
+    /// The port was reset (0x3p): the comm CPU's transmit ring, and every response in it, is
+    /// dropped. `by_main_cpu`: a reset the main CPU asked for (never explained by a BREAK).
+    void port_reset(bool by_main_cpu = false);
 
     /// End of the run: frames still unanswered are abandoned, unmatched ones final.
-    void finish();
+    /// `interrupted` (a signal stopped the run): those still on their way are in flight instead.
+    void finish(bool interrupted = false);
 
     /// Responses handed to DP-RAM that the comm CPU has neither had EOT for nor dropped yet.
     std::size_t responses_in_flight() const { return in_ring_.size(); }
@@ -153,6 +252,9 @@ public:
     std::uint64_t breaks() const { return breaks_; }
     const SequenceMatcher::Counts& commands() const { return commands_.counts(); }
     const SequenceMatcher::Counts& responses() const { return responses_.counts(); }
+    /// The comparisons themselves, for the frames the report lists.
+    const SequenceMatcher& command_books() const { return commands_; }
+    const SequenceMatcher& response_books() const { return responses_; }
 
 private:
     enum class Await : std::uint8_t { none, enq, frame };
@@ -163,6 +265,8 @@ private:
         bool open = false;             // the last frame offered got no EOT yet
         bool last_good = false;        // ... and it was valid as received
         std::optional<FrameKey> last;  // the last valid frame offered without EOT
+        std::string last_label;        // ... its frame_label()
+        ScenarioCause cause;           // the first cause since this sender's transfer began
         DirCounts counts;
     };
     std::array<Sender, 2> dir_;
@@ -170,7 +274,10 @@ private:
     SequenceMatcher commands_, responses_;
     // Responses in the comm CPU's transmit ring, oldest first (it sends and gives up in order).
     std::deque<std::uint64_t> in_ring_;
+    // The last BREAK from the host not yet followed by a port reset of the comm CPU.
+    ScenarioCause break_before_reset_;
 
+    double now() const { return clock ? clock() : 0.0; }
     void control(Dir d, std::uint8_t byte);
     void frame_done(Dir d, bool good);
     void acknowledged(Dir d);

@@ -289,7 +289,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     if (kind == "break") {
         const double ms = a.number("duration_ms", 0.001, 10'000, 5.0);
         if (!a.ok()) return {};
-        line.insert_break(side, ms_time(ms));
+        world_.inject_break(port, side, ms_time(ms)); // a cause of expected drops (world.h)
         return {{"port", port}};
     }
     const std::optional<FaultKind> fault = fault_kind(kind);

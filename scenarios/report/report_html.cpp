@@ -210,6 +210,40 @@ void exactly_once_table(std::ostream& o, const json& ports) {
     o << "</table>\n";
 }
 
+/// Below the exactly-once table, only when there is something to list (docs/scenarios.md
+/// "Expected drops"): the expected drops with their causes, the frames in flight at an
+/// interrupted stop, and the first frames that count against the exactly-once checks.
+void exactly_once_notes(std::ostream& o, const json& r) {
+    std::ostringstream rows;
+    auto ms = [](double us) { return num(us / 1e3, 3) + " ms"; };
+    const json& ports = jo(r, "ports");
+    for (std::size_t p = 0; p < ports.size(); ++p)
+        for (const char* k : {"commands", "responses"}) {
+            const json& b = jo(ports[p], k);
+            for (const auto& e : jo(b, "expected_drops"))
+                rows << "<tr><td>" << p << "</td><td class=\"l\">" << k << "</td><td class=\"l\">expected: "
+                     << esc(js(e, "dropped")) << "</td><td>" << ms(jd(e, "time_us")) << "</td><td class=\"l\">"
+                     << esc(js(e, "frame")) << "</td><td class=\"l\">" << esc(js(e, "cause")) << " at "
+                     << ms(jd(e, "cause_us")) << "</td></tr>\n";
+            if (ju(b, "in_flight"))
+                rows << "<tr><td>" << p << "</td><td class=\"l\">" << k << "</td><td class=\"l\">in flight at the stop: "
+                     << ju(b, "in_flight") << "</td><td></td><td></td><td></td></tr>\n";
+        }
+    for (const auto& c : jo(r, "checks")) {
+        if (!c.contains("detail") || !c["detail"].is_object()) continue;
+        for (const auto& e : jo(c["detail"], "unexplained"))
+            rows << "<tr><td>" << ju(e, "port") << "</td><td class=\"l\">"
+                 << (js(e, "direction") == "host_to_controller" ? "commands" : "responses")
+                 << "</td><td class=\"l bad\">counted: " << esc(js(e, "what")) << "</td><td>" << ms(jd(e, "time_us"))
+                 << "</td><td class=\"l\">" << esc(js(e, "frame")) << "</td><td></td></tr>\n";
+    }
+    if (rows.str().empty()) return;
+    o << "<h3>Frames not delivered once: expected drops, in flight, the first counted</h3>\n<table><tr><th>port</th>"
+         "<th class=\"l\">frames</th><th class=\"l\">what</th><th>time</th><th class=\"l\">frame</th>"
+         "<th class=\"l\">cause</th></tr>\n"
+      << rows.str() << "</table>\n";
+}
+
 void section_ports(std::ostream& o, const json& r) {
     const json& ports = jo(r, "ports");
     o << "<section id=\"ports\"><h2>Ports</h2>\n<table><tr><th>port</th><th class=\"l\">host</th>"
@@ -242,6 +276,7 @@ void section_ports(std::ostream& o, const json& r) {
     }
     o << "</table>\n";
     exactly_once_table(o, ports);
+    exactly_once_notes(o, r);
     double limit = -1;
     for (const auto& c : jo(r, "checks"))
         if (js(c, "name") == "char_latency_max_us") limit = jd(c, "limit");

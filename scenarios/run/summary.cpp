@@ -168,6 +168,41 @@ void print_ports(const nlohmann::json& ports, std::ostream& os) {
     }
 }
 
+/// Below the exactly-once table, only when there is something to say (docs/scenarios.md
+/// "Expected drops"): each port's expected drops with their causes, the frames in flight at an
+/// interrupted stop, and the first frames that count against the exactly-once checks.
+void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
+    std::ostringstream out;
+    auto ms = [](const nlohmann::json& us) {
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(3) << us.get<double>() / 1e3 << " ms";
+        return s.str();
+    };
+    const auto& ports = r["ports"];
+    for (std::size_t p = 0; p < ports.size(); ++p)
+        for (const char* k : {"commands", "responses"}) {
+            if (!ports[p].contains(k)) continue;
+            const auto& b = ports[p][k];
+            for (const auto& e : b.value("expected_drops", nlohmann::json::array()))
+                out << "  port " << p << " " << k << ": expected, " << e["dropped"].get<std::string>() << " at "
+                    << ms(e["time_us"]) << ": " << e["frame"].get<std::string>() << "; cause "
+                    << e["cause"].get<std::string>() << " at " << ms(e["cause_us"]) << "\n";
+            const std::uint64_t listed = b.value("expected_drops", nlohmann::json::array()).size();
+            if (u(b, "expected") > listed)
+                out << "  port " << p << " " << k << ": " << u(b, "expected") - listed << " more expected\n";
+            if (u(b, "in_flight") > 0)
+                out << "  port " << p << " " << k << ": " << u(b, "in_flight") << " in flight at the stop\n";
+        }
+    for (const auto& c : r["checks"]) {
+        if (!c.contains("detail") || !c["detail"].is_object() || !c["detail"].contains("unexplained")) continue;
+        for (const auto& e : c["detail"]["unexplained"])
+            out << "  port " << e["port"].get<unsigned>() << " " << (e["direction"] == "host_to_controller" ? "commands" : "responses")
+                << ": counted, " << e["what"].get<std::string>() << " at " << ms(e["time_us"]) << ": "
+                << e["frame"].get<std::string>() << "\n";
+    }
+    if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
+}
+
 } // namespace
 
 void print_summary(const nlohmann::json& r, std::ostream& os) {
@@ -211,6 +246,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     if (t.contains("not_measured"))
         for (const auto& [k, why] : t["not_measured"].items()) os << "  not measured: " << k << ": " << why.get<std::string>() << "\n";
     print_ports(r["ports"], os);
+    print_exactly_once_notes(r, os);
     if (r.contains("main_cpu") && r["main_cpu"].contains("cycle_jitter_us")) {
         const auto& j = r["main_cpu"]["cycle_jitter_us"];
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";

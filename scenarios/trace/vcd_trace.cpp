@@ -78,7 +78,9 @@ void VcdTrace::close() {
 
 // Side a of every line is the 82510: what it sends is its TXD, what side b sends its RXD.
 void VcdTrace::trace_line(SerialLine& line, unsigned txd, unsigned rxd) {
-    line.on_transmit = [this, txd, rxd](const SerialLine::Traced& t) {
+    // The world watches every transmitted character too (its line faults): keep its hook.
+    line.on_transmit = [this, txd, rxd, before = line.on_transmit](const SerialLine::Traced& t) {
+        if (before) before(t);
         if (t.dropped) return; // a dropped character never reaches the wire
         const unsigned w = t.from == SerialLine::a ? txd : rxd;
         for (unsigned i = 0; i < t.word.ncells; ++i)

@@ -114,6 +114,34 @@ template <class Why> void explain(Check& c, Why why) {
     if (c.status == Check::Status::failed) c.why = why();
 }
 
+/// The detail of an exactly-once check (docs/scenarios.md "Expected drops"): the first frames that
+/// count against it, earliest first, with port, direction and simulated time; how many drops the
+/// scenario caused and how many frames were in flight at an interrupted stop. Null (no detail)
+/// when all three are nothing, so a clean run's report is unchanged.
+nlohmann::json exactly_once_detail(const World& b, bool commands) {
+    constexpr std::size_t kShown = 5;
+    const unsigned dir = commands ? LineObserver::host_to_controller : LineObserver::controller_to_host;
+    std::vector<std::pair<unsigned, const FrameEvent*>> events;
+    std::uint64_t expected = 0, in_flight = 0, counted = 0;
+    for (unsigned p = 0; p < World::kPorts; ++p) {
+        const SequenceMatcher& m = commands ? b.observers[p].command_books() : b.observers[p].response_books();
+        for (const FrameEvent& e : m.unexplained()) events.emplace_back(p, &e);
+        expected += m.counts().expected;
+        in_flight += m.counts().in_flight;
+        counted += m.counts().mismatches();
+    }
+    if (counted == 0 && expected == 0 && in_flight == 0) return nullptr;
+    std::stable_sort(events.begin(), events.end(),
+                     [](const auto& x, const auto& y) { return x.second->time_us < y.second->time_us; });
+    nlohmann::json first = nlohmann::json::array();
+    for (std::size_t i = 0; i < events.size() && i < kShown; ++i) {
+        nlohmann::json j = frame_event_json(*events[i].second, dir);
+        j["port"] = events[i].first;
+        first.push_back(j);
+    }
+    return {{"unexplained", first}, {"expected_drops", expected}, {"in_flight", in_flight}};
+}
+
 } // namespace
 
 Check Check::at_most(std::string name, const Figure& f, double limit) {
@@ -215,10 +243,24 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
     explain(checks.back(), [&] { return why_frames_failed(b); });
     // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
-    checks.push_back(Check::at_most("commands_delivered_exactly_once", count(f.command_mismatches),
-                                    double(L.max_frame_mismatches)));
-    checks.push_back(Check::at_most("responses_delivered_exactly_once", count(f.response_mismatches),
-                                    double(L.max_frame_mismatches)));
+    for (const bool commands : {true, false}) {
+        Check c = Check::at_most(commands ? "commands_delivered_exactly_once" : "responses_delivered_exactly_once",
+                                 count(commands ? f.command_mismatches : f.response_mismatches),
+                                 double(L.max_frame_mismatches));
+        c.detail = exactly_once_detail(b, commands);
+        explain(c, [&] {
+            const nlohmann::json& first = c.detail["unexplained"];
+            if (first.empty()) return std::string();
+            const nlohmann::json& e = first[0];
+            std::string dir = e.value("direction", std::string());
+            for (char& ch : dir)
+                if (ch == '_') ch = ' ';
+            return "port " + std::to_string(e.value("port", 0u)) + " (" + dir + "): " + e.value("frame", std::string()) +
+                   " " + e.value("what", std::string()) + " at " + us(e.value("time_us", 0.0)) +
+                   (first.size() > 1 ? " (and more in the detail)" : "");
+        });
+        checks.push_back(std::move(c));
+    }
     Check malformed = Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0);
     // Which frame and why: the first few the main CPU dropped (the log has them all).
     const auto& dropped = b.ctl.main.malformed();

@@ -160,12 +160,38 @@ nlohmann::json observer_json(const LineObserver& o) {
     nlohmann::json responses = seq(o.responses(), "main_cpu_handed", "host_received");
     responses["dropped"] = {{"gave_up", o.responses().dropped_gave_up},
                             {"port_reset", o.responses().dropped_port_reset}};
+    nlohmann::json commands = seq(o.commands(), "host_eot", "main_cpu_received");
+    add_expected_drops(commands, o.command_books(), LineObserver::host_to_controller);
+    add_expected_drops(responses, o.response_books(), LineObserver::controller_to_host);
     return {{"line", {{"host_to_controller", dir(LineObserver::host_to_controller)},
                       {"controller_to_host", dir(LineObserver::controller_to_host)},
                       {"enq_collisions", o.enq_collisions()},
                       {"breaks", o.breaks()}}},
-            {"commands", seq(o.commands(), "host_eot", "main_cpu_received")},
+            {"commands", commands},
             {"responses", responses}};
+}
+
+const char* direction_name(unsigned d) {
+    return d == LineObserver::host_to_controller ? "host_to_controller" : "controller_to_host";
+}
+
+nlohmann::json frame_event_json(const FrameEvent& e, unsigned direction) {
+    nlohmann::json j = {{"direction", direction_name(direction)}, {"frame", e.frame}, {"time_us", e.time_us}};
+    if (e.cause.empty()) {
+        j["what"] = kind_name(e.kind);
+    } else {
+        j["dropped"] = kind_name(e.kind);
+        j["cause"] = e.cause.what;
+        j["cause_us"] = e.cause.time_us;
+    }
+    return j;
+}
+
+void add_expected_drops(nlohmann::json& book, const SequenceMatcher& m, unsigned direction) {
+    book["expected"] = m.counts().expected;
+    book["expected_drops"] = nlohmann::json::array();
+    for (const FrameEvent& e : m.expected_drops()) book["expected_drops"].push_back(frame_event_json(e, direction));
+    book["in_flight"] = m.counts().in_flight;
 }
 
 } // namespace rcsim

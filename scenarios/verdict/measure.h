@@ -68,4 +68,15 @@ nlohmann::json observer_json(const LineObserver& o);
 
 nlohmann::json samples_json(const Samples& s);
 
+/// "host_to_controller" or "controller_to_host" (LineObserver::Dir).
+const char* direction_name(unsigned d);
+/// One frame of the exactly-once books: {direction, frame, dropped (an expected drop: lost,
+/// gave_up, port_reset), time_us, cause, cause_us}, or for one that counts against the check
+/// {direction, frame, what (lost, gave_up, port_reset, duplicate, unexpected, reordered), time_us}.
+nlohmann::json frame_event_json(const FrameEvent& e, unsigned direction);
+/// Adds to one exactly-once book (report.json "ports[p].commands" or ".responses") `expected`
+/// (drops the scenario caused, docs/scenarios.md "Expected drops"), `expected_drops` (the first
+/// SequenceMatcher::kListed of them) and `in_flight` (on their way when a signal stopped the run).
+void add_expected_drops(nlohmann::json& book, const SequenceMatcher& m, unsigned direction);
+
 } // namespace rcsim

@@ -43,6 +43,9 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
                 char_latency_worst[p] = {wait, c.stop, c.read};
         };
         lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
+        observers[p].clock = [] { return to_us(sc_core::sc_time_stamp()); };
+        // A faulted character is counted when it starts: its cause has that time.
+        lines[p].on_transmit = [this, p](const SerialLine::Traced&) { sync_line_faults(p); };
     }
     if (s.main_motion) {
         motion = std::make_unique<motion::MotionController>("motion", motion_config(s));
@@ -54,10 +57,12 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
     probe.keep_records(false);
     ctl.main.keep_history(false);
     ctl.main.on_received = [this](const FrameRecord& f) {
-        if (f.port < kPorts) observers[f.port].main_received(frame_key(f.token, f.bch, f.data));
+        if (f.port < kPorts)
+            observers[f.port].main_received(frame_key(f.token, f.bch, f.data), frame_label(f.token, f.bch, f.data));
     };
     ctl.main.on_sent = [this](const FrameRecord& f) {
-        if (f.port < kPorts) observers[f.port].main_handed(frame_key(f.token, f.bch, f.data));
+        if (f.port < kPorts)
+            observers[f.port].main_handed(frame_key(f.token, f.bch, f.data), frame_label(f.token, f.bch, f.data));
     };
     probe.on_record = [this](const InterruptRecord& r) { on_record(r); };
     probe.on_settled = [this](const sc_time& h) { on_settled(h); };
@@ -132,7 +137,41 @@ void World::inject_breaks() {
     std::stable_sort(breaks.begin(), breaks.end(), [](const Brk& a, const Brk& b) { return a.at < b.at; });
     for (const Brk& b : breaks) {
         if (b.at > sc_core::sc_time_stamp()) wait(b.at - sc_core::sc_time_stamp());
-        lines[b.port].insert_break(b.from, b.duration);
+        inject_break(b.port, b.from, b.duration);
+    }
+}
+
+void World::inject_break(unsigned p, SerialLine::Side from, const sc_time& duration) {
+    sync_main_side();
+    observers[p].line_fault({from == SerialLine::b ? "BREAK from the host" : "BREAK from the controller (injected)",
+                             to_us(sc_core::sc_time_stamp())});
+    lines[p].insert_break(from, duration);
+}
+
+// What the scenario did to each line since the last look, from the line's own counters (they
+// count at the faulted character's START, where on_transmit looks at once; a BREAK at its fall):
+// each is a cause for the frames on their way on that port (LineObserver::line_fault). Every host-side BREAK is the scenario's (a
+// host is part of it); the controller's side only when the world injected it (inject_break).
+void World::sync_line_faults() {
+    for (unsigned p = 0; p < kPorts; ++p) sync_line_faults(p);
+}
+
+void World::sync_line_faults(unsigned p) {
+    for (const SerialLine::Side side : {SerialLine::a, SerialLine::b}) {
+        const SerialLine::Stats& now = lines[p].stats(side);
+        SerialLine::Stats& seen = line_stats_seen_[p][side];
+        const bool host = side == SerialLine::b;
+        auto note = [&](std::uint64_t cur, std::uint64_t& old, const char* what) {
+            if (cur == old) return;
+            old = cur;
+            observers[p].line_fault({what, to_us(sc_core::sc_time_stamp())});
+        };
+        note(now.dropped, seen.dropped, host ? "injected fault: a host character dropped"
+                                             : "injected fault: a controller character dropped");
+        note(now.faults, seen.faults, host ? "injected fault: a host character altered"
+                                           : "injected fault: a controller character altered");
+        note(now.noise_flips, seen.noise_flips, host ? "noise on a host character" : "noise on a controller character");
+        if (host) note(now.breaks, seen.breaks, "BREAK from the host");
     }
 }
 
@@ -150,7 +189,7 @@ void World::watch_dpram(const i8086::BusRecord& r, const sc_time& t) {
     const unsigned port = L::word_port(word);
     switch (L::word_kind(word)) {
     case L::kind_chunk: dpram_.chunk_closed(port); break;
-    case L::kind_reset: observers[port].port_reset(); break;
+    case L::kind_reset: observers[port].port_reset(false); break;
     case L::kind_gave_up:
     case L::kind_gave_up_sent: observers[port].response_given_up(); break;
     default: break;
@@ -168,18 +207,23 @@ void World::observe_line(unsigned p, const SerialLine::Delivered& d) {
 }
 
 // The main CPU's frames reach the observers through on_received/on_sent as they happen; a reset
-// it asks for (0x3p in int2ext) is read from its counter. Cheap when nothing changed; called on
-// every line character and every DP-RAM write of the comm CPU.
+// it asks for (0x3p in int2ext) is read from its counter, and the faults on the lines from theirs
+// (sync_line_faults). Cheap when nothing changed; called on every line character and every
+// DP-RAM mailbox write of the comm CPU.
 void World::sync_main_side() {
+    sync_line_faults();
     const MainCpu& m = ctl.main;
     // A reset the main CPU asks for drops the comm CPU's transmit ring too.
     for (unsigned p = 0; p < kPorts; ++p)
-        for (; main_resets_seen_[p] < m.port_stats(p).resets_sent; ++main_resets_seen_[p]) observers[p].port_reset();
+        for (; main_resets_seen_[p] < m.port_stats(p).resets_sent; ++main_resets_seen_[p])
+            observers[p].port_reset(true);
 }
 
+// A run a signal stopped (no drain) leaves the frames still on their way in flight, not lost.
 void World::finish_observers() {
     sync_main_side();
-    for (LineObserver& o : observers) o.finish();
+    const bool interrupted = stop_signal() != 0;
+    for (LineObserver& o : observers) o.finish(interrupted);
 }
 
 // A completed interrupt, in entry order. It is an rs232_rx interrupt when its port's RXD was

@@ -75,6 +75,11 @@ public:
     /// their comparisons. Call once, after the run.
     void finish_observers();
 
+    /// A BREAK on port p's line from `from` for `duration`, starting now, that the scenario makes
+    /// (its `faults:`, the monitor's inject_fault): the observer takes it as a cause (docs/scenarios.md
+    /// "Expected drops").
+    void inject_break(unsigned p, SerialLine::Side from, const sc_core::sc_time& duration);
+
     /// After the run: ends the hosts' logs and record files and throws ConfigError naming the
     /// first that could not be written completely (a full disk), so a truncated file never
     /// passes as a complete one.
@@ -114,8 +119,12 @@ private:
 
     // Port resets the main CPU asked for that the observers have been told of.
     std::array<std::uint64_t, kPorts> main_resets_seen_{};
+    // Each line's counters (per side) when the observers were last told of its faults.
+    std::array<std::array<SerialLine::Stats, 2>, kPorts> line_stats_seen_{};
     void observe_line(unsigned p, const SerialLine::Delivered& d);
     void sync_main_side();
+    void sync_line_faults();
+    void sync_line_faults(unsigned p);
     void on_record(const InterruptRecord& r);
     void on_settled(const sc_core::sc_time& horizon);
 };

@@ -1,0 +1,262 @@
+// Expected drops and frames in flight (docs/scenarios.md "Expected drops", "Interrupted runs"):
+// which drops a cause the scenario made explains, and which it does not, fed byte by byte as in
+// line_observer_test.cpp, with a clock the test moves by hand.
+#include "scenarios/board/line_observer.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+using namespace rcsim;
+using proto::ACK;
+using proto::ENQ;
+using proto::EOT;
+
+namespace {
+
+constexpr auto H = LineObserver::host_to_controller;
+constexpr auto C = LineObserver::controller_to_host;
+
+std::string wire(const proto::Frame& f) { return proto::encode(f); }
+std::string ctl(std::uint8_t b) { return std::string(1, static_cast<char>(b)); }
+
+void send(LineObserver& o, LineObserver::Dir d, const std::string& bytes) {
+    for (unsigned char b : bytes) o.line_char(d, b, false);
+}
+
+void host_transfer(LineObserver& o, const proto::Frame& f) {
+    send(o, H, ctl(ENQ));
+    send(o, C, ctl(ACK));
+    send(o, H, wire(f));
+    send(o, C, ctl(EOT));
+}
+
+void controller_transfer(LineObserver& o, const proto::Frame& f) {
+    send(o, C, ctl(ENQ));
+    send(o, H, ctl(ACK));
+    send(o, C, wire(f));
+    send(o, H, ctl(EOT));
+}
+
+/// An observer whose clock reads `now` (microseconds).
+struct Clocked {
+    LineObserver o;
+    double now = 0;
+    Clocked() { o.clock = [this] { return now; }; }
+};
+
+proto::Frame resp(const std::string& data) { return proto::Frame{"EC", 0, data}; }
+void hand(LineObserver& o, const proto::Frame& f) {
+    o.main_handed(frame_key(f), frame_label(f.token, f.bch, f.data));
+}
+
+} // namespace
+
+TEST(ExpectedDrops, APortResetAfterAHostBreakDropsTheRingAsExpected) {
+    Clocked c;
+    hand(c.o, resp("ONE"));
+    hand(c.o, resp("TWO"));
+    c.now = 1000;
+    c.o.line_break(H); // the controller's receiver detects the host's BREAK ...
+    c.now = 2500;
+    c.o.port_reset(); // ... and the comm CPU resets the port (0x3p)
+    c.o.finish();
+    const auto& r = c.o.responses();
+    EXPECT_EQ(r.dropped_port_reset, 2u);
+    EXPECT_EQ(r.expected, 2u);
+    EXPECT_EQ(r.mismatches(), 0u);
+    const auto& e = c.o.response_books().expected_drops();
+    ASSERT_EQ(e.size(), 2u);
+    EXPECT_EQ(e[0].kind, FrameEvent::Kind::port_reset);
+    EXPECT_EQ(e[0].frame, "EC 00 \"ONE\" (3 bytes)");
+    EXPECT_EQ(e[0].time_us, 2500);
+    EXPECT_EQ(e[0].cause.what, "port reset after a BREAK from the host");
+    EXPECT_EQ(e[0].cause.time_us, 1000);
+    EXPECT_TRUE(c.o.response_books().unexplained().empty());
+}
+
+TEST(ExpectedDrops, AResetWithoutABreakBeforeItStillCounts) {
+    Clocked c;
+    hand(c.o, resp("ONE"));
+    c.o.port_reset(); // the chunk-ACK timeout, say: nothing the scenario did
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().expected, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u);
+    ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
+    EXPECT_EQ(c.o.response_books().unexplained()[0].kind, FrameEvent::Kind::port_reset);
+}
+
+TEST(ExpectedDrops, ABreakExplainsOnlyTheFirstCommCpuResetAndOnlyWithinItsWindow) {
+    Clocked c;
+    c.o.line_break(H);
+    hand(c.o, resp("BY-MAIN"));
+    c.now = 10;
+    c.o.port_reset(true); // the main CPU's own reset (its ACK timeout) is never the BREAK's
+    hand(c.o, resp("FIRST"));
+    c.now = 20;
+    c.o.port_reset(); // the BREAK's reset
+    hand(c.o, resp("SECOND"));
+    c.now = 30;
+    c.o.port_reset(); // a second reset: the BREAK was used up
+    c.o.line_break(H);
+    hand(c.o, resp("LATE"));
+    c.now = 30 + LineObserver::kBreakResetUs + 1;
+    c.o.port_reset(); // too long after the BREAK
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().dropped_port_reset, 4u);
+    EXPECT_EQ(c.o.responses().expected, 1u);
+    EXPECT_EQ(c.o.responses().mismatches(), 3u);
+    ASSERT_EQ(c.o.response_books().expected_drops().size(), 1u);
+    EXPECT_EQ(c.o.response_books().expected_drops()[0].frame, "EC 00 \"FIRST\" (5 bytes)");
+}
+
+TEST(ExpectedDrops, AFaultExplainsTheGiveUpOfTheResponseBeingSentOnly) {
+    Clocked c;
+    hand(c.o, resp("SENDING"));
+    hand(c.o, resp("WAITING"));
+    c.now = 700;
+    c.o.line_fault({"injected fault: a controller character dropped", 700});
+    c.now = 900;
+    c.o.response_given_up(); // 0x4p for the oldest: the one the fault hit
+    c.now = 1500;
+    c.o.response_given_up(); // the next one: no fault while it was being sent
+    c.o.finish();
+    const auto& r = c.o.responses();
+    EXPECT_EQ(r.dropped_gave_up, 2u);
+    EXPECT_EQ(r.expected, 1u);
+    EXPECT_EQ(r.mismatches(), 1u);
+    const auto& e = c.o.response_books().expected_drops();
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].frame, "EC 00 \"SENDING\" (7 bytes)");
+    EXPECT_EQ(e[0].kind, FrameEvent::Kind::gave_up);
+    EXPECT_EQ(e[0].time_us, 900);
+    EXPECT_EQ(e[0].cause.time_us, 700);
+    ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
+    EXPECT_EQ(c.o.response_books().unexplained()[0].time_us, 1500);
+}
+
+TEST(ExpectedDrops, ACommandHitDuringItsTransferAndNeverReceivedIsExpected) {
+    Clocked c;
+    const proto::Frame f = resp("HIT"), g = resp("NEXT");
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    c.o.line_fault({"noise on a controller character", 5});
+    send(c.o, H, wire(f));
+    send(c.o, C, ctl(EOT)); // e.g. the controller's NAK, read as EOT by the host
+    host_transfer(c.o, g);
+    c.o.main_received(frame_key(g));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().lost, 1u);
+    EXPECT_EQ(c.o.commands().expected, 1u);
+    EXPECT_EQ(c.o.commands().mismatches(), 0u);
+    ASSERT_EQ(c.o.command_books().expected_drops().size(), 1u);
+    EXPECT_EQ(c.o.command_books().expected_drops()[0].cause.what, "noise on a controller character");
+}
+
+TEST(ExpectedDrops, ABreakOrResetAfterTheEotExplainsNoLostCommand) {
+    Clocked c;
+    const proto::Frame f = resp("PROMISED"), g = resp("NEXT");
+    host_transfer(c.o, f); // EOT: a promise of delivery
+    c.o.line_break(H);
+    c.o.port_reset();
+    c.o.line_fault({"injected fault: a host character altered", 1});
+    host_transfer(c.o, g);
+    c.o.main_received(frame_key(g));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().lost, 1u);
+    EXPECT_EQ(c.o.commands().expected, 0u);
+    EXPECT_EQ(c.o.commands().mismatches(), 1u);
+}
+
+TEST(ExpectedDrops, AFaultBeforeAFreshTransferIsNotItsCause) {
+    Clocked c;
+    const proto::Frame f = resp("CLEAN"), g = resp("NEXT");
+    c.o.line_fault({"noise on a host character", 1}); // the host is idle
+    host_transfer(c.o, f);
+    host_transfer(c.o, g);
+    c.o.main_received(frame_key(g));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().expected, 0u);
+    EXPECT_EQ(c.o.commands().mismatches(), 1u);
+}
+
+TEST(ExpectedDrops, DuplicatesAreNeverExpected) {
+    Clocked c;
+    const proto::Frame r = resp("AGAIN");
+    hand(c.o, r);
+    send(c.o, C, ctl(ENQ));
+    send(c.o, H, ctl(ACK));
+    c.o.line_fault({"injected fault: a host character dropped", 3}); // the host's EOT
+    send(c.o, C, wire(r));
+    controller_transfer(c.o, r);
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().duplicates, 1u);
+    EXPECT_EQ(c.o.responses().expected, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u);
+    ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
+    EXPECT_EQ(c.o.response_books().unexplained()[0].kind, FrameEvent::Kind::duplicate);
+}
+
+TEST(ExpectedDrops, TheListsAreBoundedAndTheCountsAreNot) {
+    Clocked c;
+    for (int i = 0; i < 50; ++i) {
+        hand(c.o, resp(std::to_string(i)));
+        c.o.line_break(H);
+        c.o.port_reset();
+        hand(c.o, resp("x" + std::to_string(i)));
+        c.o.response_given_up();
+    }
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().expected, 50u);
+    EXPECT_EQ(c.o.responses().mismatches(), 50u);
+    EXPECT_EQ(c.o.response_books().expected_drops().size(), SequenceMatcher::kListed);
+    EXPECT_EQ(c.o.response_books().unexplained().size(), SequenceMatcher::kListed);
+}
+
+TEST(ExpectedDrops, LongDataIsCutInTheLabel) {
+    EXPECT_EQ(frame_label("EC", 0x0A, std::string(40, 'x')), "EC 0A \"xxxxxxxxxxxxxxxx...\" (40 bytes)");
+}
+
+// ---- interrupted runs ----
+
+TEST(InFlight, AnInterruptedStopLeavesWaitingFramesInFlightNotLost) {
+    Clocked c;
+    const proto::Frame f = resp("DONE"), g = resp("ON-ITS-WAY");
+    host_transfer(c.o, f);
+    c.o.main_received(frame_key(f));
+    host_transfer(c.o, g); // EOT'd; the main CPU has not received it yet
+    hand(c.o, resp("ANSWER")); // handed; the host has not received it yet
+    c.o.main_received(frame_key(resp("AHEAD"))); // the record leads: its EOT is still on the line
+    c.o.finish(true);
+    EXPECT_EQ(c.o.commands().in_flight, 2u);
+    EXPECT_EQ(c.o.commands().lost + c.o.commands().unexpected, 0u);
+    EXPECT_EQ(c.o.commands().mismatches(), 0u);
+    EXPECT_EQ(c.o.responses().in_flight, 1u);
+    EXPECT_EQ(c.o.responses().lost, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 0u);
+}
+
+TEST(InFlight, AnInterruptedStopStillCountsWhatCompletedWrong) {
+    Clocked c;
+    const proto::Frame a = resp("A"), b = resp("B");
+    host_transfer(c.o, a); // lost: b, sent after it, was received
+    host_transfer(c.o, b);
+    c.o.main_received(frame_key(b));
+    hand(c.o, resp("GIVEN-UP"));
+    c.o.response_given_up(); // dropped with its reason before the stop
+    c.o.finish(true);
+    EXPECT_EQ(c.o.commands().lost, 1u);
+    EXPECT_EQ(c.o.commands().in_flight, 0u);
+    EXPECT_EQ(c.o.responses().dropped_gave_up, 1u);
+    EXPECT_EQ(c.o.responses().in_flight, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u);
+}
+
+TEST(InFlight, AnUnansweredFrameAtAnInterruptedStopIsNotAbandoned) {
+    Clocked c;
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    send(c.o, H, wire(resp("NO-EOT-YET")));
+    c.o.finish(true);
+    EXPECT_EQ(c.o.counts(H).abandoned, 0u);
+}
