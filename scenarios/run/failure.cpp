@@ -12,9 +12,10 @@
 namespace rcsim {
 
 const char* const kExitCodesHelp =
-    "Exit codes: 0 every check holds; 1 a check failed; 2 bad input (the message names the file and\n"
-    "line or the value); 3 internal error (a model error no input explains: the message names the\n"
-    "model and the simulated time); 130 / 143 stopped by SIGINT / SIGTERM (reports say interrupted).";
+    "Exit codes: 0 PASSED, every check holds; 1 FAILED, a check failed; 4 INCONCLUSIVE, none failed\n"
+    "but one was not measured; 2 bad input (the message names the file and line or the value);\n"
+    "3 internal error (a model error no input explains: the message names the model and the\n"
+    "simulated time); 130 / 143 INTERRUPTED by SIGINT / SIGTERM (reports say interrupted).";
 
 std::string one_line(const std::string& text) {
     std::string out;

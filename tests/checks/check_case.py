@@ -15,8 +15,9 @@ FAIL or ---- line naming the check, and the verdict line PASSED, FAILED: ... or 
 --rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
 KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
 Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
-`ports` (report["ports"]) and `main` (report["main_cpu"]["ports"]) in scope: it states what the
-figures must be from the scenario's design, e.g. that two independent counters agree."""
+`ports` (report["ports"]), `main` (report["main_cpu"]["ports"]) and `why(NAME)` (the failed
+check's explanation, "" without one) in scope: it states what the figures must be from the
+scenario's design, e.g. that two independent counters agree."""
 import json
 import os
 import subprocess
@@ -91,7 +92,8 @@ def main():
         if got != value:
             problems.append(f"report.json {key} = {got!r}, expected {value!r}")
     scope = {"report": report, "ports": report.get("ports", []),
-             "main": report.get("main_cpu", {}).get("ports", [])}
+             "main": report.get("main_cpu", {}).get("ports", []),
+             "why": lambda name: checks.get(name, {}).get("why", "")}
     for expr in expects:
         try:
             ok = eval(expr, {"__builtins__": {"all": all, "any": any, "sum": sum, "len": len, "range": range}}, scope)

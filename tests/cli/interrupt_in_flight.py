@@ -48,7 +48,7 @@ def main():
             run = subprocess.Popen([rcsim, "run", os.path.join(w, "s.yaml"), "--out", out, "--reproducible"],
                                    stdout=log, stderr=subprocess.STDOUT, env=env)
             try:
-                port_file = os.path.join(w, "port.txt")
+                port_file = os.path.join(out, "port.txt")  # a relative output lands under --out
                 for _ in range(600):
                     if os.path.exists(port_file) and open(port_file).read().strip():
                         break
@@ -83,6 +83,7 @@ def main():
         checks = {c["name"]: c for c in report["checks"]}
         wants = [
             (report.get("interrupted") is True, "report.json has no \"interrupted\": true"),
+            (report.get("verdict") == "interrupted", f"verdict {report.get('verdict')!r}, expected 'interrupted'"),
             (p["commands"]["matched"] == 1 and p["commands"].get("in_flight") == 0, f"commands: {p['commands']}"),
             (p["responses"]["main_cpu_handed"] == 1 and p["responses"]["host_received"] == 0,
              f"responses: {p['responses']}"),

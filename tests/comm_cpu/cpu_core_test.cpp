@@ -47,6 +47,25 @@ TEST(Cpu8086Core, IntrRunsTwoIntaCyclesAndReadsTheVectorOnTheSecond) {
     EXPECT_TRUE(fetched);
 }
 
+// The end of the firmware's start-up (docs/scenarios.md "Start-up"): the first instruction
+// boundary at which an INTR could be taken. The boundary after STI is inhibited, so it is the one
+// after the instruction that follows STI, whether or not a request is pending.
+TEST(Cpu8086Core, InterruptsEnabledAtIsTheFirstBoundaryThatCouldTakeAnIntr) {
+    Board b;
+    b.load({0x90, 0xFB, 0x90, 0x90, 0x90}); // NOP ; STI ; NOP ; NOP ; NOP
+    b.cpu.step();                            // NOP, IF = 0
+    EXPECT_EQ(b.cpu.interrupts_enabled_at(), Cpu::kNever);
+    b.cpu.step(); // STI
+    b.cpu.step(); // the NOP after STI: the boundary before it was inhibited
+    EXPECT_EQ(b.cpu.interrupts_enabled_at(), Cpu::kNever);
+    const auto after_nop = b.cpu.cycles(); // the boundary after that NOP
+    b.cpu.step();
+    EXPECT_EQ(b.cpu.interrupts_enabled_at(), after_nop);
+    b.cpu.regs().flags &= static_cast<std::uint16_t>(~flag::IF); // set once, never cleared
+    b.cpu.step();
+    EXPECT_EQ(b.cpu.interrupts_enabled_at(), after_nop);
+}
+
 TEST(Cpu8086Core, IntrIgnoredWhileIfClear) {
     Board b;
     b.load({0x90, 0x90, 0x90, 0x90});
