@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <ostream>
+#include <sstream>
 
 namespace rcsim::report {
 
@@ -116,6 +119,40 @@ void write_csv_row(const InterruptRow& r, std::ostream& os) {
     line += hex(r.handler, 5);
     line += '\n';
     os.write(line.data(), static_cast<std::streamsize>(line.size()));
+}
+
+std::vector<TimelineRow> csv_rows_around(const std::filesystem::path& csv, double t0_us, double t1_us) {
+    std::vector<TimelineRow> out;
+    std::ifstream in(csv);
+    std::string line;
+    if (!std::getline(in, line)) return out; // the header
+    double open_until = -1; // the latest IRET so far: a row ending before it was nested in it
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream ls(line);
+        for (std::string cell; std::getline(ls, cell, ',');) f.push_back(cell);
+        if (f.size() < 16) continue;
+        auto num = [](const std::string& t) { return t.empty() ? 0.0 : std::strtod(t.c_str(), nullptr); };
+        InterruptRow r;
+        r.source = f[0];
+        r.level = static_cast<unsigned>(std::strtoul(f[1].c_str(), nullptr, 10));
+        r.vector = static_cast<unsigned>(std::strtoul(f[2].c_str(), nullptr, 10));
+        r.has_rise = !f[3].empty();
+        r.ir_rise_us = num(f[3]);
+        r.inta1_us = num(f[4]);
+        r.inta2_us = num(f[5]);
+        r.first_isr_us = num(f[6]);
+        r.has_eoi = !f[7].empty();
+        r.eoi_us = num(f[7]);
+        r.iret_done_us = num(f[8]);
+        r.depth = static_cast<unsigned>(std::strtoul(f[11].c_str(), nullptr, 10));
+        r.rx = f[12] == "1";
+        r.handler = static_cast<std::uint32_t>(std::strtoul(f[15].c_str(), nullptr, 16));
+        const bool nested = open_until > r.iret_done_us;
+        open_until = std::max(open_until, r.iret_done_us);
+        if (r.start_us() <= t1_us && r.iret_done_us >= t0_us) out.push_back({r, nested});
+    }
+    return out;
 }
 
 void write_interrupts_csv(const std::vector<InterruptRow>& rows, std::ostream& os) {

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <queue>
@@ -74,6 +75,10 @@ struct TimelineRow {
     InterruptRow row;
     bool nested = false;
 };
+/// The rows of an interrupts.csv (in entry order, as written) that reach into [t0_us, t1_us], each
+/// with its nesting as the whole file tells it; the file is read once and only those rows kept.
+/// None when the file cannot be read.
+std::vector<TimelineRow> csv_rows_around(const std::filesystem::path& csv, double t0_us, double t1_us);
 
 /// The two timelines of report.html, found online from rows given in entry order:
 ///   the busiest window: busiest_window() over all rows;

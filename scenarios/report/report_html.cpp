@@ -80,7 +80,11 @@ void banner(std::ostream& o, const json& r, const char* what) {
     if (!why.empty()) o << "<p class=\"verdict-reason\" id=\"verdict-reason\">" << esc(why) << "</p>\n";
 }
 
-void section_checks(std::ostream& o, const json& r) {
+/// The anchor of a failed check's timeline ("Where the checks failed").
+std::string failure_anchor(const json& c) { return "at-" + js(c, "name"); }
+
+/// `timelines`: the page draws the timeline around each failed check's first event (at_us).
+void section_checks(std::ostream& o, const json& r, bool timelines = false) {
     o << "<section id=\"checks\"><h2>Checks</h2>\n<table><tr><th class=\"l\">check</th><th>value</th><th></th>"
          "<th>limit</th><th>result</th><th class=\"l\">why</th></tr>\n";
     for (const auto& c : jo(r, "checks")) {
@@ -92,7 +96,11 @@ void section_checks(std::ostream& o, const json& r) {
           << (c["value"].is_number() ? smart(jd(c, "value")) : std::string("-")) << "</td><td>" << check_relation(c)
           << "</td><td>" << smart(jd(c, "limit")) << "</td><td class=\"" << (ok ? "ok" : unmeasured ? "nm" : "ko")
           << "\">" << (ok ? "PASS" : unmeasured ? "NOT MEASURED" : "FAIL") << "</td><td class=\"why\">"
-          << esc(unmeasured ? js(c, "reason") : js(c, "why")) << "</td></tr>\n";
+          << esc(unmeasured ? js(c, "reason") : js(c, "why"));
+        if (timelines && !ok && c.contains("at_us"))
+            o << " <a href=\"#" << esc(failure_anchor(c)) << "\">timeline at " << num(jd(c, "at_us") / 1000, 3)
+              << " ms</a>";
+        o << "</td></tr>\n";
     }
     o << "</table></section>\n";
 }
@@ -150,6 +158,32 @@ void section_interrupts(std::ostream& o, const json& r, const InterruptLog& log)
                            colour)
           << histogram_svg(names[k] + std::string(": service time"), svc,
                            "service: first ISR instruction to IRET done [us]", colour)
+          << "</div>\n";
+    }
+    o << "</section>\n";
+}
+
+/// The interrupt timeline around the first offending event of each failed check that has one
+/// (at most kShown), read back from interrupts.csv: what the CPU was doing then.
+void section_failures(std::ostream& o, const json& r, const std::filesystem::path& csv) {
+    constexpr std::size_t kShown = 4;
+    constexpr double kWidthUs = 1000;
+    std::vector<const json*> failed;
+    for (const auto& c : jo(r, "checks"))
+        if (!c.value("passed", true) && c.contains("at_us") && failed.size() < kShown) failed.push_back(&c);
+    if (failed.empty() || csv.empty()) return;
+    o << "<section id=\"failures\"><h2>Where the checks failed</h2>\n<p class=\"note\">The interrupts around the "
+         "first offending event of each failed check (its time at the left quarter), read back from "
+         "interrupts.csv. Hover over a bar for its times.</p>\n";
+    for (const json* c : failed) {
+        const double at = jd(*c, "at_us"), t0 = std::max(0.0, at - kWidthUs / 4), t1 = t0 + kWidthUs;
+        const std::vector<TimelineRow> rows = csv_rows_around(csv, t0, t1);
+        unsigned levels = 4;
+        for (const TimelineRow& t : rows) levels = std::max(levels, t.row.level + 1);
+        o << "<h3 id=\"" << esc(failure_anchor(*c)) << "\">" << esc(js(*c, "name")) << " at " << num(at / 1000, 3)
+          << " ms</h3>\n<p class=\"note\">" << esc(js(*c, "why")) << "</p>\n<div class=\"chart\">"
+          << timeline_svg(rows, levels, t0, t1, t0, 1, "time after " + num(t0 / 1000, 3) + " ms [us]", nullptr,
+                          "around the first failure of " + js(*c, "name"))
           << "</div>\n";
     }
     o << "</section>\n";
@@ -402,10 +436,11 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
          "<a href=\"#timeline\">Timeline</a><a href=\"#ports\">Ports</a><a href=\"#main-cpu\">Main CPU</a>"
       << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>")
       << (opt.flame_svg.empty() ? "" : "<a href=\"#profile\">Profile</a>") << "</nav></header>\n";
-    section_checks(o, r);
+    section_checks(o, r, !opt.interrupts_csv.empty());
     section_table3(o, r);
     section_interrupts(o, r, log);
     section_timeline(o, log.timeline());
+    section_failures(o, r, opt.interrupts_csv);
     section_ports(o, r);
     section_main_cpu(o, r);
     if (!opt.trajectory_svg.empty()) section_motion(o, r, opt);
@@ -436,6 +471,7 @@ void write_report_html(const std::filesystem::path& dir, const json& report, con
                        const std::string& flame_svg) {
     HtmlOptions opt;
     opt.flame_svg = flame_svg;
+    if (std::filesystem::exists(dir / "interrupts.csv")) opt.interrupts_csv = dir / "interrupts.csv";
     if (report.contains("motion")) {
         opt.trajectory_svg = slurp_if_exists(dir / "trajectory.svg");
         opt.trajectory_time_svg = slurp_if_exists(dir / "trajectory_time.svg");

@@ -39,6 +39,9 @@ struct HtmlOptions {
     std::string trajectory_svg; // trajectory.svg's text, "" = none
     std::string flame_svg;      // the cycle profile's flame graph (scenarios/trace/flame_graph.h), "" = none
     std::string trajectory_time_svg; // trajectory_time.svg's text, "" = none
+    /// The run's interrupts.csv: a failed check with a time ("at_us") gets the interrupt timeline
+    /// around it, read back from the file (only the rows in that window are kept). "" = none.
+    std::filesystem::path interrupts_csv;
 };
 
 /// The whole report.html page for `report` (report.json's content) and the run's interrupt log

@@ -109,9 +109,35 @@ std::string why_bus_errors(const World& b) {
            e.value("address", std::string("?")) + ", at " + us(e.value("time_us", 0.0));
 }
 
-/// Sets c.why from `why()` when c failed (the explanations read figures only a failure has).
-template <class Why> void explain(Check& c, Why why) {
-    if (c.status == Check::Status::failed) c.why = why();
+/// Sets c.why from `why()` when c failed (the explanations read figures only a failure has), and
+/// c.at to `at` (the first offending event's time; none: no single time).
+template <class Why> void explain(Check& c, Why why, std::optional<sc_core::sc_time> at = std::nullopt) {
+    if (c.status != Check::Status::failed) return;
+    c.why = why();
+    c.at = at;
+}
+
+/// The time of the first frame an exactly-once check counts (its detail's "unexplained" list).
+std::optional<sc_core::sc_time> first_unexplained(const nlohmann::json& detail) {
+    if (!detail.is_object() || !detail.contains("unexplained") || detail["unexplained"].empty()) return std::nullopt;
+    return sc_core::sc_time(detail["unexplained"][0].value("time_us", 0.0), sc_core::SC_US);
+}
+
+/// The earliest first overrun over the ports.
+std::optional<sc_core::sc_time> first_overrun(const World& b) {
+    std::optional<sc_core::sc_time> t;
+    for (unsigned p = 0; p < World::kPorts; ++p)
+        if (const auto& f = b.ctl.comm.uart[p].first_overrun(); f && (!t || *f < *t)) t = f;
+    return t;
+}
+
+/// The earliest command given up over the ports.
+std::optional<sc_core::sc_time> first_failure(const World& b) {
+    std::optional<sc_core::sc_time> t;
+    for (unsigned p = 0; p < World::kPorts; ++p)
+        if (b.protocol[p] && b.protocol[p]->first_failure() && (!t || b.protocol[p]->first_failure()->at < *t))
+            t = b.protocol[p]->first_failure()->at;
+    return t;
 }
 
 /// The detail of an exactly-once check (docs/scenarios.md "Expected drops"): the first frames that
@@ -172,6 +198,7 @@ nlohmann::json to_json(const Check& c) {
                         {"limit", c.limit}};
     if (!c.figure.value) j["reason"] = c.figure.reason;
     if (c.status == Check::Status::failed && !c.why.empty()) j["why"] = c.why;
+    if (c.status == Check::Status::failed && c.at) j["at_us"] = exact_us(*c.at);
     if (!c.detail.is_null()) j["detail"] = c.detail;
     return j;
 }
@@ -239,9 +266,9 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     const double min_delivered = L.min_frames_delivered ? double(*L.min_frames_delivered) : double(f.traffic_ports);
     std::vector<Check> checks;
     checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
-    explain(checks.back(), [&] { return why_overruns(b); });
+    explain(checks.back(), [&] { return why_overruns(b); }, first_overrun(b));
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
-    explain(checks.back(), [&] { return why_frames_failed(b); });
+    explain(checks.back(), [&] { return why_frames_failed(b); }, first_failure(b));
     // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
     for (const bool commands : {true, false}) {
         Check c = Check::at_most(commands ? "commands_delivered_exactly_once" : "responses_delivered_exactly_once",
@@ -258,7 +285,7 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
             return "port " + std::to_string(e.value("port", 0u)) + " (" + dir + "): " + e.value("frame", std::string()) +
                    " " + e.value("what", std::string()) + " at " + us(e.value("time_us", 0.0)) +
                    (first.size() > 1 ? " (and more in the detail)" : "");
-        });
+        }, first_unexplained(c.detail));
         checks.push_back(std::move(c));
     }
     Check malformed = Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0);
@@ -275,7 +302,7 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
         explain(malformed, [&] {
             return "port " + std::to_string(dropped[0].port) + " (host to controller): the first at " +
                    at_us(dropped[0].time) + ": " + dropped[0].reason;
-        });
+        }, dropped[0].time);
     checks.push_back(std::move(malformed));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
     explain(checks.back(), [&] { return why_frames_delivered(b, s); });
@@ -285,7 +312,7 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
             {
                 checks.push_back(Check::at_most("port" + std::to_string(p) + "_char_latency_max_us",
                                                 f.char_latency_max_us[p], char_latency_limit_us(b, s, p)));
-                explain(checks.back(), [&] { return why_char_latency(b, p); });
+                explain(checks.back(), [&] { return why_char_latency(b, p); }, b.char_latency_worst[p].stop);
             }
     const double budget = budget_us(b, s);
     checks.push_back(Check::at_least("table3_margin_us", f.table3_margin_us, L.min_margin_us));
@@ -293,7 +320,8 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     // The paper's rule (section 4-2): the longest interrupt processing must be shorter than the
     // mean request period. Judged by default; a scenario relaxes it by name or a limit.
     checks.push_back(Check::at_least("table3_worst_margin_us", f.table3_worst_margin_us, L.min_worst_margin_us));
-    explain(checks.back(), [&] { return why_worst_margin(b, f, budget); });
+    explain(checks.back(), [&] { return why_worst_margin(b, f, budget); },
+            b.rs232_rx_service_us().count() ? std::optional(b.rs232_rx_longest().first_isr) : std::nullopt);
     for (unsigned p = 0; p < World::kPorts; ++p)
         if (const auto& h = b.replay[p]) {
             // The replayed session must draw the recorded answers: same bytes at the same times.
@@ -303,7 +331,9 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     // A cycle nothing answered reads as an open bus or is dropped: firmware that makes one runs on,
     // wrongly and silently (report.json "bus_errors" says which).
     checks.push_back(Check::at_most("bus_errors", count(f.bus_errors), double(L.max_bus_errors)));
-    explain(checks.back(), [&] { return why_bus_errors(b); });
+    explain(checks.back(), [&] { return why_bus_errors(b); },
+            b.ctl.comm.cpu.bus_errors().first().empty() ? std::nullopt
+                                                         : std::optional(b.ctl.comm.cpu.bus_errors().first()[0].time));
     checks.erase(std::remove_if(checks.begin(), checks.end(),
                                 [&L](const Check& c) { return L.off.count(c.name) != 0; }),
                  checks.end());

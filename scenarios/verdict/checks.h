@@ -34,8 +34,8 @@ struct Figure {
 
 /// One verdict as report.json shows it:
 /// {"name", "passed", "status": "passed"|"failed"|"not measured", "value" (null when not
-/// measured), "relation": "<="|">=", "limit", "reason" (not measured only), "why" (failed, when
-/// the check can say where and when), "detail" (only when the check has more to say than one
+/// measured), "relation": "<="|">=", "limit", "reason" (not measured only), "why" and "at_us"
+/// (failed, when the check can say where and when), "detail" (only when the check has more to say than one
 /// figure: the offending events, the motion checks' wanted and seen states)}.
 struct Check {
     enum class Status { passed, failed, not_measured };
@@ -50,6 +50,9 @@ struct Check {
     /// A failed check in words: what, where (port, direction) and when (simulated time) of the
     /// first offending events; "" when the figure says it all. report.json "why".
     std::string why;
+    /// When the first offending event happened (report.json "at_us"; report.html draws the
+    /// interrupt timeline around it); none when the check has no single time.
+    std::optional<sc_core::sc_time> at;
 
     bool passed() const { return status == Status::passed; }
     static Check at_most(std::string name, const Figure& f, double limit);

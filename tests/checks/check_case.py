@@ -14,7 +14,7 @@ FAIL or ---- line naming the check, and the verdict line PASSED, FAILED: ... or 
 
 --rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
 KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
-Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
+Each --html=TEXT must appear in report.html. Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
 `ports` (report["ports"]), `main` (report["main_cpu"]["ports"]) and `why(NAME)` (the failed
 check's explanation, "" without one) in scope: it states what the figures must be from the
 scenario's design, e.g. that two independent counters agree."""
@@ -43,10 +43,13 @@ def main():
         args = args[2:]
     rcsim, scenario, out, want_exit = args[:4]
     want = {}
-    expects = []
+    expects, htmls = [], []
     for arg in args[4:]:
         if arg.startswith("--expect="):
             expects.append(arg[len("--expect="):])
+            continue
+        if arg.startswith("--html="):
+            htmls.append(arg[len("--html="):])
             continue
         name, _, status = arg.partition("=")
         want[name] = status or "failed"
@@ -102,6 +105,14 @@ def main():
             expr += f"  ({type(e).__name__}: {e})"
         if not ok:
             problems.append(f"expected: {expr}")
+    try:
+        with open(os.path.join(out, "report.html")) as f:
+            html = f.read()
+    except OSError:
+        html = ""
+    for text in htmls:
+        if text not in html:
+            problems.append(f"report.html lacks {text!r}")
     verdict = [l for l in run.stdout.splitlines()
                if l == "PASSED" or l.startswith("FAILED: ") or l.startswith("INCONCLUSIVE: ")]
     if len(verdict) != 1 or verdict[0].split(":")[0] != verdict_want.upper():
