@@ -80,6 +80,8 @@ public:
     /// RS-232 interrupts that took a character out of the RX FIFO (the `rs232_rx` set).
     const Samples& rs232_rx_service_us() const { return rx_service_; }
     const Samples& rs232_rx_latency_us() const { return rx_latency_; }
+    /// Their longest latencies with their causes.
+    const WorstLatencies& rs232_rx_worst() const { return rx_worst_; }
     const DpramByteTime& dpram_time() const { return dpram_; }
 
     /// Hands every completed interrupt record to `sink` as well (the report's interrupt log);
@@ -93,6 +95,7 @@ private:
     // read a character, since its handler ran after that (see on_record).
     std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
     Samples rx_service_, rx_latency_;
+    WorstLatencies rx_worst_;
     DpramByteTime dpram_;
     InterruptSink* sink_ = nullptr;
 
