@@ -15,6 +15,7 @@
 //   told the absolute start cycle (T1) and answers with the Tw wait states it inserts.
 #pragma once
 
+#include "comm_cpu/i8086_history.h"
 #include "models/memory.h"
 
 #include <array>
@@ -124,9 +125,7 @@ public:
     /// some state (the interrupt probe outside interrupts: all but INTA and memory writes)
     /// narrows it, so those cycles keep the direct path and a fast-forward does not replay
     /// them to it one by one.
-    void set_bus_hook_kinds(BusKinds kinds) {
-        hook_kinds_ = hook_ ? kinds : 0;
-    }
+    void set_bus_hook_kinds(BusKinds kinds) { hook_kinds_ = hook_ ? kinds : 0; }
     /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
     void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
     /// Per-cycle trace into `out` (nullptr turns it off).
@@ -198,8 +197,7 @@ public:
         step();
         limit_ = ~cycles_t(0);
     }
-    /// Moves the cycle counter forward without simulating clocks (only while halted: the
-    /// bus is idle).
+    /// Moves the cycle counter forward without simulating clocks (only while halted: bus idle).
     void skip_to(cycles_t c);
     /// Debugger: the next instruction is the one at cs:ip. Call only from the step hook (an
     /// instruction boundary): the queue is flushed and the opcode read from cs:ip, as a far
@@ -211,17 +209,29 @@ public:
 
     cycles_t cycles() const { return cycle_; }
     std::uint64_t instructions() const { return instructions_; }
-    /// The first instruction boundary (cycle number) at which an INTR could be taken, IF = 1 and
-    /// nothing inhibiting it; kNever until then. The firmware's start-up lasts until it
-    /// (docs/scenarios.md "Start-up"). Set once, never cleared.
+    /// The first instruction boundary (cycle) at which an INTR could be taken (IF = 1, nothing
+    /// inhibiting it), kNever until then: the end of start-up (docs/scenarios.md "Start-up").
     static constexpr cycles_t kNever = ~cycles_t{0};
     cycles_t interrupts_enabled_at() const { return interrupts_enabled_at_; }
     /// Linear address of CS:IP of the next instruction to execute.
     std::uint32_t pc() const { return linear(r_.s[CS], r_.ip); }
+    static std::uint32_t linear(std::uint16_t seg, std::uint16_t off) { return ((std::uint32_t(seg) << 4) + off) & 0xFFFFF; }
 
-    static std::uint32_t linear(std::uint16_t seg, std::uint16_t off) {
-        return ((std::uint32_t(seg) << 4) + off) & 0xFFFFF;
-    }
+    // --- why an interrupt waited (i8086_history.h): read by the interrupt probe ---
+    static constexpr unsigned kIfHistory = 8, kHeldHistory = 8;
+    /// The k-th newest change of IF (0 = the last), k < if_changes().
+    const IfChange& if_change(unsigned k) const { return if_ring_[(if_count_ - 1 - k) % kIfHistory]; }
+    unsigned if_changes() const { return if_count_ < kIfHistory ? unsigned(if_count_) : kIfHistory; }
+    /// The k-th newest memory cycle the BusHandler answered with wait states, k < held_cycles().
+    const HeldCycle& held_cycle(unsigned k) const { return held_ring_[(held_count_ - 1 - k) % kHeldHistory]; }
+    unsigned held_cycles() const { return held_count_ < kHeldHistory ? unsigned(held_count_) : kHeldHistory; }
+    /// The last instruction executed (or in progress): its boundary and CS:IP (first prefix).
+    cycles_t instruction_start() const { return instr_start_; }
+    std::uint16_t instruction_cs() const { return instr_cs_; }
+    std::uint16_t instruction_ip() const { return instr_ip_; }
+    /// The boundary the last INTR/NMI/trap was taken at, and whether the CPU was halted there.
+    cycles_t interrupt_boundary() const { return intr_boundary_; }
+    bool interrupt_from_halt() const { return intr_from_halt_; }
 
 private:
     // ---- BIU ----
@@ -450,6 +460,10 @@ private:
     void call_far(std::uint16_t cs, std::uint16_t ip);
     void interrupt(std::uint8_t vector, bool hardware_inta = false);
     bool check_interrupts();
+    /// A change of IF by the instruction executing now, or by the entry at intr_boundary_.
+    void note_if(bool enabled, IfChange::How how, std::uint8_t opcode, std::uint8_t vector = 0);
+    void push_if(const IfChange& c) { if_ring_[if_count_++ % kIfHistory] = c; }
+    void note_held(Bus kind, std::uint32_t addr, cycles_t start, unsigned waits);
 
     // ---- idle fast-forward (i8086_idle.cpp) ----
     /// The state a boundary's future depends on besides memory and the cycle number, packed.
@@ -497,6 +511,7 @@ private:
         std::vector<LoopPoint> points;          // points[0]: the period's start, offset 0
         std::vector<LoopWrite> writes, reads;
         std::vector<std::uint8_t> written;      // writes[i]'s value
+        std::vector<IfChange> if_changes;       // IF changes, cycle and instructions relative
         std::vector<std::pair<std::uint32_t, std::uint32_t>> by_pc; // (pc, point index), sorted
         // Per point, once asked: the RAM bytes read before written from there, with the value
         // read (ff_holds_at); `needs_known` says which lists are filled.
@@ -533,6 +548,15 @@ private:
     void ff_restore(const LoopPoint& p, cycles_t at);
     void ff_reexecute(unsigned delivered);
     void ff_record_point(const Snapshot& s);
+    /// The forwarding committed the loop's clocks [from, to) of a period that began at `base`
+    /// (instructions at instructions_base): the IF changes made there, into the history.
+    void ff_replay_if(cycles_t from, cycles_t to, cycles_t base, std::uint64_t instructions_base);
+    /// The forwarding landed at a boundary whose previous instruction began at loop point `prev`
+    /// of a period that began at `base`: instruction_start() and instruction_cs() from it.
+    void ff_landed_after(const LoopPoint& prev, cycles_t base) {
+        instr_start_ = base + prev.cycle;
+        instr_cs_ = std::uint16_t(((prev.pc - instr_ip_) & 0xFFFFF) >> 4);
+    }
     /// The fields of snapshot(), in order, to a packer or from an unpacker (i8086_idle.cpp).
     template <class Self, class V> static void state_fields(Self& c, V& v);
     void ff_note_cycle(const BusRecord& r);
@@ -562,6 +586,7 @@ private:
     std::vector<LoopCycle> ff_log_;
     std::vector<LoopWrite> ff_writes_;
     std::vector<LoopWrite> ff_reads_;         // RAM bytes read (data and code), value as read
+    std::vector<IfChange> ff_if_log_;         // IF changes while recording
     std::vector<LoopMark> ff_marks_;
     std::vector<LoopPoint> ff_points_;        // every boundary of the recording
     Loop ff_loop_;
@@ -646,6 +671,14 @@ private:
     unsigned rep_ = 0;              // 0, 0xF2 or 0xF3
     bool lock_ = false;
     std::uint16_t instr_ip_ = 0;    // IP of the first prefix of the current instruction
+    std::uint16_t instr_cs_ = 0;    // ... its CS
+    cycles_t instr_start_ = 0;      // ... and the boundary it began at
+
+    std::array<IfChange, kIfHistory> if_ring_{};      // newest at if_count_ - 1
+    std::array<HeldCycle, kHeldHistory> held_ring_{}; // newest at held_count_ - 1
+    std::uint64_t if_count_ = 0, held_count_ = 0;
+    cycles_t intr_boundary_ = 0;
+    bool intr_from_halt_ = false, entry_at_boundary_ = false; // (interrupt() from check_interrupts)
 
     // interrupt inputs and inhibits
     bool intr_ = false, nmi_level_ = false, nmi_pending_ = false;

@@ -55,6 +55,17 @@ void Cpu::reset() {
     nmi_pending_ = false;
     started_ = false;
     ff_recording_ = false;
+    // IF = 0 from here (the IF history starts with the reset; a held-cycle history is void).
+    if_count_ = held_count_ = 0;
+    IfChange c;
+    c.cycle = cycle_;
+    c.instructions = instructions_;
+    c.cs = r_.s[CS];
+    c.ip = r_.ip;
+    c.how = IfChange::How::reset;
+    push_if(c);
+    instr_start_ = cycle_;
+    instr_cs_ = r_.s[CS];
 }
 
 void Cpu::load_state(const Registers& regs, const std::uint8_t* queue, unsigned queue_len) {
@@ -67,6 +78,8 @@ void Cpu::load_state(const Registers& regs, const std::uint8_t* queue, unsigned 
     fetch_ip_ = static_cast<std::uint16_t>(r_.ip + q_len_);
     // The queue as filled by the set-up: the BIU idles until a read frees two bytes.
     fetch_sched_ = q_len_ <= 4;
+    if_count_ = 0; // how IF came to be what the set-up gives is unknown
+    instr_cs_ = r_.s[CS];
 }
 
 void Cpu::set_nmi(bool level) {
@@ -231,9 +244,11 @@ unsigned Cpu::handler_access(Bus kind, std::uint32_t addr, std::uint16_t& data, 
             // Re-executing a fast-forward period that diverged: this access has been made.
             const Answer& a = ff_answers_[ff_answer_pos_++];
             if (!write && kind != Bus::io_write) data = a.data;
-            return a.waits;
+            return a.waits; // (noted when it was made: ff_replay)
         }
-        return handler_->bus_access(kind, addr, data, width, start);
+        const unsigned waits = handler_->bus_access(kind, addr, data, width, start);
+        if (waits) note_held(kind, addr, start, waits);
+        return waits;
     }
     if (!write && kind != Bus::io_write) data = 0xFFFF; // open bus
     return 0;

@@ -355,6 +355,10 @@ void Cpu::interrupt(std::uint8_t vector, bool hardware_inta) {
     const std::uint16_t new_cs = eu_bus(Bus::mem_read, SegStatus::none, ivt + 2, 0, 2, false);
     clks(kIntrCsToFlags);
     const std::uint16_t old_flags = r_.flags;
+    if (old_flags & flag::IF)
+        note_if(false, entry_at_boundary_ ? IfChange::How::entry : IfChange::How::instruction,
+                entry_at_boundary_ ? 0 : opcode_, vector);
+    entry_at_boundary_ = false;
     set_flag(flag::IF, false);
     set_flag(flag::TF, false);
     push(old_flags);
@@ -379,23 +383,51 @@ bool Cpu::check_interrupts() {
             return false;
         }
     }
-    if (nmi_pending_) {
+    const bool nmi = nmi_pending_, intr = intr_ && get_flag(flag::IF), trap = trap_armed_ && get_flag(flag::TF);
+    if (!nmi && get_flag(flag::IF) && interrupts_enabled_at_ == kNever)
+        interrupts_enabled_at_ = cycle_; // the end of start-up: INTR could be taken here
+    if (!nmi && !intr && !trap) return false;
+    // Taken here: the boundary, for the probe (interrupt_boundary()) and the IF history.
+    intr_boundary_ = cycle_;
+    intr_from_halt_ = halted_;
+    entry_at_boundary_ = true;
+    if (nmi) {
         nmi_pending_ = false;
         interrupt(2);
-        return true;
-    }
-    if (get_flag(flag::IF)) {
-        if (interrupts_enabled_at_ == kNever) interrupts_enabled_at_ = cycle_; // the end of start-up
-        if (intr_) {
-            interrupt(0, true);
-            return true;
-        }
-    }
-    if (trap_armed_ && get_flag(flag::TF)) {
+    } else if (intr) {
+        interrupt(0, true);
+    } else {
         interrupt(1);
-        return true;
     }
-    return false;
+    return true;
+}
+
+void Cpu::note_held(Bus kind, std::uint32_t addr, cycles_t start, unsigned waits) {
+    if (kind == Bus::mem_read || kind == Bus::mem_write || kind == Bus::code_fetch)
+        held_ring_[held_count_++ % kHeldHistory] = HeldCycle{start, addr, waits, kind};
+}
+
+void Cpu::note_if(bool enabled, IfChange::How how, std::uint8_t opcode, std::uint8_t vector) {
+    IfChange c;
+    c.enabled = enabled;
+    c.how = how;
+    c.opcode = opcode;
+    c.vector = vector;
+    c.instructions = instructions_;
+    if (how == IfChange::How::entry) {
+        c.cycle = intr_boundary_;
+        c.cs = r_.s[CS];
+        c.ip = r_.ip; // the pre-read opcode dropped: IP still points at it
+    } else {
+        c.cycle = instr_start_;
+        c.cs = instr_cs_;
+        c.ip = instr_ip_;
+    }
+    push_if(c);
+    if (ff_recording_) {
+        if (ff_if_log_.size() < kFfMaxWrites) ff_if_log_.push_back(c);
+        else ff_recording_ = false;
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -453,6 +485,8 @@ void Cpu::step() {
     }
     step_hook_done_ = false;
     instr_ip_ = r_.ip;
+    instr_cs_ = r_.s[CS];
+    instr_start_ = cycle_;
     seg_override_ = -1;
     rep_ = 0;
     lock_ = false;

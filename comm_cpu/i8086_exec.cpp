@@ -119,10 +119,16 @@ void Cpu::exec_misc(std::uint8_t op) {
     case 0xF5: set_flag(flag::CF, !get_flag(flag::CF)); break;
     case 0xF8: set_flag(flag::CF, false); break;
     case 0xF9: set_flag(flag::CF, true); break;
-    case 0xFA: set_flag(flag::IF, false); break;
+    case 0xFA:
+        if (get_flag(flag::IF)) note_if(false, IfChange::How::instruction, op);
+        set_flag(flag::IF, false);
+        break;
     case 0xFB:
         // STI: the next instruction runs before an INTR is recognised.
-        if (!get_flag(flag::IF)) inhibit_ = true;
+        if (!get_flag(flag::IF)) {
+            inhibit_ = true;
+            note_if(true, IfChange::How::instruction, op);
+        }
         set_flag(flag::IF, true);
         break;
     case 0xFC: set_flag(flag::DF, false); break;

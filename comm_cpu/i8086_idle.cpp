@@ -222,6 +222,7 @@ void Cpu::ff_start() {
     ff_reads_.clear();
     ff_marks_.clear();
     ff_points_.clear();
+    ff_if_log_.clear();
     const Snapshot now = snapshot();
     ff_marks_.push_back(LoopMark{now, cycle_, instructions_, 0, 0, 0, 0});
     ff_record_point(now);
@@ -283,6 +284,13 @@ void Cpu::ff_learn(const LoopMark& m) {
     std::sort(l.by_pc.begin(), l.by_pc.end());
     l.writes.assign(ff_writes_.begin() + static_cast<std::ptrdiff_t>(m.writes_at), ff_writes_.end());
     l.reads.assign(ff_reads_.begin() + static_cast<std::ptrdiff_t>(m.reads_at), ff_reads_.end());
+    l.if_changes.clear();
+    for (IfChange c : ff_if_log_)
+        if (c.cycle >= m.cycle) {
+            c.cycle -= m.cycle;
+            c.instructions -= m.instructions;
+            l.if_changes.push_back(c);
+        }
     // The value of each write: what the next write to the byte found there, or for the last one
     // the value at the period's end (now).
     l.written.assign(l.writes.size(), 0);
@@ -377,7 +385,9 @@ bool Cpu::ff_forward(std::size_t k) {
                 return true;
             if (!(k == 0 && period_written)) ff_apply_writes(p.writes_at, l.writes.size());
             period_written = period_written || k == 0;
+            ff_replay_if(p.cycle, l.period, base, instructions_ - p.instructions);
             ff_restore(l.points[0], base + l.period);
+            ff_landed_after(l.points.back(), base);
             instructions_ += l.instructions - p.instructions;
             ff_instructions_ += l.instructions - p.instructions;
             ff_cycles_ += l.period - p.cycle;
@@ -390,7 +400,9 @@ bool Cpu::ff_forward(std::size_t k) {
         const LoopPoint& q = l.points[j];
         if (!ff_replay(p.cycles_at, q.cycles_at, base, instructions_ - p.instructions, base + q.cycle)) return true;
         ff_apply_writes(p.writes_at, q.writes_at);
+        ff_replay_if(p.cycle, q.cycle, base, instructions_ - p.instructions);
         ff_restore(q, base + q.cycle);
+        ff_landed_after(l.points[j - 1], base);
         instructions_ += q.instructions - p.instructions;
         ff_instructions_ += q.instructions - p.instructions;
         ff_cycles_ += q.cycle - p.cycle;
@@ -426,6 +438,7 @@ bool Cpu::ff_replay(std::size_t from, std::size_t to, cycles_t base, std::uint64
             const unsigned waits = handler_->bus_access(r.kind, r.address, d, r.width, r.start);
             cycle_ = cycle;
             instructions_ = instructions;
+            if (waits) note_held(r.kind, r.address, r.start, waits); // made: a re-execution does not note it again
             const bool read = r.kind != Bus::mem_write && r.kind != Bus::io_write;
             ff_answers_.push_back(Answer{d, waits});
             // (A lowered limit may end the run before `end`: executed, the steps find where.)
@@ -454,6 +467,15 @@ void Cpu::ff_index_notable() {
         l.notable[i] = e.handler || (hook_kinds_ & bus_kind_bit(e.rec.kind)) ? std::uint32_t(i) : l.notable[i + 1];
     }
     l.notable_kinds = hook_kinds_;
+}
+
+void Cpu::ff_replay_if(cycles_t from, cycles_t to, cycles_t base, std::uint64_t instructions_base) {
+    for (IfChange c : ff_loop_.if_changes)
+        if (c.cycle >= from && c.cycle < to) {
+            c.cycle += base;
+            c.instructions += instructions_base;
+            push_if(c);
+        }
 }
 
 // The RAM writes [from, to) of the loop, in order (the last one to a byte holds).

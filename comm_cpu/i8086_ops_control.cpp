@@ -180,12 +180,15 @@ void Cpu::exec_return(std::uint8_t op) {
             clks(kIntoTest);
         }
         break;
-    default: // CF IRET: the far return, its tail, FLAGS (0C9)
+    default: { // CF IRET: the far return, its tail, FLAGS (0C9)
         clks(kFarRetCall);
         farret();
         clks(kFarRetTail);
+        const bool was = get_flag(flag::IF);
         r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
+        if (was != get_flag(flag::IF)) note_if(!was, IfChange::How::instruction, op);
         break;
+    }
     }
 }
 

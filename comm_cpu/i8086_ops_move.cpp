@@ -145,7 +145,12 @@ void Cpu::exec_stack(std::uint8_t op) {
         break;
     }
     case 0x9C: clks(kPushSetup); push(r_.flags, true); break;
-    case 0x9D: r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002); break;
+    case 0x9D: { // POPF
+        const bool was = get_flag(flag::IF);
+        r_.flags = std::uint16_t((pop() & 0x0FD5) | 0xF002);
+        if (was != get_flag(flag::IF)) note_if(!was, IfChange::How::instruction, op);
+        break;
+    }
     default: { // FE/FF /6 /7: PUSH r/m (8-bit forms push 0xFF in the high byte)
         const bool word = op & 1;
         const std::uint16_t v = word ? rm_read16() : std::uint16_t(0xFF00 | rm_read8());

@@ -87,6 +87,7 @@ void Pic8259::sample_ir() {
 void Pic8259::update_intr() {
     const bool asserted = init_ == InitState::ready && resolve() >= 0;
     if (intr.read() != asserted) intr.write(asserted);
+    if (on_update) on_update();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -104,6 +105,36 @@ int Pic8259::resolve() const {
         if (requests & bit(level)) return static_cast<int>(level);
     }
     return -1;
+}
+
+// The walk of resolve() for one level taken as requested: the first in-service level (blocking
+// it and everything below) or request met before it says what holds it.
+Pic8259::Hold Pic8259::hold(unsigned level) const {
+    Hold h;
+    level &= 7;
+    if (init_ != InitState::ready) {
+        h.kind = Hold::Kind::not_ready;
+    } else if (imr_ & bit(level)) {
+        h.kind = Hold::Kind::masked;
+    } else {
+        const std::uint8_t requests = irr() & ~imr_;
+        const std::uint8_t in_service = blocking_isr();
+        for (unsigned p = 0; p < 8; ++p) {
+            const unsigned l = level_at(p);
+            if (in_service & bit(l)) {
+                h.kind = Hold::Kind::in_service;
+                h.by = static_cast<int>(l);
+                break;
+            }
+            if (l == level) break;
+            if (requests & bit(l)) {
+                h.kind = Hold::Kind::priority;
+                h.by = static_cast<int>(l);
+                break;
+            }
+        }
+    }
+    return h;
 }
 
 // The IS bit a non-specific EOI clears. In special mask mode an IS bit masked in IMR is skipped

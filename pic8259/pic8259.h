@@ -92,6 +92,27 @@ public:
 
     /// Probe hook, called at every INTA cycle after the chip has acted on it.
     std::function<void(const IntaEvent&)> on_inta;
+    /// Probe hook, called after every re-evaluation of INT (an IR change, a register write, an
+    /// INTA cycle or a poll, once it has settled), with the new state in place: where a probe
+    /// asks hold() again.
+    std::function<void()> on_update;
+
+    /// Why a request of `level` is not the one INT presents now, the level taken as requested
+    /// (its own IRR bit is not looked at): what holds an interrupt in the chip (probes).
+    struct Hold {
+        enum class Kind : std::uint8_t {
+            none,       // presented: INT is (or, after the settle, will be) up for this level
+            not_ready,  // the chip is not initialised (INT held low)
+            masked,     // the level's IMR bit is set
+            in_service, // `by` is in service and blocks it: a higher priority, or the level itself
+            priority,   // `by`, a higher-priority request, is presented first
+        };
+        Kind kind = Kind::none;
+        int by = -1; // in_service, priority: the level
+        bool operator==(const Hold& o) const { return kind == o.kind && by == o.by; }
+        bool operator!=(const Hold& o) const { return !(*this == o); }
+    };
+    Hold hold(unsigned level) const;
 
     explicit Pic8259(sc_core::sc_module_name name);
 

@@ -47,10 +47,14 @@ void InterruptProbe::sample_lines() {
         if (now && !last_level_[level] && !rise_pending_[level]) {
             rise_[level] = sc_core::sc_time_stamp();
             rise_pending_[level] = true;
+            track_[level].open(rise_[level], pic_ ? pic_->hold(unsigned(level)) : Pic8259::Hold{});
         }
         // A request that goes away before its INTA is not served (the 8259A needs IR high until
         // the first INTA): the next interrupt of this level belongs to a later rise.
-        if (!now) rise_pending_[level] = false;
+        if (!now) {
+            rise_pending_[level] = false;
+            track_[level].close();
+        }
         last_level_[level] = now;
     }
 }
@@ -95,6 +99,8 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
             rise_pending_[rec.level] = false;
             // Interrupts are enabled by now (this is their acknowledge): was the request older?
             rec.startup = rec.ir_rise < cpu_.time_of(cpu_.core().interrupts_enabled_at());
+            rec.cause = explain_latency(track_[rec.level], rec.ir_rise, cpu_);
+            track_[rec.level].close();
         }
         return;
     }
@@ -138,7 +144,10 @@ void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
         startup_.push_back(rec);
     } else {
         ++count_[level];
-        if (rec.has_rise) latency_[level].add(rec.latency_us());
+        if (rec.has_rise) {
+            latency_[level].add(rec.latency_us());
+            worst_[level].add(rec);
+        }
         service_[level].add(rec.service_us());
     }
     if (keep_) done_.push_back(rec);
@@ -207,6 +216,7 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::
             o.entered = true;
             o.rec.handler = handler;
             o.rec.first_isr = cpu_.time_of(r.start + 4 + r.wait_states);
+            if (o.rec.has_rise) finish_latency_cause(o.rec.cause, o.rec.ir_rise, o.rec.first_isr, cpu_, dpram_base_, 0x400);
             return true;
         }
     }
@@ -240,6 +250,29 @@ void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time
     default:
         break;
     }
+}
+
+void InterruptProbe::watch_pic(Pic8259& pic) {
+    pic_ = &pic;
+    pic.on_update = [this] { pic_update(); };
+}
+
+// The chip's state changed: every request still waiting may be held otherwise now.
+void InterruptProbe::pic_update() {
+    const sc_core::sc_time now = sc_core::sc_time_stamp();
+    for (unsigned level = 0; level < 8; ++level)
+        if (track_[level].is_open()) track_[level].update(now, pic_->hold(level));
+}
+
+void WorstLatencies::add(const InterruptRecord& r) {
+    if (!r.has_rise) return;
+    const sc_core::sc_time latency = r.first_isr - r.ir_rise;
+    const auto longer = [](const sc_core::sc_time& l, const InterruptRecord& k) { return l > k.first_isr - k.ir_rise; };
+    if (kept_.size() >= keep_ && !longer(latency, kept_.back())) return;
+    kept_.insert(std::upper_bound(kept_.begin(), kept_.end(), latency,
+                                  [&](const sc_core::sc_time& l, const InterruptRecord& k) { return longer(l, k); }),
+                 r);
+    if (kept_.size() > keep_) kept_.pop_back();
 }
 
 std::vector<const InterruptRecord*> InterruptProbe::of_level(unsigned level) const {

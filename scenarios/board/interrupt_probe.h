@@ -16,8 +16,14 @@
 // Memory stays flat over any run length: per level the probe keeps a count and the latency and
 // service sample sets (models/stats.h), and hands each completed record to `on_record` instead
 // of keeping it. Keeping every record (`keep_records`) is for short tests.
+//
+// Each latency has its cause (latency_cause.h): with the 8259A watched (watch_pic), what the chip
+// did with the request from its rise; then, from the core's interrupt history, IF = 0, the
+// instruction in progress, DP-RAM BUSY and the entry. Per level the probe keeps the records of
+// the longest latencies with their causes (WorstLatencies, a fixed number).
 #pragma once
 
+#include "scenarios/board/latency_cause.h"
 #include "comm_cpu/i8086.h"
 #include "models/irq.h"
 #include "models/stats.h"
@@ -48,6 +54,7 @@ struct InterruptRecord {
     std::uint32_t handler = 0;     // physical address of the first handler instruction
     std::uint64_t dpram_reads = 0; // DP-RAM data-area bytes the handler read (left port)
     std::uint64_t dpram_writes = 0;
+    LatencyCause cause;            // what held it (known with an IR rise)
 
     double latency_us() const;
     double service_us() const;
@@ -58,6 +65,22 @@ struct InterruptRecord {
 std::string source_name(unsigned level);
 /// A simulated time in microseconds with every picosecond kept (sc_time counts picoseconds).
 double exact_us(const sc_core::sc_time& t);
+
+/// The longest latencies of a set of interrupts with their causes, in bounded memory: the `keep`
+/// longest so far, longest first (on a tie the one added first).
+class WorstLatencies {
+public:
+    static constexpr std::size_t kKeep = 20;
+    WorstLatencies() = default;
+    explicit WorstLatencies(std::size_t keep) : keep_(keep) {}
+    /// A completed record (one without an IR rise has no latency and is left out).
+    void add(const InterruptRecord& r);
+    const std::vector<InterruptRecord>& records() const { return kept_; }
+
+private:
+    std::size_t keep_ = kKeep;
+    std::vector<InterruptRecord> kept_;
+};
 
 /// Where a run sends every completed record besides its own figures (the report's interrupt log,
 /// scenarios/report/interrupt_log.h), so that the world that measures does not depend on what
@@ -91,6 +114,13 @@ public:
     std::optional<sc_core::sc_time> interrupts_enabled() const;
     const Samples& latency_us(unsigned level) const { return latency_[level & 7]; }
     const Samples& service_us(unsigned level) const { return service_[level & 7]; }
+    /// The records of the level's longest latencies, with their causes.
+    const WorstLatencies& worst(unsigned level) const { return worst_[level & 7]; }
+
+    /// The 8259A the IR lines go to: what it did with each request (Pic8259::hold) becomes part
+    /// of the latency's cause. Takes the chip's on_update hook. Without it the time before the
+    /// CPU took an interrupt is the CPU's alone.
+    void watch_pic(Pic8259& pic);
 
     /// Every completed record, in completion order, and those of one level: kept only while
     /// `keep_records` is on (the default, for tests of a few seconds; a long run turns it off and
@@ -134,6 +164,10 @@ private:
     std::array<sc_core::sc_time, 8> rise_{};
     std::array<bool, 8> rise_pending_{};
     std::array<bool, 8> last_level_{};
+    Pic8259* pic_ = nullptr;
+    std::array<RequestTrack, 8> track_{}; // the request of each level with a rise pending
+    std::array<WorstLatencies, 8> worst_{};
+    void pic_update();
 
     // Entry in progress: INTA cycles seen, vector-table reads and pushes to collect.
     struct Open {

@@ -189,6 +189,54 @@ void section_failures(std::ostream& o, const json& r, const std::filesystem::pat
     o << "</section>\n";
 }
 
+/// One latency with what held it: a row of the latency-causes table.
+void cause_row(std::ostream& o, const std::string& source, const json& w, double budget) {
+    std::string phases;
+    for (const auto& p : jo(w, "phases")) {
+        phases += (phases.empty() ? "" : " &middot; ") + esc(js(p, "phase"));
+        if (p.contains("source")) phases += " (" + esc(js(p, "source")) + ")";
+        phases += " " + num(jd(p, "us"), 1);
+    }
+    const double latency = jd(w, "latency_us");
+    o << "<tr><td class=\"l\">" << esc(source) << "</td><td" << (latency > budget ? " class=\"bad\"" : "") << ">"
+      << num(latency, 1) << "</td><td>" << num(jd(w, "ir_rise_us"), 3) << "</td><td class=\"l\">" << esc(js(w, "cause"))
+      << "</td><td class=\"l\" style=\"white-space:normal\">" << esc(js(w, "text"))
+      << "</td><td class=\"l\" style=\"white-space:normal\">" << phases << "</td></tr>\n";
+}
+
+/// report.json "interrupts".SOURCE."worst": each source's longest latency and those over the
+/// budget, with what held them, then the start-up interrupts with theirs (docs/scenarios.md
+/// "Latency causes", "Start-up").
+void section_latency_causes(std::ostream& o, const json& r) {
+    const json& in = jo(r, "interrupts");
+    const double budget = jd(jo(r, "table3"), "budget_us");
+    std::ostringstream rows;
+    std::string over;
+    for (const char* n : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
+        const json& i = jo(in, n);
+        for (const auto& w : jo(i, "worst")) cause_row(rows, n, w, budget);
+        if (ju(i, "over_budget") > 0)
+            over += std::string(over.empty() ? "" : ", ") + n + " " + std::to_string(ju(i, "over_budget"));
+    }
+    for (const auto& w : jo(jo(in, "startup"), "records"))
+        if (w.contains("cause")) cause_row(rows, js(w, "source") + " (start-up, not judged)", w, budget);
+    o << "<section id=\"latency-causes\"><h2>Longest latencies and their causes</h2>\n"
+      << "<p class=\"note\">Each source's longest latency and every one over the budget (" << num(budget, 1)
+      << " us; the " << WorstLatencies::kKeep << " longest of each source are kept), then the interrupts requested "
+         "during start-up, with what held each, measured: the 8259A (masked, another level in service, a higher "
+         "request first), the CPU's IF = 0 (since which change, enabled by which instruction), the instruction in "
+         "progress, DP-RAM BUSY, and the entry itself. The phases add up to the latency; the cause is the one that "
+         "took the most time.</p>\n";
+    if (rows.str().empty()) {
+        o << "<p>No interrupt with an IR rise completed in this run.</p></section>\n";
+        return;
+    }
+    o << "<table><tr><th class=\"l\">source</th><th>latency [us]</th><th>IR rise [us]</th><th class=\"l\">cause</th>"
+         "<th class=\"l\">what held it</th><th class=\"l\">phases [us]</th></tr>\n"
+      << rows.str() << "</table>\n<p class=\"note\">Latencies over the budget after start-up: "
+      << (over.empty() ? "none" : over) << ".</p></section>\n";
+}
+
 void section_timeline(std::ostream& o, const TimelineWindows& tl) {
     o << "<section id=\"timeline\"><h2>Timeline</h2>\n";
     if (tl.rows() == 0) {
@@ -439,6 +487,7 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
     section_checks(o, r, !opt.interrupts_csv.empty());
     section_table3(o, r);
     section_interrupts(o, r, log);
+    section_latency_causes(o, r);
     section_timeline(o, log.timeline());
     section_failures(o, r, opt.interrupts_csv);
     section_ports(o, r);

@@ -6,6 +6,8 @@
 #include "scenarios/world/world.h"
 #include "scenarios/verdict/checks.h"
 #include "scenarios/verdict/measure.h"
+#include "scenarios/verdict/latency_causes.h"
+#include "scenarios/run/cause_symbols.h"
 #include "scenarios/monitor/board_monitor.h"
 #include "scenarios/report/output.h"
 #include "scenarios/report/report_html.h"
@@ -280,6 +282,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     f.bus_errors = world.ctl.comm.cpu.bus_errors().total();
     report["table3"] = table3_json(world, s, c, f);
+    add_latency_causes(report["interrupts"], world, budget_us(world, s), cause_symbols(opt.symbols, rom));
     report_world(world, s, opt, report, f);
 
     nlohmann::json checks = nlohmann::json::array();

@@ -110,7 +110,8 @@ void print_startup(const nlohmann::json& interrupts, std::ostream& os) {
     for (const auto& rec : st["records"])
         os << "    " << rec["source"].get<std::string>() << " IR at " << rec["ir_rise_us"].get<double>() << " us, latency "
            << std::setprecision(1) << rec["latency_us"].get<double>() << " us, service " << rec["service_us"].get<double>()
-           << " us\n" << std::setprecision(3);
+           << " us" << (rec.contains("text") ? ": " + rec["text"].get<std::string>() : std::string()) << "\n"
+           << std::setprecision(3);
     os << std::defaultfloat;
 }
 
@@ -203,6 +204,33 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
     if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
 }
 
+/// The longest latency of each source with what held it, and how many were over the budget
+/// (report.json "interrupts".SOURCE."worst", docs/scenarios.md "Latency causes").
+void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
+    const auto& in = r["interrupts"];
+    std::ostringstream body;
+    body << std::fixed;
+    for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram"}) {
+        if (!in.contains(name) || !in[name].contains("worst") || in[name]["worst"].empty()) continue;
+        const auto& w = in[name]["worst"];
+        const auto& top = w[0];
+        if (!top["latency_us"].is_number()) continue;
+        body << "  " << name << " latency max " << std::setprecision(1) << top["latency_us"].get<double>() << " us at "
+             << std::setprecision(3) << top["ir_rise_us"].get<double>() << " us: " << top.value("text", std::string("?"))
+             << "\n";
+        const std::uint64_t over = in[name].value("over_budget", std::uint64_t{0});
+        if (over > 0) {
+            std::size_t listed = 0;
+            for (const auto& e : w) listed += e["latency_us"].get<double>() > r["table3"]["budget_us"].get<double>();
+            body << "    over the budget: " << over << " (the " << listed
+                 << " longest with their causes in report.json)\n";
+        }
+    }
+    if (body.str().empty()) return;
+    os << "\nlongest latencies and their causes (budget " << std::fixed << std::setprecision(1)
+       << r["table3"]["budget_us"].get<double>() << std::defaultfloat << " us)\n" << body.str();
+}
+
 } // namespace
 
 void print_summary(const nlohmann::json& r, std::ostream& os) {
@@ -232,6 +260,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
            << std::setw(12) << f(s["mean"]) << std::setw(9) << f(s["p99"]) << std::setw(9) << f(s["max"]) << "\n";
     }
     print_startup(r["interrupts"], os);
+    print_latency_causes(r, os);
     const auto& t = r["table3"];
     os << "\nTable 3               simulated      paper\n"
        << "  RS-232 interrupt  " << std::setw(10) << f(t["rs232_isr_us"], 3) << " us" << std::setw(10)

@@ -53,9 +53,16 @@ RunRecord read_run(const fs::path& dir) {
 
 bool is_run_dir(const fs::path& d) { return fs::exists(d / "run.json") || fs::exists(d / "report.json"); }
 
+/// The latency causes (`interrupts.SOURCE.worst`, docs/scenarios.md "Latency causes") explain
+/// figures and are not figures: a list whose length and phases change with every fix.
+bool explanation(const std::string& path, const std::string& key) {
+    return key == "worst" && path.rfind("interrupts.", 0) == 0;
+}
+
 void flatten(const nlohmann::json& j, const std::string& path, Figures& out) {
     if (j.is_object()) {
-        for (const auto& [k, v] : j.items()) flatten(v, path.empty() ? k : path + "." + k, out);
+        for (const auto& [k, v] : j.items())
+            if (!explanation(path, k)) flatten(v, path.empty() ? k : path + "." + k, out);
     } else if (j.is_array()) {
         for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
     } else if (j.is_number() || j.is_boolean() || j.is_null()) {

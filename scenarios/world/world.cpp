@@ -55,6 +55,7 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
     }
     if (s.program) load_program(*s.program);
     probe.keep_records(false);
+    probe.watch_pic(ctl.comm.pic); // what the 8259A held each request for (latency causes)
     ctl.main.keep_history(false);
     ctl.main.on_received = [this](const FrameRecord& f) {
         if (f.port < kPorts)
@@ -240,6 +241,7 @@ void World::on_record(const InterruptRecord& r) {
         if (rx_service_.count() == 0 || r.service_us() > rx_longest_.service_us()) rx_longest_ = r;
         rx_service_.add(r.service_us());
         if (r.has_rise) rx_latency_.add(r.latency_us());
+        rx_worst_.add(r);
     }
     if (r.depth == 0) dpram_.interrupt(r.inta1, r.iret_done);
     if (sink_) sink_->record(r, rx);

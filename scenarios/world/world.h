@@ -95,6 +95,8 @@ public:
     /// The longest of those (the first of equals): the worst case of Table 3. Valid when
     /// rs232_rx_service_us() has samples.
     const InterruptRecord& rs232_rx_longest() const { return rx_longest_; }
+    /// Their longest latencies with their causes.
+    const WorstLatencies& rs232_rx_worst() const { return rx_worst_; }
     const DpramByteTime& dpram_time() const { return dpram_; }
 
     /// Hands every completed interrupt record to `sink` as well (the report's interrupt log);
@@ -109,6 +111,7 @@ private:
     std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;
     Samples rx_service_, rx_latency_;
     InterruptRecord rx_longest_;
+    WorstLatencies rx_worst_;
     DpramByteTime dpram_;
     InterruptSink* sink_ = nullptr;
 

@@ -60,6 +60,21 @@ TEST(Flatten, ScalarsByPathWithoutStringsOrChecks) {
     EXPECT_EQ(checks[0].first, "c");
 }
 
+// The latency causes explain figures: interrupts.SOURCE.worst is left out, its count is a figure.
+TEST(Flatten, LatencyCausesAreNotFigures) {
+    const json r = {{"interrupts",
+                     {{"rs232_0",
+                       {{"count", 3},
+                        {"over_budget", 1},
+                        {"worst", json::array({{{"latency_us", 500.0}, {"phases", json::array({{{"us", 1.0}}})}}})}}}}},
+                    {"worst", 1}};
+    const Figures f = flatten_figures(r);
+    ASSERT_EQ(f.size(), 3u);
+    EXPECT_EQ(f[0].first, "interrupts.rs232_0.count");
+    EXPECT_EQ(f[1].first, "interrupts.rs232_0.over_budget");
+    EXPECT_EQ(f[2].first, "worst"); // only under interrupts
+}
+
 TEST(Merge, SummaryRowsParametersFiguresChecks) {
     const fs::path d = scratch();
     make_run(d / "runs", "g-rom=0", 50.25, true, 0);

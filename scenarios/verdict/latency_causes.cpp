@@ -1,0 +1,326 @@
+#include "scenarios/verdict/latency_causes.h"
+
+#include "scenarios/world/world.h"
+
+#include <cstdio>
+
+namespace rcsim {
+
+namespace {
+
+using Kind = LatencyPhase::Kind;
+using nlohmann::json;
+
+std::string fmt(const char* f, double v) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+std::string at_us(const sc_core::sc_time& t) { return fmt("%.3f", to_us(t)); }
+std::string dur_us(const sc_core::sc_time& t) { return fmt("%.1f", to_us(t)); }
+std::string seg_off(std::uint16_t cs, std::uint16_t ip) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%04X:%04X", unsigned(cs), unsigned(ip));
+    return buf;
+}
+std::string linear_hex(std::uint32_t a) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%05X", unsigned(a));
+    return buf;
+}
+std::string hex2(unsigned v) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%02X", v & 0xFF);
+    return buf;
+}
+
+// The mnemonic of the instruction in `b` (prefixes included), without its operands.
+std::string mnemonic(const std::uint8_t* b, unsigned n) {
+    static const char* const alu[] = {"ADD", "OR", "ADC", "SBB", "AND", "SUB", "XOR", "CMP"};
+    static const char* const shifts[] = {"ROL", "ROR", "RCL", "RCR", "SHL", "SHR", "SETMO", "SAR"};
+    static const char* const group3[] = {"TEST", "TEST", "NOT", "NEG", "MUL", "IMUL", "DIV", "IDIV"};
+    static const char* const group5[] = {"INC", "DEC", "CALL", "CALL FAR", "JMP", "JMP FAR", "PUSH", "PUSH"};
+    static const char* const strings[] = {"MOVSB", "MOVSW", "CMPSB", "CMPSW", "", "", "STOSB", "STOSW",
+                                          "LODSB", "LODSW", "SCASB", "SCASW"};
+    static const char* const segs[] = {"ES:", "CS:", "SS:", "DS:"};
+    std::string pre;
+    unsigned i = 0;
+    bool rep = false, repne = false;
+    for (; i < n; ++i) {
+        const std::uint8_t op = b[i];
+        if (op == 0xF3) rep = true;
+        else if (op == 0xF2) repne = true;
+        else if (op == 0xF0) pre += "LOCK ";
+        else if ((op & 0xE7) == 0x26) pre += std::string(segs[(op >> 3) & 3]) + " ";
+        else break;
+    }
+    if (i >= n) return pre.empty() ? "?" : pre + "?";
+    const std::uint8_t op = b[i];
+    const unsigned reg = i + 1 < n ? (b[i + 1] >> 3) & 7 : 0;
+    std::string m;
+    if (op >= 0xA4 && op <= 0xAF && op != 0xA8 && op != 0xA9) {
+        m = strings[op - 0xA4];
+        const bool compare = op == 0xA6 || op == 0xA7 || op == 0xAE || op == 0xAF;
+        if (rep) m = (compare ? "REPE " : "REP ") + m;
+        if (repne) m = "REPNE " + m;
+        return pre + m;
+    }
+    if (op < 0x40 && (op & 7) < 6) m = alu[op >> 3];
+    else if (op >= 0x40 && op < 0x48) m = "INC";
+    else if (op >= 0x48 && op < 0x50) m = "DEC";
+    else if (op >= 0x50 && op < 0x58) m = "PUSH";
+    else if (op >= 0x58 && op < 0x60) m = "POP";
+    else if (op >= 0x60 && op < 0x80) m = "Jcc";
+    else if (op >= 0x80 && op < 0x84) m = alu[reg];
+    else if (op >= 0x88 && op < 0x8D) m = "MOV";
+    else if (op >= 0xB0 && op < 0xC0) m = "MOV";
+    else if (op >= 0xD0 && op < 0xD4) m = shifts[reg];
+    else if (op >= 0xD8 && op < 0xE0) m = "ESC";
+    else if (op == 0xF6 || op == 0xF7) m = group3[reg];
+    else if (op == 0xFE || op == 0xFF) m = group5[reg];
+    else {
+        switch (op) {
+        case 0x27: m = "DAA"; break;
+        case 0x2F: m = "DAS"; break;
+        case 0x37: m = "AAA"; break;
+        case 0x3F: m = "AAS"; break;
+        case 0x84: case 0x85: case 0xA8: case 0xA9: m = "TEST"; break;
+        case 0x86: case 0x87: m = "XCHG"; break;
+        case 0x8D: m = "LEA"; break;
+        case 0x8E: m = "MOV"; break;
+        case 0x8F: m = "POP"; break;
+        case 0x90: m = "NOP"; break;
+        case 0x98: m = "CBW"; break;
+        case 0x99: m = "CWD"; break;
+        case 0x9A: m = "CALL FAR"; break;
+        case 0x9B: m = "WAIT"; break;
+        case 0x9C: m = "PUSHF"; break;
+        case 0x9D: m = "POPF"; break;
+        case 0x9E: m = "SAHF"; break;
+        case 0x9F: m = "LAHF"; break;
+        case 0xA0: case 0xA1: case 0xA2: case 0xA3: case 0xC6: case 0xC7: m = "MOV"; break;
+        case 0xC2: case 0xC3: m = "RET"; break;
+        case 0xC4: m = "LES"; break;
+        case 0xC5: m = "LDS"; break;
+        case 0xCA: case 0xCB: m = "RETF"; break;
+        case 0xCC: m = "INT3"; break;
+        case 0xCD: m = i + 1 < n ? "INT " + hex2(b[i + 1]) + "h" : "INT"; break;
+        case 0xCE: m = "INTO"; break;
+        case 0xCF: m = "IRET"; break;
+        case 0xD4: m = "AAM"; break;
+        case 0xD5: m = "AAD"; break;
+        case 0xD7: m = "XLAT"; break;
+        case 0xE0: m = "LOOPNE"; break;
+        case 0xE1: m = "LOOPE"; break;
+        case 0xE2: m = "LOOP"; break;
+        case 0xE3: m = "JCXZ"; break;
+        case 0xE4: case 0xE5: case 0xEC: case 0xED: m = "IN"; break;
+        case 0xE6: case 0xE7: case 0xEE: case 0xEF: m = "OUT"; break;
+        case 0xE8: m = "CALL"; break;
+        case 0xE9: case 0xEB: m = "JMP"; break;
+        case 0xEA: m = "JMP FAR"; break;
+        case 0xF4: m = "HLT"; break;
+        case 0xF5: m = "CMC"; break;
+        case 0xF8: m = "CLC"; break;
+        case 0xF9: m = "STC"; break;
+        case 0xFA: m = "CLI"; break;
+        case 0xFB: m = "STI"; break;
+        case 0xFC: m = "CLD"; break;
+        case 0xFD: m = "STD"; break;
+        default: m = "opcode " + hex2(op) + "h"; break;
+        }
+    }
+    return pre + m;
+}
+
+// What an IF change was: "reset", "interrupt entry", or the instruction.
+std::string change_name(const i8086::IfChange& c) {
+    switch (c.how) {
+    case i8086::IfChange::How::reset: return "reset";
+    case i8086::IfChange::How::entry: return "interrupt entry";
+    case i8086::IfChange::How::instruction: break;
+    }
+    switch (c.opcode) {
+    case 0xFA: return "CLI";
+    case 0xFB: return "STI";
+    case 0x9D: return "POPF";
+    case 0xCF: return "IRET";
+    case 0xCC: return "INT3";
+    case 0xCD: return "INT " + hex2(c.vector) + "h";
+    case 0xCE: return "INTO";
+    default: return "divide error (type 0)"; // F6/F7 DIV/IDIV, D4 AAM
+    }
+}
+
+// "F000:0010" and its symbol, as "F000:0010 (start)" or "F000:0010".
+std::string where(std::uint16_t cs, std::uint16_t ip, const SymbolOf& symbol) {
+    const std::string s = symbol ? symbol(i8086::Cpu::linear(cs, ip)) : std::string();
+    return seg_off(cs, ip) + (s.empty() ? "" : " (" + s + ")");
+}
+
+// The level an interrupt entry was for (its vector in the 8259A's range), -1 when another.
+int entry_level(const i8086::IfChange& c, unsigned vector_base) {
+    if (c.how != i8086::IfChange::How::entry) return -1;
+    const unsigned v = c.vector;
+    return (v & 0xF8) == (vector_base & 0xF8) ? int(v & 7) : -1;
+}
+
+// An IF change in words: "CLI at F000:011A, cli_here", "reset at FFFF:0000", "entry of the rs232_0
+// interrupt at F000:0973, main" (the code it interrupted).
+std::string change_at(const i8086::IfChange& c, unsigned vector_base, const SymbolOf& symbol) {
+    std::string what = change_name(c);
+    if (c.how == i8086::IfChange::How::entry) {
+        const int level = entry_level(c, vector_base);
+        what = "entry of the " + (level >= 0 ? source_name(unsigned(level)) : "vector " + hex2(c.vector) + "h") +
+               " interrupt";
+    }
+    std::string s = what + " at " + seg_off(c.cs, c.ip);
+    const std::string name =
+        c.how == i8086::IfChange::How::reset || !symbol ? std::string() : symbol(i8086::Cpu::linear(c.cs, c.ip));
+    return name.empty() ? s : s + ", " + name;
+}
+
+void put_code(json& j, const char* at_key, const char* symbol_key, std::uint16_t cs, std::uint16_t ip,
+              const SymbolOf& symbol) {
+    j[at_key] = seg_off(cs, ip);
+    const std::string s = symbol ? symbol(i8086::Cpu::linear(cs, ip)) : std::string();
+    if (!s.empty()) j[symbol_key] = s;
+}
+
+json detail_json(const LatencyCause& c, unsigned vector_base, const SymbolOf& symbol) {
+    json d = json::object();
+    if (c.if_off.valid) {
+        const auto& f = c.if_off;
+        json j;
+        j["from_us"] = to_us(f.from);
+        j["until_us"] = to_us(f.until);
+        if (f.has_on) {
+            j["enabled_by"] = change_name(f.on);
+            put_code(j, "enabled_at", "enabled_symbol", f.on.cs, f.on.ip, symbol);
+        }
+        if (f.has_off) {
+            j["since_us"] = to_us(f.since);
+            j["by"] = change_name(f.off);
+            put_code(j, "at", "symbol", f.off.cs, f.off.ip, symbol);
+            const int level = entry_level(f.off, vector_base);
+            if (level >= 0) j["entry_of"] = source_name(unsigned(level));
+        } else {
+            j["since_us"] = nullptr; // before from_us: the core's history does not reach back
+        }
+        d["interrupts_disabled"] = j;
+    }
+    if (c.instruction.valid) {
+        const auto& i = c.instruction;
+        json j;
+        put_code(j, "at", "symbol", i.cs, i.ip, symbol);
+        j["mnemonic"] = mnemonic(i.bytes.data(), i.nbytes);
+        std::string bytes;
+        for (unsigned k = 0; k < i.nbytes; ++k) bytes += (k ? " " : "") + hex2(i.bytes[k]);
+        j["bytes"] = bytes;
+        j["began_us"] = to_us(i.start);
+        j["halted"] = i.halted;
+        j["after_sti"] = i.sti_shadow;
+        d["instruction"] = j;
+    }
+    if (c.busy.wait_states) d["dpram_busy"] = {{"wait_states", c.busy.wait_states}, {"address", linear_hex(c.busy.address)}};
+    if (c.cause_level >= 0) d["held_by"] = source_name(unsigned(c.cause_level));
+    if (c.truncated) d["truncated"] = true;
+    return d;
+}
+
+} // namespace
+
+std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, const SymbolOf& symbol) {
+    const LatencyCause& c = r.cause;
+    if (!c.known) return "no IR rise: no latency";
+    const std::string held = c.cause_level >= 0 ? source_name(unsigned(c.cause_level)) : "";
+    const std::string took = dur_us(c.cause_time) + " us";
+    switch (c.cause) {
+    case Kind::interrupts_disabled: {
+        const auto& f = c.if_off;
+        std::string s = "interrupts disabled (IF=0)";
+        if (!f.valid) return s + " for " + took;
+        s += f.has_off ? " since " + at_us(f.since) + " us (" + change_at(f.off, vector_base, symbol) + ")"
+                       : " since before " + at_us(f.from) + " us";
+        s += " until " + at_us(f.until) + " us";
+        if (f.has_on) s += " (" + change_at(f.on, vector_base, symbol) + ")";
+        return s + "; " + took + " of the latency";
+    }
+    case Kind::in_service:
+        if (c.cause_level == int(r.level))
+            return "its own previous interrupt still in service in the 8259A (no EOI yet) for " + took;
+        return "the " + held + " interrupt in service in the 8259A (higher priority) for " + took;
+    case Kind::priority: return "the " + held + " request (higher priority) taken first, for " + took;
+    case Kind::masked: return "masked in the 8259A (IMR) for " + took;
+    case Kind::not_ready: return "the 8259A not initialised for " + took;
+    case Kind::instruction: {
+        const auto& i = c.instruction;
+        if (!i.valid) return "the instruction in progress: " + took;
+        const std::string what = mnemonic(i.bytes.data(), i.nbytes) + " at " + where(i.cs, i.ip, symbol);
+        if (i.halted) return "waking from " + what + ": " + took;
+        return std::string(i.sti_shadow ? "the instruction after STI, " : "the instruction in progress, ") + what +
+               " begun at " + at_us(i.start) + " us: " + took + " to its end";
+    }
+    case Kind::dpram_busy:
+        return "the bus held by DP-RAM BUSY for " + took + " (" + std::to_string(c.busy.wait_states) +
+               " wait states at " + linear_hex(c.busy.address) + ")";
+    case Kind::entry: return "no wait: the interrupt entry itself (INTA cycles, vector, pushes), " + took;
+    case Kind::presented: break;
+    }
+    return took;
+}
+
+json latency_cause_json(const InterruptRecord& r, unsigned vector_base, const SymbolOf& symbol) {
+    json j;
+    j["latency_us"] = r.has_rise ? json(to_us(r.first_isr - r.ir_rise)) : json();
+    j["ir_rise_us"] = r.has_rise ? json(to_us(r.ir_rise)) : json();
+    j["first_isr_us"] = to_us(r.first_isr);
+    const LatencyCause& c = r.cause;
+    if (!c.known) return j;
+    j["boundary_us"] = to_us(c.boundary);
+    j["cause"] = to_string(c.cause);
+    j["text"] = latency_cause_text(r, vector_base, symbol);
+    j["detail"] = detail_json(c, vector_base, symbol);
+    json phases = json::array();
+    for (unsigned k = 0; k < c.phases; ++k) {
+        const LatencyPhase& p = c.phase[k];
+        json q = {{"phase", to_string(p.kind)}, {"from_us", to_us(p.from)}, {"to_us", to_us(p.to)}, {"us", p.us()}};
+        if (p.level >= 0) q["source"] = source_name(unsigned(p.level));
+        phases.push_back(q);
+    }
+    j["phases"] = phases;
+    return j;
+}
+
+void add_latency_causes(json& interrupts, const World& w, double budget_us, const SymbolOf& symbol) {
+    const unsigned base = w.ctl.comm.pic.vector_base();
+    const auto over = [budget_us](const Samples& s) {
+        std::uint64_t n = 0;
+        for (const auto& [v, count] : s.values())
+            if (v > budget_us) n += count;
+        return n;
+    };
+    const auto put = [&](const char* name, const Samples& latency, const WorstLatencies& worst) {
+        json list = json::array();
+        for (const InterruptRecord& r : worst.records())
+            if (list.empty() || to_us(r.first_isr - r.ir_rise) > budget_us) list.push_back(latency_cause_json(r, base, symbol));
+        interrupts[name]["worst"] = list;
+        interrupts[name]["over_budget"] = over(latency);
+    };
+    for (unsigned level = 0; level < 4; ++level)
+        put(source_name(level).c_str(), w.probe.latency_us(level), w.probe.worst(level));
+    put("rs232_rx", w.rs232_rx_latency_us(), w.rs232_rx_worst());
+    // Start-up interrupts (interrupts.startup.records, in the probe's order) each have theirs:
+    // none is judged, but a firmware engineer still asks why one waited.
+    json& startup = interrupts["startup"]["records"];
+    const auto& records = w.probe.startup_records();
+    for (std::size_t k = 0; k < records.size() && k < startup.size(); ++k)
+        if (records[k].has_rise) {
+            json cause = latency_cause_json(records[k], base, symbol);
+            cause.erase("latency_us"); // the record has them already, to the picosecond
+            cause.erase("ir_rise_us");
+            startup[k].update(cause);
+        }
+}
+
+} // namespace rcsim
