@@ -335,6 +335,14 @@ void LineObserver::port_reset(bool by_main_cpu) {
         cause.what = "port reset after a " + cause.what;
     }
     if (!by_main_cpu) break_before_reset_ = {};
+    // The controller's transfer ends here: a frame cut before its ETX never ends on the line, and
+    // the controller's next ACK and EOT answer the host again (they are not that frame's bytes).
+    Sender& ctl = dir_[controller_to_host];
+    ctl.collecting = false;
+    ctl.open = false;
+    ctl.last.reset();
+    ctl.cause = {};
+    ctl.await = Await::none;
     for (std::uint64_t id : in_ring_) {
         responses_.blame(id, cause, true);
         responses_.explain(id, DropReason::port_reset, t);

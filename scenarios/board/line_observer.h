@@ -230,7 +230,8 @@ public:
     /// The comm CPU gave up on the response it was sending (mailbox word 0x4p or 0x5p).
     void response_given_up();
     /// The port was reset (0x3p): the comm CPU's transmit ring, and every response in it, is
-    /// dropped. `by_main_cpu`: a reset the main CPU asked for (never explained by a BREAK).
+    /// dropped, and a response frame on the line is cut there. `by_main_cpu`: a reset the main CPU
+    /// asked for (never explained by a BREAK).
     void port_reset(bool by_main_cpu = false);
 
     /// End of the run: frames still unanswered are abandoned, unmatched ones final.

@@ -260,3 +260,49 @@ TEST(InFlight, AnUnansweredFrameAtAnInterruptedStopIsNotAbandoned) {
     c.o.finish(true);
     EXPECT_EQ(c.o.counts(H).abandoned, 0u);
 }
+
+// Issue 33 item 6: a host's BREAK resets the port while the controller is sending a response. Its
+// frame never gets its ETX: it ends at the reset, and the controller's next ACK and EOT answer the
+// host's next command as on the wire, so that command counts as delivered, not "unexpected".
+TEST(CutFrames, AResponseCutByAPortResetEndsThereAndTheNextTransferIsSeen) {
+    Clocked c;
+    hand(c.o, resp("ONE"));
+    send(c.o, C, ctl(ENQ));
+    send(c.o, H, ctl(ACK));
+    const std::string response = wire(resp("ONE"));
+    send(c.o, C, response.substr(0, 4)); // SOH and the first bytes: then the BREAK
+    c.now = 1000;
+    c.o.line_break(H);
+    c.now = 3000;
+    c.o.port_reset();
+    EXPECT_EQ(c.o.state(C), LineObserver::SenderState::idle);
+    c.now = 10000;
+    const proto::Frame cmd{"RD", 0, "X"};
+    host_transfer(c.o, cmd);
+    c.o.main_received(frame_key(cmd), frame_label(cmd.token, cmd.bch, cmd.data));
+    c.o.finish();
+    EXPECT_EQ(c.o.counts(H).frames_eot, 1u);
+    EXPECT_EQ(c.o.commands().mismatches(), 0u);
+    EXPECT_EQ(c.o.commands().unexpected, 0u);
+    EXPECT_EQ(c.o.counts(C).frames_offered, 0u); // cut before its ETX: never a whole frame
+    EXPECT_EQ(c.o.responses().dropped_port_reset, 1u);
+    EXPECT_EQ(c.o.responses().expected, 1u);
+    EXPECT_EQ(c.o.responses().mismatches(), 0u);
+}
+
+// The same cut when the reset has no BREAK before it: the frame still ends at the reset (what the
+// line does), and only the drop counts against the run.
+TEST(CutFrames, AResponseCutByAnUnexplainedResetStillEndsThere) {
+    Clocked c;
+    hand(c.o, resp("ONE"));
+    send(c.o, C, ctl(ENQ));
+    send(c.o, H, ctl(ACK));
+    send(c.o, C, wire(resp("ONE")).substr(0, 3));
+    c.o.port_reset();
+    const proto::Frame cmd{"RD", 0, "Y"};
+    host_transfer(c.o, cmd);
+    c.o.main_received(frame_key(cmd), frame_label(cmd.token, cmd.bch, cmd.data));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().mismatches(), 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u);
+}
