@@ -7,6 +7,7 @@
 #include "comm_cpu/i8086.h"
 #include "comm_cpu/sst.h"
 #include "comm_cpu/x86emu_anchor.h"
+#include "models/cli_range.h"
 
 #include <CLI/CLI.hpp>
 
@@ -137,20 +138,13 @@ void add_bench_cpu(CLI::App& bench) {
     auto secs = std::make_shared<double>(2.0);
     auto* cmd = bench.add_subcommand("cpu", "8086 core: emulated cycles per host second (trace off)");
     cmd->add_option("--sst", *dir, "SingleStepTests folder for the instruction-stream figure (default: skip)");
-    // CLI::Range lets NaN through (every comparison with it is false): name the range ourselves.
-    cmd->add_option("--seconds", *secs, "Minimum host time per measurement (0.1 .. 600)")
-        ->check(CLI::Validator(
-            [](std::string& text) {
-                const double v = std::strtod(text.c_str(), nullptr);
-                return v >= 0.1 && v <= 600.0 ? std::string() : "'" + text + "' is not in 0.1 .. 600";
-            },
-            "0.1 .. 600"));
+    cmd->add_option("--seconds", *secs, "Minimum host time per measurement (0.1 .. 600)")->check(real_in(0.1, 600));
     auto anchor = std::make_shared<bool>(false);
     auto rounds = std::make_shared<unsigned>(3);
     auto image = std::make_shared<std::string>(RCSIM_BENCH_LOOP_IMAGE);
     cmd->add_flag("--anchor", *anchor, "Also run the core and libx86emu side by side on the same image; print the ratio");
     cmd->add_option("--rounds", *rounds, "Alternating rounds of the anchor comparison (best of each)")
-        ->check(CLI::Range(1u, 100u));
+        ->check(whole_in(1, 100));
     cmd->add_option("--image", *image, "8086 image for the anchor comparison (loaded at 1000:0000, ends with HLT)")
         ->capture_default_str();
     cmd->callback([dir, secs, anchor, rounds, image] {

@@ -1,5 +1,6 @@
 // rcsim — `rcsim cputest`: runs SingleStepTests 8086 vectors against the core (see sst.h).
 #include "comm_cpu/sst.h"
+#include "models/cli_range.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -104,12 +105,12 @@ void add_cputest_command(CLI::App& app) {
     auto o = std::make_shared<CputestOptions>();
     auto* cmd = app.add_subcommand("cputest", "Run SingleStepTests 8086 vectors (.json/.json.gz files or folders)");
     cmd->add_option("--level", o->level, "1 registers+RAM, 2 cycle count, 3 per-cycle trace")
-        ->check(CLI::Range(1, 3));
+        ->check(whole_in(1, 3));
     cmd->add_option("--json", o->json_out, "Write per-file results as JSON");
     cmd->add_option("--status", o->status, "Only files whose metadata.json status is this (e.g. normal)");
     cmd->add_option("--metadata", o->metadata, "metadata.json (default: beside the first PATH)");
     cmd->add_option("--min-rate", o->min_rate, "Pass rate in percent needed for exit code 0 (default 100)")
-        ->check(CLI::Range(0.0, 100.0));
+        ->check(real_in(0.0, 100.0));
     cmd->add_option("--diff", o->diff,
                     "Print expected | emulated per-cycle traces of the first N failing tests per file "
                     "(at --level 2 or 3; first differing cycle marked)");

@@ -5,6 +5,7 @@
 #include "uart82510/uart82510.h"
 
 #include "models/bus.h"
+#include "models/cli_range.h"
 #include "models/clock.h"
 
 #include <CLI/CLI.hpp>
@@ -14,7 +15,6 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <stdexcept>
 #include <vector>
 
 namespace rcsim {
@@ -96,12 +96,9 @@ struct Link {
     }
 };
 
+// The options' validators (add_bench_serial) have checked lines, baud and seconds.
 void run_bench_serial(unsigned lines, unsigned baud, double seconds) {
     const std::uint64_t clock = Uart82510::Config{}.clock_hz;
-    if (baud == 0 || clock % (32ULL * baud) != 0 || clock / (32ULL * baud) > 0xFFFF)
-        throw std::invalid_argument("baud " + std::to_string(baud) + " is not an exact divisor rate of 18.432 MHz");
-    if (lines == 0 || lines > 64) throw std::invalid_argument("lines " + std::to_string(lines) + " (1..64)");
-    if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("seconds " + std::to_string(seconds));
     const auto div = static_cast<std::uint16_t>(clock / (32ULL * baud));
     std::vector<std::unique_ptr<Link>> links;
     for (unsigned i = 0; i < lines; ++i) links.push_back(std::make_unique<Link>("l" + std::to_string(i), div));
@@ -138,9 +135,19 @@ void add_bench_serial(CLI::App& bench) {
     auto* cmd = bench.add_subcommand("serial", "82510 pairs saturated over bit-timed lines (issue 4)");
     static unsigned lines = 3, baud = 115200;
     static double seconds = 10.0;
-    cmd->add_option("--lines", lines, "Lines, each with an 82510 at both ends")->capture_default_str();
-    cmd->add_option("--baud", baud, "Baud rate (exact divisor of 18.432 MHz / 32)")->capture_default_str();
-    cmd->add_option("--seconds", seconds, "Simulated time")->capture_default_str();
+    cmd->add_option("--lines", lines, "Lines, each with an 82510 at both ends")->capture_default_str()->check(whole_in(1, 64));
+    cmd->add_option("--baud", baud, "Baud rate (exact divisor of 18.432 MHz / 32)")
+        ->capture_default_str()
+        ->check(whole_in(1, 576000))
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                const std::uint64_t clock = Uart82510::Config{}.clock_hz, b = std::stoull(text);
+                return clock % (32 * b) == 0 && clock / (32 * b) <= 0xFFFF
+                           ? std::string()
+                           : "'" + text + "' is not an exact divisor rate of 18.432 MHz / 32";
+            },
+            "exact divisor"));
+    cmd->add_option("--seconds", seconds, "Simulated time (0.001 .. 3600)")->capture_default_str()->check(real_in(0.001, 3600));
     cmd->callback([] { run_bench_serial(lines, baud, seconds); });
 }
 

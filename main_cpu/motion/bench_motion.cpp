@@ -1,6 +1,7 @@
 // rcsim — `rcsim bench motion`: four axes moving continuously for a simulated time with the
 // control cycle at 1 ms (back-and-forth moves on every axis), wall time measured around sc_start.
 #include "main_cpu/motion/motion_controller.h"
+#include "models/cli_range.h"
 
 #include <CLI/CLI.hpp>
 
@@ -42,7 +43,7 @@ struct BenchDriver : sc_core::sc_module {
 void register_bench_motion(CLI::App& bench) {
     auto* cmd = bench.add_subcommand("motion", "4 axes moving continuously, 1 ms control cycle");
     auto seconds = std::make_shared<double>(60.0);
-    cmd->add_option("--seconds", *seconds, "simulated seconds")->check(CLI::Range(0.001, 36000.0));
+    cmd->add_option("--seconds", *seconds, "simulated seconds")->check(real_in(0.001, 36000.0));
     cmd->callback([seconds] {
         // The kernel's "Simulation stopped by user" note would interleave with the figures.
         sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);

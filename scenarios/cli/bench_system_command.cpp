@@ -8,6 +8,7 @@
 // each wait cost only a bare wait() and the core ran at libx86emu's rate, everything else free.
 // Host time is measured here only, for the report; nothing of it enters the model.
 #include "comm_cpu/x86emu_anchor.h"
+#include "models/cli_range.h"
 #include "scenarios/world/world.h"
 #include "scenarios/run/runner.h"
 
@@ -206,7 +207,7 @@ void add_bench_system(CLI::App& bench) {
     auto file = std::make_shared<std::string>("scenarios/three_ports_9600.yaml");
     auto rounds = std::make_shared<unsigned>(3);
     cmd->add_option("scenario", *file, "Scenario file")->capture_default_str();
-    cmd->add_option("--rounds", *rounds, "Alternating rounds per variant (best of each)")->check(CLI::Range(1u, 100u));
+    cmd->add_option("--rounds", *rounds, "Alternating rounds per variant (best of each)")->check(whole_in(1, 100));
     cmd->callback([file, rounds] {
         sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         const Scenario base = load_scenario(*file);

@@ -13,6 +13,7 @@
 #include <charconv>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 namespace rcsim {
 
@@ -32,6 +33,7 @@ void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
         std::string scenario, out, rom, vcd, seed, trace, symbols, monitor;
+        RunOptions::Rows rows = RunOptions::Rows::automatic;
         bool reproducible = false;
         bool verbose = false;
         debug::GdbOptions gdb;
@@ -45,7 +47,23 @@ void add_run_command(CLI::App& app) {
     auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
     auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
-    cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file");
+    cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file (its name ends in .vcd)")
+        ->check(CLI::Validator(
+            [](std::string& path) {
+                // SystemC's VCD writer appends ".vcd" to any name: /dev/null would become /dev/null.vcd.
+                const std::string ext = ".vcd";
+                const bool named = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+                return named ? std::string() : "'" + path + "': a VCD file's name ends in .vcd";
+            },
+            "FILE.vcd"));
+    static const std::map<std::string, RunOptions::Rows> kRows = {{"auto", RunOptions::Rows::automatic},
+                                                                   {"plain", RunOptions::Rows::plain},
+                                                                   {"gz", RunOptions::Rows::gzip},
+                                                                   {"none", RunOptions::Rows::none}};
+    cmd->add_option("--interrupts-csv", args->rows,
+                    "A row per interrupt: plain interrupts.csv, gz (interrupts.csv.gz), none, or auto (plain up to "
+                    "60 simulated seconds, gz beyond)")
+        ->transform(CLI::CheckedTransformer(kRows, CLI::ignore_case));
     auto* trace = cmd->add_option("--trace", args->trace, "Write a Trace Event Format file (ui.perfetto.dev, chrome://tracing)");
     cmd->add_flag("--profile", args->profile,
                   "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
@@ -70,6 +88,7 @@ void add_run_command(CLI::App& app) {
         const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
+        opt.interrupt_rows = args->rows;
         opt.trace = args->trace;
         opt.profile = args->profile;
         opt.symbols = args->symbols;

@@ -2,6 +2,7 @@
 //   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE]
 //   rcsim merge DIR... [--out DIR]
 //   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
+#include "models/cli_range.h"
 #include "models/config_error.h"
 #include "models/output_file.h"
 #include "scenarios/sweep/compare.h"
@@ -97,11 +98,11 @@ void add_sweep(CLI::App& app) {
     auto a = std::make_shared<SweepArgs>();
     cmd->add_option("sweep", a->file, "Sweep file (YAML, see docs/regression.md)")->required();
     cmd->add_option("--out", a->out, "Output directory: one DIR/<id>/ per run, DIR/summary.*")->required();
-    cmd->add_option("--jobs,-j", a->jobs, "Runs in parallel (default: the number of cores)")->check(CLI::Range(1u, 1024u));
+    cmd->add_option("--jobs,-j", a->jobs, "Runs in parallel (default: the number of cores)")->check(whole_in(1, 1024));
     cmd->add_flag("--list", a->list, "Write the runs' scenario files and print one line per run: id, command");
     cmd->add_option("--shard", a->shard, "Run every N-th run starting at K (0-based), e.g. 2/8");
     auto* shards = cmd->add_option("--shards", a->shards, "Shard count with JOB_COMPLETION_INDEX (Kubernetes)")
-                       ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+                       ->check(whole_in(1, 1000000));
     cmd->add_option("--rom", a->rom, "ROM image for every run (instead of the built firmware)");
     cmd->callback([a, shards] {
         int code = 0;

@@ -2,6 +2,7 @@
 // rows (the histograms' samples, the two timeline windows). See interrupt_log.h.
 #include "scenarios/report/interrupt_log.h"
 
+#include "models/gzip_stream.h"
 #include "models/hex.h"
 #include "scenarios/report/svg.h"
 
@@ -123,7 +124,7 @@ void write_csv_row(const InterruptRow& r, std::ostream& os) {
 
 std::vector<TimelineRow> csv_rows_around(const std::filesystem::path& csv, double t0_us, double t1_us) {
     std::vector<TimelineRow> out;
-    std::ifstream in(csv);
+    GzipReader in(csv); // interrupts.csv or interrupts.csv.gz
     std::string line;
     if (!std::getline(in, line)) return out; // the header
     double open_until = -1; // the latest IRET so far: a row ending before it was nested in it

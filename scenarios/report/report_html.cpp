@@ -520,7 +520,8 @@ void write_report_html(const std::filesystem::path& dir, const json& report, con
                        const std::string& flame_svg) {
     HtmlOptions opt;
     opt.flame_svg = flame_svg;
-    if (std::filesystem::exists(dir / "interrupts.csv")) opt.interrupts_csv = dir / "interrupts.csv";
+    for (const char* rows : {"interrupts.csv", "interrupts.csv.gz"}) // as the run chose (RunOptions::Rows)
+        if (std::filesystem::exists(dir / rows)) opt.interrupts_csv = dir / rows;
     if (report.contains("motion")) {
         opt.trajectory_svg = slurp_if_exists(dir / "trajectory.svg");
         opt.trajectory_time_svg = slurp_if_exists(dir / "trajectory_time.svg");

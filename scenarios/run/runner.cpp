@@ -19,6 +19,7 @@
 #include "scenarios/trace/perfetto_trace.h"
 #include "scenarios/trace/profile_run.h"
 #include "models/config_error.h"
+#include "models/gzip_stream.h"
 #include "models/output_file.h"
 
 #include <cerrno>
@@ -214,6 +215,16 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
     }
 }
 
+// A row per interrupt is some 350 kB a simulated second of three saturated ports: plain for a run
+// of up to kPlainRowsS simulated seconds, to read at a glance; compressed for a longer run, or one
+// that lasts until its hosts end it (duration_s 0).
+constexpr double kPlainRowsS = 60;
+
+RunOptions::Rows interrupt_rows(const Scenario& s, const RunOptions& opt) {
+    if (opt.interrupt_rows != RunOptions::Rows::automatic) return opt.interrupt_rows;
+    return s.duration_s > 0 && s.duration_s <= kPlainRowsS ? RunOptions::Rows::plain : RunOptions::Rows::gzip;
+}
+
 } // namespace
 
 int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
@@ -250,9 +261,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::optional<OutputFile> csv;
-    if (!opt.out_dir.empty()) {
-        csv.emplace(std::filesystem::path(opt.out_dir) / "interrupts.csv");
-        interrupts.write_csv_to(&csv->stream());
+    std::optional<GzipWriter> gzip;
+    const RunOptions::Rows rows = interrupt_rows(s, opt);
+    if (!opt.out_dir.empty() && rows != RunOptions::Rows::none) {
+        const bool compress = rows == RunOptions::Rows::gzip;
+        csv.emplace(std::filesystem::path(opt.out_dir) / (compress ? "interrupts.csv.gz" : "interrupts.csv"));
+        if (compress) gzip.emplace(csv->stream());
+        interrupts.write_csv_to(gzip ? &*gzip : &csv->stream());
     }
 
     std::unique_ptr<monitor::BoardMonitor> mon = start_monitor(world, s, opt);
@@ -294,7 +309,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
 
     if (!opt.out_dir.empty()) {
         write_report_json(opt.out_dir, report);
-        csv->close();
+        if (gzip) gzip->finish();
+        if (csv) csv->close();
         report::write_report_html(opt.out_dir, report, interrupts, flame_svg);
     }
     return code;

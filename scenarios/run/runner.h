@@ -25,6 +25,9 @@ struct RunOptions {
     std::optional<std::string> rom;     // overrides the scenario's and the built firmware
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
+    /// interrupts.csv, a row per interrupt: plain, gzip-compressed (interrupts.csv.gz), none, or
+    /// chosen by the run's length (docs/scenarios.md "Output files").
+    enum class Rows { automatic, plain, gzip, none } interrupt_rows = Rows::automatic;
     /// Called with the assembled world (ROM loaded) just before the simulation starts: the gdb
     /// stub attaches here (scenarios/cli/gdb_run.h). Empty: nothing.
     std::function<void(World&)> on_world;

@@ -302,10 +302,27 @@ expect 2 "--seed '99999999999999999999999' is not a number" -- run ok.yaml --see
 expect 2 "--out 'a_file': cannot create the output directory" -- run ok.yaml --out a_file
 expect 2 "--out 'a_file/sub': cannot create the output directory" -- run ok.yaml --out a_file/sub
 expect 2 "a_file/x.vcd: cannot write the VCD file" -- run ok.yaml --vcd a_file/x.vcd
-expect 2 "--level: Value 7 not in range" -- cputest --level 7 .
+expect 2 "--vcd: '/dev/null': a VCD file's name ends in .vcd" -- run ok.yaml --vcd /dev/null
+expect 2 "--level: '7' is not in 1 .. 3" -- cputest --level 7 .
+expect 2 "--level: '2.7' is not a whole number" -- cputest --level 2.7 .
+expect 2 "--min-rate: 'nan' is not a number" -- cputest --min-rate nan .
 expect 2 "PATH is required" -- cputest
-expect 2 "--seconds: 'nan' is not in 0.1 .. 600" -- bench cpu --seconds nan
-expect 2 "--seconds: 'inf' is not in 0.1 .. 600" -- bench cpu --seconds inf
+expect 2 "--seconds: 'nan' is not a number" -- bench cpu --seconds nan
+expect 2 "--seconds: 'inf' is not a number" -- bench cpu --seconds inf
+expect 2 "--seconds: '1000' is not in 0.1 .. 600" -- bench cpu --seconds 1000
+expect 2 "--rounds: '0' is not in 1 .. 100" -- bench cpu --rounds 0
+# Each bench's numbers are checked as they are parsed: never an internal error (issue 33).
+expect 2 "--lines: '0' is not in 1 .. 64" -- bench serial --lines 0
+expect 2 "--lines: '2.5' is not a whole number" -- bench serial --lines 2.5
+expect 2 "--baud: '0' is not in 1 .. 576000" -- bench serial --baud 0
+expect 2 "--baud: '9601' is not an exact divisor rate of 18.432 MHz / 32" -- bench serial --baud 9601
+expect 2 "--seconds: '-5' is not in 0.001 .. 3600" -- bench serial --seconds -5
+expect 2 "--seconds: 'nan' is not a number" -- bench serial --seconds nan
+expect 2 "--seconds: 'inf' is not a number" -- bench serial --seconds inf
+expect 2 "--seconds: '1e9' is not in 0.001 .. 3600" -- bench serial --seconds 1e9
+expect 2 "--seconds: 'nan' is not a number" -- bench motion --seconds nan
+expect 2 "--seconds: '0' is not in 0.001 .. 36000" -- bench motion --seconds 0
+expect 2 "--rounds: '0' is not in 1 .. 100" -- bench system --rounds 0
 
 # --- cputest inputs -------------------------------------------------------------------------
 printf '{"x":' | gzip > partial.json.gz
