@@ -152,8 +152,9 @@ def attach(run):
 
 
 def resume(s):
+    """'c', and its acknowledgement: what is sent after it arrives while the board runs."""
     s.sendall(frame(b"c"))
-    read_for(s, 0.05)
+    read_for(s, 5, until=b"+")
 
 
 def ctrl_c(run, s):
