@@ -234,16 +234,19 @@ std::string GdbSession::point(const std::string& packet) {
     const int type = packet[1] - '0';
     const auto range = parse_range(std::string_view(packet).substr(std::min<std::size_t>(3, packet.size())));
     if (!range) return "E01";
+    if (type >= 2 && range->second > kMaxWatchLength) return "E01"; // would wrap around 4 GB
     auto& list = type <= 1 ? breaks_ : watches_;
     const Point p{type, range->first & 0xFFFFF, type <= 1 ? 1 : std::max<std::uint32_t>(range->second, 1)};
-    if (packet[0] == 'Z') {
-        list.push_back(p);
-    } else {
-        const auto it = std::find_if(list.begin(), list.end(), [&](const Point& q) {
-            return q.type == p.type && q.address == p.address && q.length == p.length;
-        });
+    const auto it = std::find_if(list.begin(), list.end(), [&](const Point& q) {
+        return q.type == p.type && q.address == p.address && q.length == p.length;
+    });
+    if (packet[0] == 'z') {
         if (it != list.end()) list.erase(it);
+        return "OK";
     }
+    if (it != list.end()) return "OK"; // inserting twice is not an error (appendix E)
+    if (list.size() >= (type <= 1 ? kMaxBreakpoints : kMaxWatchpoints)) return "E0e";
+    list.push_back(p);
     return "OK";
 }
 
@@ -303,7 +306,7 @@ std::string GdbSession::query(const std::string& p) {
         if (!range) return "E00";
         const std::string& xml = target_xml();
         if (range->first >= xml.size()) return "l";
-        const std::string chunk = xml.substr(range->first, range->second);
+        const std::string chunk = xml.substr(range->first, std::min<std::size_t>(range->second, kMaxReply - 1));
         return (range->first + chunk.size() >= xml.size() ? "l" : "m") + chunk;
     }
     if (p.rfind("qRcmd,", 0) == 0) {

@@ -86,6 +86,13 @@ public:
 
     explicit GdbSession(DebugTarget& target) : target_(target) {}
 
+    // Limits (docs/tools.md "gdb"): breakpoints are compared at every instruction and
+    // watchpoints at every data bus cycle, so their number is bounded; a Z beyond it answers
+    // E0e. No reply is longer than kMaxReply (an `m` of 4 KB is 8 KB of hex).
+    static constexpr std::size_t kMaxBreakpoints = 64, kMaxWatchpoints = 16;
+    static constexpr std::size_t kMaxReply = 16384;
+    static constexpr std::uint32_t kMaxWatchLength = 0x100000; // the 8086's whole address space
+
     Reply handle(const std::string& packet);
     static std::string stop_reply(const StopReason& why);
     void set_last_stop(const StopReason& why) { last_stop_ = why; }

@@ -187,51 +187,116 @@ void GdbStub::arm_accept() {
         closed_ = false;
         fresh_client_ = true;
         decoder_ = RspDecoder();
-        events_.clear();
         log_ << "gdb: debugger connected" << std::endl;
         arm_read();
     });
 }
 
 void GdbStub::arm_read() {
+    if (reading_ || !socket_ || closed_) return;
+    reading_ = true;
     socket_->async_read_some(asio::buffer(rx_), [this](const boost::system::error_code& ec, std::size_t n) {
-        if (n) decoder_.feed(rx_.data(), n, events_);
+        reading_ = false;
+        if (n) received(n);
         if (ec) {
             closed_ = true;
             return;
         }
-        arm_read();
+        // While held, read on once the packets of this read are served (halt()); while running,
+        // at the next poll: one read per poll keeps a flood from slowing the run.
+        if (held_ && pending_.empty()) arm_read();
     });
 }
 
+void GdbStub::received(std::size_t n) {
+    decoded_.clear();
+    decoder_.feed(rx_.data(), n, decoded_);
+    const bool serving = held_ || fresh_client_; // a new client's first packets wait for its stop
+    if (!held_) running_input_ += n;
+    for (auto& e : decoded_) {
+        if (e.kind == RspDecoder::Event::Kind::interrupt) {
+            if (!held_) interrupt_ = true; // while held it is stopped already
+        } else if (serving) {
+            pending_.push_back(std::move(e));
+        } else {
+            ++ignored_;
+        }
+    }
+}
+
+void GdbStub::note_ignored() {
+    if (ignored_)
+        log_ << "gdb: ignored " << ignored_ << " packets sent while the board ran (only Ctrl-C is read then)"
+             << std::endl;
+    ignored_ = 0;
+    running_input_ = 0;
+}
+
 void GdbStub::poll() {
+    arm_read();
     io_.restart();
     io_.poll();
 }
 
 void GdbStub::wait_for(std::chrono::milliseconds timeout) {
+    // Returns as soon as something happened (a read, a write, an accept), at the latest after
+    // `timeout`.
     io_.restart();
-    io_.run_for(timeout);
+    if (io_.run_one_for(timeout)) io_.poll();
 }
 
 void GdbStub::drop_client(const std::string& why) {
     log_ << "gdb: " << why << "; the run continues" << std::endl;
     boost::system::error_code ec;
     socket_->close(ec);
-    poll(); // lets the cancelled read finish before the socket goes
+    poll(); // lets the cancelled read and write finish before the socket goes
     socket_.reset();
     session_.clear_points();
     stepping_ = false;
     watch_hit_.reset();
-    events_.clear();
+    pending_.clear();
+    interrupt_ = false;
+    ignored_ = 0;
+    running_input_ = 0;
+    unsent_.clear();
+    writing_.clear();
+    write_busy_ = false;
     arm_accept();
 }
 
 void GdbStub::send_raw(const std::string& bytes) {
     if (!socket_ || closed_) return;
-    boost::system::error_code ec;
-    asio::write(*socket_, asio::buffer(bytes), ec);
-    if (ec) closed_ = true;
+    unsent_ += bytes;
+    flush();
+}
+
+void GdbStub::flush() {
+    if (write_busy_ || unsent_.empty() || !socket_ || closed_) return;
+    writing_.swap(unsent_);
+    unsent_.clear();
+    write_busy_ = true;
+    write_start_ = std::chrono::steady_clock::now();
+    asio::async_write(*socket_, asio::buffer(writing_), [this](const boost::system::error_code& ec, std::size_t) {
+        write_busy_ = false;
+        writing_.clear();
+        if (ec) {
+            closed_ = true;
+            return;
+        }
+        flush();
+    });
+}
+
+// A little time for the last reply to leave before the socket closes; a client that does not
+// read gets no more.
+void GdbStub::drain(std::chrono::milliseconds limit) {
+    const auto until = std::chrono::steady_clock::now() + limit;
+    while ((write_busy_ || !unsent_.empty()) && !closed_ && std::chrono::steady_clock::now() < until)
+        wait_for(std::chrono::milliseconds(20));
+}
+
+bool GdbStub::write_stalled() const {
+    return write_busy_ && std::chrono::steady_clock::now() - write_start_ > kMaxWriteStall;
 }
 
 void GdbStub::send(const std::string& payload) { send_raw(rsp_frame(payload)); }
@@ -253,6 +318,7 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
         log_ << "gdb: waiting for the debugger on " << endpoint() << std::endl;
         while (!socket_ && stop_signal() == 0) wait_for(std::chrono::milliseconds(100));
         waiting_first_ = false;
+        if (pacer_) pacer_->rebase();
     }
     if (--countdown_ == 0) {
         countdown_ = kPollEvery;
@@ -261,6 +327,11 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
     if (!socket_) return;
     if (closed_) {
         drop_client("the debugger disconnected");
+        return;
+    }
+    if (running_input_ > kMaxRunningInput) {
+        drop_client("dropped the debugger: it sent more than " + std::to_string(kMaxRunningInput) +
+                    " bytes while the board ran (a debugger sends only Ctrl-C then)");
         return;
     }
     if (fresh_client_) { // gdb expects a stopped target when it connects
@@ -277,31 +348,23 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
     } else if (const int b = session_.breakpoint_at(cpu.pc())) {
         why = StopReason{StopReason::Kind::breakpoint};
         why->hardware = b == 2;
-    } else {
-        for (const auto& e : events_)
-            if (e.kind == RspDecoder::Event::Kind::interrupt) why = StopReason{StopReason::Kind::interrupt};
+    } else if (interrupt_) {
+        why = StopReason{StopReason::Kind::interrupt};
     }
     if (why) halt(*why, true);
 }
 
 // Serves gdb until it resumes the target (or goes away); the kernel stands still meanwhile.
 void GdbStub::halt(const StopReason& why, bool report) {
-    const auto t0 = std::chrono::steady_clock::now();
+    held_ = true;
     stepping_ = false;
+    interrupt_ = false; // a Ctrl-C that made (or raced) this stop is answered by it
+    note_ignored();
     session_.set_last_stop(why);
-    // Interrupt requests that made (or raced) this stop are answered by it.
-    std::vector<RspDecoder::Event> pending;
-    for (auto& e : events_)
-        if (e.kind != RspDecoder::Event::Kind::interrupt) pending.push_back(std::move(e));
-    events_ = std::move(pending);
     if (report) send(GdbSession::stop_reply(why));
     resume_ = false;
     while (!resume_) {
-        while (!events_.empty() && !resume_) {
-            const auto e = events_.front();
-            events_.erase(events_.begin());
-            serve(e);
-        }
+        serve_pending();
         if (resume_) break;
         if (closed_) {
             drop_client("the debugger disconnected");
@@ -311,9 +374,36 @@ void GdbStub::halt(const StopReason& why, bool report) {
             drop_client("the run was asked to stop while the debugger held it");
             break;
         }
+        if (write_stalled()) {
+            drop_client("dropped the debugger: it does not read its replies (" +
+                        std::to_string(writing_.size() + unsent_.size()) + " bytes not taken for " +
+                        std::to_string(kMaxWriteStall.count()) + " s)");
+            break;
+        }
+        if (pending_.empty()) arm_read();
         wait_for(std::chrono::milliseconds(100));
     }
-    if (pacer_) pacer_->exclude_wall(std::chrono::steady_clock::now() - t0);
+    held_ = false;
+    // Packets sent after the resume packet, before its stop reply: not read while running.
+    ignored_ += pending_.size();
+    pending_.clear();
+    if (bad_packets_ > kMaxNotes)
+        log_ << "gdb: ignored " << bad_packets_ - kMaxNotes << " more bad packets from the debugger" << std::endl;
+    bad_packets_ = 0;
+    // Simulated time stood still: pace on from here. (Not exclude_wall(): a hold before the
+    // pacer's first check, at --gdb-wait's first instruction, would be taken out twice and the
+    // pacer would then nap as long as the hold, SIGTERM unanswered meanwhile.)
+    if (pacer_) pacer_->rebase();
+}
+
+// One packet at a time: the next once the reply to the last is in the socket, so what waits to
+// be written is one reply at most.
+void GdbStub::serve_pending() {
+    while (!pending_.empty() && !resume_ && !write_busy_ && unsent_.empty() && socket_ && !closed_) {
+        const auto e = std::move(pending_.front());
+        pending_.pop_front();
+        serve(e);
+    }
 }
 
 void GdbStub::serve(const RspDecoder::Event& e) {
@@ -321,13 +411,13 @@ void GdbStub::serve(const RspDecoder::Event& e) {
     if (e.kind == K::interrupt) return; // already stopped
     if (e.kind == K::bad_packet) {
         // '-' asks for a retransmission; gdb resends, anything else is noise we outlast.
-        log_ << "gdb: ignored " << e.payload << " from the debugger" << std::endl;
+        if (++bad_packets_ <= kMaxNotes) log_ << "gdb: ignored " << e.payload << " from the debugger" << std::endl;
         send_raw("-");
         return;
     }
-    send_raw("+");
     const GdbSession::Reply r = session_.handle(e.payload);
-    if (!r.silent) send(r.payload);
+    send_raw(r.silent ? std::string("+") : "+" + rsp_frame(r.payload)); // one write: a detach's OK goes out
+    if (r.resume == GdbSession::Resume::detach || r.resume == GdbSession::Resume::kill) drain(kDrainAtEnd);
     switch (r.resume) {
     case GdbSession::Resume::none: return;
     case GdbSession::Resume::step: stepping_ = true; break;
@@ -346,6 +436,7 @@ void GdbStub::finish(int exit_code) {
         end.exit_code = exit_code;
         send(GdbSession::stop_reply(end));
         log_ << "gdb: the run ended; told the debugger (exit code " << exit_code << ")" << std::endl;
+        drain(kDrainAtEnd);
     }
     boost::system::error_code ec;
     socket_->close(ec);

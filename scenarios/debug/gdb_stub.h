@@ -10,8 +10,17 @@
 //     instruction executes as it would have; the hook never asks the core to end its slice, so a
 //     run with gdb attached is bus-cycle for bus-cycle the run without it (the same report).
 //   * Boost.Asio on one io_context, polled: while the CPU runs, every 1024 instruction
-//     boundaries (a non-blocking poll: an accept, Ctrl-C, a disconnect); while stopped, in waits
-//     of 100 ms so that SIGINT/SIGTERM of the run still end it.
+//     boundaries (a non-blocking poll: an accept, one read, a disconnect); while stopped, in waits
+//     of at most 100 ms so that SIGINT/SIGTERM of the run still end it.
+//   * Abuse (docs/tools.md "gdb", limits): nothing the client does can block the simulation
+//     thread or grow memory without bound. Reads are 4 KB at a time: while the board runs, one
+//     per poll, and only Ctrl-C is acted on (a flag the boundary tests, O(1) per instruction);
+//     other packets are counted and dropped, as gdbserver does (in all-stop mode gdb sends nothing
+//     else then), and a client that sends more than kMaxRunningInput meanwhile is dropped. While
+//     the board is held, the next read waits until the packets of the last are served, and the
+//     next packet is served once the reply to the last is in the socket (the protocol's one
+//     packet at a time). Writes are asynchronous; a reply the socket has not taken for
+//     kMaxWriteStall means a client that does not read: it is dropped.
 //   * The time the board stood still is taken out of real-time pacing (RealtimePacer), so a
 //     paced run resumes at its pace instead of racing to catch up.
 //   * Watchpoints are on physical addresses and data bus cycles (memory reads and writes, not
@@ -27,6 +36,7 @@
 
 #include <array>
 #include <chrono>
+#include <deque>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -62,6 +72,13 @@ public:
     void finish(int exit_code);
 
     static constexpr unsigned kPollEvery = 1024; // instruction boundaries between socket polls
+    static constexpr std::size_t kReadChunk = 4096;
+    /// Bytes a client may send while the board runs before it is dropped as a flood (gdb sends
+    /// one byte then: Ctrl-C).
+    static constexpr std::size_t kMaxRunningInput = 65536;
+    static constexpr std::chrono::seconds kMaxWriteStall{2};
+    static constexpr std::chrono::milliseconds kDrainAtEnd{200}; // for a detach's OK, the W at the end
+    static constexpr std::size_t kMaxNotes = 10; // bad packets noted on stderr per hold; the rest counted
 
 private:
     class BoardTarget;
@@ -70,10 +87,16 @@ private:
     void boundary(const i8086::Cpu& cpu);
     void halt(const StopReason& why, bool report);
     void serve(const RspDecoder::Event& e);
+    void serve_pending();
     void send(const std::string& payload);
     void send_raw(const std::string& bytes);
+    void flush();
+    void drain(std::chrono::milliseconds limit);
+    bool write_stalled() const;
     void arm_accept();
     void arm_read();
+    void received(std::size_t n);
+    void note_ignored();
     void poll();
     void wait_for(std::chrono::milliseconds timeout);
     void drop_client(const std::string& why);
@@ -91,9 +114,20 @@ private:
     bool accepting_ = false;
     bool closed_ = false;      // the peer closed or the socket failed
     bool fresh_client_ = false; // connected, not yet stopped for it
-    std::array<char, 4096> rx_{};
+    std::array<char, kReadChunk> rx_{};
+    bool reading_ = false;                    // a read is pending
     RspDecoder decoder_;
-    std::vector<RspDecoder::Event> events_;
+    std::vector<RspDecoder::Event> decoded_;  // of the last read (reused)
+    std::deque<RspDecoder::Event> pending_;   // packets to serve while held: at most one read's
+    bool held_ = false;                       // inside halt(): packets are served
+    bool interrupt_ = false;                  // Ctrl-C while the board ran
+    std::size_t running_input_ = 0;           // bytes received while the board ran, since the last hold
+    std::size_t bad_packets_ = 0;             // answered '-' in this hold
+    std::size_t ignored_ = 0;                 // packets dropped while the board ran, since the last hold
+    std::string unsent_;                      // replies waiting for the write in progress
+    std::string writing_;                     // the write in progress
+    bool write_busy_ = false;
+    std::chrono::steady_clock::time_point write_start_;
 
     bool stepping_ = false;
     std::optional<StopReason> watch_hit_;

@@ -2,7 +2,7 @@
 # Bad input to `rcsim run --gdb` (docs/tools.md "gdb"): each gets one line naming the value or
 # FILE:LINE and exit code 2 (docs/scenarios.md, exit codes), before anything runs. And the good
 # case: a --symbols file of your own becomes OUT/symbols.elf, and a run nobody connects to runs
-# to its end.
+# to its end, its report.json that of the run without --gdb.
 # usage: gdb_cli.sh RCSIM SCENARIO WORKDIR
 set -u
 rcsim=$1 scenario=$2 work=$3
@@ -39,6 +39,12 @@ if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/good.sym" --out
   echo "FAIL: a run with --gdb and nobody connecting did not pass:"; cat "$work/err"; failed=1
 elif ! grep -q "^gdb: symbols in $work/o/symbols.elf" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
   echo "FAIL: --symbols did not become $work/o/symbols.elf"; cat "$work/out"; failed=1
+fi
+# The stub attached, nobody connecting: the same run, byte for byte.
+"$rcsim" run "$scenario" --reproducible --out "$work/ref" > /dev/null 2>&1
+"$rcsim" run "$scenario" --reproducible --gdb 127.0.0.1:0 --out "$work/idle" > /dev/null 2>&1
+if ! cmp -s "$work/ref/report.json" "$work/idle/report.json"; then
+  echo "FAIL: report.json of a run with an idle --gdb differs from the run without it"; failed=1
 fi
 [ $failed -eq 0 ] && echo "bad --gdb input: exit 2 with the value named"
 exit $failed

@@ -6,7 +6,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
+#include <random>
 
 namespace rcsim::debug {
 namespace {
@@ -180,6 +182,63 @@ TEST(GdbProtocol, BreakpointsAndWatchpoints) {
     s.clear_points();
     EXPECT_FALSE(s.watch_hit(0x600, 1, true));
     EXPECT_EQ(s.handle("Z9,600,1").payload, ""); // unknown type: unsupported
+}
+
+TEST(GdbProtocol, PointsAreBoundedAndIdempotent) {
+    // Each point is compared at every instruction or data bus cycle: their number is bounded
+    // (docs/tools.md "gdb", limits), and inserting one twice keeps one (appendix E: Z is
+    // idempotent).
+    FakeTarget t;
+    GdbSession s(t);
+    EXPECT_EQ(s.handle("Z0,100,1").payload, "OK");
+    EXPECT_EQ(s.handle("Z0,100,1").payload, "OK");
+    EXPECT_EQ(s.handle("z0,100,1").payload, "OK");
+    EXPECT_EQ(s.breakpoint_at(0x100), 0);
+    for (unsigned i = 0; i < GdbSession::kMaxBreakpoints; ++i)
+        ASSERT_EQ(s.handle("Z0," + std::to_string(1000 + i) + ",1").payload, "OK") << i;
+    EXPECT_EQ(s.handle("Z1,f0000,1").payload, "E0e");
+    EXPECT_EQ(s.handle("z0,1000,1").payload, "OK");
+    EXPECT_EQ(s.handle("Z1,f0000,1").payload, "OK");
+    for (unsigned i = 0; i < GdbSession::kMaxWatchpoints; ++i)
+        ASSERT_EQ(s.handle("Z2," + std::to_string(1000 + i) + ",2").payload, "OK") << i;
+    EXPECT_EQ(s.handle("Z4,f0000,1").payload, "E0e");
+    // A watched range is inside the 1 MB address space: a longer one is refused, not wrapped.
+    s.clear_points();
+    EXPECT_EQ(s.handle("Z2,0,ffffffff").payload, "E01");
+    EXPECT_EQ(s.handle("Z3,fffff,100001").payload, "E01");
+    EXPECT_FALSE(s.has_watchpoints());
+    EXPECT_EQ(s.handle("Z3,0,100000").payload, "OK");
+    EXPECT_TRUE(s.watch_hit(0xFFFFF, 1, false));
+}
+
+TEST(GdbProtocol, RandomPacketsGetBoundedRepliesAndNeverCrash) {
+    // A seeded fuzz of the packet layer: every packet letter with random arguments, and random
+    // bytes. The replies stay within the advertised PacketSize and the points stay bounded.
+    FakeTarget t;
+    for (std::uint32_t a = 0; a < 0x2000; ++a) t.mem[a] = std::uint8_t(a);
+    GdbSession s(t);
+    std::mt19937 rng(33);
+    const std::string letters = "?gGpPmMzZqHTcsvX!", args = "0123456789abcdefABCDEF,:=;xz-}#";
+    for (int i = 0; i < 20000; ++i) {
+        std::string p(1, letters[rng() % letters.size()]);
+        if (p == "q" && rng() % 2) p = rng() % 2 ? "qXfer:features:read:target.xml:" : "qRcmd,";
+        const std::size_t n = rng() % 24;
+        for (std::size_t k = 0; k < n; ++k)
+            p += rng() % 8 ? args[rng() % args.size()] : char(rng() % 256);
+        const auto r = s.handle(p);
+        ASSERT_LE(r.payload.size(), GdbSession::kMaxReply) << p;
+    }
+    RspDecoder d;
+    std::vector<RspDecoder::Event> ev;
+    std::string bytes;
+    for (int i = 0; i < 200000; ++i) bytes += char(rng() % 4 ? "$#}x03+-a"[rng() % 9] : rng() % 256);
+    for (std::size_t at = 0; at < bytes.size();) {
+        const std::size_t n = std::min<std::size_t>(1 + rng() % 5000, bytes.size() - at);
+        d.feed(bytes.data() + at, n, ev);
+        at += n;
+    }
+    EXPECT_LE(ev.size(), bytes.size());
+    for (const auto& e : ev) EXPECT_LE(e.payload.size(), RspDecoder::kMaxPacket);
 }
 
 TEST(GdbProtocol, StopRepliesAndResumePackets) {
