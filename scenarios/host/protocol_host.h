@@ -176,6 +176,8 @@ public:
     const Samples& response_us() const { return response_us_; }
     /// No command queued or in progress and no response awaited.
     bool idle() const { return commands_.empty() && !busy_ && !awaiting_response_; }
+    /// Commands queued and not yet begun.
+    std::size_t queued() const { return commands_.size(); }
     const ProtocolHostConfig& config() const { return cfg_; }
     /// Pattern::script: how far the script got.
     const ScriptResult& script_result() const { return script_; }

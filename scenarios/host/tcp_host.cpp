@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <future>
+#include <iostream>
 #include <stdexcept>
 
 namespace rcsim {
@@ -69,7 +71,17 @@ TcpHost::TcpHost(sc_core::sc_module_name name, const TcpHostConfig& cfg)
     SC_HAS_PROCESS(TcpHost);
     SC_THREAD(run);
     start_accept();
-    thread_ = std::thread([this] { io_.run(); });
+    thread_ = std::thread([this] {
+        for (;;) {
+            try {
+                io_.run();
+                return;
+            } catch (const std::exception& e) { // one failed client: serve the next
+                std::cerr << this->name() << ": io thread: " << e.what() << std::endl;
+                drop_client();
+            }
+        }
+    });
 }
 
 TcpHost::~TcpHost() {
@@ -152,6 +164,10 @@ void TcpHost::run() {
             {
                 std::lock_guard<std::mutex> lock(mu_);
                 ++counters_.bytes_sent;
+                if (read_paused_ && in_.size() <= kMaxInput / 2) {
+                    read_paused_ = false;
+                    asio::post(io_, [this] { resume_read(); }); // thread-safe; never blocks
+                }
             }
             wait(frame);
             break;
@@ -213,6 +229,7 @@ void TcpHost::start_read() {
             drop_client();
             return;
         }
+        bool full = false;
         {
             std::lock_guard<std::mutex> lock(mu_);
             for (std::size_t i = 0; i < n; ++i) {
@@ -228,10 +245,38 @@ void TcpHost::start_read() {
                 }
             }
             counters_.bytes_in += n;
+            if (in_.size() >= kMaxInput) {
+                // Full: read no more, so TCP flow control holds the client back until the line
+                // drained half of it (run() posts resume_read).
+                full = read_paused_ = true;
+                ++counters_.input_stalls;
+            }
         }
         inbox_.async_request_update();
-        start_read();
+        if (!full) start_read();
     });
+}
+
+void TcpHost::resume_read() {
+    if (sock_ && !stopping_) start_read();
+}
+
+std::uint64_t TcpHost::bytes_unsent() {
+    std::uint64_t queued = 0;
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        for (const Item& it : in_) queued += it.kind == Item::byte;
+    }
+    // The socket belongs to the io thread: ask it, and wait a moment (it never blocks).
+    auto unread = std::make_shared<std::promise<std::uint64_t>>();
+    std::future<std::uint64_t> answer = unread->get_future();
+    asio::post(io_, [this, unread] {
+        boost::system::error_code ec;
+        const std::size_t n = sock_ ? sock_->available(ec) : 0;
+        unread->set_value(ec ? 0 : n);
+    });
+    if (answer.wait_for(std::chrono::seconds(1)) != std::future_status::ready) return queued;
+    return queued + answer.get();
 }
 
 void TcpHost::start_write() {

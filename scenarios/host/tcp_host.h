@@ -13,6 +13,12 @@
 //   * Wire-accurate input: an SC_THREAD puts the queued bytes on the line one character at a time,
 //     one frame time apart, as a real terminal at that baud would; the firmware can be overrun
 //     exactly as with a real host (overruns show in the 82510 statistics).
+//   * Bounded input: a client can send far faster than the line carries (9600 bps is ~870 B/s).
+//     As a real port's driver holds a few KiB to transmit and then blocks its writer, the queue
+//     holds at most kMaxInput bytes: then the io thread stops reading the socket, so TCP flow
+//     control holds the client back (nothing is lost), and reads again once the line drained
+//     half of it. What the client sent that never reached the line by the end of the run (queued,
+//     or unread in the socket) is reported as `bytes_unsent`.
 //   * Output: bytes the controller sends are queued and written to the socket by the io thread
 //     (the SystemC thread never blocks on the network). Bytes produced before a client connects,
 //     or between clients, are buffered (up to `max_buffer`, oldest dropped and counted beyond)
@@ -82,7 +88,12 @@ public:
         std::uint64_t breaks_sent = 0;     // BREAKs put on the line (telnet IAC BRK)
         std::uint64_t connections = 0;
         std::uint64_t disconnects = 0;
+        std::uint64_t input_stalls = 0;    // times the input queue was full and reading paused
     };
+
+    /// The most client bytes waiting for the line (a real port's transmit buffer; Linux's serial
+    /// core holds 4 KiB). Beyond it the socket is not read until half of it went out.
+    static constexpr std::size_t kMaxInput = 4096;
 
     /// Binds and listens at once (the port is known when the constructor returns) and starts the
     /// io thread. Throws rcsim::ConfigError when it cannot listen or write the record/port file.
@@ -94,6 +105,10 @@ public:
     bool client_connected() const;
     /// A consistent copy (the io thread updates some counters).
     Counters counters() const;
+    /// Bytes the clients sent that are not on the line (call at the end of the run): those still
+    /// queued plus those unread in the connected client's socket (a lower bound: the client's own
+    /// send buffer is out of sight).
+    std::uint64_t bytes_unsent();
     /// True once a client disconnected with end_on_disconnect set and the host paused the run.
     bool ended() const { return ended_; }
     /// Ends the session log with its `end` line (at the current simulated time, unless the session
@@ -119,13 +134,16 @@ private:
 
     // Shared between the io thread and SystemC: the input under mu_, the output in the outbox.
     mutable std::mutex mu_;
-    std::deque<Item> in_;  // client -> line
+    std::deque<Item> in_;  // client -> line, at most kMaxInput + one read
     bool connected_ = false;
+    bool read_paused_ = false; // in_ was full: the io thread reads again when the line drained it
     Counters counters_;    // the outbox's counters are its own
     HostOutbox out_;       // controller -> client
 
     // io thread only (after construction).
     boost::asio::io_context io_;
+    // Keeps io_.run() going while no operation is pending (reading paused, the client connected).
+    boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_{io_.get_executor()};
     boost::asio::ip::tcp::acceptor acceptor_;
     std::optional<boost::asio::ip::tcp::socket> sock_;
     std::array<std::uint8_t, 1024> rbuf_{};
@@ -143,6 +161,7 @@ private:
     // io thread
     void start_accept();
     void start_read();
+    void resume_read();
     void start_write();
     void drop_client();
     void push(Item it);

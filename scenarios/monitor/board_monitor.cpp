@@ -26,6 +26,7 @@ const sc_time kMaxSlice = sc_core::sc_time(100, sc_core::SC_MS);
 constexpr auto kPublishEvery = std::chrono::milliseconds(50); // GET /api/v1/snapshot freshness
 constexpr double kMaxStepMs = 60'000;
 constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in the next ones
+constexpr std::size_t kMaxQueuedFrames = 64; // send_frame: commands waiting at a protocol host
 
 } // namespace
 
@@ -39,9 +40,19 @@ constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in 
 class Args {
 public:
     explicit Args(const nlohmann::json& m) : m_(m) {}
+    /// A value as a refusal names it: its JSON, cut short (a client may send 64 KiB of it).
+    static std::string shown(const nlohmann::json& v) {
+        std::string t = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        if (t.size() > 40) t = t.substr(0, 40) + "...";
+        return t;
+    }
     const nlohmann::json& json() const { return m_; }
     bool ok() const { return refusal_.empty(); }
     const std::string& refusal() const { return refusal_; }
+    /// Adds to the refusal, if there is one.
+    void amend(const std::string& more) {
+        if (!refusal_.empty()) refusal_ += more;
+    }
     /// Refuses the request with `why` (the first refusal counts); returns an empty reply.
     nlohmann::json refuse(const std::string& why) {
         if (refusal_.empty()) refusal_ = why;
@@ -55,16 +66,44 @@ public:
             return none;
         }
         if (!m_[key].is_number()) {
-            refuse(std::string("\"") + key + "\" must be a number");
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " must be a number");
             return none;
         }
         const double v = m_[key].get<double>();
         if (!(v >= lo && v <= hi)) {
-            refuse(std::string("\"") + key + "\" = " + m_[key].dump() + " is out of range [" +
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " is out of range [" +
                    nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]");
             return none;
         }
         return v;
+    }
+
+    /// A whole number in [lo, hi]: 2.7 is refused, not taken as 2 (2.0 is 2).
+    std::int64_t integer(const char* key, std::int64_t lo, std::int64_t hi, std::optional<std::int64_t> fallback = {}) {
+        if (m_.contains(key) && m_[key].is_number() &&
+            !(m_[key].get<double>() >= static_cast<double>(lo) && m_[key].get<double>() <= static_cast<double>(hi))) {
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " is out of range " + std::to_string(lo) + ".." +
+                   std::to_string(hi));
+            return fallback.value_or(lo);
+        }
+        const auto l = static_cast<double>(lo), h = static_cast<double>(hi);
+        const double v = fallback ? number(key, l, h, static_cast<double>(*fallback)) : number(key, l, h);
+        if (!ok()) return fallback.value_or(lo);
+        if (v != std::floor(v)) {
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " must be a whole number " +
+                   std::to_string(lo) + ".." + std::to_string(hi));
+            return fallback.value_or(lo);
+        }
+        return static_cast<std::int64_t>(v);
+    }
+
+    bool boolean(const char* key, bool fallback) {
+        if (!m_.contains(key)) return fallback;
+        if (!m_[key].is_boolean()) {
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " must be true or false");
+            return fallback;
+        }
+        return m_[key].get<bool>();
     }
 
     std::string string(const char* key, std::optional<std::string> fallback = {}) {
@@ -73,7 +112,7 @@ public:
             return fallback.value_or(std::string());
         }
         if (!m_[key].is_string()) {
-            refuse(std::string("\"") + key + "\" must be a string");
+            refuse(std::string("\"") + key + "\" = " + shown(m_[key]) + " must be a string");
             return fallback.value_or(std::string());
         }
         return m_[key].get<std::string>();
@@ -217,8 +256,10 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     if (op == "snapshot") return {{"data", snapshot()}};
     if (op == "subscribe") {
         const std::string clock = a.string("clock", std::string("wall"));
-        if (a.ok() && clock != "wall" && clock != "sim") return a.refuse("\"clock\" must be \"wall\" or \"sim\"");
+        if (a.ok() && clock != "wall" && clock != "sim")
+            return a.refuse("\"clock\" = " + Args::shown(clock) + " must be \"wall\" or \"sim\"");
         const double period = a.number("period_ms", clock == "sim" ? 0.01 : 10, 60'000, 100.0);
+        const bool path = a.boolean("path", true);
         if (!a.ok()) return {};
         Subscription s;
         s.sim_clock = clock == "sim";
@@ -226,7 +267,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         s.next_sim = sc_core::sc_time_stamp();
         s.wall_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(period));
         s.next_wall = Clock::now();
-        if (a.json().value("path", true) == false) s.path_sent = SIZE_MAX;
+        if (!path) s.path_sent = SIZE_MAX;
         subs_[client] = s;
         return {{"clock", clock}, {"period_ms", period}};
     }
@@ -259,29 +300,34 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     }
     if (op == "motion") {
         const std::string token = a.string("token");
-        if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
+        if (a.ok() && token.size() != 2)
+            return a.refuse("\"token\" = " + Args::shown(token) + " must be two characters (docs/system.md §7)");
         const std::string data = a.string("data", std::string());
         if (!a.ok()) return {};
         const Outcome o = world_.ctl.main.execute_local(token, data);
         return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
     }
     if (op != "send_frame" && op != "inject_fault") return a.refuse("unknown op '" + op + "' (docs/monitor.md)");
-    const double port_arg = a.number("port", 0, World::kPorts - 1, 0.0);
+    const auto port = static_cast<unsigned>(a.integer("port", 0, World::kPorts - 1, 0));
     if (!a.ok()) return {};
-    if (port_arg != std::floor(port_arg)) return a.refuse("\"port\" must be a whole number 0..2");
-    const auto port = static_cast<unsigned>(port_arg);
     if (op == "send_frame") {
         if (!world_.protocol[port]) return a.refuse("port " + std::to_string(port) + " has no protocol host to send as");
         const std::string token = a.string("token");
-        if (a.ok() && token.size() != 2) return a.refuse("\"token\" must be two characters (docs/system.md §7)");
+        if (a.ok() && token.size() != 2)
+            return a.refuse("\"token\" = " + Args::shown(token) + " must be two characters (docs/system.md §7)");
         const std::string data = a.string("data", std::string());
         if (!a.ok()) return {};
+        // The host's queue is bounded here: a client flooding frames would grow it without end.
+        if (world_.protocol[port]->queued() >= kMaxQueuedFrames)
+            return a.refuse("port " + std::to_string(port) + "'s host already has " + std::to_string(kMaxQueuedFrames) +
+                            " commands queued; send more once they went out");
         world_.protocol[port]->send(proto::Frame{token, 0, data});
         return {{"port", port}};
     }
     // inject_fault
     const std::string from = a.string("from", std::string("host"));
-    if (a.ok() && from != "host" && from != "controller") return a.refuse("\"from\" must be \"host\" or \"controller\"");
+    if (a.ok() && from != "host" && from != "controller")
+        return a.refuse("\"from\" = " + Args::shown(from) + " must be \"host\" or \"controller\"");
     const auto side = from == "host" ? SerialLine::b : SerialLine::a;
     const std::string kind = a.string("kind");
     if (!a.ok()) return {};
@@ -294,8 +340,20 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     }
     const std::optional<FaultKind> fault = fault_kind(kind);
     if (!fault) return a.refuse("\"kind\" '" + kind + "' is not flip_data_bit, flip_cell, drop, corrupt_stop or break");
-    const auto bit = static_cast<unsigned>(a.number("bit", 0, 11, 0.0));
-    if (!a.ok()) return {};
+    // The side's character as the line will carry it: the host's format, or the 82510's as the
+    // firmware programmed it. A bit beyond it would be an error inside the simulation.
+    const SerialFormat fmt = side == SerialLine::a ? world_.ctl.comm.uart[port].tx_format()
+                                                   : world_.scenario().ports[port].format();
+    const bool cell = *fault == FaultKind::flip_cell;
+    const unsigned limit = cell ? fmt.cells() + 1 : fmt.data_bits; // cells through the first STOP
+    const bool needs_bit = cell || *fault == FaultKind::flip_data_bit;
+    if (!needs_bit && a.json().contains("bit")) return a.refuse("\"bit\" applies to flip_data_bit and flip_cell, not " + kind);
+    const auto bit = static_cast<unsigned>(a.integer("bit", 0, needs_bit ? limit - 1 : 0, 0));
+    if (!a.ok()) {
+        a.amend(std::string(" (") + (cell ? "a cell" : "a data bit") + " of a " + fmt.describe() + " character sent by the " +
+                from + ")");
+        return {};
+    }
     const std::uint64_t index = line.next_index(side);
     line.inject(side, index, *fault, bit);
     return {{"port", port}, {"index", index}};

@@ -8,6 +8,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <map>
 #include <optional>
@@ -26,6 +27,8 @@ class MonitorServer::Impl {
 public:
     Impl(std::ostream& log, std::string page) : log_(log), page_(std::move(page)) {}
 
+    // Before ioc: the sessions its destructor frees count themselves out of it.
+    std::size_t http_sessions = 0; // io thread only
     net::io_context ioc;
     tcp::acceptor acceptor{ioc};
     std::thread thread;
@@ -34,11 +37,16 @@ public:
         std::lock_guard<std::mutex> lock(log_mu_);
         log_ << "monitor: " << line << std::endl;
     }
-    /// Queues a client's request; false when the queue is full (the client floods: drop it).
+    /// Queues a client's request; false when the queue, or this client's share of it, is full
+    /// (the client floods: drop it).
     bool push(Request r) {
         {
             std::lock_guard<std::mutex> lock(req_mu);
-            if (r.client != 0 && requests.size() >= kMaxPendingRequests) return false;
+            if (r.client != 0) {
+                std::size_t& mine = pending_of[r.client];
+                if (requests.size() >= kMaxPendingRequests || mine >= kMaxClientRequests) return false;
+                ++mine;
+            }
             requests.push_back(std::move(r));
         }
         req_cv.notify_one();
@@ -54,12 +62,14 @@ public:
     std::mutex req_mu;
     std::condition_variable req_cv;
     std::deque<Request> requests;
+    std::map<std::uint64_t, std::size_t> pending_of; // requests queued per client
     std::mutex snap_mu;
     std::shared_ptr<const std::string> snapshot_;
     // io thread only
     std::map<std::uint64_t, std::weak_ptr<WsSession>> sessions;
     std::uint64_t next_id = 1;
     std::atomic<std::size_t> open_clients{0};
+    bool http_full_noted = false;  // one log line per burst of refused connections
 
 private:
     std::ostream& log_;
@@ -71,6 +81,27 @@ namespace {
 
 std::string hello_text() {
     return nlohmann::json{{"type", "hello"}, {"api", kApiVersion}, {"server", "rcsim " RCSIM_VERSION}}.dump();
+}
+
+/// The deepest nesting of arrays and objects in a JSON text (strings skipped), counted before the
+/// text is parsed: a message nested thousands deep would make every later dump() recurse as deep.
+std::size_t json_depth(const std::string& text) {
+    std::size_t depth = 0, deepest = 0;
+    bool in_string = false, escaped = false;
+    for (const char c : text) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
 }
 
 std::string peer_of(const tcp::socket& s) {
@@ -91,16 +122,23 @@ public:
         ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
         ws_.read_message_max(MonitorServer::kMaxMessageBytes);
         ws_.auto_fragment(false); // one frame per message: simpler for clients, nothing to interleave
+        // A fixed kernel buffer (no autotuning to megabytes): a client that stops reading fills
+        // it and its queue soon, and is dropped as too slow instead of hiding behind the kernel.
+        beast::error_code ignored;
+        beast::get_lowest_layer(ws_).socket().set_option(net::socket_base::send_buffer_size(MonitorServer::kSocketSendBuffer), ignored);
         ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) { self->on_accept(ec); });
     }
 
-    /// Queues one message; a client that lets kMaxQueuedMessages pile up is dropped.
+    /// Queues one message; a client that lets kMaxQueuedMessages or kMaxQueuedBytes pile up is
+    /// dropped.
     void queue(std::shared_ptr<const std::string> text) {
         if (closed_) return;
-        if (out_.size() >= MonitorServer::kMaxQueuedMessages) {
-            drop("too slow: " + std::to_string(out_.size()) + " messages not yet read");
+        if (out_.size() >= MonitorServer::kMaxQueuedMessages || queued_bytes_ + text->size() > MonitorServer::kMaxQueuedBytes) {
+            drop("too slow: " + std::to_string(out_.size()) + " messages (" + std::to_string(queued_bytes_) +
+                 " bytes) not yet read");
             return;
         }
+        queued_bytes_ += text->size();
         out_.push_back(std::move(text));
         if (out_.size() == 1) write_front();
     }
@@ -112,6 +150,7 @@ private:
     websocket::stream<beast::tcp_stream> ws_;
     beast::flat_buffer buf_;
     std::deque<std::shared_ptr<const std::string>> out_;
+    std::size_t queued_bytes_ = 0; // in out_
     bool closed_ = false;
 
     std::string who() const { return "client " + std::to_string(id_) + " (" + peer_ + ")"; }
@@ -140,8 +179,11 @@ private:
             return drop("sent a message over " + std::to_string(MonitorServer::kMaxMessageBytes) + " bytes");
         if (ec) return drop(ec.message());
         if (!ws_.got_text()) return drop("sent a binary message (the API is JSON text)");
-        nlohmann::json msg = nlohmann::json::parse(beast::buffers_to_string(buf_.data()), nullptr, false);
+        const std::string text = beast::buffers_to_string(buf_.data());
         buf_.consume(buf_.size());
+        if (json_depth(text) > MonitorServer::kMaxJsonDepth)
+            return drop("sent garbage: JSON nested deeper than " + std::to_string(MonitorServer::kMaxJsonDepth));
+        nlohmann::json msg = nlohmann::json::parse(text, nullptr, false);
         if (msg.is_discarded() || !msg.is_object() || !msg.contains("op") || !msg["op"].is_string())
             return drop("sent garbage: not a JSON object with a string \"op\"");
         if (!srv_.push({id_, std::move(msg)})) return drop("flooding: the request queue is full");
@@ -153,6 +195,7 @@ private:
         ws_.async_write(net::buffer(*out_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
             if (self->closed_) return;
             if (ec) return self->drop(ec.message());
+            self->queued_bytes_ -= self->out_.front()->size();
             self->out_.pop_front();
             if (!self->out_.empty()) self->write_front();
         });
@@ -175,7 +218,8 @@ private:
 // One HTTP request: the page, the snapshot, or the upgrade to a WebSocket.
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
 public:
-    HttpSession(MonitorServer::Impl& srv, tcp::socket&& s) : srv_(srv), stream_(std::move(s)) {}
+    HttpSession(MonitorServer::Impl& srv, tcp::socket&& s) : srv_(srv), stream_(std::move(s)) { ++srv_.http_sessions; }
+    ~HttpSession() { --srv_.http_sessions; }
 
     void run() {
         parser_.emplace();
@@ -246,7 +290,24 @@ private:
 void MonitorServer::Impl::start_accept() {
     acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket s) {
         if (ec == net::error::operation_aborted) return;
-        if (!ec) std::make_shared<HttpSession>(*this, std::move(s))->run();
+        if (ec) {
+            // Out of descriptors (EMFILE) or the like: retry in a moment rather than spin.
+            note("accept failed: " + ec.message());
+            auto retry = std::make_shared<net::steady_timer>(ioc, std::chrono::milliseconds(100));
+            retry->async_wait([this, retry](beast::error_code) { start_accept(); });
+            return;
+        }
+        if (http_sessions >= kMaxHttpSessions) {
+            // Closed at once: a flood of idle connections cannot hold every descriptor.
+            if (!http_full_noted) note("HTTP connection from " + peer_of(s) + " refused: " +
+                                       std::to_string(kMaxHttpSessions) + " already open");
+            http_full_noted = true;
+            boost::system::error_code ignored;
+            s.close(ignored);
+        } else {
+            http_full_noted = false;
+            std::make_shared<HttpSession>(*this, std::move(s))->run();
+        }
         start_accept();
     });
 }
@@ -296,6 +357,7 @@ std::vector<MonitorServer::Request> MonitorServer::take_requests() {
     std::vector<Request> out(std::make_move_iterator(impl_->requests.begin()),
                              std::make_move_iterator(impl_->requests.end()));
     impl_->requests.clear();
+    impl_->pending_of.clear();
     return out;
 }
 

@@ -9,8 +9,10 @@
 //     send(), which only posts it to the io thread; each client has a bounded queue of messages
 //     not yet written, and a client whose queue is full (it reads too slowly) is dropped;
 //   - the latest snapshot text, which plain HTTP GETs are answered with (mutex-guarded).
-// A client that disconnects, sends something that is not a JSON object with an "op", or a message
-// over kMaxMessageBytes, is dropped with one log line; the others and the run go on.
+// A client that disconnects, sends something that is not a JSON object with an "op" (or nested
+// deeper than kMaxJsonDepth), a message over kMaxMessageBytes, or more than kMaxClientRequests
+// requests the simulation has not yet taken, is dropped with one log line; the others and the
+// run go on. Plain HTTP connections are capped at kMaxHttpSessions and get 10 s in all.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -35,8 +37,13 @@ class MonitorServer {
 public:
     static constexpr std::size_t kMaxMessageBytes = 64 * 1024; // one client message, WebSocket or HTTP
     static constexpr std::size_t kMaxQueuedMessages = 64;      // per client, not yet written
+    static constexpr std::size_t kMaxQueuedBytes = 8u << 20;   // per client, not yet written
+    static constexpr int kSocketSendBuffer = 256 * 1024;       // per client, the kernel's share
     static constexpr std::size_t kMaxClients = 16;
     static constexpr std::size_t kMaxPendingRequests = 1024;   // all clients, not yet taken
+    static constexpr std::size_t kMaxClientRequests = 256;     // one client's, not yet taken
+    static constexpr std::size_t kMaxHttpSessions = 64;        // plain HTTP connections at once
+    static constexpr std::size_t kMaxJsonDepth = 32;           // nesting of a client's message
 
     /// A client's message, parsed. `client` 0 with `op` "closed": client `closed_client` is gone.
     struct Request {

@@ -26,6 +26,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -166,6 +167,18 @@ nlohmann::json table3_json(const World& b, const Scenario& s, const InterruptFig
     return j;
 }
 
+/// A tcp client sent more than the line carried by the end of the run. Not a firmware defect (the
+/// line's speed is the limit; the verdict stands), but never a silent pass: the report says so.
+std::string unsent_warning(unsigned p, const nlohmann::json& tcp, const SerialFormat& f) {
+    const double per_s = 1.0 / f.frame_time().to_seconds();
+    std::ostringstream os;
+    os << "port " << p << ": " << tcp["bytes_unsent"].get<std::uint64_t>() << " of the bytes the tcp client sent never "
+       << "reached the line (" << tcp["bytes_sent"].get<std::uint64_t>() << " did; " << f.describe() << " carries "
+       << static_cast<unsigned>(per_s) << " bytes/s; TCP flow control held the client back when the input queue was full, input_stalls "
+       << tcp["input_stalls"].get<std::uint64_t>() << ")";
+    return os.str();
+}
+
 /// report.json "ports", "main_cpu", "dpram", "realtime", "motion"; fills the per-port totals the
 /// checks judge.
 void report_world(const World& world, const Scenario& s, const RunOptions& opt, nlohmann::json& report,
@@ -188,6 +201,8 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
             report["warnings"].push_back("port " + std::to_string(p) + ": the host sends " +
                                          pj["host_format"].get<std::string>() + " but the controller's 82510 is set to " +
                                          pj["controller_format"].get<std::string>());
+        if (pj.contains("tcp") && pj["tcp"]["bytes_unsent"].get<std::uint64_t>() > 0)
+            report["warnings"].push_back(unsent_warning(p, pj["tcp"], s.ports[p].format()));
         if (world.protocol[p] && s.ports[p].protocol.traffic.pattern == HostTraffic::Pattern::script)
             pj["script"] = script_json(world.protocol[p]->script_result());
         report["ports"].push_back(pj);

@@ -98,7 +98,8 @@ nlohmann::json port_json(const World& b, unsigned p) {
         const auto c = h->counters();
         j["tcp"] = {{"listen", h->endpoint()},   {"connections", c.connections}, {"bytes_in", c.bytes_in},
                     {"bytes_sent", c.bytes_sent}, {"bytes_received", c.bytes_received}, {"bytes_out", c.bytes_out},
-                    {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped}};
+                    {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped},
+                    {"bytes_unsent", h->bytes_unsent()},  {"input_stalls", c.input_stalls}};
         if (b.scenario().ports[p].tcp.telnet) j["tcp"]["breaks_sent"] = c.breaks_sent;
     }
     if (const auto& h = b.pty[p]) {
