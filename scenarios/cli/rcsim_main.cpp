@@ -16,6 +16,7 @@ void add_run_command(CLI::App& app);
 void add_bench_system(CLI::App& bench);
 void add_bench_serial(CLI::App& bench);
 void add_bench_motion(CLI::App& bench);
+void add_bench_soak(CLI::App& bench);
 void add_regress_commands(CLI::App& app); // sweep, merge, compare
 }
 
@@ -60,6 +61,7 @@ int sc_main(int argc, char* argv[]) {
     rcsim::add_bench_system(*bench);
     rcsim::add_bench_serial(*bench);
     rcsim::add_bench_motion(*bench);
+    rcsim::add_bench_soak(*bench);
     rcsim::add_regress_commands(app);
 
     try {
