@@ -183,6 +183,9 @@ def send_without_reading(s, data, seconds):
 
 
 def check_memory(run, base_kb):
+    if os.environ.get("RCSIM_SANITIZED"):  # ASan's quarantine holds freed memory (CMakeLists.txt)
+        print("memory bound not judged in a sanitizer build: VmHWM %d kB" % run.hwm_kb)
+        return
     if run.hwm_kb > base_kb + MEMORY_MB * 1024:
         raise SystemExit("FAIL: VmHWM %d kB, attached at %d kB\n%s" % (run.hwm_kb, base_kb, run.log()))
 

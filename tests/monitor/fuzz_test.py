@@ -229,7 +229,10 @@ def main(rcsim, scenario):
         return 1
     watch.stop = True
     growth = (watch.peak - before_kib) / 1024
-    check(growth < 64, "memory stays bounded: RSS %.0f MB, peak %.0f MB" % (before_kib / 1024, watch.peak / 1024))
+    if os.environ.get("RCSIM_SANITIZED"):  # ASan's quarantine holds freed memory (CMakeLists.txt)
+        print("--    memory bound not judged in a sanitizer build: peak %.0f MB" % (watch.peak / 1024))
+    else:
+        check(growth < 64, "memory stays bounded: RSS %.0f MB, peak %.0f MB" % (before_kib / 1024, watch.peak / 1024))
     check(rc == 143, "SIGTERM ends the run (exit 143, got %d)" % rc)
     check(took < 1.0, "within a second (%.2f s)" % took)
     try:

@@ -101,8 +101,11 @@ def flooded_run(rcsim, tmp, rng):
     check(proc.returncode == 4, "the flooded run ends at its duration, INCONCLUSIVE as an idle one (exit %d)"
           % proc.returncode)
     growth = (peak - before) / 1024
-    check(growth < 32, "its memory stays bounded while %.1f MB are offered: RSS %.0f -> %.0f MB"
-          % (sent / 1e6, before / 1024, peak / 1024))
+    if os.environ.get("RCSIM_SANITIZED"):  # ASan's quarantine holds freed memory (CMakeLists.txt)
+        print("--    memory bound not judged in a sanitizer build: peak %.0f MB" % (peak / 1024))
+    else:
+        check(growth < 32, "its memory stays bounded while %.1f MB are offered: RSS %.0f -> %.0f MB"
+              % (sent / 1e6, before / 1024, peak / 1024))
     with open(os.path.join(out, "report.json")) as f:
         r = json.load(f)
     t = dict({"bytes_unsent": 0, "input_stalls": 0}, **r["ports"][0]["tcp"])
