@@ -390,9 +390,9 @@ void GdbStub::halt(const StopReason& why, bool report) {
     if (bad_packets_ > kMaxNotes)
         log_ << "gdb: ignored " << bad_packets_ - kMaxNotes << " more bad packets from the debugger" << std::endl;
     bad_packets_ = 0;
-    // Simulated time stood still: pace on from here. (Not exclude_wall(): a hold before the
-    // pacer's first check, at --gdb-wait's first instruction, would be taken out twice and the
-    // pacer would then nap as long as the hold, SIGTERM unanswered meanwhile.)
+    // Simulated time stood still: pace on from here. (Subtracting the hold from the pacer's wall
+    // time counted a hold before its first check, at --gdb-wait's first instruction, twice: the
+    // pacer then napped as long as the hold, SIGTERM unanswered meanwhile.)
     if (pacer_) pacer_->rebase();
 }
 

@@ -346,7 +346,7 @@ void RealtimePacer::run() {
             continue;
         }
         const double sim = (sc_core::sc_time_stamp() - sim0).to_seconds();
-        const double wall = std::chrono::duration<double>(clock::now() - wall0 - excluded_).count();
+        const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
         stats_.sim_s = sim;
         stats_.wall_s = wall;
         const double ahead = sim / stats_.rtf - wall; // wall seconds the simulation is early

@@ -184,11 +184,6 @@ public:
                   std::chrono::microseconds max_nap = std::chrono::milliseconds(10));
 
     const Stats& stats() const { return stats_; }
-    /// Wall time that does not count: the debugger held the whole board still this long (the
-    /// simulation resumes paced from where it stopped instead of racing to catch up). Call from
-    /// the simulation's thread.
-    void exclude_wall(std::chrono::steady_clock::duration d) { excluded_ += d; }
-
     /// Measures from now on: the next check takes the current simulated and wall time as its
     /// origin. Call after simulated time stood still while wall time went on (a paused run), or
     /// the pacer would see the run that far behind and let it race to catch up.
@@ -198,7 +193,6 @@ public:
     double rtf() const { return paced_ ? stats_.rtf : 0.0; }
 
 private:
-    std::chrono::steady_clock::duration excluded_{};
     sc_core::sc_time step_;
     std::chrono::microseconds max_nap_;
     Stats stats_;
