@@ -35,43 +35,12 @@ import sys
 import threading
 import time
 
+from gdb_garbage import connect, frame, read_for  # the RSP framing and socket helpers
+
 MARGIN_S = 4.0      # a paced run may end this much later than duration + held time
 MEMORY_MB = 64      # VmHWM may exceed the attached VmRSS by this much
 CTRL_C_S = 1.0      # Ctrl-C while running is answered within this
 SIGTERM_S = 1.0     # SIGTERM ends the run within this
-
-
-def frame(payload: bytes) -> bytes:
-    return b"$" + payload + b"#" + b"%02x" % (sum(payload) & 0xFF)
-
-
-def read_for(sock, seconds, until=None):
-    """Bytes received within `seconds` (or until `until` appears)."""
-    sock.settimeout(0.05)
-    got = b""
-    end = time.time() + seconds
-    while time.time() < end:
-        try:
-            chunk = sock.recv(65536)
-        except socket.timeout:
-            continue
-        except OSError:
-            break
-        if not chunk:
-            break
-        got += chunk
-        if until and until in got:
-            break
-    return got
-
-
-def connect(port):
-    for _ in range(100):
-        try:
-            return socket.create_connection(("127.0.0.1", port), timeout=5)
-        except OSError:
-            time.sleep(0.05)
-    raise SystemExit("FAIL: cannot connect to the stub")
 
 
 def status_kb(pid, key):

@@ -13,13 +13,12 @@ import random
 import shutil
 import signal
 import socket
-import struct
 import sys
 import tempfile
 import threading
 import time
 
-from wsclient import Rcsim, WebSocket
+from wsclient import Rcsim, WebSocket, ws_frame
 
 failures = []
 
@@ -74,18 +73,6 @@ def closed_by_server(s, timeout=3.0):
         return True
     except (socket.timeout, OSError):
         return False
-
-
-def ws_frame(payload, opcode=1, length=None):
-    mask = b"\x01\x02\x03\x04"
-    n = len(payload) if length is None else length
-    if n < 126:
-        head = struct.pack("!BB", 0x80 | opcode, 0x80 | n)
-    elif n < 65536:
-        head = struct.pack("!BBH", 0x80 | opcode, 0x80 | 126, n)
-    else:
-        head = struct.pack("!BBQ", 0x80 | opcode, 0x80 | 127, n)
-    return head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload))
 
 
 def http_abuse(port, rng):

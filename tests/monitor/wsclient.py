@@ -13,6 +13,19 @@ import tempfile
 import time
 
 
+def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
+    """One masked client frame (RFC 6455 5.2); `length` claims another payload length than the
+    payload's (for the fuzz tests)."""
+    n = len(payload) if length is None else length
+    if n < 126:
+        head = struct.pack("!BB", 0x80 | opcode, 0x80 | n)
+    elif n < 65536:
+        head = struct.pack("!BBH", 0x80 | opcode, 0x80 | 126, n)
+    else:
+        head = struct.pack("!BBQ", 0x80 | opcode, 0x80 | 127, n)
+    return head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload))
+
+
 class WebSocket:
     """One client connection; text messages only (what the monitor and DevTools speak)."""
 
@@ -34,16 +47,7 @@ class WebSocket:
 
     def send_raw(self, payload, opcode=1):
         """One masked frame (clients must mask, RFC 6455 5.3)."""
-        mask = os.urandom(4)
-        n = len(payload)
-        if n < 126:
-            head = struct.pack("!BB", 0x80 | opcode, 0x80 | n)
-        elif n < 65536:
-            head = struct.pack("!BBH", 0x80 | opcode, 0x80 | 126, n)
-        else:
-            head = struct.pack("!BBQ", 0x80 | opcode, 0x80 | 127, n)
-        masked = bytes(b ^ mask[i % 4] for i, b in enumerate(payload))
-        self.sock.sendall(head + mask + masked)
+        self.sock.sendall(ws_frame(payload, opcode, mask=os.urandom(4)))
 
     def send(self, obj):
         self.send_raw(json.dumps(obj).encode())
