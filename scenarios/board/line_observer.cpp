@@ -64,10 +64,12 @@ std::uint64_t SequenceMatcher::add(Side s, const FrameKey& k, Note note) {
         other.pop_front(); // the match
         overtake(s, pending_[s].size());
         matched(k);
+        mark_copies(k);
         return next_id_++;
     }
     Item item{k, next_id_, std::move(note), {}};
     item.drop.cause = std::move(item.note.cause); // a sent frame's cause goes with its drop
+    item.copy = s == kReceived && std::find(recent_.begin(), recent_.end(), k) != recent_.end();
     pending_[s].push_back(std::move(item));
     if (pending_[s].size() > kWindow) overtake(s, 1);
     return next_id_++;
@@ -100,7 +102,7 @@ void SequenceMatcher::finalize(Side s, const Item& item) {
         }
     }
     if (s == kReceived) {
-        const bool again = std::find(recent_.begin(), recent_.end(), item.key) != recent_.end();
+        const bool again = item.copy || std::find(recent_.begin(), recent_.end(), item.key) != recent_.end();
         ++(again ? counts_.duplicates : counts_.unexpected);
         list(unexplained_, {again ? K::duplicate : K::unexpected, item.note.label, item.note.time_us, {}});
         return;
@@ -126,6 +128,15 @@ void SequenceMatcher::finalize(Side s, const Item& item) {
 
 void SequenceMatcher::list(std::vector<FrameEvent>& v, FrameEvent e) {
     if (v.size() < kListed) v.push_back(std::move(e));
+}
+
+// The received frames equal to one just matched are copies of it, should they stay unmatched: they
+// are told from an unexpected frame now, while the original is among the recent ones, not when
+// they become final, maybe kWindow matches later.
+void SequenceMatcher::mark_copies(const FrameKey& k) {
+    for (auto* q : {&pending_[kReceived], &overtaken_[kReceived]})
+        for (Item& i : *q)
+            if (i.key == k) i.copy = true;
 }
 
 void SequenceMatcher::matched(const FrameKey& k) {

@@ -86,9 +86,9 @@ const char* kind_name(FrameEvent::Kind k);
 /// can only be resolved as reordered. A frame that leaves the window, or is still unmatched at
 /// finish(), is final: if an equal frame of the other side is also unmatched the pair is one
 /// reordering, else a sent frame is lost (or dropped, with its reason) and a received frame is a
-/// duplicate (one of the last kWindow matched frames was equal to it) or unexpected. So a
-/// duplicate counts 1, a loss 1, a reordering 1, and an altered frame 2 (the one that did not
-/// arrive, the one that arrived instead).
+/// duplicate (an equal frame was matched before it, while it waited, or among the last kWindow) or
+/// unexpected. So a duplicate counts 1, a loss 1, a reordering 1, and an altered frame 2 (the one
+/// that did not arrive, the one that arrived instead).
 class SequenceMatcher {
 public:
     static constexpr std::size_t kWindow = 64;
@@ -158,6 +158,7 @@ private:
         std::uint64_t id;
         Note note;
         Drop drop;
+        bool copy = false; // received when an equal frame had been matched: a duplicate if unmatched
     };
     std::array<std::deque<Item>, 2> pending_, overtaken_;
     std::deque<FrameKey> recent_; // the last kWindow matched frames, to tell a duplicate
@@ -170,6 +171,7 @@ private:
     void overtake(Side s, std::size_t n);
     void finalize(Side s, const Item& it);
     void matched(const FrameKey& k);
+    void mark_copies(const FrameKey& k);
     static void list(std::vector<FrameEvent>& v, FrameEvent e);
 };
 

@@ -320,6 +320,33 @@ TEST(SequenceMatcher, AmongEqualFramesOneExtraIsOneDuplicate) {
     EXPECT_EQ(m.counts().mismatches(), 1u);
 }
 
+// A frame received twice (a retry whose EOT a fault destroyed) is a duplicate however long the run
+// goes on before the extra copy becomes final: long after, its original is no longer among the
+// last kWindow matched frames (issue 33: the hour-long soak counted these "unexpected").
+TEST(SequenceMatcher, ADuplicateStaysADuplicateWhenItBecomesFinalLate) {
+    for (const bool record_first : {true, false}) {
+        SCOPED_TRACE(record_first ? "the record leads" : "the intention leads");
+        SequenceMatcher m;
+        if (record_first) {
+            m.received(key(7));
+            m.received(key(7)); // the main CPU took the retry too
+            m.sent(key(7));     // the host's EOT came with the retry
+        } else {
+            m.sent(key(7));
+            m.received(key(7));
+            m.received(key(7)); // the host read the controller's retry as well
+        }
+        for (int i = 100; i < 100 + 3 * int(SequenceMatcher::kWindow); ++i) {
+            m.sent(key(i));
+            m.received(key(i));
+        }
+        m.finish();
+        EXPECT_EQ(m.counts().duplicates, 1u);
+        EXPECT_EQ(m.counts().unexpected, 0u);
+        EXPECT_EQ(m.counts().mismatches(), 1u);
+    }
+}
+
 TEST(SequenceMatcher, AnAlteredFrameCountsTwice) {
     SequenceMatcher m;
     m.sent(key(1));
