@@ -1,6 +1,8 @@
+// rcsim — the latency causes in report.json and in words. See latency_causes.h.
 #include "scenarios/verdict/latency_causes.h"
 
 #include "scenarios/world/world.h"
+#include "models/hex.h"
 
 #include <cstdio>
 
@@ -18,21 +20,8 @@ std::string fmt(const char* f, double v) {
 }
 std::string at_us(const sc_core::sc_time& t) { return fmt("%.3f", to_us(t)); }
 std::string dur_us(const sc_core::sc_time& t) { return fmt("%.1f", to_us(t)); }
-std::string seg_off(std::uint16_t cs, std::uint16_t ip) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%04X:%04X", unsigned(cs), unsigned(ip));
-    return buf;
-}
-std::string linear_hex(std::uint32_t a) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%05X", unsigned(a));
-    return buf;
-}
-std::string hex2(unsigned v) {
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "%02X", v & 0xFF);
-    return buf;
-}
+std::string seg_off(std::uint16_t cs, std::uint16_t ip) { return hex(cs, 4) + ":" + hex(ip, 4); }
+std::string hex2(unsigned v) { return hex(v & 0xFF, 2); }
 
 // The mnemonic of the instruction in `b` (prefixes included), without its operands.
 std::string mnemonic(const std::uint8_t* b, unsigned n) {
@@ -222,7 +211,7 @@ json detail_json(const LatencyCause& c, unsigned vector_base, const SymbolOf& sy
         j["after_sti"] = i.sti_shadow;
         d["instruction"] = j;
     }
-    if (c.busy.wait_states) d["dpram_busy"] = {{"wait_states", c.busy.wait_states}, {"address", linear_hex(c.busy.address)}};
+    if (c.busy.wait_states) d["dpram_busy"] = {{"wait_states", c.busy.wait_states}, {"address", hex(c.busy.address, 5)}};
     if (c.cause_level >= 0) d["held_by"] = source_name(unsigned(c.cause_level));
     if (c.truncated) d["truncated"] = true;
     return d;
@@ -263,7 +252,7 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
     }
     case Kind::dpram_busy:
         return "the bus held by DP-RAM BUSY for " + took + " (" + std::to_string(c.busy.wait_states) +
-               " wait states at " + linear_hex(c.busy.address) + ")";
+               " wait states at " + hex(c.busy.address, 5) + ")";
     case Kind::entry: return "no wait: the interrupt entry itself (INTA cycles, vector, pushes), " + took;
     case Kind::presented: break;
     }

@@ -12,12 +12,5 @@ read_here:
         mov al, [0x0010]        ; F000:0120
         times 40 nop
         hlt
-        ISR 0
-        ISR 1
-        ISR 2
-        ISR 3
-        ISR 4
-        ISR 5
-        ISR 6
-        ISR 7
+        ISRS 0, 7
         RESET

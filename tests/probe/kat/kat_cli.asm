@@ -17,12 +17,5 @@ sti_here:
         div bx                  ; F000:0186
         times 40 nop
         hlt
-        ISR 0
-        ISR 1
-        ISR 2
-        ISR 3
-        ISR 4
-        ISR 5
-        ISR 6
-        ISR 7
+        ISRS 0, 7
         RESET

@@ -16,10 +16,5 @@ isr1:   mov al, 0x0B            ; OCW3: read ISR (an OUT to 0C0h that is no EOI)
         hlt                     ; F000:0245: IR0 returns to F000:0246 (even)
 isr1_eoi:
         EOI_IRET                ; MOV AL,20h at 0246, OUT 0C0h,AL at 0248
-        ISR 2
-        ISR 3
-        ISR 4
-        ISR 5
-        ISR 6
-        ISR 7
+        ISRS 2, 7
         RESET
