@@ -36,9 +36,11 @@ constexpr double kBreakEverySec = 60;
 /// kinds in turn, and a BREAK from each side every kBreakEverySec (the host's at the middle of
 /// each period, the controller's a quarter later).
 void add_faults(Scenario& s, double seconds) {
-    const std::uint64_t chars = static_cast<std::uint64_t>(seconds * 9600 / 11); // 8E1: 11 bits
     static const char* kinds[] = {"drop", "flip_data_bit", "corrupt_stop", "flip_cell"};
     for (std::size_t p = 0; p < s.ports.size(); ++p) {
+        const SerialFormat fmt = s.ports[p].format();
+        // The most characters one side can send in `seconds`, back to back.
+        const auto chars = static_cast<std::uint64_t>(seconds / fmt.frame_time().to_seconds());
         auto& faults = s.ports[p].faults;
         for (const auto from : {LineFault::From::host, LineFault::From::controller}) {
             unsigned n = 0;
@@ -47,7 +49,8 @@ void add_faults(Scenario& s, double seconds) {
                 f.from = from;
                 f.kind = kinds[n % 4];
                 f.index = i;
-                f.bit = f.kind == std::string("flip_cell") ? 1 + n % 8 : n % 8; // a data cell / data bit
+                const unsigned data_bit = n % fmt.data_bits;
+                f.bit = f.kind == std::string("flip_cell") ? 1 + data_bit : data_bit; // cell 0 is START
                 faults.push_back(f);
             }
             for (double t = kBreakEverySec / 2; t < seconds; t += kBreakEverySec) {

@@ -28,8 +28,9 @@ void prepare_output_folders(const std::vector<std::string*>& files);
 /// Writes DIR/report.json.
 void write_report_json(const std::filesystem::path& dir, const nlohmann::json& report);
 
-/// SystemC appends ".vcd" to the name it is given: --vcd x.vcd writes x.vcd (not x.vcd.vcd), --vcd x
-/// writes x.vcd.
+/// SystemC appends ".vcd" to the name it is given, so it gets `path` without it: x.vcd writes x.vcd
+/// (not x.vcd.vcd). `rcsim run --vcd` refuses a name without ".vcd" (/dev/null would become
+/// /dev/null.vcd); given one here, x still writes x.vcd.
 sc_core::sc_trace_file* open_vcd(const std::string& path);
 
 } // namespace rcsim

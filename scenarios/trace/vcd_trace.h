@@ -30,7 +30,7 @@ class World;
 
 class VcdTrace : public sc_core::sc_module {
 public:
-    /// Opens `path` (scenarios/report/output.h open_vcd: ".vcd" appended unless present; throws
+    /// Opens `path`, a name ending in ".vcd" (scenarios/report/output.h open_vcd; throws
     /// ConfigError when it cannot be written) and hooks the world. Call before sc_start().
     VcdTrace(sc_core::sc_module_name name, World& world, const std::string& path);
     ~VcdTrace() override;
