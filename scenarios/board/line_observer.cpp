@@ -303,10 +303,7 @@ void LineObserver::acknowledged(Dir d) {
     }
     // The comm CPU has its EOT: the oldest response in its ring is done (valid or not).
     if (d == controller_to_host && !in_ring_.empty()) in_ring_.pop_front();
-    s.open = false;
-    s.last.reset();
-    s.cause = {};
-    s.await = Await::none;
+    s.end_transfer();
 }
 
 void LineObserver::line_break(Dir d) {
@@ -348,12 +345,8 @@ void LineObserver::port_reset(bool by_main_cpu) {
     if (!by_main_cpu) break_before_reset_ = {};
     // The controller's transfer ends here: a frame cut before its ETX never ends on the line, and
     // the controller's next ACK and EOT answer the host again (they are not that frame's bytes).
-    Sender& ctl = dir_[controller_to_host];
-    ctl.collecting = false;
-    ctl.open = false;
-    ctl.last.reset();
-    ctl.cause = {};
-    ctl.await = Await::none;
+    dir_[controller_to_host].collecting = false;
+    dir_[controller_to_host].end_transfer();
     for (std::uint64_t id : in_ring_) {
         responses_.blame(id, cause, true);
         responses_.explain(id, DropReason::port_reset, t);

@@ -271,6 +271,13 @@ private:
         std::string last_label;        // ... its frame_label()
         ScenarioCause cause;           // the first cause since this sender's transfer began
         DirCounts counts;
+        /// The transfer is over (its EOT, or a port reset): nothing offered waits for an answer.
+        void end_transfer() {
+            open = false;
+            last.reset();
+            cause = {};
+            await = Await::none;
+        }
     };
     std::array<Sender, 2> dir_;
     std::uint64_t enq_collisions_ = 0, breaks_ = 0;
