@@ -2,6 +2,7 @@
 //           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE] [--monitor [HOST:]PORT]
 #include "models/config_error.h"
 #include "scenarios/cli/gdb_run.h"
+#include "scenarios/report/output.h"
 #include "scenarios/run/failure.h"
 #include "scenarios/run/runner.h"
 #include "models/stop_signal.h"
@@ -51,9 +52,7 @@ void add_run_command(CLI::App& app) {
         ->check(CLI::Validator(
             [](std::string& path) {
                 // SystemC's VCD writer appends ".vcd" to any name: /dev/null would become /dev/null.vcd.
-                const std::string ext = ".vcd";
-                const bool named = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
-                return named ? std::string() : "'" + path + "': a VCD file's name ends in .vcd";
+                return is_vcd_name(path) ? std::string() : "'" + path + "': a VCD file's name ends in .vcd";
             },
             "FILE.vcd"));
     static const std::map<std::string, RunOptions::Rows> kRows = {{"auto", RunOptions::Rows::automatic},

@@ -46,10 +46,14 @@ void write_report_json(const std::filesystem::path& dir, const nlohmann::json& r
     write_file(dir / "report.json", report.dump(2) + "\n", "the report");
 }
 
+bool is_vcd_name(const std::string& path) {
+    const std::string ext = ".vcd";
+    return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+}
+
 sc_core::sc_trace_file* open_vcd(const std::string& path) {
     const std::string ext = ".vcd";
-    const bool has_ext = path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
-    const std::string stem = has_ext ? path.substr(0, path.size() - ext.size()) : path;
+    const std::string stem = is_vcd_name(path) ? path.substr(0, path.size() - ext.size()) : path;
     // SystemC's VCD writer ignores write errors, so try one write here: a path on a full disk or
     // /dev/full fails now, not silently after the run.
     std::ofstream probe(stem + ext);

@@ -32,5 +32,7 @@ void write_report_json(const std::filesystem::path& dir, const nlohmann::json& r
 /// (not x.vcd.vcd). `rcsim run --vcd` refuses a name without ".vcd" (/dev/null would become
 /// /dev/null.vcd); given one here, x still writes x.vcd.
 sc_core::sc_trace_file* open_vcd(const std::string& path);
+/// Whether `path` names a file ending in ".vcd" (more than the extension alone).
+bool is_vcd_name(const std::string& path);
 
 } // namespace rcsim
