@@ -45,68 +45,107 @@ const char* kind_name(FrameEvent::Kind k) {
 // ---------------------------------------------------------------------------------------------
 // SequenceMatcher
 
-std::uint64_t SequenceMatcher::add(Side s, const FrameKey& k, Note note) {
-    const Side o = s == kSent ? kReceived : kSent;
-    ++(s == kSent ? counts_.sent : counts_.received);
-    auto& other = pending_[o];
-    const auto it = std::find_if(other.begin(), other.end(), [&k](const Item& i) { return i.key == k; });
-    if (it != other.end()) {
-        // Equal frames are interchangeable: a drop reason belongs to one that stays unmatched.
-        if (it->drop.why != DropReason::none) {
-            const auto spare = std::find_if(it + 1, other.end(), [&k](const Item& i) {
-                return i.key == k && i.drop.why == DropReason::none;
-            });
-            if (spare != other.end()) std::swap(it->drop, spare->drop);
+void SequenceMatcher::sent(FrameId id, Note note) {
+    ++counts_.sent;
+    const auto e = std::find_if(early_.begin(), early_.end(), [id](const Item& i) { return i.id == id; });
+    if (e == early_.end()) {
+        Item item{id, std::move(note), {}};
+        item.drop.cause = item.note.cause; // a sent frame's cause goes with its drop
+        waiting_.push_back(std::move(item));
+        if (waiting_.size() > kWindow) {
+            lost(waiting_.front());
+            waiting_.pop_front();
         }
-        // Everything older than the pair, on both sides, was overtaken by it.
-        const std::size_t before = static_cast<std::size_t>(it - other.begin());
-        overtake(o, before);
-        other.pop_front(); // the match
-        overtake(s, pending_[s].size());
-        matched(k);
-        mark_copies(k);
-        return next_id_++;
-    }
-    Item item{k, next_id_, std::move(note), {}};
-    item.drop.cause = std::move(item.note.cause); // a sent frame's cause goes with its drop
-    item.copy = s == kReceived && std::find(recent_.begin(), recent_.end(), k) != recent_.end();
-    pending_[s].push_back(std::move(item));
-    if (pending_[s].size() > kWindow) overtake(s, 1);
-    return next_id_++;
-}
-
-void SequenceMatcher::overtake(Side s, std::size_t n) {
-    for (; n > 0; --n) {
-        overtaken_[s].push_back(pending_[s].front());
-        pending_[s].pop_front();
-        if (overtaken_[s].size() > kWindow) {
-            const Item it = overtaken_[s].front();
-            overtaken_[s].pop_front();
-            finalize(s, it);
-        }
-    }
-}
-
-void SequenceMatcher::finalize(Side s, const Item& item) {
-    const Side o = s == kSent ? kReceived : kSent;
-    using K = FrameEvent::Kind;
-    // An equal frame still unmatched on the other side: the two crossed, one reordering.
-    for (auto* q : {&overtaken_[o], &pending_[o]}) {
-        const auto it = std::find_if(q->begin(), q->end(), [&item](const Item& i) { return i.key == item.key; });
-        if (it != q->end()) {
-            q->erase(it);
-            matched(item.key);
-            ++counts_.reordered;
-            list(unexplained_, {K::reordered, item.note.label, item.note.time_us, {}});
-            return;
-        }
-    }
-    if (s == kReceived) {
-        const bool again = item.copy || std::find(recent_.begin(), recent_.end(), item.key) != recent_.end();
-        ++(again ? counts_.duplicates : counts_.unexpected);
-        list(unexplained_, {again ? K::duplicate : K::unexpected, item.note.label, item.note.time_us, {}});
         return;
     }
+    // The record led: every frame sent before this one and still waiting was overtaken by it; and
+    // if a frame made after it (ids grow in the order frames are made) was received before it,
+    // this one came late.
+    for (Item& w : waiting_) w.overtaken = true;
+    if (std::any_of(early_.begin(), e, [id](const Item& i) { return i.id > id; })) {
+        ++counts_.reordered;
+        list(unexplained_, {FrameEvent::Kind::reordered, e->note.label, e->note.time_us, {}});
+    }
+    early_.erase(e);
+    matched(id, note.cause);
+    // Its other copies that arrived ahead of it are duplicates, now that it is matched.
+    for (auto it = early_.begin(); it != early_.end();) {
+        if (it->id != id) {
+            ++it;
+            continue;
+        }
+        copy(it->note, note.cause);
+        it = early_.erase(it);
+    }
+}
+
+void SequenceMatcher::received(FrameId id, Note note) {
+    ++counts_.received;
+    const auto w = std::find_if(waiting_.begin(), waiting_.end(), [id](const Item& i) { return i.id == id; });
+    if (w != waiting_.end()) {
+        for (auto older = waiting_.begin(); older != w; ++older) older->overtaken = true;
+        if (w->overtaken) {
+            ++counts_.reordered;
+            list(unexplained_, {FrameEvent::Kind::reordered, note.label, note.time_us, {}});
+        }
+        matched(id, w->drop.cause);
+        waiting_.erase(w);
+        return;
+    }
+    if (const Matched* m = recent(id)) {
+        copy(note, m->cause);
+        return;
+    }
+    Item item{id, std::move(note), {}};
+    if (id == kNoFrameId) {
+        never_sent(item);
+        return;
+    }
+    early_.push_back(std::move(item));
+    if (early_.size() > kWindow) {
+        never_sent(early_.front());
+        early_.pop_front();
+    }
+}
+
+void SequenceMatcher::matched(FrameId id, ScenarioCause cause) {
+    ++counts_.matched;
+    recent_.push_back({id, std::move(cause)});
+    if (recent_.size() > kWindow) recent_.pop_front();
+}
+
+SequenceMatcher::Matched* SequenceMatcher::recent(FrameId id) {
+    if (id == kNoFrameId) return nullptr;
+    for (Matched& m : recent_)
+        if (m.id == id) return &m;
+    return nullptr;
+}
+
+// A received frame whose id was matched (or found unexpected) before: a duplicate, listed with
+// what hit its transfer, if anything did.
+void SequenceMatcher::copy(const Note& note, const ScenarioCause& cause) {
+    ++counts_.duplicates;
+    const ScenarioCause& c = note.cause.empty() ? cause : note.cause;
+    if (!c.empty()) ++counts_.after_fault;
+    list(unexplained_, {FrameEvent::Kind::duplicate, note.label, note.time_us, c});
+}
+
+// A received frame that was never sent: unexpected, and its later copies duplicates of it.
+void SequenceMatcher::never_sent(const Item& it) {
+    if (const Matched* m = recent(it.id)) {
+        copy(it.note, m->cause);
+        return;
+    }
+    ++counts_.unexpected;
+    if (!it.note.cause.empty()) ++counts_.after_fault;
+    list(unexplained_, {FrameEvent::Kind::unexpected, it.note.label, it.note.time_us, it.note.cause});
+    if (it.id == kNoFrameId) return;
+    recent_.push_back({it.id, it.note.cause});
+    if (recent_.size() > kWindow) recent_.pop_front();
+}
+
+void SequenceMatcher::lost(const Item& item) {
+    using K = FrameEvent::Kind;
     FrameEvent e{K::lost, item.note.label, item.note.time_us, item.drop.cause};
     if (item.drop.why == DropReason::gave_up) {
         ++counts_.dropped_gave_up;
@@ -130,76 +169,41 @@ void SequenceMatcher::list(std::vector<FrameEvent>& v, FrameEvent e) {
     if (v.size() < kListed) v.push_back(std::move(e));
 }
 
-// The received frames equal to one just matched are copies of it, should they stay unmatched: they
-// are told from an unexpected frame now, while the original is among the recent ones, not when
-// they become final, maybe kWindow matches later.
-void SequenceMatcher::mark_copies(const FrameKey& k) {
-    for (auto* q : {&pending_[kReceived], &overtaken_[kReceived]})
-        for (Item& i : *q)
-            if (i.key == k) i.copy = true;
+bool SequenceMatcher::explain(FrameId id, DropReason why, double time_us) {
+    for (Item& i : waiting_)
+        if (i.id == id) {
+            i.drop.why = why;
+            i.drop.time_us = time_us;
+            return true;
+        }
+    return false;
 }
 
-void SequenceMatcher::matched(const FrameKey& k) {
-    ++counts_.matched;
-    recent_.push_back(k);
-    if (recent_.size() > kWindow) recent_.pop_front();
-}
-
-SequenceMatcher::Item* SequenceMatcher::waiting_sent(std::uint64_t id) {
-    for (auto* q : {&pending_[kSent], &overtaken_[kSent]})
-        for (Item& i : *q)
-            if (i.id == id) return &i;
-    return nullptr;
-}
-
-bool SequenceMatcher::explain(std::uint64_t id, DropReason why, double time_us) {
-    Item* i = waiting_sent(id);
-    if (!i) return false;
-    i->drop.why = why;
-    i->drop.time_us = time_us;
-    return true;
-}
-
-bool SequenceMatcher::blame(std::uint64_t id, const ScenarioCause& cause, bool replace) {
-    Item* i = waiting_sent(id);
-    if (!i) return false;
-    if (replace || i->drop.cause.empty()) i->drop.cause = cause;
-    return true;
+bool SequenceMatcher::blame(FrameId id, const ScenarioCause& cause, bool replace) {
+    for (Item& i : waiting_)
+        if (i.id == id) {
+            if (replace || i.drop.cause.empty()) i.drop.cause = cause;
+            return true;
+        }
+    if (Matched* m = recent(id))
+        if (replace || m->cause.empty()) m->cause = cause;
+    return false;
 }
 
 void SequenceMatcher::finish(bool interrupted) {
-    if (!interrupted) {
-        // Oldest first on each side; the sent side first, so a crossing pair is found from either.
-        for (Side s : {kSent, kReceived}) {
-            overtake(s, pending_[s].size());
-            while (!overtaken_[s].empty()) {
-                const Item it = overtaken_[s].front();
-                overtaken_[s].pop_front();
-                finalize(s, it);
-            }
-        }
-        return;
+    // Stopped by a signal, what still waits in order may yet have arrived (the record lags or
+    // leads by the frames in flight), unless it was dropped with a reason already; what a later
+    // frame overtook is final as ever.
+    for (const Item& it : waiting_) {
+        if (interrupted && !it.overtaken && it.drop.why == DropReason::none) ++counts_.in_flight;
+        else lost(it);
     }
-    // Stopped by a signal: what a later frame overtook is final as ever; what still waits in
-    // order may yet have arrived (the record lags or leads by the frames in flight), unless it
-    // was dropped with a reason already.
-    for (Side s : {kSent, kReceived})
-        while (!overtaken_[s].empty()) {
-            const Item it = overtaken_[s].front();
-            overtaken_[s].pop_front();
-            finalize(s, it);
-        }
-    for (Side s : {kSent, kReceived})
-        while (!pending_[s].empty()) {
-            const Item it = pending_[s].front();
-            pending_[s].pop_front();
-            if (s == kSent && it.drop.why != DropReason::none) finalize(s, it);
-            else ++counts_.in_flight;
-        }
-}
-
-std::size_t SequenceMatcher::waiting() const {
-    return pending_[0].size() + pending_[1].size() + overtaken_[0].size() + overtaken_[1].size();
+    waiting_.clear();
+    for (const Item& it : early_) {
+        if (interrupted && !recent(it.id)) ++counts_.in_flight;
+        else never_sent(it);
+    }
+    early_.clear();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -247,6 +251,10 @@ void LineObserver::control(Dir d, std::uint8_t byte) {
         break;
     case proto::NAK:
         if (peer.await != Await::none) ++peer.counts.naks;
+        // The controller refused a valid command: it will not forward it.
+        if (d == controller_to_host && peer.await == Await::frame && peer.last_good && !offered_.empty() &&
+            offered_.back().id == peer.transfer)
+            offered_.pop_back();
         peer.await = Await::none;
         break;
     case proto::EOT:
@@ -273,12 +281,16 @@ void LineObserver::frame_done(Dir d, bool good) {
         if (key && s.last && *key != *s.last) ++s.counts.abandoned;
         else ++s.counts.retries;
     }
-    if (key) s.last = key;
+    if (key) {
+        if (!s.open || !s.last || *key != *s.last) s.transfer = next_id_++; // a retry keeps its id
+        s.last = key;
+        if (d == host_to_controller) keep_last(offered_, {s.transfer, *key, s.cause});
+    }
     s.open = true;
     s.last_good = good;
     s.await = Await::frame;
     // The responses' record: what reached the host intact, EOT or not.
-    if (key && d == controller_to_host) responses_.received(*key, {s.last_label, now(), {}});
+    if (key && d == controller_to_host) responses_.received(response_id(*key), {s.last_label, now(), {}});
     if (on_frame) on_frame(d, good, s.decoder.frame());
 }
 
@@ -299,10 +311,13 @@ void LineObserver::acknowledged(Dir d) {
         ++s.counts.frames_eot;
         // The commands' intention: what the host was told was delivered, with the first cause
         // that hit the port during its transfer.
-        if (d == host_to_controller) commands_.sent(*s.last, {s.last_label, now(), s.cause});
+        if (d == host_to_controller) commands_.sent(s.transfer, {s.last_label, now(), s.cause});
     }
     // The comm CPU has its EOT: the oldest response in its ring is done (valid or not).
-    if (d == controller_to_host && !in_ring_.empty()) in_ring_.pop_front();
+    if (d == controller_to_host && !in_ring_.empty()) {
+        keep_last(sent_, in_ring_.front());
+        in_ring_.pop_front();
+    }
     s.end_transfer();
 }
 
@@ -318,19 +333,66 @@ void LineObserver::line_fault(const ScenarioCause& c) {
     // The command being transferred (from its ENQ on), and the response being sent: the oldest
     // in the comm CPU's ring.
     Sender& h = dir_[host_to_controller];
-    if (h.cause.empty()) h.cause = c;
-    if (!in_ring_.empty()) responses_.blame(in_ring_.front(), c);
+    if (h.cause.empty()) {
+        h.cause = c;
+        // The command of this transfer already on the line shares the cause.
+        if (h.open)
+            for (Carried& o : offered_)
+                if (o.id == h.transfer && o.cause.empty()) o.cause = c;
+    }
+    if (!in_ring_.empty()) responses_.blame(in_ring_.front().id, c);
+}
+
+void LineObserver::keep_last(std::deque<Carried>& q, Carried c) {
+    q.push_back(std::move(c));
+    if (q.size() > SequenceMatcher::kWindow) q.pop_front();
+}
+
+// The id of a command the main CPU reassembled: the oldest equal one offered (the comm CPU
+// forwards in order; those before it it refused or the host gave up, and they leave with it),
+// or, when none waits, the last equal one already found (a copy forwarded again).
+FrameId LineObserver::command_id(const FrameKey& k, ScenarioCause& cause) {
+    const auto it = std::find_if(offered_.begin(), offered_.end(), [&k](const Carried& c) { return c.key == k; });
+    if (it != offered_.end()) {
+        const Carried found = *it;
+        offered_.erase(offered_.begin(), it + 1);
+        keep_last(forwarded_, found);
+        cause = found.cause;
+        return found.id;
+    }
+    const auto again =
+        std::find_if(forwarded_.rbegin(), forwarded_.rend(), [&k](const Carried& c) { return c.key == k; });
+    if (again == forwarded_.rend()) return kNoFrameId;
+    cause = again->cause;
+    return again->id;
+}
+
+// The id of a response that reached the host intact: the oldest equal one in the ring (the one
+// being sent, or being sent again), or, when none is there, the last equal one it had EOT for.
+FrameId LineObserver::response_id(const FrameKey& k) const {
+    for (const Carried& c : in_ring_)
+        if (c.key == k) return c.id;
+    for (auto it = sent_.rbegin(); it != sent_.rend(); ++it)
+        if (it->key == k) return it->id;
+    return kNoFrameId;
+}
+
+void LineObserver::main_received(const FrameKey& k, std::string label) {
+    ScenarioCause cause;
+    const FrameId id = command_id(k, cause);
+    commands_.received(id, {std::move(label), now(), std::move(cause)});
 }
 
 void LineObserver::main_handed(const FrameKey& k, std::string label) {
-    in_ring_.push_back(responses_.sent(k, {std::move(label), now(), {}}));
+    const FrameId id = next_id_++;
+    responses_.sent(id, {std::move(label), now(), {}});
     // The firmware's ring holds at most 8 frames; an id this old can no longer be explained.
-    if (in_ring_.size() > SequenceMatcher::kWindow) in_ring_.pop_front();
+    keep_last(in_ring_, {id, k, {}});
 }
 
 void LineObserver::response_given_up() {
     if (in_ring_.empty()) return;
-    responses_.explain(in_ring_.front(), DropReason::gave_up, now());
+    responses_.explain(in_ring_.front().id, DropReason::gave_up, now());
     in_ring_.pop_front();
 }
 
@@ -347,9 +409,9 @@ void LineObserver::port_reset(bool by_main_cpu) {
     // the controller's next ACK and EOT answer the host again (they are not that frame's bytes).
     dir_[controller_to_host].collecting = false;
     dir_[controller_to_host].end_transfer();
-    for (std::uint64_t id : in_ring_) {
-        responses_.blame(id, cause, true);
-        responses_.explain(id, DropReason::port_reset, t);
+    for (const Carried& c : in_ring_) {
+        responses_.blame(c.id, cause, true);
+        responses_.explain(c.id, DropReason::port_reset, t);
     }
     in_ring_.clear();
 }

@@ -72,23 +72,29 @@ struct FrameEvent {
     Kind kind = Kind::lost;
     std::string frame;   // frame_label()
     double time_us = 0;  // sent (lost), dropped (gave_up, port_reset), received (duplicate, unexpected), final (reordered)
-    ScenarioCause cause; // an expected drop's cause; empty otherwise
+    ScenarioCause cause; // an expected drop's cause, or what hit a duplicate's or unexpected frame's transfer
 };
 const char* kind_name(FrameEvent::Kind k);
 
-/// Streaming comparison of two frame sequences — `sent` (the intention) and `received` (the
-/// record) — that arrive interleaved, each in its own order, the record lagging or leading by
-/// the frames in flight. Memory is bounded: at most `kWindow` unmatched frames per side are
-/// waiting and `kWindow` more are kept as overtaken.
+/// A frame's identity in the books: given where the frame is made (LineObserver says where) and
+/// carried beside it, never in the modelled bytes, to where it is consumed. A retry of a frame
+/// keeps its id; an equal frame made again gets a new one.
+using FrameId = std::uint64_t;
+/// A frame received that no frame made can be: its id is this.
+constexpr FrameId kNoFrameId = ~FrameId{0};
+
+/// Streaming comparison of two records of the same frames — `sent` (the intention) and `received`
+/// (the record) — by the frames' identity, so two equal frames are never taken for each other.
+/// They arrive interleaved, the record lagging or leading by the frames in flight. Memory is
+/// bounded: at most kWindow frames wait on each side, and the last kWindow matched ids are kept to
+/// tell a duplicate.
 ///
-/// Rule (docs/scenarios.md "Exactly once"): a new frame on one side matches the oldest equal
-/// frame waiting on the other side; the frames older than it on either side were overtaken and
-/// can only be resolved as reordered. A frame that leaves the window, or is still unmatched at
-/// finish(), is final: if an equal frame of the other side is also unmatched the pair is one
-/// reordering, else a sent frame is lost (or dropped, with its reason) and a received frame is a
-/// duplicate (an equal frame was matched before it, while it waited, or among the last kWindow) or
-/// unexpected. So a duplicate counts 1, a loss 1, a reordering 1, and an altered frame 2 (the one
-/// that did not arrive, the one that arrived instead).
+/// Rule (docs/scenarios.md "Exactly once"): a received id that was sent and still waits matches
+/// it, and the frames sent before it that still wait were overtaken: one of them received later
+/// is reordered. A received id matched before is a duplicate; one never sent waits (the record
+/// may lead) until kWindow more wait or finish(), then it is unexpected and its other copies are
+/// duplicates. A sent frame still waiting when kWindow newer ones wait, or at finish(), is lost (or
+/// dropped, with its reason). So a duplicate counts 1, a loss 1, a reordering 1.
 class SequenceMatcher {
 public:
     static constexpr std::size_t kWindow = 64;
@@ -96,11 +102,15 @@ public:
     struct Counts {
         std::uint64_t sent = 0, received = 0, matched = 0;
         std::uint64_t lost = 0, reordered = 0;
-        std::uint64_t duplicates = 0; // received again after an equal frame was matched
+        std::uint64_t duplicates = 0; // received again after the frame was matched
         std::uint64_t unexpected = 0; // received, never sent (e.g. a command the host gave up on)
         std::uint64_t dropped_gave_up = 0, dropped_port_reset = 0; // lost, with a reported reason
         /// Of the lost and dropped, those with a cause the scenario made (expected drops).
         std::uint64_t expected = 0;
+        /// Of the duplicates and unexpected, those whose transfer a cause the scenario made hit
+        /// (e.g. a damaged EOT, so the sender repeated a frame its receiver had taken). They still
+        /// count: the protocol has no sequence numbers, and exactly once is what the check asks.
+        std::uint64_t after_fault = 0;
         /// Frames still on their way when a signal stopped the run (finish(true)): never final.
         std::uint64_t in_flight = 0;
         /// Every frame not delivered exactly once and in order — lost, dropped (a reason does not
@@ -111,8 +121,8 @@ public:
         }
     };
 
-    /// What the report shows of a frame: its label, when this side had it, and (sent frames) a
-    /// cause the scenario made while it was on its way.
+    /// What the report shows of a frame: its label, when this side had it, and a cause the
+    /// scenario made while it was on its way.
     struct Note {
         std::string label;
         double time_us = 0;
@@ -121,17 +131,18 @@ public:
     /// The first frames the report lists of each kind.
     static constexpr std::size_t kListed = 8;
 
-    /// Returns the frame's id, for explain() and blame().
-    std::uint64_t sent(const FrameKey& k, Note note) { return add(kSent, k, std::move(note)); }
-    std::uint64_t sent(const FrameKey& k) { return sent(k, Note()); }
-    void received(const FrameKey& k, Note note) { add(kReceived, k, std::move(note)); }
-    void received(const FrameKey& k) { received(k, Note()); }
+    void sent(FrameId id, Note note);
+    void sent(FrameId id) { sent(id, Note()); }
+    /// `id` kNoFrameId: a frame nothing made, unexpected at once.
+    void received(FrameId id, Note note);
+    void received(FrameId id) { received(id, Note()); }
     /// Gives sent frame `id` a reason, should it turn out lost, and the time it was dropped.
     /// False: it is no longer waiting (matched, or final).
-    bool explain(std::uint64_t id, DropReason why, double time_us = 0);
-    /// Gives sent frame `id` a cause, unless it has one (`replace`: whatever it had). False: it is
+    bool explain(FrameId id, DropReason why, double time_us = 0);
+    /// Gives frame `id` a cause, unless it has one (`replace`: whatever it had): a waiting sent
+    /// frame's, should it be lost, or a matched one's, should a copy of it arrive. False: it is
     /// no longer waiting.
-    bool blame(std::uint64_t id, const ScenarioCause& cause, bool replace = false);
+    bool blame(FrameId id, const ScenarioCause& cause, bool replace = false);
     /// Makes every waiting frame final. `interrupted` (a signal stopped the run): the frames
     /// still on their way — waiting and not yet overtaken by a later one, nor dropped with a
     /// reason — are counted in_flight instead.
@@ -143,35 +154,36 @@ public:
     const std::vector<FrameEvent>& expected_drops() const { return expected_; }
     const std::vector<FrameEvent>& unexplained() const { return unexplained_; }
     /// Frames waiting on either side (for tests of the bound).
-    std::size_t waiting() const;
+    std::size_t waiting() const { return waiting_.size() + early_.size(); }
 
 private:
-    enum Side : unsigned { kSent = 0, kReceived = 1 };
-    /// How a sent frame was dropped, if it was: moves with the reason between equal frames.
+    /// How a sent frame was dropped, if it was.
     struct Drop {
         DropReason why = DropReason::none;
         double time_us = 0;
         ScenarioCause cause;
     };
     struct Item {
-        FrameKey key;
-        std::uint64_t id;
+        FrameId id;
         Note note;
         Drop drop;
-        bool copy = false; // received when an equal frame had been matched: a duplicate if unmatched
+        bool overtaken = false; // a frame sent after it was received first
     };
-    std::array<std::deque<Item>, 2> pending_, overtaken_;
-    std::deque<FrameKey> recent_; // the last kWindow matched frames, to tell a duplicate
-    std::uint64_t next_id_ = 0;
+    struct Matched {
+        FrameId id;
+        ScenarioCause cause; // what hit its transfer: the cause of a copy
+    };
+    std::deque<Item> waiting_;   // sent, not yet received: in the order sent
+    std::deque<Item> early_;     // received, not (yet) sent: in the order received
+    std::deque<Matched> recent_; // the last kWindow ids matched or found unexpected
     Counts counts_;
     std::vector<FrameEvent> expected_, unexplained_;
 
-    std::uint64_t add(Side s, const FrameKey& k, Note note);
-    Item* waiting_sent(std::uint64_t id);
-    void overtake(Side s, std::size_t n);
-    void finalize(Side s, const Item& it);
-    void matched(const FrameKey& k);
-    void mark_copies(const FrameKey& k);
+    void matched(FrameId id, ScenarioCause cause);
+    Matched* recent(FrameId id);
+    void lost(const Item& it);
+    void copy(const Note& note, const ScenarioCause& cause);
+    void never_sent(const Item& it);
     static void list(std::vector<FrameEvent>& v, FrameEvent e);
 };
 
@@ -192,7 +204,17 @@ private:
 ///     can make the host read an EOT the controller never sent. A BREAK or reset after the EOT
 ///     explains nothing: an EOT is a promise of delivery (docs/system.md §5.2).
 /// Duplicates, unexpected and reordered frames are never expected: exactly once is what the
-/// check asks, whatever made the sender repeat itself.
+/// check asks, whatever made the sender repeat itself. A duplicate or unexpected frame whose
+/// transfer a cause hit is listed with that cause (Counts::after_fault).
+///
+/// Frame identity (issue 33 item 7): the books match ids (FrameId), not contents. A command's id
+/// is made when the host offers it on the line, valid as the controller's receiver decoded it; a
+/// retry of it in the same transfer (no EOT reached the host in between) keeps the id. The comm
+/// CPU forwards the frames it took in the order it took them, so a frame the main CPU reassembles
+/// is the oldest offered one equal to it (frames offered before it that never arrive were refused
+/// or given up, and leave with it). A response's id is made when the main CPU hands it to DP-RAM;
+/// the comm CPU sends its ring in order and repeats the oldest until its EOT, so a response that
+/// reaches the host is the oldest in the ring equal to it. Contents only confirm the match.
 class LineObserver {
 public:
     enum Dir : unsigned { host_to_controller = 0, controller_to_host = 1 };
@@ -224,9 +246,7 @@ public:
     void line_fault(const ScenarioCause& c);
 
     // ---- the main CPU's DP-RAM side ----
-    void main_received(const FrameKey& k, std::string label = {}) {
-        commands_.received(k, {std::move(label), now(), {}});
-    }
+    void main_received(const FrameKey& k, std::string label = {});
     /// A response the main CPU handed to DP-RAM (every chunk acknowledged by the comm CPU).
     void main_handed(const FrameKey& k, std::string label = {});
     /// The comm CPU gave up on the response it was sending (mailbox word 0x4p or 0x5p).
@@ -269,6 +289,7 @@ private:
         bool last_good = false;        // ... and it was valid as received
         std::optional<FrameKey> last;  // the last valid frame offered without EOT
         std::string last_label;        // ... its frame_label()
+        FrameId transfer = kNoFrameId; // ... its id: a retry keeps it
         ScenarioCause cause;           // the first cause since this sender's transfer began
         DirCounts counts;
         /// The transfer is over (its EOT, or a port reset): nothing offered waits for an answer.
@@ -282,8 +303,19 @@ private:
     std::array<Sender, 2> dir_;
     std::uint64_t enq_collisions_ = 0, breaks_ = 0;
     SequenceMatcher commands_, responses_;
-    // Responses in the comm CPU's transmit ring, oldest first (it sends and gives up in order).
-    std::deque<std::uint64_t> in_ring_;
+    FrameId next_id_ = 0;
+    /// A frame and its id, where the observer follows it between its making and its consumer.
+    struct Carried {
+        FrameId id;
+        FrameKey key;
+        ScenarioCause cause; // commands: the first cause that hit its transfer
+    };
+    // Valid commands offered on the line and not yet found at the main CPU, oldest first; and the
+    // last kWindow found there, to name a copy forwarded again.
+    std::deque<Carried> offered_, forwarded_;
+    // Responses in the comm CPU's transmit ring, oldest first (it sends and gives up in order);
+    // and the last kWindow it had EOT for, to name a copy sent again.
+    std::deque<Carried> in_ring_, sent_;
     // The last BREAK from the host not yet followed by a port reset of the comm CPU.
     ScenarioCause break_before_reset_;
 
@@ -291,6 +323,9 @@ private:
     void control(Dir d, std::uint8_t byte);
     void frame_done(Dir d, bool good);
     void acknowledged(Dir d);
+    FrameId command_id(const FrameKey& k, ScenarioCause& cause);
+    FrameId response_id(const FrameKey& k) const;
+    static void keep_last(std::deque<Carried>& q, Carried c);
 };
 
 } // namespace rcsim

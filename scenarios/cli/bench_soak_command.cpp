@@ -96,7 +96,8 @@ private:
 };
 
 void print_books(const nlohmann::json& report) {
-    std::cout << "  port  frames      sent  matched  expected  lost  dropped  dup  unexp  reord  mismatches\n";
+    // "after fault": of the duplicates and unexpected, those whose transfer a fault hit.
+    std::cout << "  port  frames      sent  matched  expected  lost  dropped  dup  unexp  reord  after fault  mismatches\n";
     std::uint64_t total = 0;
     for (std::size_t p = 0; p < report["ports"].size(); ++p)
         for (const char* k : {"commands", "responses"}) {
@@ -109,8 +110,8 @@ void print_books(const nlohmann::json& report) {
             std::cout << "  " << std::setw(4) << p << "  " << std::left << std::setw(10) << k << std::right
                       << std::setw(6) << sent << std::setw(9) << u("matched") << std::setw(10) << u("expected")
                       << std::setw(6) << u("lost") << std::setw(9) << dropped << std::setw(5) << u("duplicates")
-                      << std::setw(7) << u("unexpected") << std::setw(7) << u("reordered") << std::setw(12)
-                      << u("mismatches") << "\n";
+                      << std::setw(7) << u("unexpected") << std::setw(7) << u("reordered") << std::setw(13)
+                      << u("after_fault") << std::setw(12) << u("mismatches") << "\n";
             total += u("mismatches");
         }
     std::cout << "  frames not delivered exactly once, expected drops aside: " << total << "\n";

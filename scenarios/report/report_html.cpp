@@ -317,7 +317,9 @@ void exactly_once_notes(std::ostream& o, const json& r) {
             rows << "<tr><td>" << ju(e, "port") << "</td><td class=\"l\">"
                  << (js(e, "direction") == "host_to_controller" ? "commands" : "responses")
                  << "</td><td class=\"l bad\">counted: " << esc(js(e, "what")) << "</td><td>" << ms(jd(e, "time_us"))
-                 << "</td><td class=\"l\">" << esc(js(e, "frame")) << "</td><td></td></tr>\n";
+                 << "</td><td class=\"l\">" << esc(js(e, "frame")) << "</td><td class=\"l\">"
+                 << (e.contains("cause") ? esc(js(e, "cause")) + " at " + ms(jd(e, "cause_us")) : std::string())
+                 << "</td></tr>\n";
     }
     if (rows.str().empty()) return;
     o << "<h3>Frames not delivered once: expected drops, in flight, the first counted</h3>\n<table><tr><th>port</th>"

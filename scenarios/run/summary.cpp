@@ -199,7 +199,9 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
         for (const auto& e : c["detail"]["unexplained"])
             out << "  port " << e["port"].get<unsigned>() << " " << (e["direction"] == "host_to_controller" ? "commands" : "responses")
                 << ": counted, " << e["what"].get<std::string>() << " at " << ms(e["time_us"]) << ": "
-                << e["frame"].get<std::string>() << "\n";
+                << e["frame"].get<std::string>()
+                << (e.contains("cause") ? "; after " + e["cause"].get<std::string>() + " at " + ms(e["cause_us"]) : "")
+                << "\n";
     }
     if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
 }

@@ -155,7 +155,7 @@ nlohmann::json observer_json(const LineObserver& o) {
     auto seq = [](const SequenceMatcher::Counts& c, const char* sent, const char* received) {
         return nlohmann::json{{sent, c.sent},           {received, c.received},   {"matched", c.matched},
                               {"lost", c.lost},         {"duplicates", c.duplicates}, {"unexpected", c.unexpected},
-                              {"reordered", c.reordered},
+                              {"reordered", c.reordered}, {"after_fault", c.after_fault},
                               {"mismatches", c.mismatches()}};
     };
     nlohmann::json responses = seq(o.responses(), "main_cpu_handed", "host_received");
@@ -178,10 +178,12 @@ const char* direction_name(unsigned d) {
 
 nlohmann::json frame_event_json(const FrameEvent& e, unsigned direction) {
     nlohmann::json j = {{"direction", direction_name(direction)}, {"frame", e.frame}, {"time_us", e.time_us}};
-    if (e.cause.empty()) {
-        j["what"] = kind_name(e.kind);
-    } else {
-        j["dropped"] = kind_name(e.kind);
+    // An expected drop says how it was dropped; a frame that counts, what became of it.
+    const bool expected_drop = !e.cause.empty() && (e.kind == FrameEvent::Kind::lost ||
+                                                    e.kind == FrameEvent::Kind::gave_up ||
+                                                    e.kind == FrameEvent::Kind::port_reset);
+    j[expected_drop ? "dropped" : "what"] = kind_name(e.kind);
+    if (!e.cause.empty()) {
         j["cause"] = e.cause.what;
         j["cause_us"] = e.cause.time_us;
     }

@@ -195,6 +195,111 @@ TEST(ExpectedDrops, DuplicatesAreNeverExpected) {
     EXPECT_EQ(c.o.responses().mismatches(), 1u);
     ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
     EXPECT_EQ(c.o.response_books().unexplained()[0].kind, FrameEvent::Kind::duplicate);
+    // ... though it names what made the controller send it again.
+    EXPECT_EQ(c.o.responses().after_fault, 1u);
+    EXPECT_EQ(c.o.response_books().unexplained()[0].cause.what, "injected fault: a host character dropped");
+}
+
+// ---- frame identity (issue 33 item 7) ----
+
+// Two equal responses in the ring. The host's EOT for the first is destroyed, so the controller
+// sends the first again; then a host BREAK's port reset drops the second. By content the books saw
+// two equal frames handed and two received, "2 delivered"; by identity the first arrived twice and
+// the second never did.
+TEST(FrameIdentity, EqualResponsesAreToldApartADuplicateAndAnExpectedDrop) {
+    Clocked c;
+    const proto::Frame r = resp("0");
+    hand(c.o, r);
+    hand(c.o, r); // the answer to an equal command, right behind it
+    send(c.o, C, ctl(ENQ));
+    send(c.o, H, ctl(ACK));
+    send(c.o, C, wire(r));
+    c.now = 10;
+    c.o.line_fault({"injected fault: a host character dropped", 10}); // the host's EOT
+    c.now = 20;
+    controller_transfer(c.o, r); // the first again, and this time its EOT
+    c.now = 30;
+    c.o.line_break(H);
+    c.now = 40;
+    c.o.port_reset(); // the second goes with the ring
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().matched, 1u);
+    EXPECT_EQ(c.o.responses().duplicates, 1u);
+    EXPECT_EQ(c.o.responses().after_fault, 1u);
+    EXPECT_EQ(c.o.responses().dropped_port_reset, 1u);
+    EXPECT_EQ(c.o.responses().expected, 1u);
+    EXPECT_EQ(c.o.responses().lost + c.o.responses().reordered, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u); // the duplicate
+}
+
+// The issue's own case: of two equal responses the first is flushed by a port reset after a host
+// BREAK, the second delivered after an equal frame went before it. "1 dropped (port reset) and the
+// rest delivered", not "1 lost and 1 reordered".
+TEST(FrameIdentity, AFlushedResponseAndAnEqualDeliveredOneAreNotConfused) {
+    Clocked c;
+    const proto::Frame ec = resp("0"), st{"ST", 0, "0"};
+    hand(c.o, ec);
+    c.now = 10;
+    c.o.line_break(H);
+    c.now = 20;
+    c.o.port_reset(); // the first EC goes
+    hand(c.o, st);
+    hand(c.o, ec);
+    hand(c.o, st);
+    controller_transfer(c.o, st);
+    controller_transfer(c.o, ec);
+    controller_transfer(c.o, st);
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().matched, 3u);
+    EXPECT_EQ(c.o.responses().dropped_port_reset, 1u);
+    EXPECT_EQ(c.o.responses().expected, 1u);
+    EXPECT_EQ(c.o.responses().lost + c.o.responses().reordered + c.o.responses().duplicates, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 0u);
+}
+
+// A command equal to one delivered before, whose every EOT a fault destroyed so the host gave it
+// up, reached the main CPU anyway: by content a "duplicate" of the first; by identity a frame the
+// host was never told of, unexpected, after that fault.
+TEST(FrameIdentity, AnEqualCommandTheHostGaveUpOnIsUnexpectedNotADuplicate) {
+    Clocked c;
+    const proto::Frame x{"EC", 0, "X"}, y{"EC", 0, "Y"};
+    host_transfer(c.o, x);
+    c.o.main_received(frame_key(x));
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    send(c.o, H, wire(x)); // the same command again, a new one
+    c.now = 50;
+    c.o.line_fault({"injected fault: a controller character dropped", 50}); // its EOT
+    c.o.main_received(frame_key(x));
+    host_transfer(c.o, y); // the host gave x up and went on
+    c.o.main_received(frame_key(y));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().matched, 2u);
+    EXPECT_EQ(c.o.commands().duplicates, 0u);
+    EXPECT_EQ(c.o.commands().unexpected, 1u);
+    EXPECT_EQ(c.o.commands().after_fault, 1u);
+    ASSERT_EQ(c.o.command_books().unexplained().size(), 1u);
+    EXPECT_EQ(c.o.command_books().unexplained()[0].cause.time_us, 50);
+}
+
+// The main CPU takes both copies of a command whose EOT was destroyed before the host's retry got
+// its EOT: the copy that has no EOT of its own is the duplicate, with that fault as its cause.
+TEST(FrameIdentity, ARetriedCommandTakenTwiceIsADuplicateOfItsOwnTransfer) {
+    Clocked c;
+    const proto::Frame x{"EC", 0, "X"};
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    send(c.o, H, wire(x));
+    c.o.line_fault({"noise on a controller character", 7}); // the EOT
+    c.o.main_received(frame_key(x));
+    host_transfer(c.o, x); // the retry: same frame, same transfer
+    c.o.main_received(frame_key(x));
+    c.o.finish();
+    EXPECT_EQ(c.o.counts(H).retries, 1u);
+    EXPECT_EQ(c.o.commands().matched, 1u);
+    EXPECT_EQ(c.o.commands().duplicates, 1u);
+    EXPECT_EQ(c.o.commands().after_fault, 1u);
+    EXPECT_EQ(c.o.commands().unexpected, 0u);
 }
 
 TEST(ExpectedDrops, TheListsAreBoundedAndTheCountsAreNot) {
@@ -226,7 +331,11 @@ TEST(InFlight, AnInterruptedStopLeavesWaitingFramesInFlightNotLost) {
     c.o.main_received(frame_key(f));
     host_transfer(c.o, g); // EOT'd; the main CPU has not received it yet
     hand(c.o, resp("ANSWER")); // handed; the host has not received it yet
-    c.o.main_received(frame_key(resp("AHEAD"))); // the record leads: its EOT is still on the line
+    const proto::Frame ahead = resp("AHEAD");
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    send(c.o, H, wire(ahead));
+    c.o.main_received(frame_key(ahead)); // the record leads: its EOT is still on the line
     c.o.finish(true);
     EXPECT_EQ(c.o.commands().in_flight, 2u);
     EXPECT_EQ(c.o.commands().lost + c.o.commands().unexpected, 0u);
