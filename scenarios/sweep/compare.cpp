@@ -74,10 +74,31 @@ std::vector<Tolerance> load_tolerances(const std::string& path) {
     return out;
 }
 
+std::string figure_family(const std::string& key) {
+    const std::size_t first = key.find_first_of(".[");
+    if (first == std::string::npos) return key;
+    const std::string head = key.substr(0, first);
+    if (head == "interrupts") return key.substr(0, key.find('.', first + 1)); // interrupts.<source>
+    if (key[first] == '[') return key.substr(0, key.find(']', first) + 1);    // ports[<n>]
+    return head;
+}
+
+Rank rank_of(const std::string& key) {
+    if (key.rfind("table3.", 0) == 0) return Rank::budget;
+    if (key.rfind("interrupts.", 0) == 0)
+        for (const char* stat : {".max", ".p99", ".mean"})
+            for (const char* what : {".latency_us", ".service_us"})
+                if (glob_match(std::string("interrupts.*") + what + stat, key)) return Rank::latency;
+    for (const char* delivery : {"ports[*].frames_*", "ports[*].overruns", "ports[*].commands.*", "ports[*].responses.*",
+                                 "ports[*].main_cpu_frames_*", "ports[*].responses_*"})
+        if (glob_match(delivery, key)) return Rank::delivery;
+    return Rank::other;
+}
+
 const char* verdict_name(Verdict v) {
     switch (v) {
     case Verdict::same: return "same";
-    case Verdict::within: return "within tolerance";
+    case Verdict::within: return "changed (within tolerance)";
     case Verdict::ignored: return "ignored";
     case Verdict::improvement: return "improvement";
     case Verdict::regression: return "regression";
@@ -256,20 +277,12 @@ std::string signed_text(std::optional<double> v, bool percent) {
 struct Row {
     std::string what, run, baseline, current, delta, rel;
     std::size_t runs = 1;
-    int tier = 4;     // 0 a run missing or unfinished, 1 a check, 2 Table 3, 3 RS-232 receive and
-                      // delivery, 4 any other figure
+    Rank rank = Rank::other;
     double order = 0; // |rel| of the worst run, infinite for a change from 0 or null
 };
 
-int tier_of(const std::string& key) {
-    if (key.rfind("table3.", 0) == 0) return 2;
-    if (key.rfind("interrupts.rs232_rx.", 0) == 0 || glob_match("ports[*].frames_delivered", key) ||
-        glob_match("ports[*].overruns", key))
-        return 3;
-    return 4;
-}
-
-/// The rows of one verdict, one per figure or check (grouped over the runs), the most telling first.
+/// The rows of one verdict, one per figure or check (grouped over the runs), ranked, the largest
+/// change first within a rank.
 std::vector<Row> rows_of(const Comparison& c, Verdict want) {
     std::vector<Row> rows;
     std::map<std::string, std::size_t> at; // figure or check -> its row
@@ -290,43 +303,85 @@ std::vector<Row> rows_of(const Comparison& c, Verdict want) {
             const char* what = r.state == RunDiff::State::missing ? "run missing from current"
                                : r.state == RunDiff::State::extra ? "run not in the baseline"
                                                                   : "run has no report.json";
-            rows.push_back({what, r.id, "", "", "", "", 1, 0, INFINITY});
+            rows.push_back({what, r.id, "", "", "", "", 1, Rank::run, INFINITY});
         }
         for (const auto& k : r.checks)
             if (k.verdict == want)
                 add({"check " + k.name, r.id, k.baseline ? (*k.baseline ? "PASS" : "FAIL") : "(absent)",
-                     k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, 1, INFINITY});
+                     k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, Rank::check, INFINITY});
         for (const auto& f : r.figures)
             if (f.verdict == want)
                 add({f.key, r.id, value_text(f.baseline, f.has_baseline), value_text(f.current, f.has_current),
-                     signed_text(f.delta, false), signed_text(f.rel, true), 1, tier_of(f.key),
+                     signed_text(f.delta, false), signed_text(f.rel, true), 1, rank_of(f.key),
                      f.rel ? std::fabs(*f.rel) : INFINITY});
     }
     std::stable_sort(rows.begin(), rows.end(),
-                     [](const Row& a, const Row& b) { return a.tier != b.tier ? a.tier < b.tier : a.order > b.order; });
+                     [](const Row& a, const Row& b) { return a.rank != b.rank ? a.rank < b.rank : a.order > b.order; });
     return rows;
 }
 
+const char* rank_title(Rank r) {
+    switch (r) {
+    case Rank::run: return "runs";
+    case Rank::check: return "checks that flipped";
+    case Rank::budget: return "the budget (Table 3)";
+    case Rank::latency: return "interrupt latency and service, per source";
+    case Rank::delivery: return "delivery";
+    case Rank::other: return "other figures";
+    }
+    return "?";
+}
+
+/// The figures of Rank::other, one line per family: how many changed, and the one that changed
+/// most, in which run, by how much. Families whose worst change is largest first.
+void print_families(std::vector<Row>::const_iterator begin, std::vector<Row>::const_iterator end, std::ostream& os) {
+    struct Family {
+        std::size_t figures = 0;
+        const Row* worst = nullptr;
+    };
+    std::map<std::string, Family> by_name;
+    for (auto it = begin; it != end; ++it) {
+        Family& f = by_name[figure_family(it->what)];
+        ++f.figures;
+        if (!f.worst || it->order > f.worst->order) f.worst = &*it;
+    }
+    if (by_name.empty()) return;
+    std::vector<std::pair<std::string, Family>> families(by_name.begin(), by_name.end());
+    std::stable_sort(families.begin(), families.end(),
+                     [](const auto& a, const auto& b) { return a.second.worst->order > b.second.worst->order; });
+    os << "  -- " << rank_title(Rank::other) << ": " << (end - begin) << " in " << families.size()
+       << " families, one line each\n  " << std::left << std::setw(20) << "family" << std::right << std::setw(8)
+       << "figures" << "  " << std::left << std::setw(44) << "most changed" << std::setw(28) << "in run" << std::right
+       << std::setw(11) << "rel" << "\n";
+    for (const auto& [name, f] : families)
+        os << "  " << std::left << std::setw(20) << name << std::right << std::setw(8) << f.figures << "  " << std::left
+           << std::setw(44) << f.worst->what << std::setw(28) << f.worst->run << std::right << std::setw(11)
+           << (f.worst->rel.empty() ? f.worst->delta : f.worst->rel) << "\n";
+}
+
+/// The rows above Rank::other, each rank under its title, at most `limit`; then the other
+/// figures by family (print_families).
 void print_rows(const std::vector<Row>& rows, const char* title, std::size_t items, std::ostream& os,
                 std::size_t limit) {
     if (rows.empty()) return;
+    const auto others = std::find_if(rows.begin(), rows.end(), [](const Row& x) { return x.rank == Rank::other; });
+    const std::size_t ranked = static_cast<std::size_t>(others - rows.begin()), shown = std::min(ranked, limit);
     std::size_t wr = 9, ww = 6;
-    for (std::size_t i = 0; i < rows.size() && i < limit; ++i)
-        wr = std::max(wr, rows[i].run.size()), ww = std::max(ww, rows[i].what.size());
-    wr = std::min<std::size_t>(wr, 40);
-    ww = std::min<std::size_t>(ww, 44);
-    const int r = static_cast<int>(wr), w = static_cast<int>(ww);
+    for (std::size_t i = 0; i < shown; ++i) wr = std::max(wr, rows[i].run.size()), ww = std::max(ww, rows[i].what.size());
+    const int r = static_cast<int>(std::min<std::size_t>(wr, 40)), w = static_cast<int>(std::min<std::size_t>(ww, 44));
     os << "\n" << title << ": " << items << " in " << rows.size() << " figures/checks; per figure the run where it "
        << "changed most\n  " << std::left << std::setw(w) << "figure" << std::right << std::setw(5) << "runs"
        << "  " << std::left << std::setw(r) << "worst run" << std::right << std::setw(13) << "baseline" << std::setw(13)
        << "current" << std::setw(13) << "delta" << std::setw(11) << "rel" << "\n";
-    for (std::size_t i = 0; i < rows.size() && i < limit; ++i) {
+    for (std::size_t i = 0; i < shown; ++i) {
         const Row& x = rows[i];
+        if (i == 0 || rows[i - 1].rank != x.rank) os << "  -- " << rank_title(x.rank) << "\n";
         os << "  " << std::left << std::setw(w) << x.what << std::right << std::setw(5) << x.runs << "  " << std::left
            << std::setw(r) << x.run << std::right << std::setw(13) << x.baseline << std::setw(13) << x.current
            << std::setw(13) << x.delta << std::setw(11) << x.rel << "\n";
     }
-    if (rows.size() > limit) os << "  ... and " << rows.size() - limit << " more (--html lists every run)\n";
+    if (ranked > shown) os << "  ... and " << ranked - shown << " more of these (--html lists every run)\n";
+    print_families(others, rows.end(), os);
 }
 
 std::size_t count(const std::map<Verdict, std::size_t>& m, Verdict v) {
@@ -342,7 +397,7 @@ void print_comparison(const Comparison& c, std::ostream& os, std::size_t limit) 
     os << "compare: " << matched << " runs matched, " << c.missing << " missing, " << c.extra << " extra, "
        << c.no_report << " without a report" << (c.allow_missing && (c.missing || c.extra) ? " (--allow-missing)" : "")
        << "\nfigures: " << count(f, Verdict::regression) << " regressions, " << count(f, Verdict::improvement)
-       << " improvements, " << count(f, Verdict::within) << " within tolerance, " << count(f, Verdict::same)
+       << " improvements, " << count(f, Verdict::within) << " changed within tolerance, " << count(f, Verdict::same)
        << " identical, " << count(f, Verdict::ignored) << " ignored, " << count(f, Verdict::added) << " new\n"
        << "checks:  " << count(c.check_counts, Verdict::regression) << " regressions, "
        << count(c.check_counts, Verdict::improvement) << " improvements, " << count(c.check_counts, Verdict::same)

@@ -80,9 +80,22 @@ std::map<std::string, RunRecord> load_run_set(const std::string& path);
 Comparison compare_runs(const std::map<std::string, RunRecord>& baseline, const std::map<std::string, RunRecord>& current,
                         const std::vector<Tolerance>& tolerances, bool allow_missing);
 
-/// The console report: counts, then the regressions and improvements (at most `rows` each).
+/// The family a figure is grouped in: `interrupts.<source>`, `ports[<n>]`, else its first name
+/// (`table3`, `comm_cpu`, `main_cpu`, ...).
+std::string figure_family(const std::string& key);
+
+/// Where a change ranks for a reader, most telling first (docs/regression.md "Comparing"): a run
+/// missing or unfinished, a check that flipped, the budget (Table 3), interrupt latency and
+/// service per source (max, p99, mean), delivery counts, then every other figure.
+enum class Rank { run, check, budget, latency, delivery, other };
+Rank rank_of(const std::string& figure_key);
+
+/// The console report: counts, then the regressions and improvements ranked (Rank): the rows
+/// above Rank::other one per figure or check (at most `rows`), the other figures one line per
+/// family with their count. `rows` 0: the counts only.
 void print_comparison(const Comparison& c, std::ostream& os, std::size_t rows = 25);
-/// JUnit XML: one testsuite per run, one testcase per run presence, check and figure.
+/// JUnit XML: one testsuite per run; in it one testcase for the run's presence, one per check, and
+/// one per figure family (failing with the family's regressions listed).
 std::string junit_xml(const Comparison& c);
 /// One self-contained HTML page: counts, regressions, histograms of the worst-changed figures,
 /// every run side by side.

@@ -54,6 +54,44 @@ void testcase(std::ostringstream& o, const std::string& suite, const std::string
     o << "</testcase>\n";
 }
 
+/// A run's figures by family (figure_family), in the order the report has them.
+std::vector<std::pair<std::string, std::vector<const FigureDiff*>>> families_of(const RunDiff& r) {
+    std::vector<std::pair<std::string, std::vector<const FigureDiff*>>> out;
+    std::map<std::string, std::size_t> at;
+    for (const FigureDiff& f : r.figures) {
+        const std::string family = figure_family(f.key);
+        const auto it = at.emplace(family, out.size()).first;
+        if (it->second == out.size()) out.push_back({family, {}});
+        out[it->second].second.push_back(&f);
+    }
+    return out;
+}
+
+/// A family's failure message: how many of its figures regressed, and the first few of them with
+/// their change and the rule that judged it. Empty: none regressed.
+std::string family_failure(const std::vector<const FigureDiff*>& figures) {
+    constexpr std::size_t kListed = 5;
+    std::vector<const FigureDiff*> regressed;
+    for (const FigureDiff* f : figures)
+        if (f->verdict == Verdict::regression) regressed.push_back(f);
+    if (regressed.empty()) return "";
+    std::string m = std::to_string(regressed.size()) + (regressed.size() == 1 ? " figure regressed: " : " figures regressed: ");
+    for (std::size_t i = 0; i < regressed.size() && i < kListed; ++i) {
+        const FigureDiff& f = *regressed[i];
+        m += (i ? "; " : "") + f.key + " " + text_of(f.baseline, f.has_baseline) + " -> " +
+             text_of(f.current, f.has_current) + (f.rel ? " (" + percent(f.rel) + ")" : "") + " [" + f.rule + "]";
+    }
+    if (regressed.size() > kListed) m += "; and " + std::to_string(regressed.size() - kListed) + " more";
+    return m;
+}
+
+/// Skipped when every figure of the family is ignored by a rule.
+std::string family_skipped(const std::vector<const FigureDiff*>& figures) {
+    for (const FigureDiff* f : figures)
+        if (f->verdict != Verdict::ignored) return "";
+    return "ignored: " + figures.front()->rule;
+}
+
 } // namespace
 
 std::string junit_xml(const Comparison& c) {
@@ -76,12 +114,8 @@ std::string junit_xml(const Comparison& c) {
         for (const CheckDiff& k : r.checks)
             add("check " + k.name,
                 k.verdict == Verdict::regression ? pass_text(k.baseline) + " -> " + pass_text(k.current) : "", "");
-        for (const FigureDiff& fd : r.figures) {
-            const std::string change = text_of(fd.baseline, fd.has_baseline) + " -> " + text_of(fd.current, fd.has_current) +
-                                       (fd.rel ? " (" + percent(fd.rel) + ")" : "") + " [" + fd.rule + "]";
-            add("figure " + fd.key, fd.verdict == Verdict::regression ? change : "",
-                fd.verdict == Verdict::ignored ? "ignored: " + fd.rule : "");
-        }
+        for (const auto& [family, figures] : families_of(r))
+            add("figures " + family, family_failure(figures), family_skipped(figures));
         suites << "  <testsuite name=\"" << esc(r.id) << "\" tests=\"" << t << "\" failures=\"" << f
                << "\" errors=\"0\" skipped=\"" << s << "\">\n"
                << cases.str() << "  </testsuite>\n";

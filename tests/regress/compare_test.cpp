@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -203,12 +204,90 @@ TEST(Compare, JunitCountsMatchItsTestcases) {
         for (auto at = x.find(what); at != std::string::npos; at = x.find(what, at + 1)) ++n;
         return n;
     };
-    // run + 1 check + 4 figures (wall_time_s, rtf ignored: skipped), 1 regression.
-    EXPECT_EQ(count("<testcase "), 6u);
-    EXPECT_NE(x.find("<testsuites name=\"rcsim compare\" tests=\"6\" failures=\"1\" errors=\"0\" skipped=\"2\">"),
+    // run + 1 check + 3 figure families (wall_time_s and rtf ignored: skipped; table3), 1 regression.
+    EXPECT_EQ(count("<testcase "), 5u);
+    EXPECT_NE(x.find("<testsuites name=\"rcsim compare\" tests=\"5\" failures=\"1\" errors=\"0\" skipped=\"2\">"),
               std::string::npos) << x;
-    EXPECT_NE(x.find("name=\"figure table3.rs232_isr_us\"><failure type=\"regression\" message=\"82 -&gt; 90 (+9.76%)"),
+    EXPECT_NE(x.find("name=\"figures table3\"><failure type=\"regression\" message=\"1 figure regressed: "
+                     "table3.rs232_isr_us 82 -&gt; 90 (+9.76%)"),
               std::string::npos) << x;
+}
+
+TEST(Compare, FiguresGroupIntoFamiliesBySourcePortOrFirstName) {
+    EXPECT_EQ(figure_family("interrupts.rs232_0.latency_us.max"), "interrupts.rs232_0");
+    EXPECT_EQ(figure_family("interrupts.dpram.count"), "interrupts.dpram");
+    EXPECT_EQ(figure_family("ports[2].commands.matched"), "ports[2]");
+    EXPECT_EQ(figure_family("table3.margin_us"), "table3");
+    EXPECT_EQ(figure_family("comm_cpu.cycles"), "comm_cpu");
+    EXPECT_EQ(figure_family("rtf"), "rtf");
+}
+
+TEST(Compare, RanksFollowWhatAFirmwareTeamAsksFirst) {
+    EXPECT_EQ(rank_of("table3.worst_margin_us"), Rank::budget);
+    EXPECT_EQ(rank_of("interrupts.rs232_1.latency_us.p99"), Rank::latency);
+    EXPECT_EQ(rank_of("interrupts.dpram.service_us.mean"), Rank::latency);
+    EXPECT_EQ(rank_of("interrupts.dpram.latency_us.min"), Rank::other);
+    EXPECT_EQ(rank_of("ports[0].frames_delivered"), Rank::delivery);
+    EXPECT_EQ(rank_of("ports[1].responses.matched"), Rank::delivery);
+    EXPECT_EQ(rank_of("comm_cpu.cycles"), Rank::other);
+}
+
+namespace {
+/// A run where one change (a slower ISR) moved a check, the budget, a latency, a delivery count,
+/// and 300 other figures by a hair: what a CI log shows after a firmware change.
+json slowed(bool slow) {
+    json r = report(slow ? 127 : 82, slow ? -10.0 : 35.0, !slow);
+    r["interrupts"]["rs232_0"]["latency_us"]["max"] = slow ? 420.0 : 380.0;
+    r["ports"] = json::array({{{"frames_delivered", slow ? 99 : 100}}});
+    for (int i = 0; i < 300; ++i) r["comm_cpu"]["counter_" + std::to_string(i)] = slow ? 1000001 + i : 1000000 + i;
+    return r;
+}
+} // namespace
+
+TEST(Compare, TheFirstScreenLeadsWithWhatFlippedAndCollapsesTheRestByFamily) {
+    std::map<std::string, RunRecord> base, cur;
+    for (const char* id : {"a", "b"}) base.emplace(id, run_of(id, slowed(false))), cur.emplace(id, run_of(id, slowed(true)));
+    const Comparison c = compare_runs(base, cur, default_tolerances(), false);
+    std::ostringstream os;
+    print_comparison(c, os);
+    const std::string s = os.str();
+    auto line_of = [&s](const std::string& what) {
+        const auto at = s.find(what);
+        return at == std::string::npos ? std::string::npos : std::size_t(std::count(s.begin(), s.begin() + at, '\n'));
+    };
+    const std::size_t check = line_of("check overruns"), budget = line_of("table3.rs232_isr_us"),
+                      latency = line_of("interrupts.rs232_0.latency_us.max"),
+                      delivery = line_of("ports[0].frames_delivered"), family = line_of("\n  comm_cpu ");
+    ASSERT_NE(check, std::string::npos) << s;
+    EXPECT_LT(check, budget) << s;
+    EXPECT_LT(budget, latency) << s;
+    EXPECT_LT(latency, delivery) << s;
+    EXPECT_LT(delivery, family) << s;
+    // The 300 counters are one line: their family, its count, the largest change and its run.
+    EXPECT_NE(s.find("other figures: 300 in 1 families"), std::string::npos) << s;
+    EXPECT_EQ(s.find("comm_cpu.counter_1 "), std::string::npos) << "a counter listed alone:\n" << s;
+    EXPECT_LT(std::count(s.begin(), s.end(), '\n'), 30) << s;
+    // Still exact: every changed figure is counted (per run the two of table3, the latency, the
+    // delivery count and the 300 counters).
+    EXPECT_NE(s.find("figures: 608 regressions"), std::string::npos) << s;
+}
+
+TEST(Compare, JunitHasOneTestcasePerRunPerCheckAndPerFigureFamily) {
+    std::map<std::string, RunRecord> base, cur;
+    for (const char* id : {"a", "b"}) base.emplace(id, run_of(id, slowed(false))), cur.emplace(id, run_of(id, slowed(true)));
+    const std::string x = junit_xml(compare_runs(base, cur, default_tolerances(), false));
+    auto count = [&x](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = x.find(what); at != std::string::npos; at = x.find(what, at + 1)) ++n;
+        return n;
+    };
+    // Per run: run, check overruns, and the families wall_time_s, rtf, table3, interrupts.rs232_0,
+    // ports[0], comm_cpu; all but run and the two ignored fail.
+    EXPECT_EQ(count("<testcase "), 2u * 8u) << x;
+    EXPECT_EQ(count("<failure "), 2u * 5u) << x;
+    EXPECT_NE(x.find("name=\"figures comm_cpu\"><failure type=\"regression\" message=\"300 figures regressed: "),
+              std::string::npos) << x;
+    EXPECT_NE(x.find("; and 295 more"), std::string::npos) << x;
 }
 
 TEST(Compare, HtmlHasTheRegressionTableAndOverlaidHistogram) {
