@@ -92,13 +92,14 @@ Rank rank_of(const std::string& figure_key);
 
 /// The console report: counts, then the regressions and improvements ranked (Rank): the rows
 /// above Rank::other one per figure or check (at most `rows`), the other figures one line per
-/// family with their count. `rows` 0: the counts only.
+/// family with their count.
 void print_comparison(const Comparison& c, std::ostream& os, std::size_t rows = 25);
 /// JUnit XML: one testsuite per run; in it one testcase for the run's presence, one per check, and
 /// one per figure family (failing with the family's regressions listed).
 std::string junit_xml(const Comparison& c);
-/// One self-contained HTML page: counts, regressions, histograms of the worst-changed figures,
-/// every run side by side.
+/// One self-contained HTML page: the console report, the regressions and improvements ranked
+/// (the other figures collapsed per family), histograms of the worst-changed figures, every run
+/// side by side.
 std::string compare_html(const Comparison& c);
 
 } // namespace rcsim::regress

@@ -161,22 +161,43 @@ const char* kHead = "<th class=\"k\">figure</th><th>baseline</th><th>current</th
                     "<th class=\"k\">verdict</th></tr>\n";
 
 /// Every changed figure and check of one verdict, over all runs.
+/// Every change of verdict `v`, ranked as the console ranks them (Rank): runs, checks, then the
+/// figures above Rank::other in a table; the other figures in one collapsed table per family.
 void verdict_table(std::ostringstream& o, const Comparison& c, Verdict v, const char* title) {
-    std::ostringstream rows;
+    std::map<Rank, std::ostringstream> ranked;
+    std::map<std::string, std::pair<std::size_t, std::ostringstream>> families; // rows per family
     std::size_t n = 0;
     for (const RunDiff& r : c.runs) {
         if (v == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
-            rows << "<tr class=\"reg\"><td class=\"k\">" << esc(r.id) << "</td><td class=\"k\" colspan=\"6\">"
-                 << run_problem(r) << "</td></tr>\n";
+            ranked[Rank::run] << "<tr class=\"reg\"><td class=\"k\">" << esc(r.id) << "</td><td class=\"k\" colspan=\"6\">"
+                              << run_problem(r) << "</td></tr>\n";
             ++n;
         }
         for (const CheckDiff& k : r.checks)
-            if (k.verdict == v) check_row(rows, r.id, k), ++n;
-        for (const FigureDiff& f : r.figures)
-            if (f.verdict == v) figure_row(rows, r.id, f), ++n;
+            if (k.verdict == v) check_row(ranked[Rank::check], r.id, k), ++n;
+        for (const FigureDiff& f : r.figures) {
+            if (f.verdict != v) continue;
+            ++n;
+            const Rank rank = rank_of(f.key);
+            if (rank != Rank::other) {
+                figure_row(ranked[rank], r.id, f);
+                continue;
+            }
+            auto& family = families[figure_family(f.key)];
+            ++family.first;
+            figure_row(family.second, r.id, f);
+        }
     }
     o << "<h2>" << title << " (" << n << ")</h2>\n";
-    if (n) o << "<table>\n<tr><th class=\"k\">run</th>" << kHead << rows.str() << "</table>\n";
+    if (!n) return;
+    if (!ranked.empty()) {
+        o << "<table>\n<tr><th class=\"k\">run</th>" << kHead;
+        for (auto& [rank, rows] : ranked) o << rows.str();
+        o << "</table>\n";
+    }
+    for (auto& [name, family] : families)
+        o << "<details><summary>" << esc(name) << ": " << family.first << (family.first == 1 ? " figure" : " figures")
+          << "</summary>\n<table>\n<tr><th class=\"k\">run</th>" << kHead << family.second.str() << "</table>\n</details>\n";
 }
 
 /// The figure paths that changed most: the largest |relative change| in any run; changes from 0
@@ -223,11 +244,11 @@ std::string compare_html(const Comparison& c) {
     o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim compare: "
       << (bad ? "REGRESSION" : "no regression") << "</title>\n<style>" << html::kCss
       << "</style>\n</head>\n<body>\n<h1>rcsim compare</h1>\n";
+    // The console's report first: the counts and the ranked first screen.
     std::ostringstream console;
-    print_comparison(c, console, 0);
-    const std::string counts = console.str().substr(0, console.str().find("\n\n"));
+    print_comparison(c, console);
     o << "<div class=\"banner " << (bad ? "fail" : "pass") << "\">" << (bad ? "REGRESSION" : "no regression")
-      << "</div>\n<pre>" << esc(counts) << "</pre>\n";
+      << "</div>\n<pre>" << esc(console.str()) << "</pre>\n";
     verdict_table(o, c, Verdict::regression, "Regressions");
     verdict_table(o, c, Verdict::improvement, "Improvements");
     histograms(o, c);

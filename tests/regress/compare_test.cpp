@@ -300,6 +300,22 @@ TEST(Compare, HtmlHasTheRegressionTableAndOverlaidHistogram) {
     EXPECT_EQ(h.find("src=\"http"), std::string::npos);             // self-contained
 }
 
+TEST(Compare, HtmlLeadsWithTheRankedReportAndCollapsesTheOtherFiguresPerFamily) {
+    std::map<std::string, RunRecord> base, cur;
+    for (const char* id : {"a", "b"}) base.emplace(id, run_of(id, slowed(false))), cur.emplace(id, run_of(id, slowed(true)));
+    const std::string h = compare_html(compare_runs(base, cur, default_tolerances(), false));
+    const auto console = h.find("-- checks that flipped"), table = h.find("<h2>Regressions (610)</h2>"),
+               family = h.find("<details><summary>comm_cpu: 600 figures</summary>");
+    ASSERT_NE(console, std::string::npos) << h.substr(0, 2000);
+    ASSERT_NE(table, std::string::npos);
+    ASSERT_NE(family, std::string::npos);
+    EXPECT_LT(console, table);
+    // In the table, the flipped check and the budget come before any collapsed family.
+    const auto check = h.find("overruns", table), budget = h.find("table3.rs232_isr_us", table);
+    EXPECT_LT(check, family);
+    EXPECT_LT(budget, family);
+}
+
 TEST(Tolerances, FileRulesComeFirstAndBadFilesNameTheLine) {
     const fs::path d = fs::path(::testing::TempDir()) / "tolerances_test";
     fs::create_directories(d);
