@@ -4,9 +4,6 @@
 #include "models/config_error.h"
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 
 namespace rcsim {
 
@@ -55,37 +52,16 @@ void CommBoard::connect_dpram(Idt7130& dpram, IrqLine& int_l) {
     pic.ir[kDpramIr](int_l);
 }
 
-namespace {
-std::string rom_size_message(std::uintmax_t size, std::size_t rom_size) {
-    return "ROM image is " + std::to_string(size) + " bytes; the board's ROM is " + std::to_string(rom_size) +
-           " bytes (a raw image with the reset vector at FFFF:0000)";
+void CommBoard::load_rom(const RomSource& source) {
+    RomImage image = read_rom_image(source, config.rom_base, rom_.size());
+    load_rom(image.bytes, source.file);
+    rom_format_ = std::move(image.format);
 }
-} // namespace
-
-void CommBoard::load_rom(const std::string& path) {
-    namespace fs = std::filesystem;
-    if (path.empty()) throw ConfigError("ROM image '': an empty path (give a file, or leave it out for the built firmware)");
-    // Check what the path is before reading it: a device (/dev/zero) or a huge file would be read
-    // whole first, and /proc files report a size of 0 but read as something else entirely.
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (fs::is_directory(st)) throw ConfigError(path, 0, "is a directory, not a ROM image");
-    if (fs::exists(st) && !fs::is_regular_file(st)) throw ConfigError(path, 0, "is not a regular file (a ROM image)");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError(path, 0, "cannot open ROM image");
-    const std::uintmax_t size = fs::file_size(path, ec);
-    if (ec || size != rom_.size()) throw ConfigError(path, 0, rom_size_message(ec ? 0 : size, rom_.size()));
-    std::vector<std::uint8_t> image(rom_.size());
-    in.read(reinterpret_cast<char*>(image.data()), static_cast<std::streamsize>(image.size()));
-    if (in.gcount() != static_cast<std::streamsize>(image.size()) || in.peek() != std::char_traits<char>::eof())
-        throw ConfigError(path, 0, "ROM image changed size while it was read, or cannot be read");
-    load_rom(image, path);
-}
-
-
 
 void CommBoard::load_rom(const std::vector<std::uint8_t>& image, const std::string& what) {
-    if (image.size() != rom_.size()) throw ConfigError(what, 0, rom_size_message(image.size(), rom_.size()));
+    if (image.size() != rom_.size())
+        throw ConfigError(what, 0, "ROM image is " + std::to_string(image.size()) + " bytes; the board's ROM is " +
+                                       std::to_string(rom_.size()) + " bytes");
     std::copy(image.begin(), image.end(), rom_.begin()); // in place: the CPU holds a direct pointer
 }
 

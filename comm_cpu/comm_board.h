@@ -9,6 +9,7 @@
 #include "comm_cpu/cpu8086.h"
 #include "models/clock.h"
 #include "models/irq.h"
+#include "models/rom_image.h"
 #include "models/router.h"
 #include "pic8259/pic8259.h"
 #include "uart82510/uart82510.h"
@@ -60,9 +61,14 @@ public:
     /// Connects the DP-RAM's left port and its INT_L line (8259A IR3). Call once, before sc_start.
     void connect_dpram(Idt7130& dpram, IrqLine& int_l);
 
-    /// Loads a ROM image; it must be exactly rom_size bytes. Throws ConfigError naming the file.
-    void load_rom(const std::string& path);
+    /// Loads a ROM image in any format models/rom_image.h reads (raw, mirrored when smaller,
+    /// Intel HEX, an even/odd EPROM pair). Throws ConfigError naming the file.
+    void load_rom(const RomSource& source);
+    void load_rom(const std::string& path) { load_rom(RomSource{path, {}}); }
+    /// Loads raw bytes; they must be exactly rom_size bytes.
     void load_rom(const std::vector<std::uint8_t>& image, const std::string& what = "ROM image");
+    /// What the last load_rom(source) read, e.g. "raw 64 KB" or "Intel HEX, 12288 bytes".
+    const std::string& rom_format() const { return rom_format_; }
 
     std::vector<std::uint8_t>& ram() { return ram_; }
     std::vector<std::uint8_t>& rom() { return rom_; }
@@ -72,6 +78,7 @@ public:
 
 private:
     std::vector<std::uint8_t> ram_, rom_;
+    std::string rom_format_ = "raw";
 };
 
 } // namespace rcsim

@@ -20,7 +20,7 @@ GdbRun::GdbRun(const GdbOptions& gdb, const Scenario& s, RunOptions& opt, std::o
     if (s.has_motion) throw ConfigError(s.file, 0, "--gdb: a motion scenario runs no 8086 to debug");
     config_.set_listen(gdb.listen);
     config_.wait = gdb.wait;
-    const bool built_rom = !opt.rom && s.rom.empty();
+    const bool built_rom = !opt.rom && s.rom.file.empty();
     try {
         if (!gdb.symbols.empty()) symbols_ = SymbolTable::load(gdb.symbols);
         else if (built_rom && std::string(RCSIM_COMM_FW_MAP).size()) symbols_ = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);

@@ -33,7 +33,7 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, vcd, seed, trace, symbols, monitor;
+        std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor;
         RunOptions::Rows rows = RunOptions::Rows::automatic;
         bool reproducible = false;
         bool verbose = false;
@@ -46,7 +46,10 @@ void add_run_command(CLI::App& app) {
                                 "Output folder for report.json, report.html and every file the run writes "
                                 "(default: rcsim-out/<scenario>)");
     auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
-    auto* rom = cmd->add_option("--rom", args->rom, "64 KB ROM image to run instead of the built firmware");
+    auto* rom = cmd->add_option("--rom", args->rom,
+                                "ROM image to run instead of the built firmware: raw 8..64 KB (mirrored when smaller) or "
+                                "Intel HEX; with --rom-odd, the even EPROM of a pair (docs/tools.md \"ROM images\")");
+    auto* rom_odd = cmd->add_option("--rom-odd", args->rom_odd, "The odd EPROM (D8-D15) of an even/odd pair; --rom is the even one");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file (its name ends in .vcd)")
         ->check(CLI::Validator(
@@ -75,16 +78,17 @@ void add_run_command(CLI::App& app) {
     auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
     auto* monitor = cmd->add_option("--monitor", args->monitor,
                                     "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
-    cmd->callback([args, out, seed, rom, trace, gdb, gdb_wait, symbols, monitor] {
+    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor] {
         RunOptions opt;
         // Every run writes its files somewhere it says: without --out, a folder named after the
         // scenario under ./rcsim-out (docs/scenarios.md "Output files").
         const bool default_out = !*out;
         if (default_out) args->out = (std::filesystem::path("rcsim-out") / std::filesystem::path(args->scenario).stem()).string();
         opt.out_dir = args->out;
-        if (*rom) opt.rom = args->rom;
+        if (*rom) opt.rom = RomSource{args->rom, args->rom_odd};
         // The input a run that exhausts memory is blamed on.
-        const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
+        const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string()) +
+                                  (*rom_odd ? " and " + args->rom_odd : std::string());
         opt.reproducible = args->reproducible;
         opt.vcd = args->vcd;
         opt.interrupt_rows = args->rows;
@@ -100,6 +104,8 @@ void add_run_command(CLI::App& app) {
             if (*seed) opt.seed = parse_seed(args->seed);
             if (*trace && args->trace.empty()) throw ConfigError("--trace '': an empty path (leave --trace out for no trace)");
             if (*rom && args->rom.empty()) throw ConfigError("--rom '': an empty path (leave --rom out for the built firmware)");
+            if (*rom_odd && !*rom) throw ConfigError("--rom-odd needs --rom (the even EPROM of the pair)");
+            if (*rom_odd && args->rom_odd.empty()) throw ConfigError("--rom-odd '': an empty path");
             if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
             if (*symbols && !*gdb && !args->profile) throw ConfigError("--symbols needs --gdb or --profile");
             // Both sit on the core's one instruction-boundary hook (i8086::StepHook).

@@ -446,6 +446,18 @@ void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
     m.finish();
 }
 
+
+/// `rom: FILE` or `rom: {even: FILE, odd: FILE}` (an EPROM pair); relative to the scenario's folder.
+RomSource read_rom(YamlMap& top, const std::filesystem::path& dir) {
+    if (top.child("rom").IsMap()) {
+        YamlMap pair = top.map("rom");
+        RomSource rom{path_value(pair, "even", dir), path_value(pair, "odd", dir)};
+        pair.finish();
+        return rom;
+    }
+    if (top.get<std::string>("rom", "").empty()) top.fail(top.child("rom"), "'rom' is empty (leave it out for the built firmware)");
+    return {path_value(top, "rom", dir), {}};
+}
 } // namespace
 
 motion::MotionConfig motion_config(const Scenario& s) {
@@ -521,10 +533,7 @@ Scenario load_scenario(const std::string& path) {
     }
     s.drain_s = top.number("drain_s", 1.0, 0, 3600);
     const std::uint64_t seed = top.get<std::uint64_t>("seed", 1);
-    if (top.has("rom")) {
-        std::filesystem::path rom = top.get<std::string>("rom", "");
-        s.rom = rom.is_absolute() ? rom.string() : (dir / rom).string();
-    }
+    if (top.has("rom")) s.rom = read_rom(top, dir);
     s.budget_us = optional_number(top, "budget_us", 0, 1e9);
     if (s.budget_us == 0) top.fail(top.child("budget_us"), "'budget_us' must be > 0");
     read_board(top.map("board"), s.board);

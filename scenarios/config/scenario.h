@@ -12,6 +12,7 @@
 #include "scenarios/config/motion_plan.h"
 #include "scenarios/config/trajectory_options.h"
 #include "main_cpu/motion/motion_controller.h"
+#include "models/rom_image.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -79,7 +80,7 @@ struct Scenario {
     double realtime = -1;    // pace simulated to wall time x this; < 0: 1.0 with a tcp or pty host, else off
     double drain_s = 1.0; // after duration_s: no new commands; what is in flight completes
     std::uint64_t seed = 1; // set_seed(): the hosts' and the lines' random streams derive from it
-    std::string rom; // "" = the built firmware
+    RomSource rom; // file "" = the built firmware; `rom: {even, odd}`: an EPROM pair
     ControllerConfig board;
     double budget_us = -1; // < 0: the mean character arrival period of the active ports, from the
                            // format each port's 82510 is programmed with (docs/scenarios.md)

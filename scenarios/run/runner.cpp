@@ -255,15 +255,16 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     // Logs, records and port files the scenario names relatively land in the run's folder.
     s.place_outputs(opt.out_dir.empty() ? std::filesystem::path(".") : std::filesystem::path(opt.out_dir));
     prepare_output_folders(s.output_files());
-    std::string rom = opt.rom ? *opt.rom : s.rom;
-    if (rom.empty()) rom = RCSIM_COMM_FW_ROM;
+    RomSource source = opt.rom ? *opt.rom : s.rom;
+    if (source.file.empty()) source.file = RCSIM_COMM_FW_ROM;
+    const std::string& rom = source.file; // the image, or the even EPROM: its symbols are beside it
 
     // The probe's records as rows: interrupts.csv (streamed) and report.html's histograms and
     // timeline windows.
     report::InterruptLog interrupts;
     World world("world", s);
     world.set_interrupt_sink(&interrupts);
-    world.ctl.comm.load_rom(rom);
+    world.ctl.comm.load_rom(source);
     if (opt.on_world) opt.on_world(world);
     std::unique_ptr<VcdTrace> vcd; // --vcd (vcd_trace.h)
     if (!opt.vcd.empty()) vcd = std::make_unique<VcdTrace>("vcd", world, opt.vcd);
@@ -301,7 +302,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     world.finish_files();
 
     report = run_header(s, opt, wall);
-    report["rom"] = std::filesystem::path(rom).filename().string();
+    report["rom"] = std::filesystem::path(rom).filename().string() +
+                    (source.odd.empty() ? "" : " + " + std::filesystem::path(source.odd).filename().string());
+    report["rom_format"] = world.ctl.comm.rom_format();
     report["comm_cpu"] = {{"cycles", world.ctl.comm.cpu.cycles()},
                           {"instructions", world.ctl.comm.cpu.instructions()},
                           {"clock_hz", s.board.comm.cpu_hz},

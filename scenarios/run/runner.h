@@ -22,7 +22,7 @@ class World;
 struct RunOptions {
     std::string out_dir;                // "" = write no files
     std::optional<std::uint64_t> seed;  // overrides the scenario's
-    std::optional<std::string> rom;     // overrides the scenario's and the built firmware
+    std::optional<RomSource> rom;       // overrides the scenario's and the built firmware
     bool reproducible = false;          // wall_time_s = rtf = 0
     std::string vcd;                    // "" = no VCD trace
     /// interrupts.csv, a row per interrupt: plain, gzip-compressed (interrupts.csv.gz), none, or

@@ -252,6 +252,9 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     if (r["wall_time_s"].get<double>() > 0)
         os << " in " << f(r["wall_time_s"].get<double>(), 3) << " s wall (" << f(r["rtf"].get<double>(), 1)
            << "x real time)";
+    // Which firmware ran, and how its image was read (a smaller one is mirrored: models/rom_image.h).
+    if (r.contains("rom_format"))
+        os << "\nROM: " << r["rom"].get<std::string>() << " (" << r["rom_format"].get<std::string>() << ")";
     os << "\n\ninterrupts (us)      count   latency mean/p99/max        service mean/p99/max\n";
     for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
         const auto& i = r["interrupts"][name];

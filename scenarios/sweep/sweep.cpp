@@ -66,6 +66,9 @@ void absolutise_inputs(YAML::Node doc, const fs::path& dir) {
     };
     if (!doc.IsMap()) return;
     if (doc["rom"]) fix(doc["rom"]);
+    if (doc["rom"] && doc["rom"].IsMap())
+        for (const char* chip : {"even", "odd"})
+            if (doc["rom"][chip]) fix(doc["rom"][chip]);
     if (doc["ports"] && doc["ports"].IsSequence())
         for (std::size_t i = 0; i < doc["ports"].size(); ++i)
             if (doc["ports"][i].IsMap() && doc["ports"][i]["file"]) fix(doc["ports"][i]["file"]);

@@ -1,0 +1,153 @@
+// ROM images as firmware teams have them (models/rom_image.h): raw images mirrored as partial
+// address decoding does, Intel HEX placed by its records' addresses (the record layout and the
+// checksum of the Intel HEX specification), and even/odd EPROM pairs interleaved byte by byte.
+#include "models/config_error.h"
+#include "models/rom_image.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using namespace rcsim;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::uint32_t kBase = 0xF0000;
+constexpr std::size_t kWindow = 0x10000;
+
+std::string file_with(const std::string& name, const std::string& bytes) {
+    const fs::path p = fs::path(::testing::TempDir()) / ("rom_image_" + name);
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p.string();
+}
+
+/// Bytes 0..n-1 that are not text: i * 7 + 0x80, wrapping.
+std::string binary(std::size_t n) {
+    std::string s(n, '\0');
+    for (std::size_t i = 0; i < n; ++i) s[i] = static_cast<char>(i * 7 + 0x80);
+    return s;
+}
+
+/// One Intel HEX record: ':', length, address, type, data, and the checksum, the two's complement
+/// of the sum of the bytes before it (the specification's rule).
+std::string record(unsigned type, unsigned address, const std::vector<unsigned>& data) {
+    std::vector<unsigned> b = {static_cast<unsigned>(data.size()), address >> 8 & 0xFF, address & 0xFF, type};
+    b.insert(b.end(), data.begin(), data.end());
+    unsigned sum = 0;
+    for (unsigned x : b) sum += x;
+    b.push_back((0x100 - (sum & 0xFF)) & 0xFF);
+    std::string s = ":";
+    char hex[3];
+    for (unsigned x : b) std::snprintf(hex, sizeof hex, "%02X", x), s += hex;
+    return s + "\n";
+}
+
+const std::string kEof = ":00000001FF\n"; // the specification's end-of-file record
+
+std::string error_of(const RomSource& src) {
+    try {
+        read_rom_image(src, kBase, kWindow);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+} // namespace
+
+TEST(RomImage, ARaw64KbImageIsTheRom) {
+    const std::string b = binary(kWindow);
+    const RomImage img = read_rom_image({file_with("64k.bin", b), {}}, kBase, kWindow);
+    EXPECT_EQ(std::string(img.bytes.begin(), img.bytes.end()), b);
+    EXPECT_EQ(img.format, "raw 64 KB");
+}
+
+TEST(RomImage, ASmallerImageIsMirroredAcrossTheWindow) {
+    const std::string b = binary(0x2000); // one 2764
+    const RomImage img = read_rom_image({file_with("8k.bin", b), {}}, kBase, kWindow);
+    EXPECT_EQ(img.format, "raw 8 KB, mirrored 8x across 64 KB");
+    for (std::size_t a : {0x0000u, 0x1FFFu, 0x2000u, 0x8123u, 0xFFF0u})
+        EXPECT_EQ(img.bytes[a], static_cast<std::uint8_t>(b[a % 0x2000])) << a;
+}
+
+TEST(RomImage, OtherSizesTextElfAndExeAreRefusedSayingWhatTheyAre) {
+    EXPECT_NE(error_of({file_with("12k.bin", binary(0x3000)), {}}).find("ROM image is 12288 bytes; a raw image is 8 KB .. 64 KB"),
+              std::string::npos);
+    EXPECT_NE(error_of({file_with("128k.bin", binary(0x20000)), {}}).find("131072 bytes"), std::string::npos);
+    EXPECT_NE(error_of({file_with("text.bin", std::string(kWindow, 'A')), {}}).find("text that is not Intel HEX"),
+              std::string::npos);
+    EXPECT_NE(error_of({file_with("a.elf", "\x7F" "ELF" + binary(100)), {}}).find("objcopy -O binary FILE rom.bin"),
+              std::string::npos);
+    EXPECT_NE(error_of({file_with("a.exe", "MZ" + binary(100)), {}}).find("a DOS .EXE"), std::string::npos);
+    EXPECT_NE(error_of({(fs::path(::testing::TempDir())).string(), {}}).find("is a directory"), std::string::npos);
+}
+
+// The specification's example data record (its checksum A7, computed by hand in the document).
+TEST(IntelHex, TheSpecificationsExampleRecordIsPlacedByItsAddress) {
+    const std::string text = ":0B0010006164647265737320676170A7\n" + kEof;
+    std::size_t written = 0;
+    const std::vector<std::uint8_t> rom = parse_intel_hex(text, "spec.hex", kBase, kWindow, &written);
+    EXPECT_EQ(written, 11u);
+    EXPECT_EQ(std::string(rom.begin() + 0x10, rom.begin() + 0x1B), "address gap");
+    EXPECT_EQ(rom[0x0F], 0xFF); // unwritten: erased
+    EXPECT_EQ(rom[0x1B], 0xFF);
+}
+
+TEST(IntelHex, SegmentAndLinearAddressRecordsGiveCpuAddresses) {
+    // 02: segment F000 -> base F0000; 04: upper 000F -> base F0000. Both put the byte at FFFF0.
+    for (const std::string& upper : {record(0x02, 0, {0xF0, 0x00}), record(0x04, 0, {0x00, 0x0F})}) {
+        const std::string text = upper + record(0x00, 0xFFF0, {0xEA, 0x00, 0x00, 0x00, 0xF0}) + kEof;
+        const std::vector<std::uint8_t> rom = parse_intel_hex(text, "cpu.hex", kBase, kWindow);
+        EXPECT_EQ(rom[0xFFF0], 0xEA);
+        EXPECT_EQ(rom[0xFFF4], 0xF0);
+        EXPECT_EQ(rom[0x0000], 0xFF);
+    }
+}
+
+TEST(IntelHex, BadRecordsAreRefusedNamingTheLine) {
+    auto error = [](const std::string& text) {
+        try {
+            parse_intel_hex(text, "x.hex", kBase, kWindow);
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    EXPECT_EQ(error(":0B0010006164647265737320676170A8\n" + kEof), "x.hex:1: bad checksum A8, the record's bytes give A7");
+    EXPECT_EQ(error(record(0, 0x100, {1, 2}) + record(0, 0x101, {3}) + kEof),
+              "x.hex:2: address 00101 again: line 1 wrote it (overlapping records)");
+    EXPECT_EQ(error(record(0x04, 0, {0x00, 0x0E}) + record(0, 0x0000, {1}) + kEof),
+              "x.hex:2: address E0000 is outside the ROM (offsets 0..FFFF)");
+    EXPECT_EQ(error(record(0x02, 0, {0xF0, 0x00}) + record(0, 0x10, {1}) + record(0x02, 0, {0xE0, 0x00}) +
+                    record(0, 0x10, {1}) + kEof),
+              "x.hex:4: address E0010 is outside the ROM (F0000..FFFFF)");
+    EXPECT_EQ(error(record(0, 0, {1})), "x.hex:1: no end-of-file record (:00000001FF): the file is cut short");
+    EXPECT_EQ(error(kEof + record(0, 0, {1})), "x.hex:2: a record after the end-of-file record");
+    EXPECT_EQ(error(record(0x06, 0, {}) + kEof), "x.hex:1: record type 06 is not one of Intel HEX's 00..05");
+    EXPECT_EQ(error(":0100000G01\n" + kEof), "x.hex:1: '0G' is not a hex byte");
+    EXPECT_EQ(error(":02000000FF\n" + kEof), "x.hex:1: the record says 2 data bytes and has 0");
+    EXPECT_EQ(error(kEof), "x.hex:1: no data record: nothing to put in the ROM");
+}
+
+TEST(RomImage, AnEvenOddPairIsInterleavedAsTheBusWiresIt) {
+    const std::string even = binary(0x8000), odd = std::string(0x8000, '\xA5');
+    const RomImage img = read_rom_image({file_with("even.bin", even), file_with("odd.bin", odd)}, kBase, kWindow);
+    EXPECT_EQ(img.format, "even/odd EPROM pair: even raw 32 KB, odd raw 32 KB");
+    for (std::size_t i : {0u, 1u, 0x4000u, 0x7FFFu}) {
+        EXPECT_EQ(img.bytes[2 * i], static_cast<std::uint8_t>(even[i])) << i;
+        EXPECT_EQ(img.bytes[2 * i + 1], 0xA5) << i;
+    }
+}
+
+TEST(RomImage, APairOfSmallerEpromsIsMirroredEachWithinItsHalf) {
+    const std::string even = binary(0x2000), odd = binary(0x2000);
+    const RomImage img = read_rom_image({file_with("e8.bin", even), file_with("o8.bin", odd)}, kBase, kWindow);
+    // Byte address 2i comes from even[i mod 8K]: F0000 + 0xFFF0 reads even[0x7FF8 mod 0x2000].
+    EXPECT_EQ(img.bytes[0xFFF0], static_cast<std::uint8_t>(even[0x7FF8 % 0x2000]));
+    EXPECT_EQ(img.bytes[0xFFF1], static_cast<std::uint8_t>(odd[0x7FF8 % 0x2000]));
+}
