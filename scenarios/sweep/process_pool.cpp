@@ -110,34 +110,27 @@ std::string self_executable() {
     return ec ? std::string("rcsim") : p.string();
 }
 
-Progress::Progress(std::size_t total, bool interactive) : total_(total), interactive_(interactive) {}
-
-bool Progress::interactive_default() {
-    const char* ci = std::getenv("CI");
-    return isatty(STDERR_FILENO) && !(ci && *ci);
-}
+Progress::Progress(std::size_t total, bool interactive) : total_(total), line_(interactive) {}
 
 void Progress::update(std::size_t done, std::size_t failed, double elapsed_s) {
-    if (!interactive_) return;
     const double eta = done ? elapsed_s / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
-    const long s = static_cast<long>(eta + 0.5);
-    std::fprintf(stderr, "\r\033[Ksweep %zu/%zu  %zu failed  ETA %ld:%02ld", done, total_, failed, s / 60, s % 60);
-    std::fflush(stderr);
+    line_.show("sweep " + std::to_string(done) + "/" + std::to_string(total_) + "  " + std::to_string(failed) +
+               " failed  ETA " + minutes_seconds(eta));
 }
 
 void Progress::note(const std::string& line) {
-    if (interactive_) std::fprintf(stderr, "\r\033[K");
+    line_.clear();
     std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 void Progress::finish(std::size_t failed, double elapsed_s) {
-    if (interactive_) std::fprintf(stderr, "\r\033[K");
+    line_.clear();
     std::fprintf(stderr, "sweep: %zu runs, %zu failed, %.1f s\n", total_, failed, elapsed_s);
 }
 
 void Progress::interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
                            double elapsed_s) {
-    if (interactive_) std::fprintf(stderr, "\r\033[K");
+    line_.clear();
     std::fprintf(stderr, "sweep: stopped by %s: %zu of %zu runs completed, %zu interrupted, %zu not run, %zu failed, %.1f s\n",
                  signal_name, completed, total_, interrupted, total_ - completed - interrupted, failed, elapsed_s);
 }

@@ -2,6 +2,8 @@
 // elaborate a second design in one process, so every run is its own `rcsim run`).
 #pragma once
 
+#include "models/progress_line.h"
+
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -35,8 +37,9 @@ std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel,
 /// The path of the running executable (/proc/self/exe), for children of the same build.
 std::string self_executable();
 
-/// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr; in CI
-/// (stderr not a terminal, or CI set) nothing but the failures and the final line.
+/// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr
+/// (models/progress_line.h); in CI (stderr not a terminal, or CI set) nothing but the failures and
+/// the final line.
 class Progress {
 public:
     Progress(std::size_t total, bool interactive);
@@ -48,11 +51,11 @@ public:
     /// the rest not run.
     void interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
                      double elapsed_s);
-    static bool interactive_default(); // stderr is a tty and CI is unset
+    static bool interactive_default() { return ProgressLine::interactive_default(); }
 
 private:
     std::size_t total_;
-    bool interactive_;
+    ProgressLine line_;
 };
 
 } // namespace rcsim::regress
