@@ -86,6 +86,7 @@ void add_run_command(CLI::App& app) {
         // The input a run that exhausts memory is blamed on.
         const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string());
         opt.reproducible = args->reproducible;
+        opt.progress = true; // on a terminal only (docs/scenarios.md "Progress")
         opt.vcd = args->vcd;
         opt.interrupt_rows = args->rows;
         opt.trace = args->trace;
