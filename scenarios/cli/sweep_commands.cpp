@@ -116,8 +116,9 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
         [] { return stop_signal(); });
     const int stopped_by = stop_signal();
     if (stopped_by != 0) {
-        progress.interrupted(stopped_by == SIGINT ? "SIGINT" : "SIGTERM", tally.ended - tally.interrupted, tally.interrupted,
-                             tally.failed, elapsed());
+        const std::size_t completed = tally.ended - tally.interrupted;
+        progress.interrupted(stopped_by == SIGINT ? "SIGINT" : "SIGTERM", completed, tally.interrupted, tally.failed,
+                             elapsed());
         for (std::size_t j = 0; j < jobs.size(); ++j) mark_not_run(sweep, sweep.runs[mine[j]], dir, results[j].started);
     } else {
         progress.finish(tally.failed, elapsed());

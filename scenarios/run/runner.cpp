@@ -250,7 +250,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     // `rcsim run` on a terminal: the progress line, drawn at the stop poller's polls.
     std::optional<RunProgress> progress;
     if (opt.progress && RunProgress::wanted()) progress.emplace(s.duration_s);
-    StopPoller stop("stop", progress ? std::function<void()>([&progress] { progress->poll(); }) : std::function<void()>());
+    std::function<void()> draw_progress;
+    if (progress) draw_progress = [&progress] { progress->poll(); };
+    StopPoller stop("stop", draw_progress);
     if (s.has_motion && (!opt.trace.empty() || opt.profile))
         throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
     if (s.has_motion && (opt.monitor || s.monitor))

@@ -131,8 +131,9 @@ void Progress::finish(std::size_t failed, double elapsed_s) {
 void Progress::interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
                            double elapsed_s) {
     line_.clear();
+    const std::size_t not_run = total_ - completed - interrupted;
     std::fprintf(stderr, "sweep: stopped by %s: %zu of %zu runs completed, %zu interrupted, %zu not run, %zu failed, %.1f s\n",
-                 signal_name, completed, total_, interrupted, total_ - completed - interrupted, failed, elapsed_s);
+                 signal_name, completed, total_, interrupted, not_run, failed, elapsed_s);
 }
 
 } // namespace rcsim::regress
