@@ -1,6 +1,7 @@
 #include "models/stop_signal.h"
 
 #include <csignal>
+#include <utility>
 
 namespace rcsim {
 
@@ -27,12 +28,14 @@ void install_stop_handlers() {
 
 int stop_signal() { return g_signal; }
 
-StopPoller::StopPoller(sc_core::sc_module_name name) : sc_module(name) {
+StopPoller::StopPoller(sc_core::sc_module_name name, std::function<void()> each_poll)
+    : sc_module(name), each_poll_(std::move(each_poll)) {
     SC_HAS_PROCESS(StopPoller);
     SC_METHOD(poll);
 }
 
 void StopPoller::poll() {
+    if (each_poll_) each_poll_();
     if (g_signal != 0) sc_core::sc_pause();
     // Re-arm only while something else will happen: a run that ends when its events run out
     // (sc_start() without a time, the motion scenarios) must not be kept alive by this poll.

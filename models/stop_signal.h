@@ -10,6 +10,8 @@
 
 #include <systemc>
 
+#include <functional>
+
 namespace rcsim {
 
 /// Installs the SIGINT and SIGTERM handlers for the rest of the process.
@@ -19,13 +21,16 @@ void install_stop_handlers();
 int stop_signal();
 
 /// Pauses the simulation (sc_pause) at the first simulated millisecond boundary after a stop
-/// signal.
+/// signal. `each_poll`, when given, is called at every poll too: the run's progress line
+/// (scenarios/run/run_progress.h). It rides on this process rather than a second periodic one
+/// because two would keep each other alive: each re-arms while anything else is pending.
 class StopPoller : public sc_core::sc_module {
 public:
-    explicit StopPoller(sc_core::sc_module_name name);
+    explicit StopPoller(sc_core::sc_module_name name, std::function<void()> each_poll = {});
 
 private:
     void poll();
+    std::function<void()> each_poll_;
 };
 
 } // namespace rcsim

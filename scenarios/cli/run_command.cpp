@@ -90,6 +90,7 @@ void add_run_command(CLI::App& app) {
         const std::string input = args->scenario + (*rom ? " with ROM " + args->rom : std::string()) +
                                   (*rom_odd ? " and " + args->rom_odd : std::string());
         opt.reproducible = args->reproducible;
+        opt.progress = true; // on a terminal only (docs/scenarios.md "Progress")
         opt.vcd = args->vcd;
         opt.interrupt_rows = args->rows;
         opt.trace = args->trace;

@@ -5,6 +5,7 @@
 #include "models/cli_range.h"
 #include "models/config_error.h"
 #include "models/output_file.h"
+#include "models/stop_signal.h"
 #include "scenarios/sweep/compare.h"
 #include "scenarios/sweep/merge.h"
 #include "scenarios/sweep/process_pool.h"
@@ -13,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -37,6 +39,39 @@ struct SweepArgs {
     unsigned jobs = 0;
     bool list = false;
 };
+
+/// How the sweep's runs ended, each noted on stderr as it ends unless it passed.
+struct RunTally {
+    std::size_t ended = 0, failed = 0, interrupted = 0;
+
+    void count(const std::string& id, const std::string& log, int exit_code, bool has_report, Progress& progress) {
+        ++ended;
+        // One caught in its start-up dies of the signal without a report: that is mark_not_run's.
+        if (stop_signal() != 0 && exit_code == 128 + stop_signal() && has_report) {
+            ++interrupted;
+            progress.note("run " + id + ": interrupted (" + log + ")");
+        } else if (exit_code == 4) {
+            // Nothing judged either way: the summary says which; the sweep does not fail on it.
+            progress.note("run " + id + ": inconclusive, a check was not measured (" + log + ")");
+        } else if (exit_code != 0) {
+            ++failed;
+            const std::string why = exit_code == 1 ? "a check failed" : exit_code == 2 ? "bad input"
+                                                                                       : "exit " + std::to_string(exit_code);
+            progress.note("run " + id + ": " + why + " (" + log + ")");
+        }
+    }
+};
+
+/// After a stop signal: a run without a report.json either never started or was stopped before
+/// its report was written (it died in its start-up, say). Its directory goes back to the inputs
+/// the sweep wrote (no half-written outputs), with the marker that says "not run".
+void mark_not_run(const Sweep& sweep, const SweepRun& run, const fs::path& dir, bool started) {
+    const fs::path run_dir = dir / run.id;
+    if (fs::exists(run_dir / "report.json")) return; // completed, or interrupted and says so
+    if (started) materialise(sweep, run, dir);
+    write_file(run_dir / kNotRunMarker, "not run: the sweep was interrupted before this run completed\n",
+               "the not-run marker");
+}
 
 /// Runs this shard's runs `jobs` at a time; returns the sweep's exit code.
 int run_sweep(const SweepArgs& a, bool shards_given) {
@@ -69,28 +104,34 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
     Progress progress(jobs.size(), Progress::interactive_default());
     const auto t0 = std::chrono::steady_clock::now();
     auto elapsed = [&t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-    std::size_t failed = 0;
-    run_jobs(jobs, parallel, [&](std::size_t j, const JobResult& r, std::size_t done) {
-        if (r.exit_code == 4) {
-            // Nothing judged either way: the summary says which; the sweep does not fail on it.
-            progress.note("run " + sweep.runs[mine[j]].id + ": inconclusive, a check was not measured (" + jobs[j].log + ")");
-        } else if (r.exit_code != 0) {
-            ++failed;
-            const std::string why = r.exit_code == 1 ? "a check failed" : r.exit_code == 2 ? "bad input"
-                                                                                           : "exit " + std::to_string(r.exit_code);
-            progress.note("run " + sweep.runs[mine[j]].id + ": " + why + " (" + jobs[j].log + ")");
-        }
-        progress.update(done, failed, elapsed());
-    });
-    progress.finish(failed, elapsed());
+    RunTally tally;
+    install_stop_handlers(); // SIGINT/SIGTERM: start no more runs, stop the running ones (stop_signal.h)
+    const auto results = run_jobs(
+        jobs, parallel,
+        [&](std::size_t j, const JobResult& r, std::size_t done) {
+            const SweepRun& run = sweep.runs[mine[j]];
+            tally.count(run.id, jobs[j].log, r.exit_code, fs::exists(dir / run.id / "report.json"), progress);
+            progress.update(done, tally.failed, elapsed());
+        },
+        [] { return stop_signal(); });
+    const int stopped_by = stop_signal();
+    if (stopped_by != 0) {
+        const std::size_t completed = tally.ended - tally.interrupted;
+        progress.interrupted(stopped_by == SIGINT ? "SIGINT" : "SIGTERM", completed, tally.interrupted, tally.failed,
+                             elapsed());
+        for (std::size_t j = 0; j < jobs.size(); ++j) mark_not_run(sweep, sweep.runs[mine[j]], dir, results[j].started);
+    } else {
+        progress.finish(tally.failed, elapsed());
+    }
     if (shard.count == 1) {
         merge_runs({dir.string()}, dir);
         std::cout << "summary: " << (dir / "summary.html").string() << "\n";
-    } else {
+    } else if (stopped_by == 0) {
         std::cout << "shard " << shard.index << "/" << shard.count << " done; merge when every shard is: rcsim merge "
                   << shell_quote(dir.string()) << "\n";
     }
-    return failed ? 1 : 0;
+    if (stopped_by != 0) return 128 + stopped_by; // the shell's "ended by a signal", as `rcsim run`
+    return tally.failed ? 1 : 0;
 }
 
 void add_sweep(CLI::App& app) {

@@ -13,6 +13,7 @@
 #include "scenarios/report/report_html.h"
 #include "models/stop_signal.h"
 #include "scenarios/run/motion_run.h"
+#include "scenarios/run/run_progress.h"
 #include "scenarios/verdict/motion_figures.h"
 #include "scenarios/report/trajectory_report.h"
 #include "scenarios/trace/vcd_trace.h"
@@ -30,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #ifndef RCSIM_COMM_FW_ROM
@@ -245,7 +247,12 @@ RunOptions::Rows interrupt_rows(const Scenario& s, const RunOptions& opt) {
 int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.seed) s.set_seed(*opt.seed);
     prepare_out_dir(opt.out_dir);
-    StopPoller stop("stop");
+    // `rcsim run` on a terminal: the progress line, drawn at the stop poller's polls.
+    std::optional<RunProgress> progress;
+    if (opt.progress && RunProgress::wanted()) progress.emplace(s.duration_s);
+    std::function<void()> draw_progress;
+    if (progress) draw_progress = [&progress] { progress->poll(); };
+    StopPoller stop("stop", draw_progress);
     if (s.has_motion && (!opt.trace.empty() || opt.profile))
         throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
     if (s.has_motion && (opt.monitor || s.monitor))
@@ -292,6 +299,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     else if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     if (stop_signal() == 0) world.drain(s.drain_s);
+    if (progress) progress->finish(); // before the warnings of the report's making, and the summary
     world.finish_observers();
     world.finish();
     if (opt.on_finished) opt.on_finished(world);

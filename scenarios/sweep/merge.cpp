@@ -141,8 +141,10 @@ std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann
     return out;
 }
 
+const char* const kNotRunMarker = "not_run.txt";
+
 std::string run_status(const RunRecord& run) {
-    if (!run.report) return "no report";
+    if (!run.report) return fs::exists(run.dir / kNotRunMarker) ? "not run" : "no report";
     const nlohmann::json& r = *run.report;
     // passed, failed, inconclusive or interrupted; a report from before verdicts has `passed` only.
     if (r.contains("verdict") && r["verdict"].is_string()) return r["verdict"].get<std::string>();

@@ -42,7 +42,12 @@ Figures flatten_figures(const nlohmann::json& report);
 /// The checks of a report by name: {passed, value, limit[, status]}.
 std::vector<std::pair<std::string, nlohmann::json>> report_checks(const nlohmann::json& report);
 
-/// "passed", "failed" (a check failed) or "no report" (the run did not finish).
+/// The file an interrupted sweep leaves in the directory of each run it did not complete (never
+/// started, or stopped before its report was written, whose outputs it removed): "not run".
+extern const char* const kNotRunMarker;
+
+/// The report's verdict ("passed", "failed" = a check failed, "inconclusive", "interrupted"),
+/// else "not run" (kNotRunMarker) or "no report" (the run did not finish).
 std::string run_status(const RunRecord& run);
 
 /// summary.json: {runs, passed, failed, "no report", "results": [{id, entry, status, parameters, figures, checks}]}.

@@ -5,7 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -42,12 +44,27 @@ int exit_code_of(int status) {
     return 127;
 }
 
+/// Waits for one child to end: its pid, or 0 when `stop` asked to stop first. With a `stop` to
+/// watch it polls: a blocking wait would miss a signal that came just before it began, until a
+/// job ended on its own.
+pid_t wait_child(int& status, const StopRequest& stop) {
+    if (!stop) return waitpid(-1, &status, 0);
+    for (;;) {
+        const pid_t pid = waitpid(-1, &status, WNOHANG);
+        if (pid != 0) return pid;
+        if (stop() != 0) return 0;
+        usleep(50 * 1000);
+    }
+}
+
 } // namespace
 
-std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel, const JobDone& done) {
+std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel, const JobDone& done,
+                                const StopRequest& stop) {
     std::vector<JobResult> results(jobs.size());
     std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
     std::size_t next = 0, finished = 0;
+    int stop_sent = 0; // the signal passed on to the running jobs, once
     if (parallel == 0) parallel = 1;
     auto complete = [&](std::size_t i, int code, Clock::time_point t0) {
         results[i].exit_code = code;
@@ -55,16 +72,29 @@ std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel,
         done(i, results[i], ++finished);
     };
     while (finished < jobs.size()) {
-        while (next < jobs.size() && running.size() < parallel) {
+        const int stop_now = stop_sent == 0 && stop ? stop() : 0;
+        if (stop_now != 0) {
+            stop_sent = stop_now;
+            // On a terminal the jobs had Ctrl-C's SIGINT too (one process group); a SIGTERM sent
+            // to the pool alone reaches them only this way. A second copy changes nothing.
+            for (const auto& r : running) kill(r.first, stop_sent);
+        }
+        while (stop_sent == 0 && next < jobs.size() && running.size() < parallel) {
             const auto t0 = Clock::now();
+            results[next].started = true;
             const pid_t pid = spawn(jobs[next]);
             if (pid < 0) complete(next, 127, t0);
             else running[pid] = {next, t0};
             ++next;
         }
-        if (running.empty()) continue;
+        if (running.empty()) {
+            if (stop_sent != 0) break;
+            continue;
+        }
         int status = 0;
-        const pid_t pid = waitpid(-1, &status, 0);
+        const pid_t pid = wait_child(status, stop_sent == 0 ? stop : StopRequest());
+        if (pid == 0) continue; // stop requested: pass it on above
+        if (pid < 0 && errno == EINTR) continue;
         if (pid < 0) break; // no child left: cannot happen while `running` holds one
         const auto it = running.find(pid);
         if (it == running.end()) continue; // not one of ours
@@ -80,29 +110,30 @@ std::string self_executable() {
     return ec ? std::string("rcsim") : p.string();
 }
 
-Progress::Progress(std::size_t total, bool interactive) : total_(total), interactive_(interactive) {}
-
-bool Progress::interactive_default() {
-    const char* ci = std::getenv("CI");
-    return isatty(STDERR_FILENO) && !(ci && *ci);
-}
+Progress::Progress(std::size_t total, bool interactive) : total_(total), line_(interactive) {}
 
 void Progress::update(std::size_t done, std::size_t failed, double elapsed_s) {
-    if (!interactive_) return;
     const double eta = done ? elapsed_s / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
-    const long s = static_cast<long>(eta + 0.5);
-    std::fprintf(stderr, "\r\033[Ksweep %zu/%zu  %zu failed  ETA %ld:%02ld", done, total_, failed, s / 60, s % 60);
-    std::fflush(stderr);
+    line_.show("sweep " + std::to_string(done) + "/" + std::to_string(total_) + "  " + std::to_string(failed) +
+               " failed  ETA " + minutes_seconds(eta));
 }
 
 void Progress::note(const std::string& line) {
-    if (interactive_) std::fprintf(stderr, "\r\033[K");
+    line_.clear();
     std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 void Progress::finish(std::size_t failed, double elapsed_s) {
-    if (interactive_) std::fprintf(stderr, "\r\033[K");
+    line_.clear();
     std::fprintf(stderr, "sweep: %zu runs, %zu failed, %.1f s\n", total_, failed, elapsed_s);
+}
+
+void Progress::interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
+                           double elapsed_s) {
+    line_.clear();
+    const std::size_t not_run = total_ - completed - interrupted;
+    std::fprintf(stderr, "sweep: stopped by %s: %zu of %zu runs completed, %zu interrupted, %zu not run, %zu failed, %.1f s\n",
+                 signal_name, completed, total_, interrupted, not_run, failed, elapsed_s);
 }
 
 } // namespace rcsim::regress

@@ -2,6 +2,8 @@
 // elaborate a second design in one process, so every run is its own `rcsim run`).
 #pragma once
 
+#include "models/progress_line.h"
+
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -15,6 +17,7 @@ struct Job {
 };
 
 struct JobResult {
+    bool started = false; // false: the pool was stopped (StopRequest) before this job's turn
     int exit_code = 0; // the child's exit status; 128 + signal when it died of one; 127 spawn failed
     double wall_s = 0;
 };
@@ -22,14 +25,21 @@ struct JobResult {
 /// Called after each job ends: (job index, its result, jobs done so far).
 using JobDone = std::function<void(std::size_t, const JobResult&, std::size_t)>;
 
+/// Polled while jobs run (a few times a second): the signal to stop with, 0 to go on.
+using StopRequest = std::function<int()>;
+
 /// Runs every job, `parallel` at a time (>= 1), in index order of start. Returns one result per job.
-std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel, const JobDone& done);
+/// Once `stop` returns a signal, no job starts any more, every running job is sent that signal
+/// (once) and the pool returns when they have ended; `done` is called for those only.
+std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel, const JobDone& done,
+                                const StopRequest& stop = {});
 
 /// The path of the running executable (/proc/self/exe), for children of the same build.
 std::string self_executable();
 
-/// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr; in CI
-/// (stderr not a terminal, or CI set) nothing but the failures and the final line.
+/// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr
+/// (models/progress_line.h); in CI (stderr not a terminal, or CI set) nothing but the failures and
+/// the final line.
 class Progress {
 public:
     Progress(std::size_t total, bool interactive);
@@ -37,11 +47,15 @@ public:
     /// A line that must stay (a failure), printed above the progress line.
     void note(const std::string& line);
     void finish(std::size_t failed, double elapsed_s);
-    static bool interactive_default(); // stderr is a tty and CI is unset
+    /// The last line of a sweep a signal stopped: the runs that completed, those it interrupted,
+    /// the rest not run.
+    void interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
+                     double elapsed_s);
+    static bool interactive_default() { return ProgressLine::interactive_default(); }
 
 private:
     std::size_t total_;
-    bool interactive_;
+    ProgressLine line_;
 };
 
 } // namespace rcsim::regress

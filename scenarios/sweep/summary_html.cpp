@@ -247,13 +247,19 @@ void runs_table(const json& runs, std::ostringstream& o) {
 std::string summary_html(const nlohmann::json& summary) {
     const json& runs = summary["results"];
     const std::size_t failed = summary.value("failed", 0u) + summary.value("no report", 0u);
+    // Only an interrupted sweep has these: a complete one's page stays as it was.
+    const std::size_t interrupted = summary.value("interrupted", 0u), not_run = summary.value("not run", 0u);
+    std::string stopped;
+    if (interrupted) stopped += ", " + std::to_string(interrupted) + " interrupted";
+    if (not_run) stopped += ", " + std::to_string(not_run) + " not run (the sweep was interrupted)";
     std::ostringstream o;
     o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim sweep: "
       << runs.size() << " runs, " << failed << " failed</title>\n<style>" << html::kCss
       << "</style>\n</head>\n<body>\n<h1>rcsim sweep summary</h1>\n<div class=\"banner "
-      << (failed ? "fail" : "pass") << "\">" << runs.size() << " runs: " << summary.value("passed", 0u)
+      << (failed || !stopped.empty() ? "fail" : "pass") << "\">" << runs.size() << " runs: " << summary.value("passed", 0u)
       << " passed, " << summary.value("failed", 0u) << " failed a check, " << summary.value("no report", 0u)
-      << " without a report</div>\n<h2>Runs</h2>\n";
+      << " without a report" << stopped
+      << "</div>\n<h2>Runs</h2>\n";
     runs_table(runs, o);
     for (const std::string& axis : numeric_axes(runs)) {
         o << "<h2>Against " << esc(axis) << "</h2>\n<p>One line per combination of the other parameters; "

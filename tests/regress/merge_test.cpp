@@ -110,6 +110,23 @@ TEST(Merge, SummaryRowsParametersFiguresChecks) {
     EXPECT_NE(html.find("stroke=\"#c82333\""), std::string::npos); // the failing run's cross
 }
 
+// An interrupted sweep marks the runs it did not complete (kNotRunMarker): "not run", counted,
+// and the page says so; a run without the marker and without a report stays "no report".
+TEST(Merge, NotRunRunsOfAnInterruptedSweep) {
+    const fs::path d = scratch();
+    make_run(d / "runs", "g-rom=0", 50.25, true, 0);
+    fs::create_directories(d / "runs/g-rom=1");
+    std::ofstream(d / "runs/g-rom=1/run.json") << json{{"id", "g-rom=1"}, {"entry", "g"}, {"parameters", {{"board.wait_states.rom", 1}}}};
+    std::ofstream(d / "runs/g-rom=1" / kNotRunMarker) << "not run\n";
+    merge_runs({(d / "runs").string()}, d / "runs");
+    const json s = json::parse(slurp(d / "runs/summary.json"));
+    EXPECT_EQ(s["not run"], 1);
+    EXPECT_EQ(s["no report"], 0);
+    EXPECT_EQ(s["results"][1]["status"], "not run");
+    EXPECT_NE(slurp(d / "runs/summary.csv").find("\ng-rom=1,g,not run,1"), std::string::npos);
+    EXPECT_NE(slurp(d / "runs/summary.html").find("1 not run (the sweep was interrupted)"), std::string::npos);
+}
+
 TEST(Merge, SameRunsInAnyOrderOrSplitGiveTheSameBytes) {
     const fs::path d = scratch();
     for (int i = 0; i < 6; ++i) make_run(d / "all", "g-rom=" + std::to_string(i), 10.0 / (i + 1), i != 3, i);

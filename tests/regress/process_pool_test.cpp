@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -64,4 +65,26 @@ TEST(ProcessPool, ExitCodesSignalsAndLogs) {
     std::stringstream text;
     text << log.rdbuf();
     EXPECT_EQ(text.str(), "out\nerr\n"); // stdout and stderr both in the log
+}
+
+// A stop request (a sweep's SIGINT): no job starts any more, the running one gets the signal once.
+TEST(ProcessPool, StopStartsNoMoreJobsAndPassesTheSignalOn) {
+    const fs::path d = scratch();
+    // The job reports the signal it got and exits 130 as `rcsim run` does; unsignalled it sleeps.
+    const std::string job = "trap 'echo got INT; kill $!; exit 130' INT; touch " + (d / "started").string() +
+                            "; sleep 30 & wait";
+    const std::vector<Job> jobs{shell(job, d / "a.log"), shell(job, d / "b.log")};
+    std::size_t ended = 0;
+    const auto r = run_jobs(
+        jobs, 1, [&](std::size_t, const JobResult&, std::size_t) { ++ended; },
+        [&] { return fs::exists(d / "started") ? SIGINT : 0; });
+    ASSERT_EQ(r.size(), 2u);
+    EXPECT_TRUE(r[0].started);
+    EXPECT_EQ(r[0].exit_code, 130);
+    EXPECT_FALSE(r[1].started);
+    EXPECT_EQ(ended, 1u);
+    std::ifstream log(d / "a.log");
+    std::stringstream text;
+    text << log.rdbuf();
+    EXPECT_EQ(text.str(), "got INT\n");
 }
