@@ -6,6 +6,7 @@
 #include "models/config_error.h"
 #include "models/output_file.h"
 #include "scenarios/sweep/compare.h"
+#include "scenarios/sweep/expectation.h"
 #include "scenarios/sweep/merge.h"
 #include "scenarios/sweep/process_pool.h"
 #include "scenarios/sweep/sweep.h"
@@ -29,6 +30,23 @@ std::string command_line(const std::vector<std::string>& argv) {
     std::string s;
     for (const auto& a : argv) s += (s.empty() ? "" : " ") + shell_quote(a);
     return s;
+}
+
+/// What the sweep holds against a finished run, "" when nothing. A run that wrote its report is
+/// judged by the checks the sweep file expects it to fail; any other by its exit code.
+std::string run_problem(const fs::path& run_dir, int exit_code) {
+    const bool reported = exit_code == 0 || exit_code == 1 || exit_code == 4;
+    if (!reported) return exit_code == 2 ? "bad input" : "exit " + std::to_string(exit_code);
+    Expectation judged;
+    try {
+        judged = judge_run(collect_runs({run_dir.string()}).front());
+    } catch (const ConfigError& e) { // a report cut short: a failed run, not a reason to stop the others
+        return e.what();
+    }
+    if (judged.met()) return "";
+    std::string why;
+    for (const std::string& w : judged.why) why += (why.empty() ? "" : "; ") + w;
+    return why;
 }
 
 struct SweepArgs {
@@ -71,14 +89,13 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
     auto elapsed = [&t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     std::size_t failed = 0;
     run_jobs(jobs, parallel, [&](std::size_t j, const JobResult& r, std::size_t done) {
-        if (r.exit_code == 4) {
+        const std::string why = run_problem(dir / sweep.runs[mine[j]].id, r.exit_code);
+        if (!why.empty()) {
+            ++failed;
+            progress.note("run " + sweep.runs[mine[j]].id + ": " + why + " (" + jobs[j].log + ")");
+        } else if (r.exit_code == 4) {
             // Nothing judged either way: the summary says which; the sweep does not fail on it.
             progress.note("run " + sweep.runs[mine[j]].id + ": inconclusive, a check was not measured (" + jobs[j].log + ")");
-        } else if (r.exit_code != 0) {
-            ++failed;
-            const std::string why = r.exit_code == 1 ? "a check failed" : r.exit_code == 2 ? "bad input"
-                                                                                           : "exit " + std::to_string(r.exit_code);
-            progress.note("run " + sweep.runs[mine[j]].id + ": " + why + " (" + jobs[j].log + ")");
         }
         progress.update(done, failed, elapsed());
     });
