@@ -39,7 +39,9 @@ std::string run_problem(const fs::path& run_dir, int exit_code) {
     if (!reported) return exit_code == 2 ? "bad input" : "exit " + std::to_string(exit_code);
     Expectation judged;
     try {
-        judged = judge_run(collect_runs({run_dir.string()}).front());
+        const std::vector<RunRecord> runs = collect_runs({run_dir.string()});
+        if (runs.empty()) return "neither run.json nor report.json in " + run_dir.string();
+        judged = judge_run(runs.front());
     } catch (const ConfigError& e) { // a report cut short: a failed run, not a reason to stop the others
         return e.what();
     }
