@@ -7,6 +7,7 @@
 #include "models/output_file.h"
 #include "models/stop_signal.h"
 #include "scenarios/sweep/compare.h"
+#include "scenarios/sweep/expectation.h"
 #include "scenarios/sweep/merge.h"
 #include "scenarios/sweep/process_pool.h"
 #include "scenarios/sweep/sweep.h"
@@ -33,6 +34,25 @@ std::string command_line(const std::vector<std::string>& argv) {
     return s;
 }
 
+/// What the sweep holds against a finished run, "" when nothing. A run that wrote its report is
+/// judged by the checks the sweep file expects it to fail; any other by its exit code.
+std::string run_problem(const fs::path& run_dir, int exit_code) {
+    const bool reported = exit_code == 0 || exit_code == 1 || exit_code == 4;
+    if (!reported) return exit_code == 2 ? "bad input" : "exit " + std::to_string(exit_code);
+    Expectation judged;
+    try {
+        const std::vector<RunRecord> runs = collect_runs({run_dir.string()});
+        if (runs.empty()) return "neither run.json nor report.json in " + run_dir.string();
+        judged = judge_run(runs.front());
+    } catch (const ConfigError& e) { // a report cut short: a failed run, not a reason to stop the others
+        return e.what();
+    }
+    if (judged.met()) return "";
+    std::string why;
+    for (const std::string& w : judged.why) why += (why.empty() ? "" : "; ") + w;
+    return why;
+}
+
 struct SweepArgs {
     std::string file, out, shard, rom;
     std::size_t shards = 0;
@@ -40,24 +60,25 @@ struct SweepArgs {
     bool list = false;
 };
 
-/// How the sweep's runs ended, each noted on stderr as it ends unless it passed.
+/// How the sweep's runs ended, each noted on stderr as it ends unless it met its expectation.
 struct RunTally {
     std::size_t ended = 0, failed = 0, interrupted = 0;
 
-    void count(const std::string& id, const std::string& log, int exit_code, bool has_report, Progress& progress) {
+    void count(const std::string& id, const std::string& log, int exit_code, const fs::path& run_dir, Progress& progress) {
         ++ended;
         // One caught in its start-up dies of the signal without a report: that is mark_not_run's.
-        if (stop_signal() != 0 && exit_code == 128 + stop_signal() && has_report) {
+        if (stop_signal() != 0 && exit_code == 128 + stop_signal() && fs::exists(run_dir / "report.json")) {
             ++interrupted;
             progress.note("run " + id + ": interrupted (" + log + ")");
+            return;
+        }
+        const std::string why = run_problem(run_dir, exit_code);
+        if (!why.empty()) {
+            ++failed;
+            progress.note("run " + id + ": " + why + " (" + log + ")");
         } else if (exit_code == 4) {
             // Nothing judged either way: the summary says which; the sweep does not fail on it.
             progress.note("run " + id + ": inconclusive, a check was not measured (" + log + ")");
-        } else if (exit_code != 0) {
-            ++failed;
-            const std::string why = exit_code == 1 ? "a check failed" : exit_code == 2 ? "bad input"
-                                                                                       : "exit " + std::to_string(exit_code);
-            progress.note("run " + id + ": " + why + " (" + log + ")");
         }
     }
 };
@@ -110,7 +131,7 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
         jobs, parallel,
         [&](std::size_t j, const JobResult& r, std::size_t done) {
             const SweepRun& run = sweep.runs[mine[j]];
-            tally.count(run.id, jobs[j].log, r.exit_code, fs::exists(dir / run.id / "report.json"), progress);
+            tally.count(run.id, jobs[j].log, r.exit_code, dir / run.id, progress);
             progress.update(done, tally.failed, elapsed());
         },
         [] { return stop_signal(); });

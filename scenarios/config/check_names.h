@@ -12,4 +12,10 @@ namespace rcsim {
 /// `replay_port<n>_matches_record` is named by its port.
 const std::vector<std::string>& communication_check_names();
 
+/// Whether a report can carry a check named `name` (report.json `checks[].name`): the
+/// communication checks, the motion checks, and the per-port ones (`port<n>_char_latency_max_us`,
+/// `port<n>_script_completed`, `replay_port<n>_matches_record`). `char_latency_max_us` switches
+/// the per-port latency checks off but names none of them, so it is not one.
+bool is_report_check_name(const std::string& name);
+
 } // namespace rcsim

@@ -2,6 +2,7 @@
 
 #include "models/config_error.h"
 #include "models/output_file.h"
+#include "scenarios/sweep/expectation.h"
 
 #include <algorithm>
 #include <fstream>
@@ -154,6 +155,7 @@ std::string run_status(const RunRecord& run) {
 nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
     json list = json::array();
     std::map<std::string, std::size_t> counts{{"passed", 0}, {"failed", 0}, {"inconclusive", 0}, {"no report", 0}};
+    std::map<std::string, std::size_t> outcomes = counts;
     for (const RunRecord& r : runs) {
         json j;
         j["id"] = r.id;
@@ -168,11 +170,18 @@ nlohmann::json summary_json(const std::vector<RunRecord>& runs) {
             for (const auto& [k, v] : flatten_figures(*r.report)) j["figures"][k] = v;
             for (const auto& [k, v] : report_checks(*r.report)) j["checks"][k] = v;
         }
+        // The sweep's judgement beside the run's own status, so that a by-design failure shows as both.
+        const Expectation judged = judge_run(r);
+        j["expected_failures"] = expected_failures(r);
+        j["outcome"] = judged.outcome;
+        j["outcome_why"] = judged.why;
+        ++outcomes[judged.outcome];
         list.push_back(j);
     }
     json s;
     s["runs"] = runs.size();
     for (const auto& [k, n] : counts) s[k] = n;
+    s["outcomes"] = outcomes;
     s["results"] = list;
     return s;
 }
@@ -188,7 +197,7 @@ std::string summary_csv(const nlohmann::json& summary) {
     for (const auto& k : params) os << "," << csv_cell("param:" + k);
     for (const auto& k : figures) os << "," << csv_cell(k);
     for (const auto& k : checks) os << "," << csv_cell("check:" + k);
-    os << "\n";
+    os << ",expected_failures,outcome\n"; // last, so that the columns before keep their places
     for (const auto& r : runs) {
         os << csv_cell(r["id"].get<std::string>()) << "," << csv_cell(r["entry"].get<std::string>()) << ","
            << csv_cell(r["status"].get<std::string>());
@@ -198,7 +207,9 @@ std::string summary_csv(const nlohmann::json& summary) {
             os << ",";
             if (r["checks"].contains(k)) os << (r["checks"][k].value("passed", false) ? "PASS" : "FAIL");
         }
-        os << "\n";
+        std::string expected;
+        for (const auto& name : r["expected_failures"]) expected += (expected.empty() ? "" : " ") + name.get<std::string>();
+        os << "," << csv_cell(expected) << "," << csv_cell(r["outcome"].get<std::string>()) << "\n";
     }
     return os.str();
 }

@@ -50,10 +50,13 @@ extern const char* const kNotRunMarker;
 /// else "not run" (kNotRunMarker) or "no report" (the run did not finish).
 std::string run_status(const RunRecord& run);
 
-/// summary.json: {runs, passed, failed, "no report", "results": [{id, entry, status, parameters, figures, checks}]}.
+/// summary.json: {runs, passed, failed, "no report", outcomes: {outcome: count}, "results": [{id, entry,
+/// status, parameters, figures, checks, expected_failures, outcome, outcome_why}]}: `status` is the
+/// run's own verdict, `outcome` the sweep's judgement of it (scenarios/sweep/expectation.h).
 nlohmann::json summary_json(const std::vector<RunRecord>& runs);
 
-/// summary.csv: one row per run: id, status, parameters, every figure, every check (PASS/FAIL).
+/// summary.csv: one row per run: id, status, parameters, every figure, every check (PASS/FAIL),
+/// expected_failures (space-separated), outcome.
 std::string summary_csv(const nlohmann::json& summary);
 
 /// summary.html: the runs table and, per numeric parameter, the headline figures against it.

@@ -226,9 +226,11 @@ void runs_table(const json& runs, std::ostringstream& o) {
     o << "<table>\n<tr><th class=\"k\">run</th><th class=\"k\">status</th>";
     for (const auto& p : params) o << "<th>" << esc(p) << "</th>";
     for (const Headline& h : kHeadlines) o << "<th>" << esc(h.title) << "</th>";
-    o << "<th class=\"k\">failed checks</th></tr>\n";
+    o << "<th class=\"k\">failed checks</th><th class=\"k\">expected to fail</th><th class=\"k\">outcome</th></tr>\n";
     for (const auto& r : runs) {
-        const bool ok = r["status"] == "passed";
+        // Red is what fails the sweep: a run not as expected, not a by-design failure.
+        const std::string judged = r.value("outcome", std::string("?"));
+        const bool ok = judged == "passed" || judged == "inconclusive";
         o << "<tr" << (ok ? "" : " class=\"fail\"") << "><td class=\"k\">" << esc(r["id"].get<std::string>())
           << "</td><td class=\"k\">" << esc(r["status"].get<std::string>()) << "</td>";
         for (const auto& p : params)
@@ -237,7 +239,11 @@ void runs_table(const json& runs, std::ostringstream& o) {
         std::string failed;
         for (const auto& [name, c] : r["checks"].items())
             if (!c.value("passed", false)) failed += (failed.empty() ? "" : ", ") + name;
-        o << "<td class=\"k\">" << esc(failed) << "</td></tr>\n";
+        std::string expected, outcome = judged;
+        for (const auto& name : r.value("expected_failures", json::array())) expected += (expected.empty() ? "" : ", ") + name.get<std::string>();
+        for (const auto& why : r.value("outcome_why", json::array())) outcome += "; " + why.get<std::string>();
+        o << "<td class=\"k\">" << esc(failed) << "</td><td class=\"k\">" << esc(expected) << "</td><td class=\"k\">"
+          << esc(outcome) << "</td></tr>\n";
     }
     o << "</table>\n";
 }
@@ -246,7 +252,8 @@ void runs_table(const json& runs, std::ostringstream& o) {
 
 std::string summary_html(const nlohmann::json& summary) {
     const json& runs = summary["results"];
-    const std::size_t failed = summary.value("failed", 0u) + summary.value("no report", 0u);
+    const json outcomes = summary.value("outcomes", json::object());
+    const std::size_t failed = outcomes.value("failed", 0u) + outcomes.value("no report", 0u);
     // Only an interrupted sweep has these: a complete one's page stays as it was.
     const std::size_t interrupted = summary.value("interrupted", 0u), not_run = summary.value("not run", 0u);
     std::string stopped;
@@ -258,8 +265,8 @@ std::string summary_html(const nlohmann::json& summary) {
       << "</style>\n</head>\n<body>\n<h1>rcsim sweep summary</h1>\n<div class=\"banner "
       << (failed || !stopped.empty() ? "fail" : "pass") << "\">" << runs.size() << " runs: " << summary.value("passed", 0u)
       << " passed, " << summary.value("failed", 0u) << " failed a check, " << summary.value("no report", 0u)
-      << " without a report" << stopped
-      << "</div>\n<h2>Runs</h2>\n";
+      << " without a report" << stopped << "; " << outcomes.value("passed", 0u) + outcomes.value("inconclusive", 0u)
+      << " as expected, " << failed << " not</div>\n<h2>Runs</h2>\n";
     runs_table(runs, o);
     for (const std::string& axis : numeric_axes(runs)) {
         o << "<h2>Against " << esc(axis) << "</h2>\n<p>One line per combination of the other parameters; "

@@ -2,9 +2,11 @@
 
 #include "models/config_error.h"
 #include "models/output_file.h"
+#include "scenarios/config/check_names.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/config/yaml_map.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -35,12 +37,21 @@ struct Base {
     std::string written; // as the sweep file names it ("" for an inline mapping)
 };
 
+/// `expect_fail_when:` item: the checks that runs with one value of one axis expect to fail.
+struct ExpectFailWhen {
+    std::string axis;  // an axis path of the entry, or `base` for a list of bases
+    std::string value; // as written in the axis (its text in run ids)
+    std::vector<std::string> checks;
+};
+
 struct Entry {
     std::string name;
     std::vector<Base> bases;  // more than one: the base is an axis too
     bool base_axis = false;
     std::vector<std::pair<std::string, YAML::Node>> set;
     std::vector<AxisGroup> groups;
+    std::vector<std::string> expect_fail; // by every run of the entry
+    std::vector<ExpectFailWhen> expect_fail_when;
     int line = 0;
 };
 
@@ -164,6 +175,54 @@ Base load_base(const YAML::Node& n, const std::string& file, const fs::path& dir
     return b;
 }
 
+/// A list of check names (`expect_fail:`, `checks:` of `expect_fail_when:`). A name no report can
+/// carry is a typo that would otherwise wait forever to "fail as expected": an error at its line.
+std::vector<std::string> read_check_names(const YAML::Node& n, const std::string& file, const std::string& what) {
+    if (!n.IsSequence() || n.size() == 0)
+        throw ConfigError(file, YamlMap::line_of(n), "'" + what + "' must be a non-empty list of check names");
+    std::vector<std::string> names;
+    for (const auto& item : n) {
+        if (!item.IsScalar() || !is_report_check_name(item.Scalar()))
+            throw ConfigError(file, YamlMap::line_of(item), "'" + what + "': '" + YAML::Dump(item) +
+                                                               "' is not a check name (docs/scenarios.md \"Checks\")");
+        names.push_back(item.Scalar());
+    }
+    return names;
+}
+
+/// The value texts of the entry's axis `path` (`base`: the base files); nullptr when it has none.
+const std::vector<std::string>* axis_texts(const Entry& e, const std::string& path, std::vector<std::string>& bases) {
+    if (path == "base" && e.base_axis) {
+        for (const Base& b : e.bases) bases.push_back(b.written);
+        return &bases;
+    }
+    for (const AxisGroup& g : e.groups)
+        for (const Axis& a : g)
+            if (a.path == path) return &a.texts;
+    return nullptr;
+}
+
+/// `expect_fail_when: [{axis: PATH, value: V, checks: [NAME, ...]}, ...]`: PATH must be one of the
+/// entry's axes and V one of its values, so that a declaration cannot silently match no run.
+void read_expect_fail_when(YamlMap& m, Entry& e) {
+    for (YamlMap& item : m.maps("expect_fail_when")) {
+        ExpectFailWhen w;
+        const YAML::Node axis = item.child("axis"), value = item.child("value");
+        if (!axis.IsDefined() || !axis.IsScalar()) item.fail("'expect_fail_when' needs 'axis: PATH', one of the entry's axes");
+        if (!value.IsDefined() || !value.IsScalar()) item.fail("'expect_fail_when' needs 'value: V', one of the axis's values");
+        w.axis = axis.Scalar();
+        w.value = value.Scalar();
+        std::vector<std::string> bases;
+        const std::vector<std::string>* texts = axis_texts(e, w.axis, bases);
+        if (!texts) item.fail(axis, "expect_fail_when: '" + w.axis + "' is not an axis of this entry");
+        if (std::find(texts->begin(), texts->end(), w.value) == texts->end())
+            item.fail(value, "expect_fail_when: '" + w.value + "' is not a value of the axis '" + w.axis + "'");
+        w.checks = read_check_names(item.child("checks"), item.file(), "expect_fail_when.checks");
+        item.finish();
+        e.expect_fail_when.push_back(std::move(w));
+    }
+}
+
 /// One entry of `sweeps:`, or the top level when the file has no `sweeps:` (`top`: its `set:` is
 /// the sweep's, applied by the caller).
 Entry read_entry(YamlMap m, const std::string& default_name, const fs::path& dir, bool top) {
@@ -202,8 +261,21 @@ Entry read_entry(YamlMap m, const std::string& default_name, const fs::path& dir
         }
     }
     label_axes(e.groups);
+    if (m.has("expect_fail")) e.expect_fail = read_check_names(m.child("expect_fail"), m.file(), "expect_fail");
+    if (m.has("expect_fail_when")) read_expect_fail_when(m, e);
     m.finish();
     return e;
+}
+
+/// The checks a run with these axis values expects to fail: the entry's, and those of every
+/// `expect_fail_when` whose axis has its value in the run; sorted, each once.
+std::vector<std::string> expected_failures(const Entry& e,
+                                           const std::vector<std::pair<std::string, YAML::Node>>& parameters) {
+    std::set<std::string> names(e.expect_fail.begin(), e.expect_fail.end());
+    for (const ExpectFailWhen& w : e.expect_fail_when)
+        for (const auto& [path, value] : parameters)
+            if (path == w.axis && value.Scalar() == w.value) names.insert(w.checks.begin(), w.checks.end());
+    return {names.begin(), names.end()};
 }
 
 /// Every combination of the entry's axes (the first axis varies slowest), as runs.
@@ -230,6 +302,7 @@ void expand(const Entry& e, const Sweep& sweep, const std::vector<std::pair<std:
                 r.parameters.emplace_back(a.path, a.values[at[g + 1]]);
             }
         r.id = id.empty() ? "run" : id;
+        r.expect_fail = expected_failures(e, r.parameters);
         r.scenario = YAML::Clone(base.doc);
         r.scenario["name"] = r.id;
         auto apply = [&](const std::string& path, const YAML::Node& v, int line) {
@@ -266,14 +339,14 @@ Sweep load_sweep(const std::string& path) {
     const fs::path dir = fs::path(path).parent_path();
     std::vector<Entry> entries;
     if (top.has("sweeps")) {
-        for (const char* k : {"base", "axes", "zip"})
+        for (const char* k : {"base", "axes", "zip", "expect_fail", "expect_fail_when"})
             if (top.has(k)) top.fail(top.child(k), std::string("'") + k + "' belongs inside an entry of 'sweeps'");
         for (YamlMap& m : top.maps("sweeps")) entries.push_back(read_entry(m, s.name, dir, false));
         if (entries.empty()) top.fail(top.child("sweeps"), "'sweeps' lists no entry");
     } else {
         // The top level is the one entry (its finish() checks the keys of both).
         entries.push_back(read_entry(YamlMap(root, path, ""), s.name, dir, true));
-        for (const char* k : {"base", "axes", "zip", "sweeps"}) top.child(k);
+        for (const char* k : {"base", "axes", "zip", "sweeps", "expect_fail", "expect_fail_when"}) top.child(k);
     }
     top.finish();
     std::map<std::string, int> seen;
@@ -366,7 +439,9 @@ nlohmann::json scalar_json(const YAML::Node& n) {
 nlohmann::json run_json(const SweepRun& run) {
     nlohmann::json params = nlohmann::json::object();
     for (const auto& [k, v] : run.parameters) params[k] = scalar_json(v);
-    return {{"id", run.id}, {"entry", run.entry}, {"parameters", params}};
+    nlohmann::json j = {{"id", run.id}, {"entry", run.entry}, {"parameters", params}};
+    if (!run.expect_fail.empty()) j["expect_fail"] = run.expect_fail;
+    return j;
 }
 
 namespace {

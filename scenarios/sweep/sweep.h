@@ -31,6 +31,9 @@ struct SweepRun {
     /// Every key the sweep set in this run (set: and axes) with the line that set it, so that a
     /// value the scenario refuses is reported at that line.
     std::vector<std::pair<std::string, int>> sources;
+    /// The checks this run is expected to fail (`expect_fail`, and `expect_fail_when` for its axis
+    /// values), sorted: the sweep judges the run by them, the run's own report does not know them.
+    std::vector<std::string> expect_fail;
 };
 
 struct Sweep {
@@ -50,7 +53,8 @@ void set_path(YAML::Node doc, const std::string& path, const YAML::Node& value);
 /// The scenario file text of a run (its materialised document).
 std::string scenario_text(const SweepRun& run);
 
-/// run.json: {"id", "entry", "parameters": {path: value}} with numbers and booleans typed.
+/// run.json: {"id", "entry", "parameters": {path: value}} with numbers and booleans typed, and
+/// "expect_fail": [check, ...] when the run expects checks to fail.
 nlohmann::json run_json(const SweepRun& run);
 
 /// A YAML scalar as JSON: integer, number, boolean, null or string.

@@ -11,6 +11,7 @@
 #      is exactly the run list, no run twice, and a shard leaves the other shards' runs alone;
 #   6. compare: the same runs pass; a changed figure, a lost check, a missing run regress;
 #      --allow-missing; JUnit checked by xmllint against the usual shape, counts consistent;
+#   6b. expected failures (expect_fail): a declared check that passes fails the sweep (exit 1);
 #   7. bad input: exit 2 and one message naming file:line or the value.
 #
 # Usage: cli_test.sh RCSIM SOURCE_DIR
@@ -180,6 +181,14 @@ cp -r "A/t-rom=0-seed=1" "A/t-rom=0-seed=2" C/
 "$RCSIM" compare "A/t-rom=0-seed=1/report.json" "P/t-rom=0-seed=1/report.json" > /dev/null; rc=$?
 [ "$rc" -eq 0 ] || fail "two report.json files: exit $rc, expected 0"
 
+# --- 6b. expected failures: a run that passes a check it declares it fails fails the sweep -------
+printf 'name: x\nbase: base.yaml\nexpect_fail: [overruns]\n' > xfail.yaml
+"$RCSIM" sweep xfail.yaml --out X --jobs 1 > /dev/null 2> x_err.txt; rc=$?
+[ "$rc" -eq 1 ] && grep -qF "run x: check overruns: expected to fail, passed" x_err.txt ||
+    fail "an expected failure that passed: exit $rc, $(cat x_err.txt)"
+grep -q '"outcome": "failed"' X/summary.json && grep -q '"status": "passed"' X/summary.json ||
+    fail "summary.json lacks the run's status beside its outcome"
+
 # --- 7. bad input ---------------------------------------------------------------------------------
 expect2() { # SUBSTRING ARGS...: exit 2, one line on stderr holding SUBSTRING
     local want=$1
@@ -198,6 +207,8 @@ printf 'base: base.yaml\naxes:\n  seeds: [1]\n' > bad3.yaml
 expect2 "unknown key 'seeds'" sweep bad3.yaml --out B
 printf 'base: base.yaml\naxes: {seed: [1, 2\n' > bad4.yaml
 expect2 "bad4.yaml:3: YAML syntax error" sweep bad4.yaml --out B
+printf 'base: base.yaml\nexpect_fail: [overruns, overrun]\n' > bad5.yaml
+expect2 "bad5.yaml:2: 'expect_fail': 'overrun' is not a check name" sweep bad5.yaml --out B
 expect2 "missing.yaml: cannot open" sweep missing.yaml --out B
 expect2 "shard 3/2" sweep s.yaml --out B --shard 3/2
 expect2 "--shard 'x' must be K/N" sweep s.yaml --out B --shard x

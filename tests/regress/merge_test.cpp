@@ -98,10 +98,10 @@ TEST(Merge, SummaryRowsParametersFiguresChecks) {
     std::getline(lines, header), std::getline(lines, row0), std::getline(lines, row1), std::getline(lines, row2);
     EXPECT_EQ(header, "id,entry,status,param:board.wait_states.rom,ports[0].frames_delivered,ports[0].overruns,"
                       "ports[1].frames_delivered,ports[1].overruns,seed,table3.dpram_byte_us,table3.margin_us,"
-                      "check:overruns");
-    EXPECT_EQ(row0, "g-rom=0,g,passed,0,4,0,5,1,1,,50.25,PASS");
-    EXPECT_EQ(row1, "g-rom=1,g,failed,1,4,0,5,1,1,,-3.0,FAIL");
-    EXPECT_EQ(row2, "g-rom=2,g,no report,2,,,,,,,,");
+                      "check:overruns,expected_failures,outcome");
+    EXPECT_EQ(row0, "g-rom=0,g,passed,0,4,0,5,1,1,,50.25,PASS,,passed");
+    EXPECT_EQ(row1, "g-rom=1,g,failed,1,4,0,5,1,1,,-3.0,FAIL,,failed");
+    EXPECT_EQ(row2, "g-rom=2,g,no report,2,,,,,,,,,,no report");
 
     const std::string html = slurp(d / "runs/summary.html");
     EXPECT_NE(html.find("<h2>Against board.wait_states.rom</h2>"), std::string::npos);

@@ -261,3 +261,58 @@ TEST(ShellQuote, QuotesOnlyWhatNeedsIt) {
     EXPECT_EQ(shell_quote("it's"), "'it'\\''s'");
     EXPECT_EQ(shell_quote(""), "''");
 }
+
+TEST_F(SweepTest, ExpectFailOnAnEntryAppliesToEveryRunAndGoesToRunJson) {
+    const Sweep s = load_sweep(write("s.yaml", "sweeps:\n  - name: f\n    base: base.yaml\n"
+                                               "    expect_fail: [frames_failed, commands_delivered_exactly_once]\n"
+                                               "    axes: {seed: [1, 2]}\n  - {name: g, base: base.yaml}\n"));
+    ASSERT_EQ(s.runs.size(), 3u);
+    const std::vector<std::string> both{"commands_delivered_exactly_once", "frames_failed"}; // sorted
+    EXPECT_EQ(s.runs[0].expect_fail, both);
+    EXPECT_EQ(s.runs[1].expect_fail, both);
+    EXPECT_TRUE(s.runs[2].expect_fail.empty());
+    EXPECT_EQ(run_json(s.runs[0])["expect_fail"], nlohmann::json(both));
+    EXPECT_FALSE(run_json(s.runs[2]).contains("expect_fail")); // run.json of other runs unchanged
+}
+
+TEST_F(SweepTest, ExpectFailWhenAppliesOnlyToRunsWithThatAxisValue) {
+    const Sweep s = load_sweep(write("s.yaml", "name: g\nbase: base.yaml\nexpect_fail: [overruns]\naxes:\n"
+                                               "  board.wait_states.rom: [0, 2]\n  seed: [1, 2]\nexpect_fail_when:\n"
+                                               "  - {axis: board.wait_states.rom, value: 2, checks: [table3_margin_us]}\n"
+                                               "  - {axis: seed, value: 1, checks: [port1_char_latency_max_us]}\n"));
+    std::map<std::string, std::vector<std::string>> by_id;
+    for (const auto& r : s.runs) by_id[r.id] = r.expect_fail;
+    using names = std::vector<std::string>;
+    EXPECT_EQ(by_id["g-rom=0-seed=1"], (names{"overruns", "port1_char_latency_max_us"}));
+    EXPECT_EQ(by_id["g-rom=0-seed=2"], (names{"overruns"}));
+    EXPECT_EQ(by_id["g-rom=2-seed=1"], (names{"overruns", "port1_char_latency_max_us", "table3_margin_us"}));
+    EXPECT_EQ(by_id["g-rom=2-seed=2"], (names{"overruns", "table3_margin_us"}));
+    // The base as an axis: `axis: base`, the file as written.
+    write("other.yaml", "duration_s: 0.1\nports:\n  - {host: protocol}\n");
+    const Sweep b = load_sweep(write("b.yaml", "sweeps:\n  - base: [base.yaml, other.yaml]\n    expect_fail_when:\n"
+                                               "      - {axis: base, value: other.yaml, checks: [bus_errors]}\n"));
+    ASSERT_EQ(b.runs.size(), 2u);
+    EXPECT_TRUE(b.runs[0].expect_fail.empty());
+    EXPECT_EQ(b.runs[1].expect_fail, (names{"bus_errors"}));
+}
+
+TEST_F(SweepTest, ExpectFailOfAnUnknownCheckNamesFileLineAndName) {
+    EXPECT_NE(error_of("base: base.yaml\nexpect_fail:\n  - frames_failed\n  - frames_faild\n")
+                  .find("bad.yaml:4: 'expect_fail': 'frames_faild' is not a check name"),
+              std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\naxes: {seed: [1]}\nexpect_fail_when:\n  - {axis: seed, value: 1, checks: [nope]}\n")
+                  .find("bad.yaml:4: 'expect_fail_when.checks': 'nope' is not a check name"),
+              std::string::npos);
+    // char_latency_max_us switches the per-port checks off; a report names them port<n>_...
+    EXPECT_NE(error_of("base: base.yaml\nexpect_fail: [char_latency_max_us]\n").find("bad.yaml:2: "), std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\nexpect_fail: frames_failed\n").find("bad.yaml:2: 'expect_fail' must be a non-empty list"),
+              std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\naxes: {seed: [1]}\nexpect_fail_when:\n  - {axis: sead, value: 1, checks: [overruns]}\n")
+                  .find("bad.yaml:4: expect_fail_when: 'sead' is not an axis of this entry"),
+              std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\naxes: {seed: [1]}\nexpect_fail_when:\n  - {axis: seed, value: 3, checks: [overruns]}\n")
+                  .find("bad.yaml:4: expect_fail_when: '3' is not a value of the axis 'seed'"),
+              std::string::npos);
+    EXPECT_NE(error_of("sweeps:\n  - {base: base.yaml}\nexpect_fail: [overruns]\n").find("bad.yaml:3: 'expect_fail' belongs inside an entry"),
+              std::string::npos);
+}
