@@ -264,9 +264,13 @@ void Doc::y_axis(const Scale& s, double x0, double x1, const std::string& title,
     vtext(x0 - 44, (s.p0 + s.p1) / 2, title);
 }
 
-void Doc::x_axis(const Scale& s, double y, const std::string& title, int target_ticks) {
-    const std::vector<double> ticks = nice_ticks(s.lo, s.hi, target_ticks);
-    const int dec = decimals_for(nice_step(s.hi - s.lo, target_ticks));
+void Doc::x_axis(const Scale& s, double y, const std::string& title, int target_ticks, bool integers) {
+    // A whole quantity never gets a tick between two of its values: the step is at least 1.
+    const double step = integers ? std::max(1.0, nice_step(s.hi - s.lo, target_ticks)) : nice_step(s.hi - s.lo, target_ticks);
+    std::vector<double> ticks;
+    for (double k = std::ceil(s.lo / step - 1e-9); k * step <= s.hi + step * 1e-9 && ticks.size() < 1000; k += 1)
+        ticks.push_back(k * step);
+    const int dec = decimals_for(step);
     for (double v : ticks) {
         const double x = s(v);
         line(x, y, x, y + 4, "#333");

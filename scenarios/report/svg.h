@@ -135,8 +135,9 @@ public:
 
     /// Left axis with ticks, grid lines across [x0, x1] and a rotated title.
     void y_axis(const Scale& s, double x0, double x1, const std::string& title, int target_ticks = 5);
-    /// Bottom axis at pixel y with ticks and a title below.
-    void x_axis(const Scale& s, double y, const std::string& title, int target_ticks = 8);
+    /// Bottom axis at pixel y with ticks and a title below. `integers`: a quantity that is
+    /// whole (wait states, a count), ticked at whole values only.
+    void x_axis(const Scale& s, double y, const std::string& title, int target_ticks = 8, bool integers = false);
 
     std::string str() const;
 

@@ -59,14 +59,20 @@ std::pair<double, double> padded(double lo, double hi, bool log) {
 
 std::string xy_chart(const std::string& title, const std::string& xlabel, const std::string& ylabel,
                      const std::vector<XySeries>& series) {
-    const double W = 420, H = 280, L = 64, R = 14, T = 34, B = 50;
+    // The legend goes under the plot, a row per series, so that it never hides a point.
+    const bool legend = series.size() > 1 && series.size() <= 6;
+    const double kLegendRow = 15;
+    const double W = 420, plot_h = 280, L = 64, R = 14, T = 34, B = 50;
+    const double H = plot_h + (legend ? kLegendRow * static_cast<double>(series.size()) + 4 : 0);
     svg::Doc d(W, H, title);
     d.text(L, 18, title, "start", 13, "font-weight=\"bold\"");
     double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    bool whole_x = true; // wait states, sizes: ticks at whole values only
     for (const auto& s : series)
         for (const auto& p : s.points) {
             x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
             y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+            whole_x = whole_x && p.x == std::floor(p.x);
         }
     if (!(x0 <= x1)) {
         d.text(W / 2, H / 2, "no values", "middle", 12, "fill=\"#888\"");
@@ -76,9 +82,9 @@ std::string xy_chart(const std::string& title, const std::string& xlabel, const 
     const auto [xa, xb] = padded(x0, x1, log);
     const auto [ya, yb] = padded(y0, y1, false);
     const svg::Scale sx{xa, xb, L, W - R, log};
-    const svg::Scale sy{ya, yb, H - B, T, false};
+    const svg::Scale sy{ya, yb, plot_h - B, T, false};
     d.y_axis(sy, L, W - R, ylabel, 5);
-    d.x_axis(sx, H - B, xlabel, 6);
+    d.x_axis(sx, plot_h - B, xlabel, 6, whole_x && !log);
     for (std::size_t i = 0; i < series.size(); ++i) {
         const std::string colour = kPalette[i % (sizeof kPalette / sizeof kPalette[0])];
         std::vector<svg::Point> line;
@@ -91,10 +97,10 @@ std::string xy_chart(const std::string& title, const std::string& xlabel, const 
             if (p.failed) d.marker(sx(p.x), sy(p.y), svg::Marker::cross, "#c82333", 11);
         }
     }
-    if (series.size() > 1 && series.size() <= 6) {
+    if (legend) {
         std::vector<svg::LegendEntry> entries;
         for (std::size_t i = 0; i < series.size(); ++i) entries.push_back({series[i].label, kPalette[i]});
-        d.legend(L + 8, T + 12, entries, 14);
+        d.legend(L - 40, plot_h + 8, entries, kLegendRow);
     }
     return d.str();
 }
@@ -206,8 +212,12 @@ std::vector<html::XySeries> series_of(const json& runs, const std::string& axis,
             if (k != axis) label += " " + k.substr(k.rfind('.') == std::string::npos ? 0 : k.rfind('.') + 1) + "=" + number_text(v);
         auto& s = by[label];
         s.label = label;
+        // A failed run's point says which checks failed.
+        std::string failed;
+        for (const auto& [name, c] : r["checks"].items())
+            if (!c.value("passed", false)) failed += (failed.empty() ? "; failed: " : ", ") + name;
         s.points.push_back({p[axis].get<double>(), y, r["status"] != "passed",
-                            r["id"].get<std::string>() + ": " + html::cell(y)});
+                            r["id"].get<std::string>() + ": " + html::cell(y) + failed});
     }
     std::vector<html::XySeries> out;
     for (auto& [k, s] : by) {
