@@ -39,7 +39,7 @@ GdbRun::GdbRun(const GdbOptions& gdb, const Scenario& s, RunOptions& opt, std::o
         } catch (const SymbolError& e) {
             throw ConfigError(e.what());
         }
-        out_ << "gdb: symbols in " << elf << " (in gdb: set osabi none, file " << elf << ")" << std::endl;
+        out_ << "gdb: symbols in " << elf << " (in gdb: file " << elf << ")" << std::endl;
     }
     opt.on_world = [this](World& world) {
         stub_ = std::make_unique<GdbStub>(config_, world.ctl.comm, world.pacer.get(), log_);

@@ -9,7 +9,7 @@ namespace rcsim::debug {
 namespace {
 
 // ELF constants used here (System V ABI).
-constexpr std::uint16_t ET_EXEC = 2, EM_386 = 3;
+constexpr std::uint16_t ET_EXEC = 2, EM_NONE = 0; // EM_NONE: elf_symbols.h says why
 constexpr std::uint32_t SHT_SYMTAB = 2, SHT_STRTAB = 3, SHT_NOBITS = 8;
 constexpr std::uint32_t SHF_WRITE = 1, SHF_ALLOC = 2, SHF_EXECINSTR = 4;
 constexpr std::uint8_t STB_LOCAL = 0, STB_GLOBAL = 1, STT_OBJECT = 1, STT_FUNC = 2;
@@ -96,7 +96,7 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     f.u8(1); // EV_CURRENT
     for (int i = 0; i < 9; ++i) f.u8(0); // ELFOSABI_NONE, padding
     f.u16(ET_EXEC);
-    f.u16(EM_386);
+    f.u16(EM_NONE);
     f.u32(1);       // e_version
     f.u32(0xFFFF0); // e_entry: the reset vector FFFF:0000
     f.u32(0);       // e_phoff: no program headers

@@ -1,10 +1,14 @@
 // rcsim — a symbol-only ELF file that gdb loads (`symbol-file FILE`) for a ROM without debug info.
 //
-// ELF32, little-endian, EM_386 (gdb's i8086 architecture is the i386 one with 16-bit code), type
-// EXEC, no program headers and no contents: two address-only (SHT_NOBITS) sections, `.text` over
+// ELF32, little-endian, EM_NONE, type EXEC, no program headers and no contents: two address-only (SHT_NOBITS) sections, `.text` over
 // the ROM (F0000-FFFFF, code symbols as STT_FUNC) and `.data` over everything below it (data
 // symbols as STT_OBJECT), and a `.symtab` with every symbol of the table at its linear address —
 // the addresses the gdb stub reports (docs/tools.md "gdb").
+//
+// EM_NONE, not EM_386: gdb picks, of the file's architecture and the target description's
+// (i8086, gdb_protocol.cpp), the "more capable" when both are of the i386 family, so an EM_386 file
+// made it disassemble the 8086's code as 32-bit i386 unless told `set architecture i8086`. A file
+// of no machine leaves the choice to the target description.
 #pragma once
 
 #include "scenarios/debug/symbols.h"

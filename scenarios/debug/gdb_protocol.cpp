@@ -372,11 +372,12 @@ GdbSession::Reply GdbSession::handle(const std::string& p) {
 
 const std::string& GdbSession::target_xml() {
     // The i386 core feature as gdb requires it for an i386-family architecture (the names,
-    // order and sizes of its registers); `i8086` selects 16-bit disassembly.
+    // order and sizes of its registers); `i8086` selects 16-bit disassembly, and OS ABI `none`
+    // keeps a Linux-hosted gdb from assuming a Linux program (no `set osabi` needed).
     static const std::string xml = [] {
         std::string x =
             "<?xml version=\"1.0\"?>\n<!DOCTYPE target SYSTEM \"gdb-target.dtd\">\n<target version=\"1.0\">\n"
-            "<architecture>i8086</architecture>\n<feature name=\"org.gnu.gdb.i386.core\">\n"
+            "<architecture>i8086</architecture>\n<osabi>none</osabi>\n<feature name=\"org.gnu.gdb.i386.core\">\n"
             "<flags id=\"i386_eflags\" size=\"4\">\n"
             "<field name=\"CF\" start=\"0\" end=\"0\"/><field name=\"\" start=\"1\" end=\"1\"/>\n"
             "<field name=\"PF\" start=\"2\" end=\"2\"/><field name=\"AF\" start=\"4\" end=\"4\"/>\n"

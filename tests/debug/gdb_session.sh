@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Debian's gdb against `rcsim run --gdb` in batch mode (docs/tools.md "gdb"): break at the RS-232
+# Debian's gdb against `rcsim run --gdb` in batch mode (docs/tools.md "gdb"), with no `set
+# architecture` or `set osabi`: the stub's target description and symbols.elf make gdb use i8086
+# by themselves (x/i shows 16-bit `push %cx`, no warning). Break at the RS-232
 # ISR by name, check registers and a RAM variable, stepi, a watchpoint on a firmware variable,
 # continue to the end; the run's report.json and interrupts.csv must be byte-identical to a run
 # without gdb (breakpoints and stops do not alter simulated timing).
@@ -53,9 +55,7 @@ cat > "$work/script.gdb" <<GDB
 set pagination off
 set confirm off
 set width 0
-set osabi none
 file $work/dbg/symbols.elf
-set architecture i8086
 target remote 127.0.0.1:$port
 break rs232_isr
 continue
