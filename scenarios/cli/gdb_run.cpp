@@ -3,10 +3,12 @@
 
 #include "scenarios/world/world.h"
 #include "scenarios/debug/elf_symbols.h"
+#include "scenarios/debug/gdb_script.h"
 #include "scenarios/report/output.h"
 #include "models/config_error.h"
 
 #include <filesystem>
+#include <fstream>
 #include <ostream>
 
 #ifndef RCSIM_COMM_FW_MAP
@@ -39,7 +41,11 @@ GdbRun::GdbRun(const GdbOptions& gdb, const Scenario& s, RunOptions& opt, std::o
         } catch (const SymbolError& e) {
             throw ConfigError(e.what());
         }
-        out_ << "gdb: symbols in " << elf << " (in gdb: file " << elf << ")" << std::endl;
+        // The unwinder gdb needs for bt, up and finish on the 8086 (rcsim_gdb.py).
+        const std::string script = (std::filesystem::path(opt.out_dir) / "rcsim-gdb.py").string();
+        std::ofstream file(script);
+        if (!(file << kGdbUnwinderScript).flush()) throw ConfigError(script, 0, "cannot write the gdb script");
+        out_ << "gdb: symbols in " << elf << " (in gdb: file " << elf << ", then source " << script << ")" << std::endl;
     }
     opt.on_world = [this](World& world) {
         stub_ = std::make_unique<GdbStub>(config_, world.ctl.comm, world.pacer.get(), log_);
