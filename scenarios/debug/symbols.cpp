@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -42,6 +43,13 @@ bool valid_name(const std::string& s) {
     return !s.empty() && first(s[0]) && std::all_of(s.begin() + 1, s.end(), rest);
 }
 
+/// nasm's identifiers: letters, digits and _ $ # @ ~ . ? (a digit, $ or # not first).
+bool valid_nasm_name(const std::string& s) {
+    auto first = [](unsigned char c) { return std::isalpha(c) || std::strchr("_.?@", c) != nullptr; };
+    auto rest = [](unsigned char c) { return std::isalnum(c) || std::strchr("_$#@~.?", c) != nullptr; };
+    return !s.empty() && first(s[0]) && std::all_of(s.begin() + 1, s.end(), rest);
+}
+
 std::string plain(const std::string& name) { return name.size() > 1 && name[0] == '_' ? name.substr(1) : name; }
 
 } // namespace
@@ -62,9 +70,11 @@ void SymbolTable::sort() {
         return a.address != b.address ? a.address < b.address : a.name < b.name;
     });
     by_name_.clear();
+    by_map_name_.clear();
     max_size_ = 0;
     for (std::size_t i = 0; i < symbols_.size(); ++i) {
         by_name_[symbols_[i].name] = i;
+        if (!symbols_[i].map_name.empty()) by_map_name_[symbols_[i].map_name] = i;
         max_size_ = std::max(max_size_, symbols_[i].size);
     }
 }
@@ -87,7 +97,21 @@ void SymbolTable::fill_sizes(std::uint32_t code_end, std::uint32_t data_end) {
 
 const Symbol* SymbolTable::find(std::string_view name) const {
     auto it = by_name_.find(std::string(name));
-    return it == by_name_.end() ? nullptr : &symbols_[it->second];
+    if (it != by_name_.end()) return &symbols_[it->second];
+    it = by_map_name_.find(std::string(name));
+    return it == by_map_name_.end() ? nullptr : &symbols_[it->second];
+}
+
+void SymbolTable::add_constant(Constant constant, const std::string& where) {
+    if (this->constant(constant.name))
+        throw SymbolError((where.empty() ? std::string("symbol table") : where) + ": duplicate constant '" +
+                          constant.name + "'");
+    constants_.push_back(std::move(constant));
+}
+
+const Constant* SymbolTable::constant(std::string_view name) const {
+    auto it = std::find_if(constants_.begin(), constants_.end(), [&](const Constant& c) { return c.name == name; });
+    return it == constants_.end() ? nullptr : &*it;
 }
 
 const Symbol* SymbolTable::containing(std::uint32_t linear) const {
@@ -174,7 +198,8 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
 
 // The parts read: "-- Program origin --" (the origin, hex), "-- Sections (summary) --" (Vstart
 // Start Stop Length Class Name rows) and "-- Symbols --" with a "---- Section NAME ----" heading
-// per section and "Real Virtual Name" rows. A progbits symbol sits in the image at Real - origin,
+// per section and "Real Virtual Name" rows. The constants (`equ`, struc offsets, `absolute`
+// labels) come first under "---- No Section ----" as "Value Name" rows. A progbits symbol sits in the image at Real - origin,
 // so at `base + Real - origin` whatever CS the code runs with; a nobits symbol (a RAM variable,
 // `section .bss nobits vstart=0x400`) at its Virtual address taken as linear.
 SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t base) {
@@ -184,7 +209,7 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
     std::string part, section, line;
     std::uint32_t origin = 0;
     int n = 0;
-    bool header_seen = false;
+    bool header_seen = false, constants = false;
     SymbolTable table;
     std::uint32_t code_end = 0, data_end = 0;
     while (std::getline(in, line)) {
@@ -201,7 +226,11 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
             part = t.size() > 2 ? t[1] + " " + t[2] : "";
             continue;
         }
-        if (t[0] == "----") { section = t.size() > 2 ? t[2] : ""; continue; }
+        if (t[0] == "----") { // "---- Section NAME ----" or "---- No Section ----"
+            section = t.size() > 2 && t[1] == "Section" ? t[2] : "";
+            constants = t.size() > 2 && t[1] == "No" && t[2] == "Section";
+            continue;
+        }
         if (part == "Program origin") {
             origin = parse_hex(t[0], at(path, n), "origin");
         } else if (part == "Sections (summary)" && t[0] != "Vstart") {
@@ -212,11 +241,18 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
             s.stop = parse_hex(t[2], at(path, n), "section stop");
             s.nobits = t[4] == "nobits";
             sections[t[5]] = s;
+        } else if (part.rfind("Symbols ", 0) == 0 && constants) {
+            if (t[0] == "Value") continue;
+            if (t.size() != 2) throw SymbolError(at(path, n) + ": not a 'Value Name' constant line");
+            // 16 hex digits for a negative one (-1 is FFFFFFFFFFFFFFFF).
+            if (!is_hex(t[0]) || t[0].size() > 16) throw SymbolError(at(path, n) + ": bad value '" + t[0] + "' (hex digits)");
+            if (!valid_nasm_name(t[1])) throw SymbolError(at(path, n) + ": bad constant name '" + t[1] + "'");
+            table.add_constant({t[1], std::stoull(t[0], nullptr, 16)}, at(path, n));
         } else if (part.rfind("Symbols ", 0) == 0 && t[0] != "Real") {
             if (t.size() != 3) throw SymbolError(at(path, n) + ": not a 'Real Virtual Name' symbol line");
             const std::uint32_t real = parse_hex(t[0], at(path, n), "address");
             const std::uint32_t virt = parse_hex(t[1], at(path, n), "address");
-            if (!valid_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + t[2] + "'");
+            if (!valid_nasm_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + t[2] + "'");
             auto sec = sections.find(section);
             const bool nobits = sec != sections.end() && sec->second.nobits;
             Symbol s;

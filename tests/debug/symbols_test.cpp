@@ -239,6 +239,35 @@ TEST(Symbols, NasmMapFromARealAssembly) {
     EXPECT_EQ(table.containing(0xF000C), nullptr);
 }
 
+TEST(Symbols, NasmMapKeepsItsEquConstantsAsAbsoluteValues) {
+    // The same real map: its "---- No Section ----" part lists `equ`s, a struc's offsets and an
+    // `absolute` label as "Value Name" rows; they are values, not code or data symbols.
+    const auto table = SymbolTable::load(RCSIM_SYMBOLS_SAMPLE_MAP);
+    const std::map<std::string, std::uint64_t> want = {
+        {"BAUD", 9600},    {"MINUS", 0xFFFFFFFFFFFFFFFFull}, {"frame", 0},      {"frame.ip", 0},
+        {"frame.cs", 2},   {"frame_size", 4},                {"scratch", 0x500},
+    };
+    ASSERT_EQ(table.constants().size(), want.size());
+    for (const auto& [name, value] : want) {
+        ASSERT_NE(table.constant(name), nullptr) << name;
+        EXPECT_EQ(table.constant(name)->value, value) << name;
+        EXPECT_EQ(table.find(name), nullptr) << name;
+    }
+    EXPECT_EQ(table.containing(0x500), nullptr);
+}
+
+TEST(Symbols, NasmMapConstantErrorsNameTheLine) {
+    const std::string head = "- NASM Map file ---\n\n-- Symbols ---\n\n---- No Section ---\n\nValue     Name\n";
+    EXPECT_THAT(error_of(head + "00000001  A  B\n", &load_nasm), HasSubstr(":8: not a 'Value Name' constant line"));
+    EXPECT_THAT(error_of(head + "0000000G  A\n", &load_nasm), HasSubstr(":8: bad value '0000000G'"));
+    EXPECT_THAT(error_of(head + "00000001  9A\n", &load_nasm), HasSubstr(":8: bad constant name '9A'"));
+    EXPECT_THAT(error_of(head + "00000001  A\n00000002  A\n", &load_nasm), HasSubstr(":9: duplicate constant 'A'"));
+    // nasm's identifier characters (`?`, `~`, `#`) are names; a valid file loads whole.
+    EXPECT_THAT(error_of(head + "00000001  odd?~#x\n\n---- Section .text ---\n\nReal Virtual Name\n  0  0  q?x\n",
+                         &load_nasm),
+                HasSubstr("(no error)"));
+}
+
 TEST(Symbols, NasmMapErrorsNameTheLine) {
     const std::string head = "- NASM Map file ---\n\n-- Symbols ---\n\n---- Section .text ---\n\nReal Virtual Name\n";
     EXPECT_THAT(error_of(head + "  0  0  a b\n", &load_nasm), HasSubstr(":8: not a 'Real Virtual Name'"));
