@@ -1,5 +1,5 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
-//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE] [--monitor [HOST:]PORT]
+//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
 #include "models/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
@@ -70,8 +70,9 @@ void add_run_command(CLI::App& app) {
     cmd->add_flag("--profile", args->profile,
                   "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
     auto* symbols = cmd->add_option("--symbols", args->symbols,
-                                    "For --profile and --gdb: the ROM's symbols (ld86 -M map, nasm map or NAME ADDRESS "
-                                    "lines; default: the built firmware's; docs/tools.md)");
+                                    "For --profile and --gdb: the ROM's symbols (ld86 -M map, nasm map, a linker's Publics "
+                                    "by Value map or NAME ADDRESS lines; FILE@SEG loads a map's image at SEG:0000; "
+                                    "default: the built firmware's; docs/tools.md)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
     auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
                                 "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");

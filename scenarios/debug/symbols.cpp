@@ -1,10 +1,12 @@
-// rcsim — symbol tables from ld86 and nasm maps and from the simple text format (symbols.h).
+// rcsim — symbol tables from ld86, nasm and "Publics by Value" maps and from the simple text format (symbols.h).
 #include "scenarios/debug/symbols.h"
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace rcsim::debug {
@@ -42,6 +44,14 @@ bool valid_name(const std::string& s) {
     return !s.empty() && first(s[0]) && std::all_of(s.begin() + 1, s.end(), rest);
 }
 
+/// nasm's identifiers (letters, digits and _ $ # @ ~ . ?; a digit, $ or # not first), which also
+/// covers the C and assembler names of a linker's map.
+bool valid_map_name(const std::string& s) {
+    auto first = [](unsigned char c) { return std::isalpha(c) || std::strchr("_.?@", c) != nullptr; };
+    auto rest = [](unsigned char c) { return std::isalnum(c) || std::strchr("_$#@~.?", c) != nullptr; };
+    return !s.empty() && first(s[0]) && std::all_of(s.begin() + 1, s.end(), rest);
+}
+
 std::string plain(const std::string& name) { return name.size() > 1 && name[0] == '_' ? name.substr(1) : name; }
 
 } // namespace
@@ -62,9 +72,11 @@ void SymbolTable::sort() {
         return a.address != b.address ? a.address < b.address : a.name < b.name;
     });
     by_name_.clear();
+    by_map_name_.clear();
     max_size_ = 0;
     for (std::size_t i = 0; i < symbols_.size(); ++i) {
         by_name_[symbols_[i].name] = i;
+        if (!symbols_[i].map_name.empty()) by_map_name_[symbols_[i].map_name] = i;
         max_size_ = std::max(max_size_, symbols_[i].size);
     }
 }
@@ -87,7 +99,21 @@ void SymbolTable::fill_sizes(std::uint32_t code_end, std::uint32_t data_end) {
 
 const Symbol* SymbolTable::find(std::string_view name) const {
     auto it = by_name_.find(std::string(name));
-    return it == by_name_.end() ? nullptr : &symbols_[it->second];
+    if (it != by_name_.end()) return &symbols_[it->second];
+    it = by_map_name_.find(std::string(name));
+    return it == by_map_name_.end() ? nullptr : &symbols_[it->second];
+}
+
+void SymbolTable::add_constant(Constant constant, const std::string& where) {
+    if (this->constant(constant.name))
+        throw SymbolError((where.empty() ? std::string("symbol table") : where) + ": duplicate constant '" +
+                          constant.name + "'");
+    constants_.push_back(std::move(constant));
+}
+
+const Constant* SymbolTable::constant(std::string_view name) const {
+    auto it = std::find_if(constants_.begin(), constants_.end(), [&](const Constant& c) { return c.name == name; });
+    return it == constants_.end() ? nullptr : &*it;
 }
 
 const Symbol* SymbolTable::containing(std::uint32_t linear) const {
@@ -174,7 +200,8 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
 
 // The parts read: "-- Program origin --" (the origin, hex), "-- Sections (summary) --" (Vstart
 // Start Stop Length Class Name rows) and "-- Symbols --" with a "---- Section NAME ----" heading
-// per section and "Real Virtual Name" rows. A progbits symbol sits in the image at Real - origin,
+// per section and "Real Virtual Name" rows. The constants (`equ`, struc offsets, `absolute`
+// labels) come first under "---- No Section ----" as "Value Name" rows. A progbits symbol sits in the image at Real - origin,
 // so at `base + Real - origin` whatever CS the code runs with; a nobits symbol (a RAM variable,
 // `section .bss nobits vstart=0x400`) at its Virtual address taken as linear.
 SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t base) {
@@ -184,7 +211,7 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
     std::string part, section, line;
     std::uint32_t origin = 0;
     int n = 0;
-    bool header_seen = false;
+    bool header_seen = false, constants = false;
     SymbolTable table;
     std::uint32_t code_end = 0, data_end = 0;
     while (std::getline(in, line)) {
@@ -201,7 +228,11 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
             part = t.size() > 2 ? t[1] + " " + t[2] : "";
             continue;
         }
-        if (t[0] == "----") { section = t.size() > 2 ? t[2] : ""; continue; }
+        if (t[0] == "----") { // "---- Section NAME ----" or "---- No Section ----"
+            section = t.size() > 2 && t[1] == "Section" ? t[2] : "";
+            constants = t.size() > 2 && t[1] == "No" && t[2] == "Section";
+            continue;
+        }
         if (part == "Program origin") {
             origin = parse_hex(t[0], at(path, n), "origin");
         } else if (part == "Sections (summary)" && t[0] != "Vstart") {
@@ -212,11 +243,18 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
             s.stop = parse_hex(t[2], at(path, n), "section stop");
             s.nobits = t[4] == "nobits";
             sections[t[5]] = s;
+        } else if (part.rfind("Symbols ", 0) == 0 && constants) {
+            if (t[0] == "Value") continue;
+            if (t.size() != 2) throw SymbolError(at(path, n) + ": not a 'Value Name' constant line");
+            // 16 hex digits for a negative one (-1 is FFFFFFFFFFFFFFFF).
+            if (!is_hex(t[0]) || t[0].size() > 16) throw SymbolError(at(path, n) + ": bad value '" + t[0] + "' (hex digits)");
+            if (!valid_map_name(t[1])) throw SymbolError(at(path, n) + ": bad constant name '" + t[1] + "'");
+            table.add_constant({t[1], std::stoull(t[0], nullptr, 16)}, at(path, n));
         } else if (part.rfind("Symbols ", 0) == 0 && t[0] != "Real") {
             if (t.size() != 3) throw SymbolError(at(path, n) + ": not a 'Real Virtual Name' symbol line");
             const std::uint32_t real = parse_hex(t[0], at(path, n), "address");
             const std::uint32_t virt = parse_hex(t[1], at(path, n), "address");
-            if (!valid_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + t[2] + "'");
+            if (!valid_map_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + t[2] + "'");
             auto sec = sections.find(section);
             const bool nobits = sec != sections.end() && sec->second.nobits;
             Symbol s;
@@ -234,6 +272,140 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
         }
     }
     if (!header_seen) throw SymbolError(path + ": empty file, not a nasm map");
+    table.fill_sizes(code_end ? code_end : rom_end, data_end);
+    return table;
+}
+
+// ---- "Publics by Value" maps (MS LINK, Borland TLINK, Paradigm LOCATE) ----
+
+namespace {
+
+/// A segment of the map's head, "00000H 0001FH 00020H _TEXT CODE" (Start Stop Length Name Class):
+/// linear addresses relative to the map's segment 0000.
+struct MapSegment {
+    std::uint32_t start = 0, length = 0;
+    bool code = false; // its class is CODE (or ends so: FAR_CODE)
+};
+
+bool parse_hex_h(const std::string& s, std::uint32_t& value) {
+    if (s.size() < 2 || s.size() > 9 || std::toupper(static_cast<unsigned char>(s.back())) != 'H') return false;
+    const std::string digits = s.substr(0, s.size() - 1);
+    if (!is_hex(digits)) return false;
+    value = static_cast<std::uint32_t>(std::stoul(digits, nullptr, 16));
+    return true;
+}
+
+bool read_segment_row(const std::vector<std::string>& t, MapSegment& segment) {
+    std::uint32_t stop = 0;
+    if (t.size() < 4 || !parse_hex_h(t[0], segment.start) || !parse_hex_h(t[1], stop) ||
+        !parse_hex_h(t[2], segment.length))
+        return false;
+    std::string cls = t.size() >= 5 ? t[4] : "";
+    std::transform(cls.begin(), cls.end(), cls.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+    segment.code = cls.size() >= 4 && cls.compare(cls.size() - 4, 4, "CODE") == 0;
+    return true;
+}
+
+bool is_publics_heading(const std::vector<std::string>& t) {
+    return t.size() == 4 && t[0] == "Address" && t[1] == "Publics" && t[2] == "by" && (t[3] == "Value" || t[3] == "Name");
+}
+
+/// A row of a Publics section: "SSSS:OOOO [Abs|Idle|Res|...] NAME".
+struct PublicRow {
+    std::string name, where;
+    std::uint32_t segment = 0, offset = 0;
+    bool absolute = false;
+};
+
+PublicRow read_public_row(const std::vector<std::string>& t, const std::string& where) {
+    PublicRow row;
+    row.where = where;
+    const auto colon = t[0].find(':');
+    const std::string seg = t[0].substr(0, colon), off = colon == std::string::npos ? "" : t[0].substr(colon + 1);
+    if (seg.size() > 4 || off.size() > 4 || !is_hex(seg) || !is_hex(off))
+        throw SymbolError(where + ": bad address '" + t[0] + "' (SSSS:OOOO, 4 hex digits each)");
+    if (t.size() < 2) throw SymbolError(where + ": missing the name after the address (SSSS:OOOO NAME)");
+    row.segment = std::uint32_t(std::stoul(seg, nullptr, 16));
+    row.offset = std::uint32_t(std::stoul(off, nullptr, 16));
+    row.name = t.back();
+    if (!valid_map_name(row.name)) throw SymbolError(where + ": bad symbol name '" + row.name + "'");
+    // Between address and name, a linker's remarks: Abs (an absolute value), Idle, Res, a type.
+    for (std::size_t i = 1; i + 1 < t.size(); ++i)
+        if (t[i] == "Abs" || t[i] == "ABS" || t[i] == "abs") row.absolute = true;
+    return row;
+}
+
+} // namespace
+
+// The segment list at the head (rows of five columns with H-suffixed hex), then one or two
+// Publics sections (by Name, by Value: the same symbols twice) whose rows start with SSSS:OOOO;
+// a line starting otherwise ("Program entry point at ...") ends a section.
+SymbolTable SymbolTable::load_publics_map(const std::string& path, std::uint16_t load_segment) {
+    auto in = open(path);
+    std::vector<MapSegment> segments;
+    std::vector<PublicRow> rows;
+    std::map<std::string, std::size_t> first_row; // name -> index into rows
+    std::string line;
+    int n = 0;
+    bool in_publics = false, heading_seen = false;
+    while (std::getline(in, line)) {
+        ++n;
+        const auto t = tokens(line);
+        if (t.empty()) continue;
+        if (is_publics_heading(t)) {
+            in_publics = heading_seen = true;
+            continue;
+        }
+        MapSegment segment;
+        if (!in_publics) {
+            if (read_segment_row(t, segment)) segments.push_back(segment);
+            continue;
+        }
+        if (!std::isxdigit(static_cast<unsigned char>(t[0][0])) ||
+            (t[0].find(':') == std::string::npos && !is_hex(t[0]))) {
+            in_publics = false;
+            continue;
+        }
+        PublicRow row = read_public_row(t, at(path, n));
+        const auto seen = first_row.find(row.name);
+        if (seen == first_row.end()) {
+            first_row.emplace(row.name, rows.size());
+            rows.push_back(std::move(row));
+        } else if (rows[seen->second].segment * 16 + rows[seen->second].offset != row.segment * 16 + row.offset) {
+            throw SymbolError(row.where + ": '" + row.name + "' listed at " + t[0] + " here and elsewhere at " +
+                              rows[seen->second].where);
+        }
+    }
+    if (!heading_seen) throw SymbolError(path + ": no 'Address  Publics by Value' (or by Name) heading");
+
+    const std::uint32_t base = std::uint32_t(load_segment) * 16;
+    std::uint32_t code_end = 0, data_end = 0;
+    for (const auto& s : segments) {
+        std::uint32_t& end = s.code ? code_end : data_end;
+        end = std::max(end, base + s.start + s.length);
+    }
+    SymbolTable table;
+    for (const auto& row : rows) {
+        // gdb gets C's name (`main`, not `_main`) unless the map has that name as well.
+        const std::string name = row.name[0] == '_' && !first_row.count(plain(row.name)) ? plain(row.name) : row.name;
+        const std::uint32_t relative = row.segment * 16 + row.offset;
+        if (row.absolute) {
+            table.add_constant({name, relative}, row.where);
+            continue;
+        }
+        Symbol s;
+        s.name = name;
+        if (name != row.name) s.map_name = row.name;
+        if (row.segment + load_segment > 0xFFFF)
+            throw SymbolError(row.where + ": '" + row.name + "' beyond the 8086's segments (load segment + its segment > FFFF)");
+        s.address = base + relative;
+        auto in_segment = std::find_if(segments.begin(), segments.end(), [&](const MapSegment& m) {
+            return relative >= m.start && relative - m.start < m.length;
+        });
+        const bool code = in_segment != segments.end() ? in_segment->code : s.address >= rom_base && s.address < rom_end;
+        s.kind = code ? Symbol::Kind::code : Symbol::Kind::data;
+        table.add(std::move(s), row.where);
+    }
     table.fill_sizes(code_end ? code_end : rom_end, data_end);
     return table;
 }
@@ -297,16 +469,55 @@ SymbolTable SymbolTable::load_text(const std::string& path) {
     return table;
 }
 
-SymbolTable SymbolTable::load(const std::string& path) {
+namespace {
+
+/// FILE@SEG -> FILE and SEG (1-4 hex digits after the last '@'); FILE alone -> no segment.
+std::pair<std::string, std::optional<std::uint16_t>> split_load_segment(const std::string& spec) {
+    const auto at_sign = spec.rfind('@');
+    if (at_sign == std::string::npos) return {spec, std::nullopt};
+    const std::string seg = spec.substr(at_sign + 1);
+    if (seg.empty() || seg.size() > 4 || !is_hex(seg))
+        throw SymbolError(spec + ": bad load segment '" + seg + "' after '@' (FILE@SEG, SEG 1-4 hex digits: F000)");
+    return {spec.substr(0, at_sign), std::uint16_t(std::stoul(seg, nullptr, 16))};
+}
+
+enum class MapFormat { nasm, publics, ld86, text };
+
+/// nasm's heading on the first line, a Publics heading anywhere (MS LINK and TLINK maps start
+/// with the segment list, whose lines look like ld86's five columns), five-column lines of ld86.
+MapFormat detect_format(const std::string& path) {
     auto in = open(path);
     std::string line;
+    std::optional<MapFormat> by_first_line;
     while (std::getline(in, line)) {
         const auto t = tokens(line);
         if (t.empty()) continue;
-        if (line.rfind("- NASM Map file", 0) == 0) return load_nasm_map(path);
-        if (t.size() >= 5 && t[0][0] != '#') return load_ld86_map(path);
+        if (is_publics_heading(t)) return MapFormat::publics;
+        if (by_first_line) continue;
+        if (line.rfind("- NASM Map file", 0) == 0) return MapFormat::nasm;
+        by_first_line = t.size() >= 5 && t[0][0] != '#' ? MapFormat::ld86 : MapFormat::text;
+    }
+    return by_first_line.value_or(MapFormat::text);
+}
+
+} // namespace
+
+SymbolTable SymbolTable::load(const std::string& spec) {
+    const auto [path, segment] = split_load_segment(spec);
+    switch (detect_format(path)) {
+    case MapFormat::nasm:
+        return load_nasm_map(path, segment ? std::uint32_t(*segment) * 16 : rom_base);
+    case MapFormat::publics:
+        return load_publics_map(path, segment.value_or(0));
+    case MapFormat::ld86: {
+        Ld86Layout layout;
+        if (segment) layout.code_base = std::uint32_t(*segment) * 16;
+        return load_ld86_map(path, layout);
+    }
+    case MapFormat::text:
         break;
     }
+    if (segment) throw SymbolError(spec + ": a load segment (@SEG) places a map; NAME ADDRESS lines are absolute");
     return load_text(path);
 }
 

@@ -20,6 +20,12 @@ expect() { # expect "MESSAGE PART" ARGS...
 printf 'ok 0xF0000\nx F0000\n' > "$work/bad.sym"
 expect "$work/bad.sym:2: bad address 'F0000'" --gdb 0 --symbols "$work/bad.sym"
 expect "$work/none.sym: cannot open the symbol file" --gdb 0 --symbols "$work/none.sym"
+# A linker's Publics map (docs/tools.md "Symbols"): a bad row, a bad load segment, a load
+# segment for NAME ADDRESS lines.
+printf '  Address         Publics by Value\n\n 0000:0010       _main\n 0000:00G0       _bad\n' > "$work/bad.map"
+expect "$work/bad.map:4: bad address '0000:00G0'" --gdb 0 --symbols "$work/bad.map@F000"
+expect "$work/bad.map@F00X: bad load segment 'F00X'" --gdb 0 --symbols "$work/bad.map@F00X"
+expect "$work/bad.sym@F000: a load segment (@SEG) places a map" --gdb 0 --symbols "$work/bad.sym@F000"
 expect "--gdb-wait needs --gdb" --gdb-wait
 expect "--symbols needs --gdb" --symbols "$work/bad.sym"
 expect "--gdb and --profile cannot be used together" --gdb 0 --profile --out "$work/o"
@@ -39,6 +45,13 @@ if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/good.sym" --out
   echo "FAIL: a run with --gdb and nobody connecting did not pass:"; cat "$work/err"; failed=1
 elif ! grep -q "^gdb: symbols in $work/o/symbols.elf" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
   echo "FAIL: --symbols did not become $work/o/symbols.elf"; cat "$work/out"; failed=1
+fi
+# An .EXE's map at its load segment: gdb gets C's names without the underscore.
+printf ' Start  Stop   Length Name    Class\n 00000H 000FFH 00100H _TEXT   CODE\n\n  Address         Publics by Value\n\n 0000:0010       _my_main\n' > "$work/exe.map"
+if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/exe.map@F000" --out "$work/p" > "$work/out" 2> "$work/err"; then
+  echo "FAIL: a run with --symbols FILE@F000 did not pass:"; cat "$work/err"; failed=1
+elif ! grep -aq my_main "$work/p/symbols.elf" || grep -aq _my_main "$work/p/symbols.elf"; then
+  echo "FAIL: $work/p/symbols.elf does not name my_main (without its underscore)"; failed=1
 fi
 # The stub attached, nobody connecting: the same run, byte for byte.
 "$rcsim" run "$scenario" --reproducible --out "$work/ref" > /dev/null 2>&1

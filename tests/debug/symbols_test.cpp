@@ -1,4 +1,4 @@
-// Symbol tables (scenarios/debug/symbols.h): the three formats, lookups, and every malformed line
+// Symbol tables (scenarios/debug/symbols.h): the four formats, lookups, and every malformed line
 // named by file:line.
 #include "scenarios/debug/symbols.h"
 
@@ -239,12 +239,168 @@ TEST(Symbols, NasmMapFromARealAssembly) {
     EXPECT_EQ(table.containing(0xF000C), nullptr);
 }
 
+TEST(Symbols, NasmMapKeepsItsEquConstantsAsAbsoluteValues) {
+    // The same real map: its "---- No Section ----" part lists `equ`s, a struc's offsets and an
+    // `absolute` label as "Value Name" rows; they are values, not code or data symbols.
+    const auto table = SymbolTable::load(RCSIM_SYMBOLS_SAMPLE_MAP);
+    const std::map<std::string, std::uint64_t> want = {
+        {"BAUD", 9600},    {"MINUS", 0xFFFFFFFFFFFFFFFFull}, {"frame", 0},      {"frame.ip", 0},
+        {"frame.cs", 2},   {"frame_size", 4},                {"scratch", 0x500},
+    };
+    ASSERT_EQ(table.constants().size(), want.size());
+    for (const auto& [name, value] : want) {
+        ASSERT_NE(table.constant(name), nullptr) << name;
+        EXPECT_EQ(table.constant(name)->value, value) << name;
+        EXPECT_EQ(table.find(name), nullptr) << name;
+    }
+    EXPECT_EQ(table.containing(0x500), nullptr);
+}
+
+TEST(Symbols, NasmMapConstantErrorsNameTheLine) {
+    const std::string head = "- NASM Map file ---\n\n-- Symbols ---\n\n---- No Section ---\n\nValue     Name\n";
+    EXPECT_THAT(error_of(head + "00000001  A  B\n", &load_nasm), HasSubstr(":8: not a 'Value Name' constant line"));
+    EXPECT_THAT(error_of(head + "0000000G  A\n", &load_nasm), HasSubstr(":8: bad value '0000000G'"));
+    EXPECT_THAT(error_of(head + "00000001  9A\n", &load_nasm), HasSubstr(":8: bad constant name '9A'"));
+    EXPECT_THAT(error_of(head + "00000001  A\n00000002  A\n", &load_nasm), HasSubstr(":9: duplicate constant 'A'"));
+    // nasm's identifier characters (`?`, `~`, `#`) are names; a valid file loads whole.
+    EXPECT_THAT(error_of(head + "00000001  odd?~#x\n\n---- Section .text ---\n\nReal Virtual Name\n  0  0  q?x\n",
+                         &load_nasm),
+                HasSubstr("(no error)"));
+}
+
 TEST(Symbols, NasmMapErrorsNameTheLine) {
     const std::string head = "- NASM Map file ---\n\n-- Symbols ---\n\n---- Section .text ---\n\nReal Virtual Name\n";
     EXPECT_THAT(error_of(head + "  0  0  a b\n", &load_nasm), HasSubstr(":8: not a 'Real Virtual Name'"));
     EXPECT_THAT(error_of(head + "  g  0  a\n", &load_nasm), HasSubstr(":8: bad address 'g'"));
     EXPECT_THAT(error_of(head + "  0  0  9a\n", &load_nasm), HasSubstr(":8: bad symbol name '9a'"));
     EXPECT_THAT(error_of("hello\n", &load_nasm), HasSubstr(":1: not a nasm map file"));
+}
+
+// ---- "Publics by Value" maps (MS LINK, Borland TLINK, Paradigm LOCATE), fixtures in maps/ ----
+
+std::string map_fixture(const std::string& name) { return std::string(RCSIM_SYMBOLS_MAPS) + "/" + name; }
+
+struct Want {
+    const char* name;
+    std::uint32_t address, size;
+    Kind kind;
+};
+
+void expect_symbols(const SymbolTable& table, const std::vector<Want>& want) {
+    ASSERT_EQ(table.size(), want.size());
+    for (const auto& w : want) {
+        const Symbol* s = table.find(w.name);
+        ASSERT_NE(s, nullptr) << w.name;
+        EXPECT_EQ(s->name, w.name);
+        EXPECT_EQ(s->address, w.address) << w.name;
+        EXPECT_EQ(s->size, w.size) << w.name;
+        EXPECT_EQ(s->kind, w.kind) << w.name;
+    }
+}
+
+TEST(Symbols, MsLinkMapOfAnExeAtItsLoadSegment) {
+    // FILE@F000: the .EXE's segment 0000 at F000:0000. Kinds from the segment list's classes
+    // (_TEXT CODE; _DATA DATA), sizes to the next symbol or the end of the last segment of the
+    // kind (_TEXT ends at 170, _BSS at 1C0); the map lists every symbol twice (by name, by value).
+    const auto table = SymbolTable::load(map_fixture("mslink_exe.map") + "@F000");
+    expect_symbols(table, {{"start", 0xF0000, 0x10, Kind::code},
+                           {"main", 0xF0010, 0xF0, Kind::code},
+                           {"send", 0xF0100, 0x70, Kind::code},
+                           {"counter", 0xF0170, 2, Kind::data},
+                           {"rx_len", 0xF0172, 0x4E, Kind::data}});
+    // C's leading underscore stripped for gdb, the map's spelling kept and found.
+    EXPECT_EQ(table.find("main")->map_name, "_main");
+    EXPECT_EQ(table.find("_main"), table.find("main"));
+    EXPECT_EQ(table.find("start")->map_name, "");
+    // `Abs` rows are values, not code or data.
+    ASSERT_EQ(table.constants().size(), 1u);
+    EXPECT_EQ(table.constants()[0].name, "_acrtused");
+    EXPECT_EQ(table.constants()[0].value, 0u);
+    EXPECT_EQ(table.containing(0xF0120)->name, "send");
+}
+
+TEST(Symbols, PublicsMapWithoutALoadSegmentIsTakenAsItIs) {
+    const auto table = SymbolTable::load(map_fixture("mslink_exe.map"));
+    EXPECT_EQ(table.find("main")->address, 0x10u);
+    EXPECT_EQ(table.find("main")->kind, Kind::code); // by its segment's class, not by the ROM window
+    EXPECT_EQ(table.find("counter")->address, 0x170u);
+}
+
+TEST(Symbols, TlinkMapWithIdleRowsAndItsDetailedSegmentMap) {
+    const auto table = SymbolTable::load(map_fixture("tlink_exe.map") + "@e000");
+    expect_symbols(table, {{"DGROUP@", 0xE0000, 0x40, Kind::code},
+                           {"main", 0xE0040, 0xC0, Kind::code},
+                           {"rs232_isr", 0xE0100, 0x30, Kind::code},
+                           {"counter", 0xE0134, 0x28, Kind::data},
+                           {"rx_buf", 0xE015C, 0x10, Kind::data}});
+    EXPECT_TRUE(table.constants().empty());
+}
+
+TEST(Symbols, LocatorMapOfARomIsAbsolute) {
+    const auto table = SymbolTable::load(map_fixture("locate_rom.map"));
+    expect_symbols(table, {{"rx_count", 0x400, 0x20, Kind::data},
+                           {"tx_head", 0x420, 0x40, Kind::data},
+                           {"start", 0xF0000, 0x200, Kind::code},
+                           {"rs232_isr", 0xF0200, 0x200, Kind::code},
+                           {"main", 0xF0400, 0xFFFF0 - 0xF0400, Kind::code},
+                           {"reset_vector", 0xFFFF0, 5, Kind::code}});
+    EXPECT_EQ(table.containing(0xFFFF4)->name, "reset_vector");
+}
+
+TEST(Symbols, PublicsMapByNameOnlyWithoutSegmentListKeepsANameTheMapHasBothWays) {
+    // No segment list: code in the ROM, data elsewhere; `_x` stays `_x` since `x` is taken.
+    const auto table = SymbolTable::load(write("  Address         Publics by Name\n\n"
+                                               " F000:0010       _x\n"
+                                               " F000:0000       x\n"
+                                               " 0040:0000       _flag\n"));
+    ASSERT_EQ(table.size(), 3u);
+    EXPECT_EQ(table.find("_x")->address, 0xF0010u);
+    EXPECT_EQ(table.find("x")->address, 0xF0000u);
+    EXPECT_EQ(table.find("flag")->address, 0x400u);
+    EXPECT_EQ(table.find("flag")->kind, Kind::data);
+    EXPECT_EQ(table.find("_x")->kind, Kind::code);
+}
+
+TEST(Symbols, PublicsMapErrorsNameTheLine) {
+    const std::string head = "  Address         Publics by Value\n\n";
+    auto map = [&](const std::string& rows) { return error_of(head + rows, &load_any); };
+    EXPECT_THAT(map(" 0000:00G0       _x\n"), HasSubstr(":3: bad address '0000:00G0'"));
+    EXPECT_THAT(map(" 12345:0000      _x\n"), HasSubstr(":3: bad address '12345:0000'"));
+    EXPECT_THAT(map(" 0000:0010\n"), HasSubstr(":3: missing the name"));
+    EXPECT_THAT(map(" 0000:0010       9x\n"), HasSubstr(":3: bad symbol name '9x'"));
+    EXPECT_THAT(map(" 0000:0010  _x\n 0000:0020  _x\n"), HasSubstr(":4: '_x' listed at 0000:0020 here and elsewhere at "));
+    EXPECT_THAT(map(" 0000:0010  _x\n\nProgram entry point at 0000:0000\n"), HasSubstr("(no error)"));
+    const std::string high = write(head + " F000:0010  _x\n");
+    try {
+        SymbolTable::load(high + "@1000");
+        ADD_FAILURE() << "F000 + 1000 loaded";
+    } catch (const SymbolError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(high + ":3: '_x' beyond the 8086's segments"));
+    }
+    EXPECT_THAT(error_of("x 0xF0000\n", [](const std::string& p) { return SymbolTable::load_publics_map(p); }),
+                HasSubstr(": no 'Address  Publics by Value' (or by Name) heading"));
+}
+
+TEST(Symbols, LoadSegmentPlacesNasmAndLd86MapsAndIsRefusedForTextOrMalformed) {
+    const auto nasm = SymbolTable::load(std::string(RCSIM_SYMBOLS_SAMPLE_MAP) + "@E000");
+    EXPECT_EQ(nasm.find("helper")->address, 0xE0003u);
+    EXPECT_EQ(nasm.find("counter")->address, 0x400u); // nobits: its own address
+    const auto ld86 = SymbolTable::load(write(ld86_map) + "@E000");
+    EXPECT_EQ(ld86.find("f")->address, 0xE0010u);
+    EXPECT_EQ(ld86.find("v")->address, 0x400u); // DATA_SEG's
+    const std::string text = write("x 0xF0000\n");
+    auto error = [](const std::string& spec) {
+        try {
+            SymbolTable::load(spec);
+        } catch (const SymbolError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    EXPECT_THAT(error(text + "@F000"), HasSubstr(text + "@F000: a load segment (@SEG) places a map"));
+    EXPECT_THAT(error(text + "@G000"), HasSubstr(": bad load segment 'G000' after '@'"));
+    EXPECT_THAT(error(text + "@10000"), HasSubstr(": bad load segment '10000'"));
+    EXPECT_THAT(error(text + "@"), HasSubstr(": bad load segment ''"));
 }
 
 // ---- the simple text format ----
