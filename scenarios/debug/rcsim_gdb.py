@@ -8,8 +8,8 @@
 #     return IP (a near call: the caller's CS);
 #   - before that point, or in an assembly routine without a BP frame, the stack as the routine's
 #     entry left it: its instructions from the entry to the pc are read (pushes, pops, `dec sp`,
-#     `inc sp`, moves and the like; a jump or an instruction it does not know ends the reading, and
-#     the frame is then not unwound);
+#     `inc sp`, moves and the like; a jump or an instruction it does not know ends the reading,
+#     and then a BP a little above SP is taken as a BP frame, else the frame is not unwound);
 #   - an interrupt handler (a routine the interrupt vector table points to): the 8086 pushed FLAGS,
 #     CS and IP, so the caller is CS:IP from the stack, anywhere in memory.
 # Addresses are linear (the stub's pc is CS*16 + IP; the stack is at SS*16 + SP).
@@ -75,11 +75,16 @@ def _modrm_length(modrm):
     return 3 if mod == 1 else 4
 
 
+_MAX_ENTRY_READ = 512
+
+
 def _entry_state(start, pc):
     """(SP change from the entry to pc, offset of the caller's BP below the entry SP or None,
     whether `mov bp,sp` ran right after `push bp`) for the straight-line code start..pc; None
     when an instruction on the way is one this reading does not follow."""
-    code = _code(start, max(0, pc - start) + 6)
+    if not 0 <= pc - start <= _MAX_ENTRY_READ:
+        return None  # no entry is this long without a jump: the symbol is not this code's
+    code = _code(start, pc - start + 6)
     at, sp, saved_bp = 0, 0, None
     while at < pc - start:
         op = code[at]
@@ -121,6 +126,12 @@ class RealModeUnwinder(Unwinder):
         super().__init__("rcsim real mode")
 
     def __call__(self, pending):
+        try:
+            return self._unwind(pending)
+        except gdb.MemoryError:
+            return None  # memory the stub does not serve: this frame is gdb's own to show
+
+    def _unwind(self, pending):
         pc = int(pending.read_register("eip")) & 0xFFFFF
         cs = int(pending.read_register("cs")) & 0xFFFF
         ss = int(pending.read_register("ss")) & 0xFFFF
@@ -134,6 +145,11 @@ class RealModeUnwinder(Unwinder):
         if state is None and handler:
             found = _interrupted_at(ss, sp)
             state = None if found is None else (-found, None, False)
+        elif state is None and sp < bp < sp + 0x400:
+            # The reading stopped (a jump, or a start the map gives wrong: a static C function has
+            # no public name): every C function of the firmware keeps its BP frame, so a BP a
+            # little above SP is taken as this frame's.
+            state = (0, None, True)
         if state is not None and state[2]:
             ret_sp, caller_bp = (bp + 2) & 0xFFFF, _u16(ss * 16 + bp)  # BP frame: [BP], [BP+2]
         elif state is not None:

@@ -178,7 +178,8 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
         if (e.name == "__end" && e.segment == 3 && data_base >= 0) data_end = std::uint32_t(data_base) + e.value;
         if (e.name.rfind("__", 0) == 0) continue;
         Symbol s;
-        s.name = e.local && uses[plain(e.name)] > 1 ? e.module + ":" + plain(e.name) : plain(e.name);
+        // MODULE__NAME, not MODULE:NAME: gdb reads a colon in `break isr:send` as FILE:FUNCTION.
+        s.name = e.local && uses[plain(e.name)] > 1 ? e.module + "__" + plain(e.name) : plain(e.name);
         s.local = e.local;
         if (e.segment == 0) {
             s.address = layout.code_base + e.value;

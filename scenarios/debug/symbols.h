@@ -67,7 +67,8 @@ public:
     /// Globals (flag R) and C statics: the locals (flag r) with bcc's leading underscore, which
     /// bcc gives every C identifier. The other locals are as86 labels of hand-written assembly,
     /// mostly branch targets inside a routine: they stay out, so a routine is one symbol. A
-    /// static whose name another symbol has too is named MODULE:NAME (`main:send`).
+    /// static whose name another symbol has too is named MODULE__NAME (`main__send`: gdb reads a
+    /// colon as FILE:FUNCTION).
     static SymbolTable load_ld86_map(const std::string& path, const Ld86Layout& layout = {});
     /// `base` is where the image's first byte sits (the ROM: F0000).
     static SymbolTable load_nasm_map(const std::string& path, std::uint32_t base = rom_base);

@@ -9,9 +9,9 @@
 # under main(). The watchpoint is on pflag[0] of the DP-RAM (left port D0000 + 0*340 + 339,
 # docs/system.md §4), which the comm CPU sets to EXT_USE (1) when the host's ENQ arrives.
 #
-# usage: gdb_unwind.sh RCSIM GDB SCENARIO WORKDIR     (exit 77: skipped)
+# usage: gdb_unwind.sh RCSIM GDB SCENARIO FW_JSON WORKDIR     (exit 77: skipped)
 set -euo pipefail
-rcsim=$1 gdb=$2 scenario=$3 work=$4
+rcsim=$1 gdb=$2 scenario=$3 fw_json=$4 work=$5
 if ! command -v "$gdb" >/dev/null 2>&1; then
   echo "SKIP: gdb not found ($gdb); scripts/install-deps.sh installs it"
   exit 77
@@ -84,4 +84,54 @@ grep -q "^Hardware watchpoint [0-9]*: \*(unsigned char \*) 0xD0153" "$work/gdb.l
 sed -n '/^Hardware watchpoint [0-9]*: \*(unsigned char \*) 0xD0153$/,/^WATCH-DONE$/p' "$work/gdb.log" |
   grep -q "^New value = 1 " || fail "the watchpoint on pflag[0] did not see EXT_USE (1)"
 ! grep -q "^warning\|Python Exception" "$work/gdb.log" || fail "gdb warned"
-echo "gdb unwind: bt, finish and up through C frames and the interrupt entry; a DP-RAM watchpoint"
+kill $pid 2>/dev/null || true
+wait $pid 2>/dev/null || true
+
+# The same firmware with a locator's "Publics by Value" map (docs/tools.md "Symbols"), written here
+# from the built firmware's symbols with C's leading underscores: gdb breaks on `mb_post` by its C
+# name, shows 16-bit code, and bt reaches main_loop and main (to_dpram, a static function, has no
+# public name: its frame shows as the public symbol before it, and is still unwound).
+python3 - "$fw_json" "$work/fw.map" <<'PY'
+import json, sys
+syms = json.load(open(sys.argv[1]))["symbols"]
+with open(sys.argv[2], "w") as m:
+    m.write("Paradigm LOCATE  Version 5.00  Absolute locator map of COMM_FW.AXE\n\n")
+    m.write(" Start  Stop   Length Name               Class\n")
+    m.write(" 00000H 0FFFFH 10000H _DATA              DATA\n")
+    m.write(" F0000H FFFFFH 10000H _TEXT              CODE\n\n")
+    m.write("  Address         Publics by Value\n\n")
+    for name, s in sorted(syms.items(), key=lambda kv: kv[1]["linear"]):
+        seg = 0xF000 if s["linear"] >= 0xF0000 else 0
+        m.write(" %04X:%04X       _%s\n" % (seg, s["linear"] - seg * 16, name))
+PY
+: > "$work/pub.out"
+"$rcsim" run "$scenario" --out "$work/pub" --gdb 127.0.0.1:0 --gdb-wait --symbols "$work/fw.map" > "$work/pub.out" 2>&1 &
+pid=$!
+port=
+for _ in $(seq 200); do
+  port=$(sed -n 's/^gdb: listening on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/pub.out")
+  [ -n "$port" ] && break
+  kill -0 $pid 2>/dev/null || { cat "$work/pub.out"; fail "rcsim ended before listening (Publics map)"; }
+  sleep 0.05
+done
+cat > "$work/pub.gdb" <<GDB
+set pagination off
+set confirm off
+file $work/pub/symbols.elf
+source $work/pub/rcsim-gdb.py
+target remote 127.0.0.1:$port
+break mb_post
+continue
+x/i \$pc
+bt
+kill
+GDB
+timeout 60 "$gdb" -nx -batch -x "$work/pub.gdb" > "$work/gdb.log" 2>&1 || fail "gdb failed (Publics map)"
+# gdb stops after bcc's prologue (push bp; mov bp,sp; push di; push si), at `dec %sp`: an i386
+# reading would say %esp.
+grep -Eq "^=> 0x[0-9a-f]+ <mb_post\+5>:[[:space:]]+dec +%sp$" "$work/gdb.log" || fail "Publics map: not 16-bit code at mb_post"
+grep -Eq '^#0 +0x[0-9a-f]+ in mb_post \(\)' "$work/gdb.log" || fail "Publics map: #0 is not mb_post"
+grep -Eq '^#[1-9] +0x[0-9a-f]+ in main_loop \(\)' "$work/gdb.log" || fail "Publics map: bt does not reach main_loop"
+grep -Eq '^#[2-9] +0x[0-9a-f]+ in main \(\)$' "$work/gdb.log" || fail "Publics map: bt does not reach main"
+! grep -q "^warning\|Python Exception" "$work/gdb.log" || fail "gdb warned (Publics map)"
+echo "gdb unwind: bt, finish and up through C frames and the interrupt entry; a DP-RAM watchpoint; a Publics map"

@@ -171,7 +171,7 @@ const char* const ld86_statics_map =
 
 TEST(Symbols, Ld86MapLoadsCStaticsAsLocalsAndLeavesAssemblyLabelsOut) {
     const auto table = SymbolTable::load(write(ld86_statics_map));
-    ASSERT_EQ(table.size(), 6u); // isr, main, helper, isr:send, main:send, count
+    ASSERT_EQ(table.size(), 6u); // isr, main, helper, isr__send, main__send, count
     const Symbol* helper = table.find("helper");
     ASSERT_NE(helper, nullptr);
     EXPECT_TRUE(helper->local);
@@ -185,9 +185,9 @@ TEST(Symbols, Ld86MapLoadsCStaticsAsLocalsAndLeavesAssemblyLabelsOut) {
     EXPECT_EQ(table.containing(0xF0009)->name, "isr");
     // The two statics named send, each by its module.
     EXPECT_EQ(table.find("send"), nullptr);
-    EXPECT_EQ(table.find("isr:send")->address, 0xF0010u);
-    EXPECT_EQ(table.find("main:send")->address, 0xF0038u);
-    EXPECT_EQ(table.find("main:send")->size, 8u); // to the end of code, 0x40
+    EXPECT_EQ(table.find("isr__send")->address, 0xF0010u);
+    EXPECT_EQ(table.find("main__send")->address, 0xF0038u);
+    EXPECT_EQ(table.find("main__send")->size, 8u); // to the end of code, 0x40
     const Symbol* count = table.find("count");
     ASSERT_NE(count, nullptr);
     EXPECT_TRUE(count->local);
@@ -201,7 +201,7 @@ TEST(Symbols, AStaticWithAGlobalsNameIsNamedByItsModule) {
     ASSERT_EQ(table.size(), 2u);
     EXPECT_FALSE(table.find("f")->local);
     EXPECT_EQ(table.find("f")->address, 0xF0000u);
-    EXPECT_TRUE(table.find("util:f")->local);
+    EXPECT_TRUE(table.find("util__f")->local);
 }
 
 TEST(Symbols, Ld86MapErrorsNameTheLine) {
@@ -515,7 +515,7 @@ TEST(Symbols, ElfImageListsTheStaticsAsLocalsBeforeTheGlobals) {
         }
         ASSERT_EQ(index.size(), 6u);
         EXPECT_EQ(info, 5u); // null + 4 locals
-        for (const char* local : {"helper", "isr:send", "main:send", "count"}) {
+        for (const char* local : {"helper", "isr__send", "main__send", "count"}) {
             EXPECT_EQ(bind[local], 0u) << local;
             EXPECT_LT(index[local], info) << local;
         }

@@ -221,7 +221,10 @@ def main(rcsim, scenario):
     else:
         check(growth < 64, "memory stays bounded: RSS %.0f MB, peak %.0f MB" % (before_kib / 1024, watch.peak / 1024))
     check(rc == 143, "SIGTERM ends the run (exit 143, got %d)" % rc)
-    check(took < 1.0, "within a second (%.2f s)" % took)
+    # The second is judged in the Release build; under the sanitizers the stop and the report's
+    # writing run several times slower, so there the bound is only that it ends promptly.
+    bound = 3.0 if os.environ.get("RCSIM_SANITIZED") else 1.0
+    check(took < bound, "within %g s (%.2f s)" % (bound, took))
     try:
         with open(os.path.join(out, "report.json")) as f:
             verdict = json.load(f).get("verdict")
