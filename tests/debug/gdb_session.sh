@@ -17,6 +17,7 @@
 # PIC_ICW4 AEOI = 0; fw.h); the 82510 #0 runs 9600,8E1 with LCR = 1B (8 bits, even parity, 1
 # stop: the firmware's set-up).
 set -euo pipefail
+. "$(dirname "$0")/gdb_port.sh"
 rcsim=$1 gdb=$2 scenario=$3 fw_json=$4 work=$5
 if ! command -v "$gdb" >/dev/null 2>&1; then
   echo "SKIP: gdb not found ($gdb); scripts/install-deps.sh installs it"
@@ -42,14 +43,7 @@ print("%x %x %x" % (s["rs232_isr"]["linear"], s["tick_div"]["linear"], j["code_s
   > "$work/dbg.out" 2> "$work/dbg.err" &
 pid=$!
 trap 'kill $pid 2>/dev/null || true' EXIT
-port=
-for _ in $(seq 200); do
-  port=$(sed -n 's/^gdb: listening on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/dbg.out")
-  [ -n "$port" ] && break
-  kill -0 $pid 2>/dev/null || fail "rcsim ended before listening"
-  sleep 0.05
-done
-[ -n "$port" ] || fail "rcsim did not print its gdb port"
+port=$(gdb_port "$work/dbg.out" $pid) || fail "rcsim ended before printing its gdb port"
 
 cat > "$work/script.gdb" <<GDB
 set pagination off

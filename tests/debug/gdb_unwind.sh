@@ -11,6 +11,7 @@
 #
 # usage: gdb_unwind.sh RCSIM GDB SCENARIO FW_JSON WORKDIR     (exit 77: skipped)
 set -euo pipefail
+. "$(dirname "$0")/gdb_port.sh"
 rcsim=$1 gdb=$2 scenario=$3 fw_json=$4 work=$5
 if ! command -v "$gdb" >/dev/null 2>&1; then
   echo "SKIP: gdb not found ($gdb); scripts/install-deps.sh installs it"
@@ -24,14 +25,7 @@ fail() { echo "FAIL: $*"; echo "--- gdb output"; cat "$work/gdb.log" 2>/dev/null
 "$rcsim" run "$scenario" --out "$work/dbg" --gdb 127.0.0.1:0 --gdb-wait > "$work/dbg.out" 2> "$work/dbg.err" &
 pid=$!
 trap 'kill $pid 2>/dev/null || true' EXIT
-port=
-for _ in $(seq 200); do
-  port=$(sed -n 's/^gdb: listening on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/dbg.out")
-  [ -n "$port" ] && break
-  kill -0 $pid 2>/dev/null || fail "rcsim ended before listening"
-  sleep 0.05
-done
-[ -n "$port" ] || fail "rcsim did not print its gdb port"
+port=$(gdb_port "$work/dbg.out" $pid) || fail "rcsim ended before printing its gdb port"
 grep -q "^gdb: symbols in $work/dbg/symbols.elf (in gdb: file $work/dbg/symbols.elf, then source $work/dbg/rcsim-gdb.py)" \
   "$work/dbg.out" || fail "rcsim does not say how to load the symbols and the unwinder"
 
@@ -107,13 +101,7 @@ PY
 : > "$work/pub.out"
 "$rcsim" run "$scenario" --out "$work/pub" --gdb 127.0.0.1:0 --gdb-wait --symbols "$work/fw.map" > "$work/pub.out" 2>&1 &
 pid=$!
-port=
-for _ in $(seq 200); do
-  port=$(sed -n 's/^gdb: listening on 127\.0\.0\.1:\([0-9]*\).*/\1/p' "$work/pub.out")
-  [ -n "$port" ] && break
-  kill -0 $pid 2>/dev/null || { cat "$work/pub.out"; fail "rcsim ended before listening (Publics map)"; }
-  sleep 0.05
-done
+port=$(gdb_port "$work/pub.out" $pid) || { cat "$work/pub.out"; fail "rcsim ended before printing its gdb port (Publics map)"; }
 cat > "$work/pub.gdb" <<GDB
 set pagination off
 set confirm off
