@@ -110,6 +110,10 @@ void SequenceMatcher::received(FrameId id, Note note) {
 
 void SequenceMatcher::matched(FrameId id, ScenarioCause cause) {
     ++counts_.matched;
+    remember(id, std::move(cause));
+}
+
+void SequenceMatcher::remember(FrameId id, ScenarioCause cause) {
     recent_.push_back({id, std::move(cause)});
     if (recent_.size() > kWindow) recent_.pop_front();
 }
@@ -140,8 +144,7 @@ void SequenceMatcher::never_sent(const Item& it) {
     if (!it.note.cause.empty()) ++counts_.after_fault;
     list(unexplained_, {FrameEvent::Kind::unexpected, it.note.label, it.note.time_us, it.note.cause});
     if (it.id == kNoFrameId) return;
-    recent_.push_back({it.id, it.note.cause});
-    if (recent_.size() > kWindow) recent_.pop_front();
+    remember(it.id, it.note.cause);
 }
 
 void SequenceMatcher::lost(const Item& item) {

@@ -180,6 +180,8 @@ private:
     std::vector<FrameEvent> expected_, unexplained_;
 
     void matched(FrameId id, ScenarioCause cause);
+    /// Keeps `id` among the last kWindow ids seen whole (matched or unexpected), to tell a copy.
+    void remember(FrameId id, ScenarioCause cause);
     Matched* recent(FrameId id);
     void lost(const Item& it);
     void copy(const Note& note, const ScenarioCause& cause);

@@ -160,7 +160,6 @@ void check_row(std::ostringstream& o, const std::string& run, const CheckDiff& k
 const char* kHead = "<th class=\"k\">figure</th><th>baseline</th><th>current</th><th>delta</th><th>rel</th>"
                     "<th class=\"k\">verdict</th></tr>\n";
 
-/// Every changed figure and check of one verdict, over all runs.
 /// Every change of verdict `v`, ranked as the console ranks them (Rank): runs, checks, then the
 /// figures above Rank::other in a table; the other figures in one collapsed table per family.
 void verdict_table(std::ostringstream& o, const Comparison& c, Verdict v, const char* title) {

@@ -184,6 +184,14 @@ double headline(const json& run, const std::string& key) {
     return any ? sum : NAN;
 }
 
+/// The checks a summary run failed, comma-separated ("" when none).
+std::string failed_checks(const json& run) {
+    std::string failed;
+    for (const auto& [name, c] : run["checks"].items())
+        if (!c.value("passed", false)) failed += (failed.empty() ? "" : ", ") + name;
+    return failed;
+}
+
 /// Parameters whose values are numbers in every run that has them, with two distinct values at least.
 std::vector<std::string> numeric_axes(const json& runs) {
     std::map<std::string, std::set<double>> values;
@@ -213,11 +221,9 @@ std::vector<html::XySeries> series_of(const json& runs, const std::string& axis,
         auto& s = by[label];
         s.label = label;
         // A failed run's point says which checks failed.
-        std::string failed;
-        for (const auto& [name, c] : r["checks"].items())
-            if (!c.value("passed", false)) failed += (failed.empty() ? "; failed: " : ", ") + name;
+        const std::string failed = failed_checks(r);
         s.points.push_back({p[axis].get<double>(), y, r["status"] != "passed",
-                            r["id"].get<std::string>() + ": " + html::cell(y) + failed});
+                            r["id"].get<std::string>() + ": " + html::cell(y) + (failed.empty() ? "" : "; failed: " + failed)});
     }
     std::vector<html::XySeries> out;
     for (auto& [k, s] : by) {
@@ -246,9 +252,7 @@ void runs_table(const json& runs, std::ostringstream& o) {
         for (const auto& p : params)
             o << "<td>" << (r["parameters"].contains(p) ? esc(number_text(r["parameters"][p])) : "") << "</td>";
         for (const Headline& h : kHeadlines) o << "<td>" << html::cell(headline(r, h.key)) << "</td>";
-        std::string failed;
-        for (const auto& [name, c] : r["checks"].items())
-            if (!c.value("passed", false)) failed += (failed.empty() ? "" : ", ") + name;
+        const std::string failed = failed_checks(r);
         std::string expected, outcome = judged;
         for (const auto& name : r.value("expected_failures", json::array())) expected += (expected.empty() ? "" : ", ") + name.get<std::string>();
         for (const auto& why : r.value("outcome_why", json::array())) outcome += "; " + why.get<std::string>();
