@@ -23,6 +23,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace rcsim {
@@ -88,7 +89,13 @@ public:
         install_bus_observers();
     }
     /// Instruction-boundary hook of the core (debugger, profiler); see i8086::StepHook.
-    void set_step_observer(i8086::StepHook hook, void* context) { core_.set_step_hook(hook, context); }
+    void set_step_observer(i8086::StepHook hook, void* context) {
+        step_observer_ = {hook, context};
+        core_.set_step_hook(hook, context);
+    }
+    /// The hook set_step_observer installed last and its context, for an observer that chains
+    /// in front of it (coverage beside the profiler or the debugger).
+    std::pair<i8086::StepHook, void*> step_observer() const { return step_observer_; }
     /// Records the cycle number of every instruction boundary into `log` (nullptr: off).
     void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
 
@@ -133,6 +140,7 @@ private:
     void install_bus_observers();
     static void bus_fanout(void* self, const i8086::BusRecord& record);
     Observer bus_observer_, debug_bus_observer_;
+    std::pair<i8086::StepHook, void*> step_observer_{nullptr, nullptr};
 
     i8086::Cpu core_;
     Clock clock_;

@@ -14,6 +14,7 @@ PACKAGES=(
   gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
   tao-pegtl-dev            # the Structured Text parser (main_cpu/st)
   chromium                 # the monitor's page test (headless; tests/monitor/page_test.py)
+  lcov                     # lcov and genhtml read --coverage's tracefiles (tests/coverage, docs/tools.md)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

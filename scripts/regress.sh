@@ -4,8 +4,10 @@
 #
 #   scripts/regress.sh [--update] RCSIM OUT [JOBS]
 #
-# OUT receives runs/ (the sweep), compare.html and junit.xml. Exit: the comparison's (0 no
-# regression, 1 regression, 2 bad input); with --update 0 once the baseline is rewritten.
+# OUT receives runs/ (the sweep), compare.html, junit.xml and coverage.info, the suite's firmware
+# coverage merged over its runs (coverage/: genhtml's pages of it, when genhtml is installed).
+# Exit: the comparison's (0 no regression, 1 regression, 2 bad input); with --update 0 once the
+# baseline is rewritten.
 set -u
 update=0
 if [ "${1:-}" = "--update" ]; then update=1; shift; fi
@@ -20,7 +22,7 @@ TOLERANCES=$SRC/scenarios/regress/tolerances.yaml
 mkdir -p "$OUT" || exit 2
 rm -rf "$OUT/runs"
 # A run that fails a check is still a result to compare; only bad input stops here.
-"$RCSIM" sweep "$SUITE" --out "$OUT/runs" --jobs "$JOBS"
+"$RCSIM" sweep "$SUITE" --out "$OUT/runs" --jobs "$JOBS" --coverage
 rc=$?
 if [ "$rc" -ge 2 ]; then echo "regress: the sweep failed (exit $rc)" >&2; exit 2; fi
 
@@ -40,5 +42,16 @@ fi
 "$RCSIM" compare "$BASELINE" "$OUT/runs" --tolerances "$TOLERANCES" \
     --html "$OUT/compare.html" --junit "$OUT/junit.xml"
 rc=$?
-echo "regress: $OUT/compare.html, $OUT/junit.xml"
+# The suite's coverage beside compare.html (docs/tools.md "Coverage").
+cov=""
+if [ -f "$OUT/runs/coverage.info" ]; then
+    cp "$OUT/runs/coverage.info" "$OUT/coverage.info"
+    cov=", $OUT/coverage.info"
+    if command -v genhtml >/dev/null 2>&1; then
+        rm -rf "$OUT/coverage"
+        genhtml --quiet --branch-coverage -o "$OUT/coverage" "$OUT/coverage.info" >"$OUT/genhtml.log" 2>&1 &&
+            cov="$cov, $OUT/coverage/index.html"
+    fi
+fi
+echo "regress: $OUT/compare.html, $OUT/junit.xml$cov"
 exit $rc

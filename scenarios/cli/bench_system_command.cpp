@@ -7,6 +7,8 @@
 // the comm CPU and the instructions it executed one by one: the RTF the run could reach if
 // each wait cost only a bare wait() and the core ran at libx86emu's rate, everything else free.
 // Host time is measured here only, for the report; nothing of it enters the model.
+// With --coverage: the cost of `rcsim run --coverage` instead, the run with its files written
+// (--out) against the same with --coverage, side by side.
 #include "comm_cpu/x86emu_anchor.h"
 #include "models/cli_range.h"
 #include "scenarios/world/world.h"
@@ -18,7 +20,9 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -46,6 +50,7 @@ struct Variant {
     std::string name;
     std::function<void(Scenario&)> apply;
     int baseline = -1; // the variant it differs from by one switch off (-1: none)
+    bool coverage = false; // with --coverage (RunOptions::coverage)
     double best_cpu_s = 0, wall_s = 0; // of the fastest round
     Sample last{};                     // the last round's: its simulated figures are every round's
 };
@@ -81,10 +86,13 @@ Figures in_child(const std::function<void(Figures&)>& measure) {
     return in;
 }
 
-Sample run_child(const Scenario& s) {
-    return in_child<Sample>([&s](Sample& out) {
+/// `out_dir` "" = no files written.
+Sample run_child(const Scenario& s, const std::string& out_dir, bool coverage) {
+    return in_child<Sample>([&](Sample& out) {
         nlohmann::json r;
         RunOptions opt;
+        opt.out_dir = out_dir;
+        opt.coverage = coverage;
         opt.on_finished = [&out](World& b) {
             Cpu8086& cpu = b.ctl.comm.cpu;
             out.kernel_waits = double(cpu.kernel_waits());
@@ -100,10 +108,10 @@ Sample run_child(const Scenario& s) {
     });
 }
 
-void run_variant(const Scenario& base, Variant& v, bool first) {
+void run_variant(const Scenario& base, Variant& v, bool first, const std::string& out_dir) {
     Scenario s = base;
     v.apply(s);
-    const Sample r = run_child(s);
+    const Sample r = run_child(s, out_dir, v.coverage);
     if (r.status != 0) throw std::runtime_error("bench system: the run '" + v.name + "' failed");
     if (first || r.cpu_s < v.best_cpu_s) {
         v.best_cpu_s = r.cpu_s;
@@ -126,6 +134,14 @@ std::vector<Variant> variants() {
                      s.checks.min_frames_delivered.reset();
                      s.board.comm.fast_forward = false;
                  }, 3});
+    return v;
+}
+
+/// bench system --coverage: the run with its files, without and with coverage.
+std::vector<Variant> coverage_variants() {
+    std::vector<Variant> v;
+    v.push_back({"files written (--out)", [](Scenario&) {}});
+    v.push_back({"files written, --coverage", [](Scenario&) {}, 0, true});
     return v;
 }
 
@@ -206,17 +222,28 @@ void add_bench_system(CLI::App& bench) {
     auto* cmd = bench.add_subcommand("system", "Whole controller on a scenario (default: three saturated ports)");
     auto file = std::make_shared<std::string>("scenarios/three_ports_9600.yaml");
     auto rounds = std::make_shared<unsigned>(3);
+    auto coverage = std::make_shared<bool>(false);
     cmd->add_option("scenario", *file, "Scenario file")->capture_default_str();
     cmd->add_option("--rounds", *rounds, "Alternating rounds per variant (best of each)")->check(whole_in(1, 100));
-    cmd->callback([file, rounds] {
+    cmd->add_flag("--coverage", *coverage,
+                  "Measure --coverage instead: the run writing its files into a temporary folder, without and with it");
+    cmd->callback([file, rounds, coverage] {
         sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
         const Scenario base = load_scenario(*file);
-        std::vector<Variant> list = variants();
+        std::vector<Variant> list = *coverage ? coverage_variants() : variants();
+        // The --coverage runs' files: a temporary folder of their own, removed at the end.
+        std::string out_dir;
+        if (*coverage) {
+            std::string tmpl = (std::filesystem::temp_directory_path() / "rcsim-bench-XXXXXX").string();
+            if (!mkdtemp(tmpl.data())) throw std::runtime_error("bench system: cannot create a temporary folder");
+            out_dir = tmpl;
+        }
         Floors floors;
         for (unsigned i = 0; i < *rounds; ++i) {
-            for (Variant& v : list) run_variant(base, v, i == 0);
+            for (Variant& v : list) run_variant(base, v, i == 0, out_dir);
             floors.measure(i == 0);
         }
+        if (!out_dir.empty()) std::filesystem::remove_all(out_dir);
         std::cout << "system: " << base.name << ", best of " << *rounds
                   << " alternating rounds; RTF = simulated s / host CPU s\n";
         for (const Variant& v : list)
@@ -225,8 +252,9 @@ void add_bench_system(CLI::App& bench) {
                       << " M 8086 cycles per host CPU second\n";
         for (const Variant& v : list)
             if (v.baseline >= 0)
-                std::cout << "  speed-up: '" << list[std::size_t(v.baseline)].name << "' vs '" << v.name
-                          << "': " << v.best_cpu_s / list[std::size_t(v.baseline)].best_cpu_s << "x\n";
+                std::cout << (*coverage ? "  cost: '" : "  speed-up: '") << list[std::size_t(v.baseline)].name << "' vs '"
+                          << v.name << "': " << v.best_cpu_s / list[std::size_t(v.baseline)].best_cpu_s
+                          << (*coverage ? "x the host CPU time\n" : "x\n");
         print_floors(list, floors);
     });
 }

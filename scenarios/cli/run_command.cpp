@@ -1,5 +1,5 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
-//           [--profile] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
+//           [--profile] [--coverage] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
 #include "models/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
@@ -39,6 +39,7 @@ void add_run_command(CLI::App& app) {
         bool verbose = false;
         debug::GdbOptions gdb;
         bool profile = false;
+        bool coverage = false;
     };
     auto args = std::make_shared<Args>();
     cmd->add_option("scenario", args->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required();
@@ -69,8 +70,11 @@ void add_run_command(CLI::App& app) {
     auto* trace = cmd->add_option("--trace", args->trace, "Write a Trace Event Format file (ui.perfetto.dev, chrome://tracing)");
     cmd->add_flag("--profile", args->profile,
                   "Profile the comm CPU per function: DIR/profile.txt, DIR/profile.folded, a flame graph in report.html");
+    cmd->add_flag("--coverage", args->coverage,
+                  "Coverage of the comm CPU's ROM: DIR/coverage.info (lcov), DIR/coverage/ (genhtml, when installed), "
+                  "a section in report.html (docs/tools.md \"Coverage\")");
     auto* symbols = cmd->add_option("--symbols", args->symbols,
-                                    "For --profile and --gdb: the ROM's symbols (ld86 -M map, nasm map, a linker's Publics "
+                                    "For --profile, --coverage and --gdb: the ROM's symbols (ld86 -M map, nasm map, a linker's Publics "
                                     "by Value map or NAME ADDRESS lines; FILE@SEG loads a map's image at SEG:0000; "
                                     "default: the built firmware's; docs/tools.md)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
@@ -97,6 +101,7 @@ void add_run_command(CLI::App& app) {
         opt.trace = args->trace;
         opt.profile = args->profile;
         opt.symbols = args->symbols;
+        opt.coverage = args->coverage;
         if (*monitor) opt.monitor = args->monitor;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
@@ -109,7 +114,8 @@ void add_run_command(CLI::App& app) {
             if (*rom_odd && !*rom) throw ConfigError("--rom-odd needs --rom (the even EPROM of the pair)");
             if (*rom_odd && args->rom_odd.empty()) throw ConfigError("--rom-odd '': an empty path");
             if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
-            if (*symbols && !*gdb && !args->profile) throw ConfigError("--symbols needs --gdb or --profile");
+            if (*symbols && !*gdb && !args->profile && !args->coverage)
+                throw ConfigError("--symbols needs --gdb, --profile or --coverage");
             // Both sit on the core's one instruction-boundary hook (i8086::StepHook).
             if (*gdb && args->profile) throw ConfigError("--gdb and --profile cannot be used together");
             args->gdb.symbols = args->symbols;

@@ -1,5 +1,5 @@
 // rcsim sweep | merge | compare: regression timing reports (docs/regression.md).
-//   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE]
+//   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE] [--coverage]
 //   rcsim merge DIR... [--out DIR]
 //   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
 #include "models/cli_range.h"
@@ -58,7 +58,16 @@ struct SweepArgs {
     std::size_t shards = 0;
     unsigned jobs = 0;
     bool list = false;
+    bool coverage = false; // each run with --coverage; the merge writes DIR/coverage.info
 };
+
+/// The argv of one run of the sweep (run_argv), with the sweep's own run options.
+std::vector<std::string> sweep_run_argv(const SweepArgs& a, const std::string& exe, const fs::path& dir, const SweepRun& run,
+                                        const std::string& rom) {
+    std::vector<std::string> argv = run_argv(exe, dir, run, rom);
+    if (a.coverage) argv.push_back("--coverage");
+    return argv;
+}
 
 /// How the sweep's runs ended, each noted on stderr as it ends unless it met its expectation.
 struct RunTally {
@@ -115,12 +124,12 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
     const std::string exe = self_executable();
     if (a.list) {
         for (std::size_t i : mine)
-            std::cout << sweep.runs[i].id << "\t" << command_line(run_argv(exe, dir, sweep.runs[i], rom)) << "\n";
+            std::cout << sweep.runs[i].id << "\t" << command_line(sweep_run_argv(a, exe, dir, sweep.runs[i], rom)) << "\n";
         return 0;
     }
     std::vector<Job> jobs;
     for (std::size_t i : mine)
-        jobs.push_back({run_argv(exe, dir, sweep.runs[i], rom), (dir / sweep.runs[i].id / "run.log").string()});
+        jobs.push_back({sweep_run_argv(a, exe, dir, sweep.runs[i], rom), (dir / sweep.runs[i].id / "run.log").string()});
     const unsigned parallel = a.jobs ? a.jobs : std::max(1u, std::thread::hardware_concurrency());
     Progress progress(jobs.size(), Progress::interactive_default());
     const auto t0 = std::chrono::steady_clock::now();
@@ -147,6 +156,7 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
     if (shard.count == 1) {
         merge_runs({dir.string()}, dir);
         std::cout << "summary: " << (dir / "summary.html").string() << "\n";
+        if (fs::exists(dir / "coverage.info")) std::cout << "coverage: " << (dir / "coverage.info").string() << "\n";
     } else if (stopped_by == 0) {
         std::cout << "shard " << shard.index << "/" << shard.count << " done; merge when every shard is: rcsim merge "
                   << shell_quote(dir.string()) << "\n";
@@ -166,6 +176,8 @@ void add_sweep(CLI::App& app) {
     auto* shards = cmd->add_option("--shards", a->shards, "Shard count with JOB_COMPLETION_INDEX (Kubernetes)")
                        ->check(whole_in(1, 1000000));
     cmd->add_option("--rom", a->rom, "ROM image for every run (instead of the built firmware)");
+    cmd->add_flag("--coverage", a->coverage,
+                  "Every run with --coverage; their tracefiles merged into DIR/coverage.info (docs/tools.md \"Coverage\")");
     cmd->callback([a, shards] {
         int code = 0;
         try {
@@ -179,7 +191,8 @@ void add_sweep(CLI::App& app) {
 }
 
 void add_merge(CLI::App& app) {
-    auto* cmd = app.add_subcommand("merge", "Merge sweep run directories into summary.json, summary.csv, summary.html");
+    auto* cmd = app.add_subcommand("merge", "Merge sweep run directories into summary.json, summary.csv, summary.html "
+                                            "(and their coverage.info files into coverage.info)");
     auto dirs = std::make_shared<std::vector<std::string>>();
     auto out = std::make_shared<std::string>();
     cmd->add_option("dirs", *dirs, "Sweep output directories (their run subdirectories are merged)")->required();
@@ -191,7 +204,8 @@ void add_merge(CLI::App& app) {
             std::error_code ec;
             if (!out->empty()) fs::create_directories(o, ec);
             const std::size_t n = merge_runs(*dirs, o);
-            std::cout << "merged " << n << " runs: " << (o / "summary.json").string() << ", summary.csv, summary.html\n";
+            std::cout << "merged " << n << " runs: " << (o / "summary.json").string() << ", summary.csv, summary.html"
+                      << (fs::exists(o / "coverage.info") ? ", coverage.info" : "") << "\n";
         } catch (const ConfigError& e) {
             std::cerr << "rcsim merge: " << e.what() << "\n";
             code = 2;

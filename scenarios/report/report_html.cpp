@@ -485,7 +485,8 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
     o << "<nav><a href=\"#checks\">Checks</a><a href=\"#table3\">Table 3</a><a href=\"#interrupts\">Interrupts</a>"
          "<a href=\"#timeline\">Timeline</a><a href=\"#ports\">Ports</a><a href=\"#main-cpu\">Main CPU</a>"
       << (opt.trajectory_svg.empty() ? "" : "<a href=\"#motion\">Motion</a>")
-      << (opt.flame_svg.empty() ? "" : "<a href=\"#profile\">Profile</a>") << "</nav></header>\n";
+      << (opt.flame_svg.empty() ? "" : "<a href=\"#profile\">Profile</a>")
+      << (opt.coverage_html.empty() ? "" : "<a href=\"#coverage\">Coverage</a>") << "</nav></header>\n";
     section_checks(o, r, !opt.interrupts_csv.empty());
     section_table3(o, r);
     section_interrupts(o, r, log);
@@ -501,6 +502,7 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
              "hover a box for its clocks. The table is <code>profile.txt</code>, the stacks <code>profile.folded</code> "
              "(docs/tools.md \"Profiler\").</p>\n<div class=\"chart\">"
           << opt.flame_svg << "</div></section>\n";
+    o << opt.coverage_html;
     o << "<footer><p class=\"note\">Files: <code>report.json</code> (every figure of this page), "
          "<code>interrupts.csv</code> (one row per interrupt). Times are measured from bus cycles and pins: IR rise "
          "(8259A input), INTA 1/2 (T1 of the INTA cycles), first ISR instruction (end of the first code fetch at the "
@@ -519,9 +521,10 @@ std::string render_html(const json& report, const std::vector<InterruptRow>& uns
 }
 
 void write_report_html(const std::filesystem::path& dir, const json& report, const InterruptLog& log,
-                       const std::string& flame_svg) {
+                       const std::string& flame_svg, const std::string& coverage_html) {
     HtmlOptions opt;
     opt.flame_svg = flame_svg;
+    opt.coverage_html = coverage_html;
     for (const char* rows : {"interrupts.csv", "interrupts.csv.gz"}) // as the run chose (RunOptions::Rows)
         if (std::filesystem::exists(dir / rows)) opt.interrupts_csv = dir / rows;
     if (report.contains("motion")) {

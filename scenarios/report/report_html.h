@@ -39,6 +39,7 @@ struct HtmlOptions {
     std::string trajectory_svg; // trajectory.svg's text, "" = none
     std::string flame_svg;      // the cycle profile's flame graph (scenarios/trace/flame_graph.h), "" = none
     std::string trajectory_time_svg; // trajectory_time.svg's text, "" = none
+    std::string coverage_html;  // the --coverage section (scenarios/coverage/coverage_run.h), "" = none
     /// The run's interrupts.csv: a failed check with a time ("at_us") gets the interrupt timeline
     /// around it, read back from the file (only the rows in that window are kept). "" = none.
     std::filesystem::path interrupts_csv;
@@ -54,9 +55,10 @@ std::string render_html(const nlohmann::json& report, const std::vector<Interrup
 
 /// Writes dir/report.html (embedding dir/trajectory.svg and dir/trajectory_time.svg when the
 /// report has a motion section and the files exist). Throws std::runtime_error naming a file it
-/// cannot write. `flame_svg`: the --profile flame graph for a "Profile" section ("" = none).
+/// cannot write. `flame_svg`: the --profile flame graph for a "Profile" section ("" = none);
+/// `coverage_html`: the --coverage section, as it is ("" = none).
 void write_report_html(const std::filesystem::path& dir, const nlohmann::json& report, const InterruptLog& log,
-                       const std::string& flame_svg = "");
+                       const std::string& flame_svg = "", const std::string& coverage_html = "");
 
 /// The report.html of a motion-only run (a `motion:` section, docs/motion.md): the banner, the
 /// checks, the motion figures and the trajectory pictures.

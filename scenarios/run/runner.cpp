@@ -19,6 +19,7 @@
 #include "scenarios/trace/vcd_trace.h"
 #include "scenarios/trace/perfetto_trace.h"
 #include "scenarios/trace/profile_run.h"
+#include "scenarios/coverage/coverage_run.h"
 #include "models/config_error.h"
 #include "models/gzip_stream.h"
 #include "models/output_file.h"
@@ -255,6 +256,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     StopPoller stop("stop", draw_progress);
     if (s.has_motion && (!opt.trace.empty() || opt.profile))
         throw ConfigError(s.file + ": a motion scenario runs no communication board: --trace and --profile do not apply");
+    // Not an error: a sweep with --coverage may hold motion runs, which have no comm ROM to cover.
+    if (s.has_motion && opt.coverage)
+        std::cerr << "note: " << s.file << ": a motion scenario runs no communication board: no coverage.info\n";
     if (s.has_motion && (opt.monitor || s.monitor))
         throw ConfigError("--monitor: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
                           "the monitor watches the whole board (main_cpu: {motion: true}, docs/monitor.md)");
@@ -282,6 +286,12 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
         profile = std::make_unique<trace::ProfileRun>(world, trace::run_symbols(opt.symbols, rom));
     }
+    // After the profiler and the debugger: its hook calls theirs (coverage_run.h).
+    std::unique_ptr<coverage::CoverageRun> cover;
+    if (opt.coverage) {
+        if (opt.out_dir.empty()) throw ConfigError("--coverage needs --out DIR (coverage.info, report.html)");
+        cover = std::make_unique<coverage::CoverageRun>(world, coverage::run_code_map(opt.symbols, rom, opt.out_dir));
+    }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::optional<OutputFile> csv;
     std::optional<GzipWriter> gzip;
@@ -305,6 +315,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     if (opt.on_finished) opt.on_finished(world);
     if (perfetto) perfetto->finish();
     const std::string flame_svg = profile ? profile->finish(opt.out_dir) : std::string();
+    const std::string coverage_html = cover ? cover->finish(opt.out_dir) : std::string();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     if (vcd) vcd->close();
     world.finish_files();
@@ -337,7 +348,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         write_report_json(opt.out_dir, report);
         if (gzip) gzip->finish();
         if (csv) csv->close();
-        report::write_report_html(opt.out_dir, report, interrupts, flame_svg);
+        report::write_report_html(opt.out_dir, report, interrupts, flame_svg, coverage_html);
     }
     return code;
 }

@@ -37,6 +37,7 @@ struct RunOptions {
     std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
     bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
     std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
+    bool coverage = false;              // coverage.info of the comm ROM (scenarios/coverage/coverage_run.h); needs out_dir
     std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
     /// The progress line on stderr while it is a terminal (scenarios/run/run_progress.h): `rcsim
     /// run` only; the commands that run scenarios for figures of their own print theirs.

@@ -2,6 +2,7 @@
 
 #include "models/config_error.h"
 #include "models/output_file.h"
+#include "scenarios/coverage/tracefile.h"
 #include "scenarios/sweep/expectation.h"
 
 #include <algorithm>
@@ -225,6 +226,15 @@ std::size_t merge_runs(const std::vector<std::string>& dirs, const fs::path& out
     write_file(out / "summary.json", summary.dump(2) + "\n", "the summary");
     write_file(out / "summary.csv", summary_csv(summary), "the summary");
     write_file(out / "summary.html", summary_html(summary), "the summary");
+    // The runs' coverage (rcsim sweep --coverage), merged as lcov -a merges.
+    std::vector<fs::path> tracefiles;
+    for (const RunRecord& r : runs)
+        if (fs::exists(r.dir / "coverage.info")) tracefiles.push_back(r.dir / "coverage.info");
+    if (!tracefiles.empty()) coverage::write_tracefile_to(out / "coverage.info", coverage::merge_tracefiles(tracefiles));
+    else {
+        std::error_code ec; // an earlier merge's: not these runs'
+        fs::remove(out / "coverage.info", ec);
+    }
     return runs.size();
 }
 

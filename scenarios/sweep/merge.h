@@ -62,7 +62,9 @@ std::string summary_csv(const nlohmann::json& summary);
 /// summary.html: the runs table and, per numeric parameter, the headline figures against it.
 std::string summary_html(const nlohmann::json& summary);
 
-/// Writes OUT/summary.{json,csv,html} for the runs under `dirs`. Returns the runs merged.
+/// Writes OUT/summary.{json,csv,html} for the runs under `dirs`, and OUT/coverage.info, the runs'
+/// coverage.info files merged (scenarios/coverage/tracefile.h), when any has one (a malformed one
+/// is a ConfigError naming it). Returns the runs merged.
 std::size_t merge_runs(const std::vector<std::string>& dirs, const std::filesystem::path& out);
 
 /// A number as the summaries print it: the shortest text that reads back as the same double.

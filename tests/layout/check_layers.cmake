@@ -21,8 +21,9 @@
 #   verdict/  what decides PASS            -> verdict world config board host
 #   report/   what renders                 -> report verdict config board host   (never world)
 #   trace/ monitor/                        -> itself and the folders above but run, sweep, cli
+#   coverage/                              -> coverage trace report verdict world config board debug host
 #   run/                                   -> every folder above but sweep, cli
-#   sweep/                                 -> sweep run report verdict config board host
+#   sweep/                                 -> sweep run coverage report verdict config board host
 #   cli/                                   -> every folder
 #
 # and the root of scenarios/ holds data only: a .cpp or .h there is a violation.
@@ -55,10 +56,11 @@ set(sc_verdict verdict world config board host)
 set(sc_report  report verdict config board host)
 set(sc_trace   trace report verdict world config board debug host)
 set(sc_monitor monitor report verdict world config board host)
-set(sc_run     run trace monitor report verdict world config board debug host)
-set(sc_sweep   sweep run report verdict config board host)
-set(sc_cli     cli sweep run trace monitor report verdict world config board debug host)
-set(sc_folders host board debug config world verdict report trace monitor run sweep cli)
+set(sc_coverage coverage trace report verdict world config board debug host)
+set(sc_run     run coverage trace monitor report verdict world config board debug host)
+set(sc_sweep   sweep run coverage report verdict config board host)
+set(sc_cli     cli sweep run coverage trace monitor report verdict world config board debug host)
+set(sc_folders host board debug config world verdict report trace monitor coverage run sweep cli)
 
 set(violations 0)
 set(files_seen 0)

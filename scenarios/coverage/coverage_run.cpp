@@ -1,0 +1,114 @@
+#include "scenarios/coverage/coverage_run.h"
+
+#include "models/config_error.h"
+#include "scenarios/trace/profile_run.h"
+#include "scenarios/world/world.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <vector>
+
+#ifndef RCSIM_COMM_FW_ROM
+#define RCSIM_COMM_FW_ROM ""
+#endif
+#ifndef RCSIM_COMM_FW_MAP
+#define RCSIM_COMM_FW_MAP ""
+#endif
+#ifndef RCSIM_COMM_FW_LISTINGS
+#define RCSIM_COMM_FW_LISTINGS ""
+#endif
+#ifndef RCSIM_COMM_FW_SOURCES
+#define RCSIM_COMM_FW_SOURCES ""
+#endif
+
+extern char** environ;
+
+namespace rcsim::coverage {
+
+namespace {
+
+constexpr std::uint32_t kRomBase = debug::SymbolTable::rom_base;
+constexpr std::uint32_t kRomSize = debug::SymbolTable::rom_end - debug::SymbolTable::rom_base;
+
+std::vector<std::uint8_t> rom_bytes(World& world) {
+    std::vector<std::uint8_t> rom(kRomSize);
+    if (!world.ctl.comm.cpu.debug_read(kRomBase, rom.data(), rom.size())) rom.assign(kRomSize, 0);
+    return rom;
+}
+
+bool is_built_firmware(const std::string& rom) {
+    const std::string built = RCSIM_COMM_FW_ROM;
+    std::error_code ec;
+    return !built.empty() && std::filesystem::equivalent(rom, built, ec) && !ec;
+}
+
+} // namespace
+
+CoverageRun::CoverageRun(World& world, CodeMap map)
+    : map_(std::move(map)), counters_(kRomBase, rom_bytes(world)), next_(world.ctl.comm.cpu.step_observer()) {
+    world.ctl.comm.cpu.set_step_observer(&CoverageRun::on_step, this);
+}
+
+bool CoverageRun::on_step(void* self, const i8086::Cpu& cpu) {
+    auto* me = static_cast<CoverageRun*>(self);
+    me->counters_.step(cpu);
+    // Counted before the next observer may stop here: when it resumes, the core executes this
+    // instruction without calling the hook again (i8086::StepHook), so it is counted once.
+    return me->next_.first ? me->next_.first(me->next_.second, cpu) : false;
+}
+
+std::string CoverageRun::finish(const std::filesystem::path& dir) {
+    const Tracefile t = counters_.tracefile(map_);
+    write_tracefile_to(dir / "coverage.info", t);
+    const bool html = run_genhtml(dir / "coverage.info", dir / "coverage");
+    return coverage_section_html(t, html ? "coverage/index.html" : "");
+}
+
+CodeMap run_code_map(const std::string& symbols_file, const std::string& rom, const std::filesystem::path& dir) {
+    if (symbols_file.empty() && is_built_firmware(rom)) {
+        const std::filesystem::path listings = RCSIM_COMM_FW_LISTINGS, sources = RCSIM_COMM_FW_SOURCES;
+        debug::SymbolTable symbols;
+        try {
+            symbols = debug::SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
+        } catch (const debug::SymbolError& e) {
+            throw ConfigError(e.what());
+        }
+        return firmware_code_map({{sources / "crt0.s", listings / "crt0.lst"}, {sources / "isr.s", listings / "isr.lst"}},
+                                 {sources / "main.c", sources / "hw.c"}, symbols);
+    }
+    const debug::SymbolTable symbols = trace::run_symbols(symbols_file, rom);
+    if (symbols.empty())
+        throw ConfigError("--coverage: the ROM " + rom + " has no symbols: give its map with --symbols FILE (docs/tools.md \"Coverage\")");
+    return symbol_code_map(symbols, kRomBase, kRomBase + kRomSize, dir / "coverage_rom.txt");
+}
+
+bool run_genhtml(const std::filesystem::path& info, const std::filesystem::path& html_dir) {
+    std::filesystem::create_directories(html_dir);
+    const std::string log = (html_dir / "genhtml.log").string(), out = html_dir.string(), in = info.string();
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    std::vector<std::string> args = {"genhtml", "--quiet", "--branch-coverage", "--function-coverage",
+                                     "--output-directory", out, in};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int rc = posix_spawnp(&pid, "genhtml", &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) { // not installed: the table in report.html is all there is
+        std::filesystem::remove_all(html_dir);
+        return false;
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 && std::filesystem::exists(html_dir / "index.html");
+}
+
+} // namespace rcsim::coverage
