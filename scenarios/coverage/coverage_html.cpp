@@ -28,6 +28,21 @@ std::string file_name(const std::string& path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+/// The branches on the lines of the function starting at `first`: up to the next function's first
+/// line of the file (to its end for the last).
+Summary branches_of(const FileCoverage& f, unsigned first) {
+    unsigned end = ~0u;
+    for (const auto& [name, fn] : f.functions)
+        if (fn.line > first && fn.line < end) end = fn.line;
+    Summary s;
+    for (const auto& [k, taken] : f.branches)
+        if (std::get<0>(k) >= first && std::get<0>(k) < end) {
+            ++s.branches_found;
+            s.branches_hit += taken.value_or(0) > 0;
+        }
+    return s;
+}
+
 } // namespace
 
 std::string coverage_section_html(const Tracefile& t, const std::string& genhtml_index) {
@@ -49,11 +64,15 @@ std::string coverage_section_html(const Tracefile& t, const std::string& genhtml
     std::ostringstream handlers;
     for (const auto& [sf, f] : t.files)
         for (const auto& [name, fn] : f.functions)
-            if (is_handler(name))
+            if (is_handler(name)) {
+                const Summary b = branches_of(f, fn.line);
                 handlers << "<tr><td>" << esc(name) << "</td><td>" << esc(file_name(sf)) << ":" << fn.line << "</td><td>"
-                         << fn.count << "</td></tr>\n";
+                         << fn.count << "</td><td>" << ratio(b.branches_hit, b.branches_found) << "</td></tr>\n";
+            }
     if (!handlers.str().empty())
-        o << "<h3>Interrupt handlers</h3>\n<table>\n<tr><th>function</th><th>at</th><th>entries</th></tr>\n"
+        o << "<h3>Interrupt handlers</h3>\n<p class=\"note\">A handler's branches are those on its lines: from its first "
+             "line to the next function's (the three port entries share the lines of their macro, RS232_ENTRY).</p>\n"
+             "<table>\n<tr><th>function</th><th>at</th><th>entries</th><th>branches hit</th></tr>\n"
           << handlers.str() << "</table>\n";
     o << "</section>\n";
     return o.str();

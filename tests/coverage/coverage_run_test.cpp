@@ -93,6 +93,23 @@ TEST(CoverageKat, LineBranchAndFunctionCountsAreTheHandDerivedOnes) {
     EXPECT_EQ(slurp(w / "run" / "coverage_rom.txt"), "F0000  main+0x0\nF0010  main+0x10\nF0020  count+0x0\nF0030  unused+0x0\n");
 }
 
+// The counters chain in front of the profiler on the one step hook: neither changes the other.
+TEST(CoverageFirmware, WithTheProfilerTheCountsAndTheProfileAreTheSame) {
+    const fs::path w = work("with_profile");
+    run("clean.yaml", w / "alone", "--coverage");
+    run("clean.yaml", w / "both", "--coverage --profile");
+    run("clean.yaml", w / "profile", "--profile");
+    const Tracefile alone = read_tracefile(w / "alone" / "coverage.info"), both = read_tracefile(w / "both" / "coverage.info");
+    ASSERT_EQ(alone.files.size(), both.files.size());
+    for (const auto& [sf, f] : alone.files) {
+        ASSERT_TRUE(both.files.count(sf)) << sf;
+        EXPECT_TRUE(same(f, both.files.at(sf))) << sf;
+    }
+    const std::string profile = slurp(w / "profile" / "profile.txt");
+    EXPECT_NE(profile.find("isr_port0"), std::string::npos);
+    EXPECT_EQ(profile, slurp(w / "both" / "profile.txt"));
+}
+
 TEST(CoverageKat, AUserRomWithoutSymbolsIsBadInput) {
     const fs::path w = work("kat_no_symbols");
     const int rc = rcsim_cmd("run " + q(kData + "/kat.yaml") + " --out " + q(w / "run") + " --rom " + q(RCSIM_COVERAGE_KAT_ROM) +
@@ -128,6 +145,7 @@ TEST(CoverageFirmware, BreakLinesAreHitInTheBreakScenarioAndNotInTheCleanOne) {
     const std::string html = slurp(w / "break" / "report.html");
     EXPECT_NE(html.find("<section id=\"coverage\">"), std::string::npos);
     EXPECT_NE(html.find("href=\"coverage/index.html\""), std::string::npos);
+    EXPECT_NE(html.find("<tr><td>isr_port0</td><td>isr.s:"), std::string::npos) << "the handlers' table";
     EXPECT_TRUE(fs::exists(w / "break" / "coverage" / "index.html"));
 }
 
