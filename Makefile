@@ -46,7 +46,8 @@ bench: build
 	$(BUILD)/rcsim bench system
 
 # The regression suite (docs/regression.md): scenarios/regress/suite.yaml against its baseline;
-# writes $(BUILD)/regress/compare.html and junit.xml, exits non-zero on a regression.
+# writes $(BUILD)/regress/compare.html, junit.xml and coverage.info (the suite's firmware coverage,
+# docs/tools.md "Coverage"), exits non-zero on a regression.
 regress: build
 	bash scripts/regress.sh $(BUILD)/rcsim $(BUILD)/regress $(JOBS)
 
