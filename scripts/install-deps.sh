@@ -14,6 +14,9 @@ PACKAGES=(
   gtkwave                  # vcd2fst: the VCD test loads the trace with GTKWave's reader (tests/vcd)
   tao-pegtl-dev            # the Structured Text parser (main_cpu/st)
   chromium                 # the monitor's page test (headless; tests/monitor/page_test.py)
+  libmodbus-dev            # rcsim run --modbus: the Modbus TCP server (scenarios/modbus)
+  python3-pymodbus         # its tests' client (tests/modbus)
+  python3-serial-asyncio   # pymodbus 3.0's client package imports it (Debian only recommends it)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

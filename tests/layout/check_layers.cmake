@@ -21,6 +21,7 @@
 #   verdict/  what decides PASS            -> verdict world config board host
 #   report/   what renders                 -> report verdict config board host   (never world)
 #   trace/ monitor/                        -> itself and the folders above but run, sweep, cli
+#   modbus/                                -> modbus monitor and the folders monitor may include
 #   run/                                   -> every folder above but sweep, cli
 #   sweep/                                 -> sweep run report verdict config board host
 #   cli/                                   -> every folder
@@ -55,10 +56,11 @@ set(sc_verdict verdict world config board host)
 set(sc_report  report verdict config board host)
 set(sc_trace   trace report verdict world config board debug host)
 set(sc_monitor monitor report verdict world config board host)
-set(sc_run     run trace monitor report verdict world config board debug host)
+set(sc_modbus  modbus monitor report verdict world config board host)
+set(sc_run     run trace modbus monitor report verdict world config board debug host)
 set(sc_sweep   sweep run report verdict config board host)
-set(sc_cli     cli sweep run trace monitor report verdict world config board debug host)
-set(sc_folders host board debug config world verdict report trace monitor run sweep cli)
+set(sc_cli     cli sweep run trace modbus monitor report verdict world config board debug host)
+set(sc_folders host board debug config world verdict report trace monitor modbus run sweep cli)
 
 set(violations 0)
 set(files_seen 0)
