@@ -111,7 +111,8 @@ def body(c, m, run):
     t0 = sim_time_ms(c)
     time.sleep(0.3)
     t1 = sim_time_ms(c)
-    check(100 <= t1 - t0 <= 600, "sim_time advances with the run (%d ms in 0.3 s of wall time)" % (t1 - t0))
+    # realtime: 1 paces it to at most real time; a loaded host may run it slower.
+    check(0 < t1 - t0 <= 400, "sim_time advances with the run, paced (%d ms in 0.3 s of wall time)" % (t1 - t0))
     check(wait(lambda: (m.read(c, "port0.frames_delivered") or 0) >= 3), "port 0's delivered frames count up")
 
     # Pause: time stands still; the counters and figures equal the JSON snapshot of that instant.
@@ -192,6 +193,13 @@ def body(c, m, run):
     for fc in (0x07, 0x11, 0x16, 0x17, 0x2B, 0x64):
         resp = raw(run.port, adu(9, 1, bytes([fc, 0, 0, 0, 1])))
         check(resp[7:9] == bytes([fc | 0x80, 1]), "function 0x%02X: exception 01 (%s)" % (fc, resp.hex()))
+    # One axis's servo coil: MC_Power.Enable of that axis only.
+    c.write_coil(m.addr("axis2.servo_on"), False, slave=1)
+    check(wait(lambda: m.read(c, "axis2.state") == 0), "axis 2's servo coil 0: axis 2 Disabled (0)")
+    check(m.read(c, "axis0.state") == 1 and not c.read_coils(m.addr("axis2.servo_on"), 1, slave=1).bits[0],
+          "... axis 0 stays in Standstill, the coil reads 0")
+    c.write_coil(m.addr("axis2.servo_on"), True, slave=1)
+    check(wait(lambda: m.read(c, "axis2.state") == 1), "axis 2's servo coil 1: Standstill again")
     check(sim_time_ms(c) > p1, "the run went on")
 
 

@@ -44,10 +44,16 @@ def served(port, what):
         c.close()
 
 
+def rss_kib(pid):
+    with open("/proc/%d/status" % pid) as f:
+        return next(int(l.split()[1]) for l in f if l.startswith("VmRSS:"))
+
+
 def main(rcsim, scenario):
     rng = random.Random(32)
     run = Rcsim(rcsim, scenario)
     port = run.port
+    rss0 = rss_kib(run.proc.pid)
     try:
         # Random bytes, each on its own connection: an answer or a close, never a hang.
         for _ in range(40):
@@ -104,6 +110,9 @@ def main(rcsim, scenario):
             pass
         served(port, "a client that never reads")
         s.close()
+        # Bounded buffers: one request per connection, 4096 writes queued at most.
+        grown = rss_kib(run.proc.pid) - rss0
+        check(grown < 16 * 1024, "memory after the abuse: %d KiB more than at the start (< 16 MiB)" % grown)
     finally:
         if failures:
             run.kill()
