@@ -5,6 +5,7 @@ bad --modbus values are refused with exit 2 naming the value.
 usage: cli_test.py RCSIM DOCS_MONITOR_MD BOARD_SCENARIO MOTION_SCENARIO"""
 import csv
 import io
+import signal
 import subprocess
 import sys
 import tempfile
@@ -71,6 +72,19 @@ def main(rcsim, md, board, motion_scenario):
                            capture_output=True, text=True, timeout=30)
         check(p.returncode == 2 and "--modbus" in p.stderr and "motion:" in p.stderr,
               "--modbus on a motion-side-only scenario: exit 2 (%d: %s)" % (p.returncode, p.stderr.strip()[:160]))
+        # "HOST:" (and --modbus alone) take port 1502; another process may hold it: then the
+        # refusal names it.
+        proc = subprocess.Popen([rcsim, "run", board, "--modbus", "127.0.0.1:", "--out", out],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = ""
+        for _ in range(5):
+            line = proc.stdout.readline()
+            if line.startswith("modbus:") or not line:
+                break
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=30)
+        check(line.startswith("modbus: 127.0.0.1:1502 ") or "--modbus '127.0.0.1:1502': cannot listen" in err,
+              "--modbus 127.0.0.1: listens on the default port 1502 (%s%s)" % (line.strip(), err.strip()[:100]))
     return 1 if failures else 0
 
 
