@@ -118,6 +118,10 @@ private:
     nlohmann::json ports_json();
     nlohmann::json table3_now();
     nlohmann::json interrupts_json(double budget_us);
+    nlohmann::json interrupt_figures(double budget_us);
+    nlohmann::json irq_cache_;                 // interrupt_figures() as of irq_cache_completed_ interrupts
+    std::uint64_t irq_cache_completed_ = 0;
+    double irq_cache_budget_ = 0;
     void reply(std::uint64_t client, nlohmann::json msg);
 };
 

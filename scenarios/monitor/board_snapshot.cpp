@@ -48,8 +48,23 @@ nlohmann::json BoardMonitor::snapshot() {
 }
 
 // Per interrupt source: counts, rate, latency and service so far against the budget, and the
-// longest latency with its cause in words (scenarios/verdict/latency_causes.h).
+// longest latency with its cause in words (scenarios/verdict/latency_causes.h). The figures only
+// change when an interrupt completes: they are made again only then (a sim-clock subscriber may
+// ask for hundreds of snapshots a second).
 nlohmann::json BoardMonitor::interrupts_json(double budget) {
+    std::uint64_t completed = 0;
+    for (unsigned l = 0; l < 4; ++l) completed += world_.probe.count(l);
+    if (irq_cache_.is_null() || completed != irq_cache_completed_ || budget != irq_cache_budget_) {
+        irq_cache_ = interrupt_figures(budget);
+        irq_cache_completed_ = completed;
+        irq_cache_budget_ = budget;
+    }
+    nlohmann::json irq = irq_cache_;
+    for (unsigned l = 0; l < 4; ++l) irq[l]["rate_hz"] = irq_rate_hz_[l];
+    return irq;
+}
+
+nlohmann::json BoardMonitor::interrupt_figures(double budget) {
     nlohmann::json irq = nlohmann::json::array();
     const char* names[] = {"IR0 82510 port 0", "IR1 82510 port 1", "IR2 82510 port 2", "IR3 DP-RAM INT_L"};
     const unsigned base = world_.ctl.comm.pic.vector_base();
@@ -58,7 +73,7 @@ nlohmann::json BoardMonitor::interrupts_json(double budget) {
         nlohmann::json i = {{"level", l},
                             {"name", names[l]},
                             {"count", world_.probe.count(l)},
-                            {"rate_hz", irq_rate_hz_[l]},
+                            {"rate_hz", 0.0},
                             {"latency_us", samples_brief(latency)},
                             {"service_us", samples_brief(world_.probe.service_us(l))},
                             {"over_budget", count_over(latency, budget)},
