@@ -15,6 +15,9 @@ PACKAGES=(
   tao-pegtl-dev            # the Structured Text parser (main_cpu/st)
   chromium                 # the monitor's page test (headless; tests/monitor/page_test.py)
   lcov                     # lcov and genhtml read --coverage's tracefiles (tests/coverage, docs/tools.md)
+  libmodbus-dev            # rcsim run --modbus: the Modbus TCP server (scenarios/modbus)
+  python3-pymodbus         # its tests' client (tests/modbus)
+  python3-serial-asyncio   # pymodbus 3.0's client package imports it (Debian only recommends it)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -1,5 +1,6 @@
 // rcsim — command-line entry point.
 #include "scenarios/run/failure.h"
+#include "scenarios/modbus/register_map.h"
 
 #include <CLI/CLI.hpp>
 #include <systemc>
@@ -63,6 +64,8 @@ int sc_main(int argc, char* argv[]) {
     rcsim::add_bench_motion(*bench);
     rcsim::add_bench_soak(*bench);
     rcsim::add_regress_commands(app);
+    auto* modbus_map = app.add_subcommand("modbus-map", "Print the Modbus TCP register map of --modbus as CSV (docs/monitor.md)");
+    modbus_map->callback([] { rcsim::modbus::write_map_csv(std::cout); });
 
     try {
         app.parse(argc, argv);

@@ -1,5 +1,6 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
 //           [--profile] [--coverage] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
+//           [--modbus [[HOST:]PORT]]
 #include "models/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
@@ -33,7 +34,7 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor;
+        std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor, modbus;
         RunOptions::Rows rows = RunOptions::Rows::automatic;
         bool reproducible = false;
         bool verbose = false;
@@ -83,7 +84,10 @@ void add_run_command(CLI::App& app) {
     auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
     auto* monitor = cmd->add_option("--monitor", args->monitor,
                                     "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
-    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor] {
+    auto* modbus = cmd->add_option("--modbus", args->modbus,
+                                   "Serve Modbus TCP on [HOST:]PORT (127.0.0.1 unless given, port 1502 unless given; docs/monitor.md)")
+                       ->expected(0, 1);
+    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor, modbus] {
         RunOptions opt;
         // Every run writes its files somewhere it says: without --out, a folder named after the
         // scenario under ./rcsim-out (docs/scenarios.md "Output files").
@@ -103,6 +107,7 @@ void add_run_command(CLI::App& app) {
         opt.symbols = args->symbols;
         opt.coverage = args->coverage;
         if (*monitor) opt.monitor = args->monitor;
+        if (*modbus) opt.modbus = args->modbus;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <thread>
 
 namespace rcsim::monitor {
 
@@ -152,8 +153,9 @@ std::string printable_frame_data(const std::string& s) {
 
 // ---------------------------------------------------------------------------------------------
 
-BoardMonitor::BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log)
-    : world_(world), server_(opt.host, opt.port, kMonitorPage, log), log_(log), commands_(opt.commands) {
+BoardMonitor::BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log, bool http)
+    : world_(world), log_(log), commands_(opt.commands) {
+    if (http) server_ = std::make_unique<MonitorServer>(opt.host, opt.port, kMonitorPage, log);
     if (!world_.pacer) {
         world_.pacer = std::make_unique<RealtimePacer>("monitor_pacer", 1.0);
         world_.pacer->set_rtf(0);
@@ -189,7 +191,8 @@ bool BoardMonitor::run_until(const sc_time& end) {
         const sc_time now = sc_core::sc_time_stamp();
         if (now >= end) return false;
         if (paused_) {
-            server_.wait_for_request(std::chrono::milliseconds(10));
+            if (server_) server_->wait_for_request(std::chrono::milliseconds(10));
+            else std::this_thread::sleep_for(std::chrono::milliseconds(10));
             continue;
         }
         // Stop exactly where a scripted command or a simulated-time subscription is due.
@@ -209,7 +212,9 @@ bool BoardMonitor::run_until(const sc_time& end) {
 
 // Between two slices: requests first (they may pause), then scripted commands, then updates.
 void BoardMonitor::serve() {
-    for (const MonitorServer::Request& r : server_.take_requests()) handle(r.client, r.message);
+    if (server_)
+        for (const MonitorServer::Request& r : server_->take_requests()) handle(r.client, r.message);
+    if (between_slices_) between_slices_();
     run_due_commands();
     update_rates();
     send_updates();
@@ -247,7 +252,7 @@ void BoardMonitor::handle(std::uint64_t client, const nlohmann::json& m) {
 
 void BoardMonitor::reply(std::uint64_t client, nlohmann::json msg) {
     msg["api"] = kApiVersion;
-    server_.send(client, std::make_shared<const std::string>(msg.dump()));
+    server_->send(client, std::make_shared<const std::string>(msg.dump()));
 }
 
 // One request; returns the reply's fields, or refuses it through `a` (and then changes nothing:
@@ -276,8 +281,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
         return nlohmann::json::object();
     }
     if (op == "pause") {
-        if (!paused_) log_ << "monitor: paused at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
-        paused_ = true;
+        pause();
         return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
     }
     if (op == "resume") {
@@ -304,7 +308,7 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
             return a.refuse("\"token\" = " + Args::shown(token) + " must be two characters (docs/system.md §7)");
         const std::string data = a.string("data", std::string());
         if (!a.ok()) return {};
-        const Outcome o = world_.ctl.main.execute_local(token, data);
+        const Outcome o = motion(token, data);
         return {{"bch", o.bch}, {"data", o.data}, {"note", o.note}};
     }
     if (op != "send_frame" && op != "inject_fault") return a.refuse("unknown op '" + op + "' (docs/monitor.md)");
@@ -357,6 +361,15 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     const std::uint64_t index = line.next_index(side);
     line.inject(side, index, *fault, bit);
     return {{"port", port}, {"index", index}};
+}
+
+void BoardMonitor::pause() {
+    if (!paused_) log_ << "monitor: paused at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
+    paused_ = true;
+}
+
+Outcome BoardMonitor::motion(const std::string& token, const std::string& data) {
+    return world_.ctl.main.execute_local(token, data);
 }
 
 // Stepping runs unpaced (as a debugger's step does) and leaves the run paused.
@@ -429,11 +442,11 @@ void BoardMonitor::send_updates() {
         std::string msg = "{\"type\":\"update\",\"api\":" + std::to_string(kApiVersion) + ",\"data\":" + base_text();
         if (s.path_sent != SIZE_MAX) msg += ",\"path\":" + path_json(s, kMaxPathPoints);
         msg += "}";
-        server_.send(id, std::make_shared<const std::string>(std::move(msg)));
+        server_->send(id, std::make_shared<const std::string>(std::move(msg)));
     }
-    if (wall_now - last_publish_ >= kPublishEvery) {
+    if (server_ && wall_now - last_publish_ >= kPublishEvery) {
         base_text();
-        server_.publish_snapshot(base);
+        server_->publish_snapshot(base);
         last_publish_ = wall_now;
     }
 }

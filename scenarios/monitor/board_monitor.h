@@ -18,6 +18,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -34,11 +35,30 @@ std::string printable_frame_data(const std::string& s);
 
 class BoardMonitor {
 public:
-    /// Starts the server and hooks the world's callbacks. Call before the first sc_start().
-    /// A world without a real-time pacer gets one, unpaced, for set_rtf.
-    BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log);
+    /// Starts the server (none with `http` false: a run that only serves Modbus TCP drives its
+    /// slices through the monitor too) and hooks the world's callbacks. Call before the first
+    /// sc_start(). A world without a real-time pacer gets one, unpaced, for set_rtf.
+    BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log, bool http = true);
 
-    std::string url() const { return server_.url(); }
+    /// "" without the HTTP server.
+    std::string url() const { return server_ ? server_->url() : std::string(); }
+
+    /// Called between two slices, after the monitor's own clients were served: another endpoint
+    /// (scenarios/modbus) takes its requests here, on the simulation thread.
+    void between_slices(std::function<void()> serve) { between_slices_ = std::move(serve); }
+
+    // ---- control, for the requests of any endpoint (simulation thread, between slices) ----
+    World& world() { return world_; }
+    bool paused() const { return paused_; }
+    void pause();
+    void resume();
+    /// Runs exactly `t` of simulated time, unpaced, and leaves the run paused.
+    void step(const sc_core::sc_time& t);
+    /// A motion command as the main CPU's token dispatcher executes it (the "motion" op).
+    Outcome motion(const std::string& token, const std::string& data);
+    /// The measured real-time factor (0 while paused) and the pacer's target (0 = unpaced).
+    double rtf() const { return rtf_measured_; }
+    double rtf_target() const { return rtf_target_; }
 
     /// Runs simulated time up to `end`, serving the clients, until `end` is reached, a stop
     /// signal came, or a host ended the session (sc_pause from a tcp or replay host; true).
@@ -64,7 +84,8 @@ private:
     };
 
     World& world_;
-    MonitorServer server_;
+    std::unique_ptr<MonitorServer> server_; // none without http
+    std::function<void()> between_slices_;
     std::ostream& log_;
     std::vector<ScriptedCommand> commands_;
     std::size_t next_command_ = 0;
@@ -91,13 +112,16 @@ private:
     nlohmann::json execute(std::uint64_t client, const std::string& op, Args& a);
     void run_due_commands();
     void send_updates();
-    void step(const sc_core::sc_time& t);
-    void resume();
     void update_rates();
     std::string path_json(Subscription& s, std::size_t max_points);
     nlohmann::json motion_json();
     nlohmann::json ports_json();
     nlohmann::json table3_now();
+    nlohmann::json interrupts_json(double budget_us);
+    nlohmann::json interrupt_figures(double budget_us);
+    nlohmann::json irq_cache_;                 // interrupt_figures() as of irq_cache_completed_ interrupts
+    std::uint64_t irq_cache_completed_ = 0;
+    double irq_cache_budget_ = 0;
     void reply(std::uint64_t client, nlohmann::json msg);
 };
 

@@ -2,7 +2,9 @@
 // world's objects between two slices, never while sc_start() runs.
 #include "scenarios/monitor/board_monitor.h"
 
+#include "scenarios/verdict/latency_causes.h"
 #include "scenarios/verdict/measure.h"
+#include "models/clock.h"
 
 namespace rcsim::monitor {
 
@@ -16,7 +18,14 @@ nlohmann::json fb_json(const char* name, int axis, const motion::McExecuteFb& fb
 nlohmann::json samples_brief(const Samples& s) {
     if (s.count() == 0) return nullptr;
     const Summary m = s.summary();
-    return {{"count", m.count}, {"mean", m.mean}, {"max", m.max}};
+    return {{"count", m.count}, {"mean", m.mean}, {"max", m.max}, {"p99", m.p99}};
+}
+
+std::uint64_t count_over(const Samples& s, double limit) {
+    std::uint64_t n = 0;
+    for (const auto& [v, count] : s.values())
+        if (v > limit) n += count;
+    return n;
 }
 
 } // namespace
@@ -30,16 +39,53 @@ nlohmann::json BoardMonitor::snapshot() {
                         {"paused", paused_},
                         {"rtf", rtf_measured_},
                         {"rtf_target", rtf_target_},
-                        {"clients", server_.clients()}};
+                        {"clients", server_ ? server_->clients() : 0}};
     j["motion"] = motion_json();
     j["ports"] = ports_json();
+    j["table3"] = table3_now();
+    j["interrupts"] = interrupts_json(j["table3"]["budget_us"].get<double>());
+    return j;
+}
+
+// Per interrupt source: counts, rate, latency and service so far against the budget, and the
+// longest latency with its cause in words (scenarios/verdict/latency_causes.h). The figures only
+// change when an interrupt completes: they are made again only then (a sim-clock subscriber may
+// ask for hundreds of snapshots a second).
+nlohmann::json BoardMonitor::interrupts_json(double budget) {
+    std::uint64_t completed = 0;
+    for (unsigned l = 0; l < 4; ++l) completed += world_.probe.count(l);
+    if (irq_cache_.is_null() || completed != irq_cache_completed_ || budget != irq_cache_budget_) {
+        irq_cache_ = interrupt_figures(budget);
+        irq_cache_completed_ = completed;
+        irq_cache_budget_ = budget;
+    }
+    nlohmann::json irq = irq_cache_;
+    for (unsigned l = 0; l < 4; ++l) irq[l]["rate_hz"] = irq_rate_hz_[l];
+    return irq;
+}
+
+nlohmann::json BoardMonitor::interrupt_figures(double budget) {
     nlohmann::json irq = nlohmann::json::array();
     const char* names[] = {"IR0 82510 port 0", "IR1 82510 port 1", "IR2 82510 port 2", "IR3 DP-RAM INT_L"};
-    for (unsigned l = 0; l < 4; ++l)
-        irq.push_back({{"level", l}, {"name", names[l]}, {"count", world_.probe.count(l)}, {"rate_hz", irq_rate_hz_[l]}});
-    j["interrupts"] = irq;
-    j["table3"] = table3_now();
-    return j;
+    const unsigned base = world_.ctl.comm.pic.vector_base();
+    for (unsigned l = 0; l < 4; ++l) {
+        const Samples& latency = world_.probe.latency_us(l);
+        nlohmann::json i = {{"level", l},
+                            {"name", names[l]},
+                            {"count", world_.probe.count(l)},
+                            {"rate_hz", 0.0},
+                            {"latency_us", samples_brief(latency)},
+                            {"service_us", samples_brief(world_.probe.service_us(l))},
+                            {"over_budget", count_over(latency, budget)},
+                            {"worst", nullptr}};
+        const auto& worst = world_.probe.worst(l).records();
+        if (!worst.empty())
+            i["worst"] = {{"latency_us", to_us(worst.front().first_isr - worst.front().ir_rise)},
+                          {"t_s", worst.front().ir_rise.to_seconds()},
+                          {"cause", latency_cause_text(worst.front(), base, SymbolOf())}};
+        irq.push_back(i);
+    }
+    return irq;
 }
 
 // The axes (command = CAMC-QI CNT1, actual = drive position, from the latest trajectory sample),
@@ -123,8 +169,13 @@ nlohmann::json BoardMonitor::table3_now() {
                         {"budget_us", budget},
                         {"paper_rs232_isr_us", kPaperRs232IsrUs},
                         {"paper_dpram_byte_us", kPaperDpramByteUs},
-                        {"margin_us", nullptr}};
-    if (rx.count() > 0 && per_byte) t["margin_us"] = budget - (rx.summary().mean + *per_byte);
+                        {"margin_us", nullptr},
+                        {"worst_margin_us", nullptr}};
+    if (rx.count() > 0 && per_byte) {
+        const Summary m = rx.summary();
+        t["margin_us"] = budget - (m.mean + *per_byte);
+        t["worst_margin_us"] = budget - (m.max + *per_byte);
+    }
     return t;
 }
 

@@ -9,6 +9,7 @@
 #include "scenarios/verdict/latency_causes.h"
 #include "scenarios/run/cause_symbols.h"
 #include "scenarios/monitor/board_monitor.h"
+#include "scenarios/modbus/modbus_bridge.h"
 #include "scenarios/report/output.h"
 #include "scenarios/report/report_html.h"
 #include "models/stop_signal.h"
@@ -97,13 +98,33 @@ int run_motion_only(const Scenario& s, const RunOptions& opt, nlohmann::json& re
 
 /// The remote monitor, when --monitor or the scenario's `monitor:` section asks for one
 /// (docs/monitor.md).
+/// A run with --modbus alone drives its slices through a monitor without the HTTP server.
 std::unique_ptr<monitor::BoardMonitor> start_monitor(World& world, const Scenario& s, const RunOptions& opt) {
-    if (!s.monitor && !opt.monitor) return nullptr;
+    if (!s.monitor && !opt.monitor && !opt.modbus) return nullptr;
     monitor::MonitorOptions mo = s.monitor.value_or(monitor::MonitorOptions{});
     if (opt.monitor) monitor::parse_listen(*opt.monitor, mo);
-    auto m = std::make_unique<monitor::BoardMonitor>(world, mo, std::cerr);
-    std::cout << "monitor: " << m->url() << " (live page; JSON API at /api/v1, docs/monitor.md)" << std::endl;
+    const bool http = s.monitor || opt.monitor;
+    auto m = std::make_unique<monitor::BoardMonitor>(world, mo, std::cerr, http);
+    if (http) std::cout << "monitor: " << m->url() << " (live page; JSON API at /api/v1, docs/monitor.md)" << std::endl;
     return m;
+}
+
+/// The Modbus TCP server (--modbus, docs/monitor.md "Modbus TCP"), on the monitor's slices.
+std::unique_ptr<modbus::ModbusBridge> start_modbus(monitor::BoardMonitor* mon, const RunOptions& opt) {
+    if (!opt.modbus || !mon) return nullptr;
+    // "--modbus" alone, or "HOST:", takes the default port.
+    std::string text = opt.modbus->empty() ? std::to_string(modbus::kDefaultPort) : *opt.modbus;
+    if (text.back() == ':') text += std::to_string(modbus::kDefaultPort);
+    monitor::MonitorOptions where;
+    try {
+        monitor::parse_listen(text, where);
+    } catch (const ConfigError&) {
+        throw ConfigError("--modbus '" + *opt.modbus + "': not [HOST:]PORT (HOST a numeric IPv4 address, PORT 0..65535)");
+    }
+    auto b = std::make_unique<modbus::ModbusBridge>(*mon, where.host, where.port, std::cerr);
+    std::cout << "modbus: " << where.host << ":" << b->port() << " (Modbus TCP, unit 1; rcsim modbus-map, docs/monitor.md)"
+              << std::endl;
+    return b;
 }
 
 /// Why a run may have no RS-232 receive interrupt at all: the scenario gives the controller no
@@ -259,6 +280,9 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     // Not an error: a sweep with --coverage may hold motion runs, which have no comm ROM to cover.
     if (s.has_motion && opt.coverage)
         std::cerr << "note: " << s.file << ": a motion scenario runs no communication board: no coverage.info\n";
+    if (s.has_motion && opt.modbus)
+        throw ConfigError("--modbus: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
+                          "Modbus TCP serves the whole board (main_cpu: {motion: true}, docs/monitor.md)");
     if (s.has_motion && (opt.monitor || s.monitor))
         throw ConfigError("--monitor: '" + s.file + "' has a 'motion:' section, which runs the motion side alone; "
                           "the monitor watches the whole board (main_cpu: {motion: true}, docs/monitor.md)");
@@ -304,6 +328,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     }
 
     std::unique_ptr<monitor::BoardMonitor> mon = start_monitor(world, s, opt);
+    const std::unique_ptr<modbus::ModbusBridge> modbus = start_modbus(mon.get(), opt);
     const auto wall0 = std::chrono::steady_clock::now();
     if (mon) mon->run_until(s.duration_s > 0 ? ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)) : sc_core::sc_max_time());
     else if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));

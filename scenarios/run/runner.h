@@ -39,6 +39,7 @@ struct RunOptions {
     std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
     bool coverage = false;              // coverage.info of the comm ROM (scenarios/coverage/coverage_run.h); needs out_dir
     std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
+    std::optional<std::string> modbus;  // --modbus [HOST:]PORT: serve Modbus TCP (docs/monitor.md)
     /// The progress line on stderr while it is a terminal (scenarios/run/run_progress.h): `rcsim
     /// run` only; the commands that run scenarios for figures of their own print theirs.
     bool progress = false;

@@ -22,6 +22,7 @@
 #   report/   what renders                 -> report verdict config board host   (never world)
 #   trace/ monitor/                        -> itself and the folders above but run, sweep, cli
 #   coverage/                              -> coverage trace report verdict world config board debug host
+#   modbus/                                -> modbus monitor and the folders monitor may include
 #   run/                                   -> every folder above but sweep, cli
 #   sweep/                                 -> sweep run coverage report verdict config board host
 #   cli/                                   -> every folder
@@ -57,10 +58,11 @@ set(sc_report  report verdict config board host)
 set(sc_trace   trace report verdict world config board debug host)
 set(sc_monitor monitor report verdict world config board host)
 set(sc_coverage coverage trace report verdict world config board debug host)
-set(sc_run     run coverage trace monitor report verdict world config board debug host)
+set(sc_modbus  modbus monitor report verdict world config board host)
+set(sc_run     run coverage trace modbus monitor report verdict world config board debug host)
 set(sc_sweep   sweep run coverage report verdict config board host)
-set(sc_cli     cli sweep run coverage trace monitor report verdict world config board debug host)
-set(sc_folders host board debug config world verdict report trace monitor coverage run sweep cli)
+set(sc_cli     cli sweep run coverage trace modbus monitor report verdict world config board debug host)
+set(sc_folders host board debug config world verdict report trace monitor modbus coverage run sweep cli)
 
 set(violations 0)
 set(files_seen 0)
