@@ -154,7 +154,7 @@ Type Compiler::resolve_type(const ParseNode& n) {
         t.en = e.en;
         t.st = e.st;
         t.len = e.len;
-        if (t.slots() > 1u << 20) fail(n, "ARRAY of more than 2^20 slots");
+        if (t.slots() > 65536) fail(n, "ARRAY of more than 65536 slots");
         return t;
     }
     if (n.is_type<g::string_type>()) {
@@ -424,7 +424,7 @@ Type Compiler::define_struct(const ParseNode& spec, const std::string& name) {
             sp->members.push_back(std::move(m));
         }
     }
-    if (sp->slots > 1u << 20) fail(spec, "STRUCT " + name + " of more than 2^20 slots");
+    if (sp->slots > 65536) fail(spec, "STRUCT " + name + " of more than 65536 slots");
     Type t{Kind::Struct};
     t.st = sp;
     return t;
@@ -450,6 +450,8 @@ void Compiler::compile_body(Decl& d) {
 }
 
 void Compiler::finish() {
+    // Every TYPE, used or not (an enumeration's values are names the program may use).
+    for (auto& [key, td] : type_decls_) define_type(td, name_of(*td.node->children.at(0)));
     for (const auto& [block, file] : global_blocks_) {
         file_ = file;
         add_vars(u_.globals, *block, PouType::Pou::globals);

@@ -345,7 +345,8 @@ struct initializer;
 struct member_init : pg::seq<ident, _, pg::must<assign_op>, pg::must<initializer>> {
     static constexpr const char* expected = "a member's initial value 'name := value'";
 };
-struct struct_init : pg::seq<pg::at<lparen, ident, _, assign_op>, lparen, member_init,
+// (A look-ahead as not_at<not_at<>>: the parse tree keeps the nodes an at<> matched.)
+struct struct_init : pg::seq<pg::not_at<pg::not_at<lparen, ident, _, assign_op>>, lparen, member_init,
                              pg::star<comma, pg::must<member_init>>, pg::must<rparen>> {};
 struct initializer : pg::sor<array_init, struct_init, expression> {
     static constexpr const char* expected = "an initial value";

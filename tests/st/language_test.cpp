@@ -151,4 +151,191 @@ TEST(StLanguage, MuxOutOfRangeIsAnError) {
     EXPECT_EQ(p->error(), "t.st:5:6: MUX selector K = 3 outside 0..2");
 }
 
+// ---- enumerations, STRUCT, VAR_IN_OUT, STRING ------------------------------------------------------
+
+const char* types_text = R"(
+TYPE
+    Color : (Red, Green := 5, Blue);
+    Mode : (Idle, Run, Fault) := Run;
+    Point : STRUCT x : DINT; y : DINT := 7; END_STRUCT;
+    Segment : STRUCT a, b : Point; tag : Color := Blue; END_STRUCT;
+END_TYPE
+)";
+
+TEST(StLanguage, EnumerationsHaveTheirValuesAndDefaults) {
+    // §6.4.4.2: a value without one given is one more than the one before (Blue = 6); a variable
+    // starts as the type's initial value, else its first value (Red; Mode says Run).
+    auto p = started(std::string(types_text) + R"(
+PROGRAM T
+VAR c : Color; m : Mode; d : Color := Color#Blue; same, differ : BOOL; n : DINT; k : INT; END_VAR
+same := d = Blue;
+differ := c <> d;
+CASE d OF
+    Red: k := 1;
+    Green, Blue: k := 2;
+END_CASE;
+CASE m OF Idle: n := 10; Run: n := 20; ELSE n := 30; END_CASE;
+END_PROGRAM)");
+    p->run_once(0);
+    EXPECT_EQ(get(*p, "c"), 0);
+    EXPECT_EQ(get(*p, "d"), 6);
+    EXPECT_EQ(get(*p, "m"), 1);
+    EXPECT_EQ(get(*p, "same"), 1);
+    EXPECT_EQ(get(*p, "differ"), 1);
+    EXPECT_EQ(get(*p, "k"), 2);
+    EXPECT_EQ(get(*p, "n"), 20);
+    EXPECT_EQ(p->variables()["d"], "Blue"); // the report names the value
+    const std::string prog = std::string(types_text) + "PROGRAM T VAR c : Color; i : INT; END_VAR\n";
+    EXPECT_EQ(compile_error(prog + "c := 1;\nEND_PROGRAM"),
+              "t.st:9:6: type mismatch: the value assigned to 'c' must be Color, not an integer literal");
+    EXPECT_EQ(compile_error(prog + "c := Run;\nEND_PROGRAM"),
+              "t.st:9:6: type mismatch: the value assigned to 'c' must be Color, not Mode");
+    EXPECT_EQ(compile_error(prog + "i := c + 1;\nEND_PROGRAM"), "t.st:9:8: type mismatch: '+' needs numbers, not Color");
+    EXPECT_EQ(compile_error(prog + "CASE c OF Run: i := 1; END_CASE;\nEND_PROGRAM"),
+              "t.st:9:11: type mismatch: a CASE label must be Color, not Mode");
+}
+
+TEST(StLanguage, StructMembersAreReadWrittenCopiedAndInitialised) {
+    // §6.4.4.4: members by name, defaults from the type (y = 7, tag = Blue), (x := 1) initial
+    // values, whole-structure assignment copies every member, ARRAY OF a STRUCT.
+    auto p = started(std::string(types_text) + R"(
+PROGRAM T
+VAR p : Point := (x := 1); q : Point; s : Segment := (b := (x := 3, y := 4)); pts : ARRAY[1..3] OF Point;
+    i : INT := 2; r1, r2, r3, r4 : DINT; t : Color; END_VAR
+p.x := p.x + 10;
+q := p;
+s.a := q;
+pts[i].y := 5;
+pts[3] := s.b;
+r1 := q.x; r2 := q.y; r3 := s.a.x + s.b.y; r4 := pts[2].y + pts[3].x + pts[1].y;
+t := s.tag;
+END_PROGRAM)");
+    p->run_once(0);
+    EXPECT_EQ(get(*p, "r1"), 11);          // 1 + 10
+    EXPECT_EQ(get(*p, "r2"), 7);           // the member's default
+    EXPECT_EQ(get(*p, "r3"), 11 + 4);
+    EXPECT_EQ(get(*p, "r4"), 5 + 3 + 7);   // pts[1] keeps the default y = 7
+    EXPECT_EQ(get(*p, "t"), 6);            // Blue
+    const auto v = p->variables();
+    EXPECT_EQ(v["q"], (nlohmann::json{{"x", 11}, {"y", 7}}));
+    EXPECT_EQ(v["pts"][2], (nlohmann::json{{"x", 3}, {"y", 4}}));
+    const std::string prog = std::string(types_text) + "PROGRAM T VAR p : Point; i : DINT; c : Segment; END_VAR\n";
+    EXPECT_EQ(compile_error(prog + "p.z := 1;\nEND_PROGRAM"), "t.st:9:3: 'z' is not a member of Point");
+    EXPECT_EQ(compile_error(prog + "i := p;\nEND_PROGRAM"),
+              "t.st:9:6: type mismatch: the value assigned to 'i' must be DINT, not Point");
+    EXPECT_EQ(compile_error(prog + "p := c;\nEND_PROGRAM"),
+              "t.st:9:6: type mismatch: the value assigned to 'p' must be Point, not Segment");
+    EXPECT_EQ(compile_error(prog + "i := p + 1;\nEND_PROGRAM"),
+              "t.st:9:6: 'p' is a STRUCT Point; use its members, e.g. p.x");
+    EXPECT_EQ(compile_error("TYPE A : STRUCT b : B; END_STRUCT; B : STRUCT a : A; END_STRUCT; END_TYPE\n"
+                            "PROGRAM T VAR x : A; END_VAR END_PROGRAM"),
+              "t.st:1:6: type 'A' contains itself");
+}
+
+TEST(StLanguage, VarInOutWritesTheCallersVariable) {
+    // §6.5.2.2 VAR_IN_OUT: the block or function works on the caller's variable itself, whatever
+    // its type (an INT, an ARRAY, a STRUCT).
+    auto p = started(std::string(types_text) + R"(
+FUNCTION_BLOCK Bump
+VAR_IN_OUT v : INT; pt : Point; END_VAR
+v := v + 1;
+pt.x := pt.x + v;
+END_FUNCTION_BLOCK
+
+FUNCTION Sum : DINT
+VAR_IN_OUT a : ARRAY[1..4] OF DINT; END_VAR
+VAR i : INT; END_VAR
+FOR i := 1 TO 4 DO Sum := Sum + a[i]; a[i] := 0; END_FOR;
+END_FUNCTION
+
+PROGRAM T
+VAR x : INT; p : Point; b : Bump; arr : ARRAY[1..4] OF DINT := [1, 2, 3, 4]; total : DINT; END_VAR
+b(v := x, pt := p);
+b(v := x, pt := p);
+total := Sum(arr);
+END_PROGRAM)");
+    p->run_once(0);
+    EXPECT_EQ(get(*p, "x"), 2);
+    EXPECT_EQ(p->variables()["p"]["x"], 3); // 1, then 1 + 2
+    EXPECT_EQ(get(*p, "total"), 10);
+    EXPECT_EQ(get(*p, "arr[3]"), 0);        // the function cleared the caller's array
+    const std::string fb = "FUNCTION_BLOCK B VAR_IN_OUT v : INT; END_VAR v := 1; END_FUNCTION_BLOCK\n"
+                           "PROGRAM T VAR b : B; x : INT; d : DINT; END_VAR\n";
+    EXPECT_EQ(compile_error(fb + "b(v := x + 1);\nEND_PROGRAM"), "t.st:3:8: VAR_IN_OUT 'v' of B needs a variable, not an expression");
+    EXPECT_EQ(compile_error(fb + "b();\nEND_PROGRAM"), "t.st:3:1: VAR_IN_OUT 'v' of B is not given (every call names its variable)");
+    EXPECT_EQ(compile_error(fb + "b(v := d);\nEND_PROGRAM"), "t.st:3:8: type mismatch: VAR_IN_OUT 'v' of B is INT, 'd' is DINT");
+    EXPECT_EQ(compile_error(fb + "x := b.v;\nEND_PROGRAM"), "t.st:3:8: 'v' is not an input or output of B");
+    EXPECT_EQ(compile_error("PROGRAM T VAR_IN_OUT v : INT; END_VAR END_PROGRAM"),
+              "t.st:1:11: VAR_IN_OUT in a PROGRAM (nothing calls a PROGRAM to give it a variable)");
+}
+
+TEST(StLanguage, StringsHoldTextUpToTheirLength) {
+    // §6.4.2 STRING[n]: at most n characters, a longer value cut; §6.3.3 '$' escapes; Table 43's
+    // LEN, LEFT, RIGHT, MID, CONCAT, FIND (positions from 1); comparisons by character code.
+    auto p = started(R"(
+PROGRAM T
+VAR s : STRING[5] := 'abcdefg'; t : STRING; u : STRING[20]; n, f, g : INT; lt, eq : BOOL;
+    q : STRING[4] := '$'$41$$'; END_VAR
+t := CONCAT(s, '-', 'xyz');
+u := MID(t, 3, 2);
+n := LEN(t);
+f := FIND(t, 'xy');
+g := FIND(t, 'q');
+lt := 'abc' < 'abd';
+eq := LEFT(t, 2) = 'ab' AND RIGHT(t, 3) = 'xyz';
+END_PROGRAM)");
+    p->run_once(0);
+    const auto v = p->variables();
+    EXPECT_EQ(v["s"], "abcde");       // cut to 5
+    EXPECT_EQ(v["t"], "abcde-xyz");
+    EXPECT_EQ(v["u"], "bcd");         // 3 characters from the 2nd
+    EXPECT_EQ(v["q"], "'A$");         // $' $41 $$
+    EXPECT_EQ(get(*p, "n"), 9);
+    EXPECT_EQ(get(*p, "f"), 7);
+    EXPECT_EQ(get(*p, "g"), 0);
+    EXPECT_EQ(get(*p, "lt"), 1);
+    EXPECT_EQ(get(*p, "eq"), 1);
+    EXPECT_EQ(compile_error("PROGRAM T VAR s : STRING; i : INT; END_VAR\ni := s;\nEND_PROGRAM"),
+              "t.st:2:6: type mismatch: the value assigned to 'i' must be INT, not STRING[80]");
+    EXPECT_EQ(compile_error("PROGRAM T VAR s : STRING; END_VAR\ns := s + 'a';\nEND_PROGRAM"),
+              "t.st:2:8: type mismatch: '+' is not defined for STRING[80] and STRING[1] (CONCAT joins strings)");
+    auto bad = run_body("s : STRING := 'abc'; t : STRING; p : INT := 5;", "t := MID(s, 1, p);");
+    EXPECT_EQ(bad->error(), "t.st:5:6: MID position P = 5 outside 1..4");
+}
+
+// ---- what the subset leaves out: an error that names it ----------------------------------------------
+
+TEST(StLanguage, ConstructsOutsideTheSubsetAreNamed) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"PROGRAM T VAR p : POINTER TO INT; END_VAR END_PROGRAM", "t.st:1:19: POINTER TO is not supported (docs/st.md)"},
+        {"PROGRAM T VAR p : REF_TO INT; END_VAR END_PROGRAM", "t.st:1:19: REF_TO is not supported (docs/st.md)"},
+        {"PROGRAM T VAR p : REFERENCE TO INT; END_VAR END_PROGRAM", "t.st:1:19: REFERENCE TO is not supported (docs/st.md)"},
+        {"PROGRAM T VAR_TEMP x : INT; END_VAR END_PROGRAM",
+         "t.st:1:11: this variable section (VAR_TEMP, VAR_EXTERNAL, VAR_ACCESS, VAR_CONFIG) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR RETAIN x : INT; END_VAR END_PROGRAM",
+         "t.st:1:15: RETAIN, NON_RETAIN, PERSISTENT is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x AT %IX0.0 : BOOL; END_VAR END_PROGRAM", "t.st:1:17: AT (a located variable) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR a : ARRAY[1..2, 1..2] OF INT; END_VAR END_PROGRAM",
+         "t.st:1:29: an ARRAY of more than one dimension is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : SINT; END_VAR END_PROGRAM", "t.st:1:19: SINT is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : WSTRING; END_VAR END_PROGRAM", "t.st:1:19: WSTRING is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : (A, B); END_VAR END_PROGRAM",
+         "t.st:1:19: an enumeration declared in a variable's type (declare it in TYPE ... END_TYPE) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : DINT; END_VAR x := ADR(x); END_PROGRAM", "t.st:1:38: ADR is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : DINT; END_VAR x := x^; END_PROGRAM", "t.st:1:39: the dereference '^' is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : DINT; END_VAR {attribute 'hide'} END_PROGRAM", "t.st:1:33: a pragma { } is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : BOOL; END_VAR x := D#2020-01-01 = D#2020-01-01; END_PROGRAM",
+         "t.st:1:38: a DATE, TIME_OF_DAY, DATE_AND_TIME or LTIME literal is not supported (docs/st.md)"},
+        {"PROGRAM T JMP later; END_PROGRAM", "t.st:1:11: JMP (jumps and labels) is not supported (docs/st.md)"},
+        {"CLASS C END_CLASS", "t.st:1:1: CONFIGURATION, RESOURCE, CLASS, INTERFACE, NAMESPACE (one task, no OOP) is not supported (docs/st.md)"},
+        {"FUNCTION_BLOCK B EXTENDS A END_FUNCTION_BLOCK",
+         "t.st:1:18: EXTENDS, IMPLEMENTS (the OOP extensions) is not supported (docs/st.md)"},
+        {"FUNCTION_BLOCK B METHOD M END_METHOD END_FUNCTION_BLOCK",
+         "t.st:1:18: METHOD, PROPERTY, ACTION (the OOP extensions) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR s : STRING; END_VAR s := \"wide\"; END_PROGRAM",
+         "t.st:1:40: a WSTRING literal \"...\" is not supported (docs/st.md)"},
+    };
+    for (const auto& [text, want] : cases) EXPECT_EQ(compile_error(text), want) << text;
+}
+
 } // namespace
