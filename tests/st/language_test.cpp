@@ -4,6 +4,9 @@
 // with an error that names them. The expected values come from the standard's definitions (the
 // table or clause is named at each) and are worked out in the comments.
 #include "tests/st/st_test.h"
+#include "tests/support/files.h"
+
+#include <filesystem>
 
 using namespace rcsim::st;
 using namespace rcsim::st::test;
@@ -336,6 +339,34 @@ TEST(StLanguage, ConstructsOutsideTheSubsetAreNamed) {
          "t.st:1:40: a WSTRING literal \"...\" is not supported (docs/st.md)"},
     };
     for (const auto& [text, want] : cases) EXPECT_EQ(compile_error(text), want) << text;
+}
+
+// ---- the examples of docs/st.md ---------------------------------------------------------------------
+
+TEST(StLanguage, TheDocsExamplesRun) {
+    // Every ```st block of docs/st.md followed by <!-- st-expect: {json} --> compiles, its first
+    // PROGRAM runs once, and each variable named holds what the page says.
+    const std::string doc = rcsim::test::slurp(std::filesystem::path(RCSIM_SOURCE_DIR) / "docs/st.md");
+    const std::string open = "```st\n", expect = "<!-- st-expect: ";
+    int examples = 0;
+    for (std::size_t at = doc.find(open); at != std::string::npos; at = doc.find(open, at + 1)) {
+        const std::size_t body = at + open.size(), end = doc.find("```\n", body);
+        ASSERT_NE(end, std::string::npos);
+        const std::size_t e = end + 4;
+        ASSERT_EQ(doc.compare(e, expect.size(), expect), 0) << "an ```st block of docs/st.md without st-expect";
+        const std::size_t close = doc.find(" -->", e);
+        const auto want = nlohmann::json::parse(doc.substr(e + expect.size(), close - e - expect.size()));
+        const std::string text = doc.substr(body, end - body);
+        std::unique_ptr<Unit> unit = compile(text, "st.md", 0);
+        ASSERT_FALSE(unit->program_names.empty());
+        auto p = started(text, unit->program_names.front());
+        p->run_once(0);
+        ASSERT_TRUE(p->running()) << p->error();
+        const auto vars = p->variables();
+        for (const auto& [name, value] : want.items()) EXPECT_EQ(vars.at(name), value) << name << " in\n" << text;
+        ++examples;
+    }
+    EXPECT_GE(examples, 3);
 }
 
 } // namespace
