@@ -104,6 +104,30 @@ std::string fn_mid(const std::vector<std::string>& s, const std::vector<std::int
     return s[0].substr(p - 1, l);
 }
 
+std::size_t position(std::int64_t p, const std::string& in, const char* fn, const SourcePos& at) {
+    if (p < 1 || p > static_cast<std::int64_t>(in.size()) + 1)
+        throw RuntimeError(at.str() + ": " + fn + " position P = " + std::to_string(p) + " outside 1.." +
+                           std::to_string(in.size() + 1));
+    return static_cast<std::size_t>(p);
+}
+std::string fn_insert(const std::vector<std::string>& s, const std::vector<std::int64_t>& n, const SourcePos& at) {
+    // INSERT(IN1, IN2, P): IN2 after the P-th character of IN1 (P = 0 puts it first).
+    if (n[0] < 0 || n[0] > static_cast<std::int64_t>(s[0].size()))
+        throw RuntimeError(at.str() + ": INSERT position P = " + std::to_string(n[0]) + " outside 0.." +
+                           std::to_string(s[0].size()));
+    return std::string(s[0]).insert(static_cast<std::size_t>(n[0]), s[1]);
+}
+std::string fn_delete(const std::vector<std::string>& s, const std::vector<std::int64_t>& n, const SourcePos& at) {
+    // DELETE(IN, L, P): L characters from the P-th removed.
+    const std::size_t l = count_arg(n[0], "L", at), p = position(n[1], s[0], "DELETE", at);
+    return std::string(s[0]).erase(p - 1, l);
+}
+std::string fn_replace(const std::vector<std::string>& s, const std::vector<std::int64_t>& n, const SourcePos& at) {
+    // REPLACE(IN1, IN2, L, P): L characters of IN1 from the P-th replaced by IN2.
+    const std::size_t l = count_arg(n[0], "L", at), p = position(n[1], s[0], "REPLACE", at);
+    return std::string(s[0]).replace(p - 1, l, s[1]);
+}
+
 double sin_(double x) { return std::sin(x); }
 double cos_(double x) { return std::cos(x); }
 double atan_(double x) { return std::atan(x); }
@@ -289,10 +313,14 @@ ExprPtr Compiler::string_call(const std::string& name, std::vector<ExprPtr> args
         for (const ExprPtr& a : args) e->type.len += a->type.len;
         e->type.len = std::min<std::int64_t>(e->type.len, 1024);
         e->fn = fn_concat;
+    } else if (name == "INSERT" || name == "REPLACE") {
+        need(2, name == "INSERT" ? 1 : 2);
+        e->type.len = std::min<std::int64_t>(args[0]->type.len + args[1]->type.len, 1024);
+        e->fn = name == "INSERT" ? fn_insert : fn_replace;
     } else {
-        need(1, name == "MID" ? 2 : 1);
+        need(1, name == "LEFT" || name == "RIGHT" ? 1 : 2);
         e->type.len = args[0]->type.len;
-        e->fn = name == "LEFT" ? fn_left : name == "RIGHT" ? fn_right : fn_mid;
+        e->fn = name == "LEFT" ? fn_left : name == "RIGHT" ? fn_right : name == "MID" ? fn_mid : fn_delete;
     }
     e->args = std::move(args);
     return e;
@@ -315,6 +343,8 @@ ExprPtr Compiler::call(const ParseNode& n) {
     static const char* const refused[] = {"ADR", "REF", "SIZEOF", "BITADR", "__NEW", "__DELETE"};
     for (const char* r : refused)
         if (name == r) fail(id, name + " is not supported (docs/st.md)");
+    if ((name.size() > 10 && name.compare(name.size() - 10, 10, "_TO_STRING") == 0) || name.rfind("STRING_TO_", 0) == 0)
+        fail(id, name + ": a conversion to or from STRING is not supported (docs/st.md)");
     if (!user_fn && !named.empty()) fail(*named[0], name_of(id) + " takes its arguments by position");
     if (name == "TIME") {
         if (!positional.empty()) fail(n, "TIME() takes no arguments");
@@ -339,7 +369,7 @@ ExprPtr Compiler::call(const ParseNode& n) {
         if (name == b) return builtin(name, std::move(positional), n);
     if (name == "SHL" || name == "SHR" || name == "ROL" || name == "ROR") return shift(name, std::move(positional), n);
     if (name == "SEL" || name == "MUX") return select(name, std::move(positional), n);
-    static const char* const strings[] = {"LEN", "FIND", "CONCAT", "LEFT", "RIGHT", "MID"};
+    static const char* const strings[] = {"LEN", "FIND", "CONCAT", "LEFT", "RIGHT", "MID", "INSERT", "DELETE", "REPLACE"};
     for (const char* b : strings)
         if (name == b) return string_call(name, std::move(positional), n);
     if (!user_fn) {

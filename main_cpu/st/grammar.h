@@ -50,6 +50,9 @@ RCSIM_ST_REFUSE(no_oop_body, "METHOD, PROPERTY, ACTION (the OOP extensions)",
                         pg::plus<pg::blank>, pg::identifier>);
 RCSIM_ST_REFUSE(no_jump, "JMP (jumps and labels)", pg::seq<word<TAO_PEGTL_ISTRING("JMP")>, pg::plus<pg::blank>, pg::identifier>);
 RCSIM_ST_REFUSE(no_pragma, "a pragma { }", pg::one<'{'>);
+RCSIM_ST_REFUSE(no_subrange, "a subrange type such as INT(0..100)", pg::one<'('>);
+RCSIM_ST_REFUSE(no_set_reset, "S=, R=, REF= (set, reset and reference assignments)",
+                pg::sor<pg::seq<pg::one<'S', 's', 'R', 'r'>, pg::one<'='>>, pg::seq<TAO_PEGTL_ISTRING("REF"), pg::one<'='>>>);
 RCSIM_ST_REFUSE(no_deref, "the dereference '^'", pg::one<'^'>);
 RCSIM_ST_REFUSE(no_date_lit, "a DATE, TIME_OF_DAY, DATE_AND_TIME or LTIME literal",
                 pg::sor<TAO_PEGTL_ISTRING("DATE_AND_TIME#"), TAO_PEGTL_ISTRING("TIME_OF_DAY#"),
@@ -288,7 +291,8 @@ struct stmt_end
 struct statements : pg::star<pg::not_at<stmt_end>, pg::must<statement>> {};
 
 struct call_stmt : pg::seq<call, pg::must<semi>> {};
-struct assignment : pg::seq<variable, pg::must<assign_op>, pg::must<expr_expected>, pg::must<semi>> {};
+struct assignment : pg::seq<variable, pg::opt<refused<no_set_reset>>, pg::must<assign_op>, pg::must<expr_expected>,
+                            pg::must<semi>> {};
 struct else_part : pg::if_must<kw_else, statements> {};
 struct elsif_part : pg::if_must<kw_elsif, expr_expected, kw_then, statements> {};
 struct if_stmt : pg::if_must<kw_if, expr_expected, kw_then, statements, pg::star<elsif_part>, pg::opt<else_part>,
@@ -336,7 +340,8 @@ struct array_type : pg::if_must<kw_array, lbracket, signed_int, dotdot, signed_i
 // STRING or STRING[n] (§6.4.2: n characters at most; 80 without).
 struct string_type : pg::seq<word<TAO_PEGTL_ISTRING("STRING")>, _, pg::opt<lbracket, pg::must<signed_int>, pg::must<rbracket>>> {};
 struct type_spec : pg::sor<array_type, string_type, refused<no_pointer>, refused<no_ref_to>, refused<no_reference>,
-                           refused<no_inline_enum>, refused<no_inline_struct>, type_name> {
+                           refused<no_inline_enum>, refused<no_inline_struct>,
+                           pg::seq<type_name, pg::opt<refused<no_subrange>>>> {
     static constexpr const char* expected = "a type";
 };
 struct array_init : pg::if_must<lbracket, expr_expected, pg::star<comma, pg::must<expr_expected>>, rbracket> {};

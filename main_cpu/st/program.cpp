@@ -154,19 +154,27 @@ Value* StProgram::locate(const std::string& path) {
         v = inst->type->find(upper(head));
     }
     if (!v) throw std::out_of_range("no variable '" + head + "'");
+    // Only single-slot data: a forced STRING length or STRUCT slot could break what the compiler
+    // laid out.
     if (!member.empty()) {
+        if (v->type.kind == Kind::Struct) {
+            const StructType::Member* m = v->type.st->find(upper(member));
+            if (!m || !m->type.elementary()) throw std::out_of_range("no elementary member '" + member + "' in " + head);
+            return &inst->vars[v->slot + m->offset];
+        }
         if (v->type.kind != Kind::Fb) throw std::out_of_range("'" + head + "' has no members");
         Instance& fb = *inst->fbs[v->slot];
         const VarInfo* m = fb.type->find(upper(member));
-        if (!m || m->kind == VarKind::in_out) throw std::out_of_range("no member '" + member + "' in " + head);
+        if (!m || m->kind == VarKind::in_out || !m->type.elementary())
+            throw std::out_of_range("no elementary member '" + member + "' in " + head);
         return &fb.vars[m->slot];
     }
     if (indexed) {
-        if (v->type.kind != Kind::Array || index < v->type.lo || index > v->type.hi)
+        if (v->type.kind != Kind::Array || index < v->type.lo || index > v->type.hi || !v->type.element().elementary())
             throw std::out_of_range("no element " + path);
         return &inst->vars[v->slot + static_cast<std::size_t>(index - v->type.lo) * v->type.element().slots()];
     }
-    if (v->type.kind == Kind::Fb || v->type.kind == Kind::Array) throw std::out_of_range("'" + head + "' is not elementary");
+    if (!v->type.elementary()) throw std::out_of_range("'" + head + "' is not elementary");
     return &inst->vars[v->slot];
 }
 

@@ -222,6 +222,8 @@ END_PROGRAM)");
     const auto v = p->variables();
     EXPECT_EQ(v["q"], (nlohmann::json{{"x", 11}, {"y", 7}}));
     EXPECT_EQ(v["pts"][2], (nlohmann::json{{"x", 3}, {"y", 4}}));
+    EXPECT_EQ(get(*p, "q.x"), 11);
+    EXPECT_THROW(p->value("q"), std::out_of_range); // several slots: not one value to force
     const std::string prog = std::string(types_text) + "PROGRAM T VAR p : Point; i : DINT; c : Segment; END_VAR\n";
     EXPECT_EQ(compile_error(prog + "p.z := 1;\nEND_PROGRAM"), "t.st:9:3: 'z' is not a member of Point");
     EXPECT_EQ(compile_error(prog + "i := p;\nEND_PROGRAM"),
@@ -302,6 +304,11 @@ END_PROGRAM)");
               "t.st:2:6: type mismatch: the value assigned to 'i' must be INT, not STRING[80]");
     EXPECT_EQ(compile_error("PROGRAM T VAR s : STRING; END_VAR\ns := s + 'a';\nEND_PROGRAM"),
               "t.st:2:8: type mismatch: '+' is not defined for STRING[80] and STRING[1] (CONCAT joins strings)");
+    auto q = run_body("s : STRING := 'abcdef'; i, d, r : STRING;",
+                      "i := INSERT(s, 'XY', 2); d := DELETE(s, 2, 3); r := REPLACE(s, 'Z', 3, 2);");
+    EXPECT_EQ(q->variables()["i"], "abXYcdef"); // after the 2nd character
+    EXPECT_EQ(q->variables()["d"], "abef");     // 2 characters from the 3rd
+    EXPECT_EQ(q->variables()["r"], "aZef");     // 3 characters from the 2nd become 'Z'
     auto bad = run_body("s : STRING := 'abc'; t : STRING; p : INT := 5;", "t := MID(s, 1, p);");
     EXPECT_EQ(bad->error(), "t.st:5:6: MID position P = 5 outside 1..4");
 }
@@ -335,6 +342,12 @@ TEST(StLanguage, ConstructsOutsideTheSubsetAreNamed) {
          "t.st:1:18: EXTENDS, IMPLEMENTS (the OOP extensions) is not supported (docs/st.md)"},
         {"FUNCTION_BLOCK B METHOD M END_METHOD END_FUNCTION_BLOCK",
          "t.st:1:18: METHOD, PROPERTY, ACTION (the OOP extensions) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x : INT(0..100); END_VAR END_PROGRAM",
+         "t.st:1:22: a subrange type such as INT(0..100) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR x, y : BOOL; END_VAR x S= y; END_PROGRAM",
+         "t.st:1:38: S=, R=, REF= (set, reset and reference assignments) is not supported (docs/st.md)"},
+        {"PROGRAM T VAR s : STRING; i : INT; END_VAR s := INT_TO_STRING(i); END_PROGRAM",
+         "t.st:1:49: INT_TO_STRING: a conversion to or from STRING is not supported (docs/st.md)"},
         {"PROGRAM T VAR s : STRING; END_VAR s := \"wide\"; END_PROGRAM",
          "t.st:1:40: a WSTRING literal \"...\" is not supported (docs/st.md)"},
     };
