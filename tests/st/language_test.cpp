@@ -188,6 +188,16 @@ END_PROGRAM)");
     EXPECT_EQ(get(*p, "k"), 2);
     EXPECT_EQ(get(*p, "n"), 20);
     EXPECT_EQ(p->variables()["d"], "Blue"); // the report names the value
+    auto f = started(std::string(types_text) + R"(
+FUNCTION Next : Color
+VAR_INPUT c : Color; END_VAR
+Next := SEL(c = Red, Red, Green);
+END_FUNCTION
+PROGRAM T VAR a : Color; END_VAR
+a := Next(Red);
+END_PROGRAM)");
+    f->run_once(0);
+    EXPECT_EQ(get(*f, "a"), 5); // a FUNCTION of an enumeration: Red gives Green = 5
     const std::string prog = std::string(types_text) + "PROGRAM T VAR c : Color; i : INT; END_VAR\n";
     EXPECT_EQ(compile_error(prog + "c := 1;\nEND_PROGRAM"),
               "t.st:9:6: type mismatch: the value assigned to 'c' must be Color, not an integer literal");
