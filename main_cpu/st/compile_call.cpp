@@ -134,6 +134,29 @@ double atan_(double x) { return std::atan(x); }
 
 } // namespace
 
+Type Compiler::common_of(const std::vector<ExprPtr>& args, std::size_t from, const std::string& name,
+                         const ParseNode& n) {
+    // The typed arguments' common type; the literals take it. Literals only: the smallest type
+    // that holds them all (an INT widens where it is used).
+    struct Probe : Expr {
+        Value eval(ExecContext&) const override { return {}; }
+    } probe;
+    bool typed = false;
+    for (std::size_t i = from; i < args.size(); ++i) {
+        if (untyped(*args[i])) continue;
+        probe.type = typed ? common_type(probe, *args[i], name, n) : args[i]->type;
+        typed = true;
+    }
+    if (typed) return probe.type;
+    Type t = Type::of(Kind::Int);
+    for (std::size_t i = from; i < args.size(); ++i) {
+        const auto& c = dynamic_cast<const Const&>(*args[i]);
+        if (c.untyped_real) t = Type::of(Kind::Lreal);
+        else if (t.kind == Kind::Int && !fits(Kind::Int, c.v.i)) t = Type::of(Kind::Dint);
+    }
+    return t;
+}
+
 ExprPtr Compiler::conversion(Kind from, Kind to, std::vector<ExprPtr> args, const ParseNode& n, bool truncate) {
     const std::string name = trim(n.children.at(0)->string());
     if (args.size() != 1) fail(n, name + " takes one argument, not " + std::to_string(args.size()));
@@ -176,17 +199,10 @@ ExprPtr Compiler::builtin(const std::string& name, std::vector<ExprPtr> args, co
         // MIN, MAX (two or more), LIMIT(MN, IN, MX): one common type for all arguments.
         if (name == "LIMIT") count(3, 3);
         else count(2, 64);
-        Type t = args[0]->type;
         for (const ExprPtr& a : args)
             if (!a->type.numeric() && a->type.kind != Kind::Time && !a->type.bits())
                 fail(n, "type mismatch: " + name + " needs numbers, bit strings or TIMEs, not " + a->type.name());
-        for (std::size_t i = 1; i < args.size(); ++i) {
-            struct Probe : Expr {
-                Value eval(ExecContext&) const override { return {}; }
-            } probe;
-            probe.type = t;
-            t = common_type(probe, *args[i], name, n);
-        }
+        const Type t = common_of(args, 0, name, n);
         for (ExprPtr& a : args) a = coerce(std::move(a), t, "an argument of " + name);
         b->type = t;
         b->fn = name == "MIN" ? fn_min : name == "MAX" ? fn_max : fn_limit;
@@ -204,6 +220,8 @@ ExprPtr Compiler::builtin(const std::string& name, std::vector<ExprPtr> args, co
     auto& cc = dynamic_cast<Const&>(*c);
     cc.untyped_int = keeps_literal && all_int;
     cc.untyped_real = keeps_literal && lit_int && lit_real;
+    if (cc.untyped_int) cc.type = Type::of(Kind::Dint); // as every integer literal
+    if (cc.untyped_real) cc.type = Type::of(Kind::Lreal);
     return c;
 }
 
@@ -252,23 +270,7 @@ ExprPtr Compiler::select(const std::string& name, std::vector<ExprPtr> args, con
         for (std::size_t i = 1; i < args.size(); ++i)
             if (!args[i]->type.elementary())
                 fail(n, "type mismatch: the inputs of " + name + " are values, not " + args[i]->type.name());
-        for (std::size_t i = 2; i < args.size(); ++i) {
-            struct Probe : Expr {
-                Value eval(ExecContext&) const override { return {}; }
-            } probe;
-            probe.type = t;
-            if (i == 2 && untyped(*args[1])) t = args[2]->type;
-            else t = common_type(probe, *args[i], name, n);
-        }
-        if (std::all_of(args.begin() + 1, args.end(), [](const ExprPtr& a) { return untyped(*a); })) {
-            // Literals only: the smallest type that holds them all (an INT widens where it is used).
-            t = Type::of(Kind::Int);
-            for (std::size_t i = 1; i < args.size(); ++i) {
-                const auto& c = dynamic_cast<const Const&>(*args[i]);
-                if (c.untyped_real) t = Type::of(Kind::Lreal);
-                else if (t.kind == Kind::Int && !fits(Kind::Int, c.v.i)) t = Type::of(Kind::Dint);
-            }
-        }
+        t = common_of(args, 1, name, n);
         for (std::size_t i = 1; i < args.size(); ++i) args[i] = coerce(std::move(args[i]), t, "an input of " + name);
     }
     s->type = t;

@@ -100,6 +100,8 @@ private:
     ExprPtr unary(const ParseNode& n);
     ExprPtr call(const ParseNode& n);
     ExprPtr builtin(const std::string& name, std::vector<ExprPtr> args, const ParseNode& n);
+    /// The one type all of args[from..] convert to (MIN, MAX, LIMIT, SEL, MUX).
+    Type common_of(const std::vector<ExprPtr>& args, std::size_t from, const std::string& name, const ParseNode& n);
     ExprPtr conversion(Kind from, Kind to, std::vector<ExprPtr> args, const ParseNode& n, bool truncate);
     LValuePtr variable(const ParseNode& n, bool for_write, bool whole = false);
     LValuePtr place(const Found& f, const ParseNode& id);

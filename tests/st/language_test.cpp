@@ -131,9 +131,10 @@ TEST(StLanguage, BitStringConversionsWrap) {
 TEST(StLanguage, SelMuxAndLimitSelect) {
     // Table 32: SEL(G, IN0, IN1) is IN0 for G = FALSE; MUX(K, IN0, ...) is INK; LIMIT(MN, IN, MX).
     // SEL evaluates only the chosen input: the division by zero in IN0 is never done.
-    auto p = run_body("zero : INT; s0, s1, m, l1, l2, l3 : INT; t : TIME; k : INT := 2;",
+    auto p = run_body("zero : INT; s0, s1, m, l1, l2, l3, mn : INT; t : TIME; k : INT := 2; i7 : INT := 7;",
                       "s0 := SEL(FALSE, 1, 2); s1 := SEL(TRUE, 10 / zero, 5); m := MUX(k, 10, 20, 30);\n"
-                      "l1 := LIMIT(0, 150, 100); l2 := LIMIT(0, -5, 100); l3 := LIMIT(0, 50, 100); t := MUX(0, T#1s, T#2s);");
+                      "l1 := LIMIT(0, 150, 100); l2 := LIMIT(0, -5, 100); l3 := LIMIT(0, 50, 100); t := MUX(0, T#1s, T#2s);\n"
+                      "mn := MIN(100, i7); (* the literal takes i7's type: an INT result *)");
     EXPECT_TRUE(p->running()) << p->error();
     EXPECT_EQ(get(*p, "s0"), 1);
     EXPECT_EQ(get(*p, "s1"), 5);
@@ -142,6 +143,7 @@ TEST(StLanguage, SelMuxAndLimitSelect) {
     EXPECT_EQ(get(*p, "l2"), 0);
     EXPECT_EQ(get(*p, "l3"), 50);
     EXPECT_EQ(get(*p, "t"), 1000000);
+    EXPECT_EQ(get(*p, "mn"), 7);
 }
 
 TEST(StLanguage, MuxOutOfRangeIsAnError) {
