@@ -1,6 +1,8 @@
 // rcsim — execution of the compiled Structured Text tree. See ast.h.
 #include "main_cpu/st/ast.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -19,15 +21,69 @@ const char* kind_name(Kind k) {
     case Kind::AxisRef: return "AXIS_REF";
     case Kind::Fb: return "FUNCTION_BLOCK";
     case Kind::Array: return "ARRAY";
+    case Kind::Byte: return "BYTE";
+    case Kind::Word: return "WORD";
+    case Kind::Dword: return "DWORD";
+    case Kind::String: return "STRING";
+    case Kind::Enum: return "an enumeration";
+    case Kind::Struct: return "a STRUCT";
     }
     return "?";
 }
 
 std::string Type::name() const {
     if (kind == Kind::Fb && fb) return fb->name;
+    if (kind == Kind::Enum && en) return en->name;
+    if (kind == Kind::Struct && st) return st->name;
+    if (kind == Kind::String) return "STRING[" + std::to_string(len) + "]";
     if (kind == Kind::Array)
-        return "ARRAY[" + std::to_string(lo) + ".." + std::to_string(hi) + "] OF " + kind_name(elem);
+        return "ARRAY[" + std::to_string(lo) + ".." + std::to_string(hi) + "] OF " + element().name();
     return kind_name(kind);
+}
+
+std::size_t Type::slots() const {
+    switch (kind) {
+    case Kind::Array: return static_cast<std::size_t>(hi - lo + 1) * element().slots();
+    case Kind::String: return string_slots(len);
+    case Kind::Struct: return st ? st->slots : 0;
+    default: return 1;
+    }
+}
+
+std::string EnumType::value_name(std::int64_t v) const {
+    for (const auto& [n, x] : values)
+        if (x == v) return n;
+    return "";
+}
+
+const StructType::Member* StructType::find(const std::string& upper_name) const {
+    for (const Member& m : members) {
+        std::string u = m.name;
+        for (char& ch : u) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+        if (u == upper_name) return &m;
+    }
+    return nullptr;
+}
+
+std::size_t string_slots(std::int64_t n) { return 1 + static_cast<std::size_t>((n + 7) / 8); }
+
+void pack(Value* slots, std::int64_t n, const std::string& text) {
+    const std::size_t len = std::min(text.size(), static_cast<std::size_t>(n));
+    slots[0].i = static_cast<std::int64_t>(len);
+    for (std::size_t k = 0; k < static_cast<std::size_t>((n + 7) / 8); ++k) {
+        std::uint64_t w = 0;
+        for (std::size_t b = 0; b < 8 && 8 * k + b < len; ++b)
+            w |= static_cast<std::uint64_t>(static_cast<unsigned char>(text[8 * k + b])) << (8 * b);
+        slots[1 + k].i = static_cast<std::int64_t>(w);
+    }
+}
+
+std::string unpack(const Value* slots) {
+    const auto len = static_cast<std::size_t>(slots[0].i);
+    std::string s(len, '\0');
+    for (std::size_t k = 0; k < len; ++k)
+        s[k] = static_cast<char>(static_cast<std::uint64_t>(slots[1 + k / 8].i) >> (8 * (k % 8)));
+    return s;
 }
 
 std::int64_t wrap(Kind k, std::int64_t v) {
@@ -36,6 +92,9 @@ std::int64_t wrap(Kind k, std::int64_t v) {
     case Kind::Dint: return static_cast<std::int32_t>(static_cast<std::uint32_t>(v));
     case Kind::Udint: return static_cast<std::uint32_t>(v);
     case Kind::Bool: return v != 0;
+    case Kind::Byte: return static_cast<std::uint8_t>(v);
+    case Kind::Word: return static_cast<std::uint16_t>(v);
+    case Kind::Dword: return static_cast<std::uint32_t>(v);
     default: return v;
     }
 }
@@ -64,23 +123,57 @@ std::unique_ptr<Instance> PouType::instantiate() const {
         }
         for (std::size_t k = 0; k < v.init.size(); ++k) inst->vars[v.slot + k] = v.init[k];
     }
+    inst->refs.assign(ref_slots, nullptr);
     if (native) inst->native = native();
     return inst;
 }
 
 // ---- expressions ---------------------------------------------------------------------------------
 
-Value& IndexRef::ref(ExecContext& c) const {
-    const std::int64_t i = index->eval(c).i;
-    if (i < lo || i > hi)
-        throw RuntimeError(pos.str() + ": index " + std::to_string(i) + " outside " + name + "[" + std::to_string(lo) +
-                           ".." + std::to_string(hi) + "]");
-    return (global ? c.globals : c.self)->vars[base + static_cast<std::size_t>(i - lo)];
+Value* LValue::first(ExecContext& c) const {
+    Value* p = nullptr;
+    switch (base) {
+    case Base::self: p = &c.self->vars[slot]; break;
+    case Base::global: p = &c.globals->vars[slot]; break;
+    case Base::fb_member: p = &inst.get(c)->vars[slot]; break;
+    case Base::in_out: p = c.self->refs[slot]; break;
+    }
+    p += offset;
+    for (const Index& x : indices) {
+        const std::int64_t i = x.index->eval(c).i;
+        if (i < x.lo || i > x.hi)
+            throw RuntimeError(pos.str() + ": index " + std::to_string(i) + " outside " + name + "[" +
+                               std::to_string(x.lo) + ".." + std::to_string(x.hi) + "]");
+        p += static_cast<std::size_t>(i - x.lo) * x.stride;
+    }
+    return p;
+}
+
+void copy_datum(Value* dst, const Type& to, const Value* src, const Type& from) {
+    if (to.kind == Kind::String) pack(dst, to.len, unpack(src));
+    else if (to.elementary()) {
+        Value v = *src;
+        if (to.real() && !from.real()) v.r = static_cast<double>(v.i); // a widening INT -> REAL output
+        *dst = normalise(to.kind, v);
+    }
+    else std::copy_n(src, std::min(to.slots(), from.slots()), dst);
+}
+
+void store(Value* dst, const Type& t, const Expr& e, ExecContext& c) {
+    if (t.kind == Kind::String) {
+        pack(dst, t.len, e.text(c));
+    } else if (t.elementary()) {
+        *dst = normalise(t.kind, e.eval(c));
+    } else {
+        // A STRUCT or ARRAY: the compiler only lets a variable of the same type be the value.
+        const Value* src = static_cast<const LValue&>(e).first(c);
+        if (src != dst) std::copy_n(src, t.slots(), dst);
+    }
 }
 
 Value Unary::eval(ExecContext& c) const {
     Value v = a->eval(c);
-    if (op == Op::not_) v.i = !v.i;
+    if (op == Op::not_) v.i = type.bits() ? ~v.i : !v.i;
     else if (type.real()) v.r = -v.r;
     else v.i = static_cast<std::int64_t>(0 - static_cast<std::uint64_t>(v.i));
     return normalise(type.kind, v);
@@ -133,9 +226,10 @@ Value int_op(Op op, Kind k, std::int64_t x, std::int64_t y, const SourcePos& at)
         if (x == std::numeric_limits<std::int64_t>::min() && y == -1) v.i = op == Op::div ? x : 0;
         else v.i = op == Op::div ? x / y : x % y; // both truncate towards zero (IEC: sign of the dividend)
         break;
-    case Op::and_: v.i = (x && y); break;
-    case Op::or_: v.i = (x || y); break;
-    case Op::xor_: v.i = (!x != !y); break;
+    // On BOOL (0 or 1) and on the bit strings alike: bit by bit (IEC 61131-3 Table 28).
+    case Op::and_: v.i = x & y; break;
+    case Op::or_: v.i = x | y; break;
+    case Op::xor_: v.i = x ^ y; break;
     default: return compare(op, x, y);
     }
     v.i = wrap(k, v.i);
@@ -148,8 +242,8 @@ Value Binary::eval(ExecContext& c) const {
     // AND and OR do not evaluate the right operand when the left decides (as CODESYS does; IEC
     // leaves the order open, and the operands here have no side effects but errors).
     const Value x = a->eval(c);
-    if (op == Op::and_ && !x.i) return boolean(false);
-    if (op == Op::or_ && x.i) return boolean(true);
+    if (operand.kind == Kind::Bool && op == Op::and_ && !x.i) return boolean(false);
+    if (operand.kind == Kind::Bool && op == Op::or_ && x.i) return boolean(true);
     const Value y = b->eval(c);
     if (type.kind == Kind::Time && operand.kind != Kind::Time) {
         // TIME * number, TIME / number: the number is b, converted to LREAL by the compiler.
@@ -197,9 +291,40 @@ Value Builtin::eval(ExecContext& c) const {
     return normalise(type.kind, fn(type, v, pos));
 }
 
+Value StringCompare::eval(ExecContext& c) const {
+    return compare(op, a->text(c), b->text(c));
+}
+
+std::string StringFn::text(ExecContext& c) const {
+    std::vector<std::string> s;
+    std::vector<std::int64_t> n;
+    for (const ExprPtr& e : args) {
+        if (e->type.kind == Kind::String) s.push_back(e->text(c));
+        else n.push_back(e->eval(c).i);
+    }
+    std::string out = fn(s, n, pos);
+    if (out.size() > static_cast<std::size_t>(type.len)) out.resize(static_cast<std::size_t>(type.len));
+    return out;
+}
+
+Value StringInt::eval(ExecContext& c) const {
+    std::vector<std::string> s;
+    for (const ExprPtr& e : args) s.push_back(e->text(c));
+    return Value{fn(s), 0};
+}
+
+const Expr& Select::chosen(ExecContext& c) const {
+    const std::int64_t k = selector->eval(c).i;
+    if (k < 0 || k >= static_cast<std::int64_t>(inputs.size()))
+        throw RuntimeError(pos.str() + ": MUX selector K = " + std::to_string(k) + " outside 0.." +
+                           std::to_string(inputs.size() - 1));
+    return *inputs[static_cast<std::size_t>(k)];
+}
+
 Value FunctionCall::eval(ExecContext& c) const {
     std::unique_ptr<Instance> inst = fn->instantiate();
-    for (const auto& [slot, e] : inputs) inst->vars[slot] = e->eval(c);
+    for (const auto& [v, e] : inputs) store(&inst->vars[v->slot], v->type, *e, c);
+    for (const auto& [ref, var] : in_outs) inst->refs[ref] = var->first(c);
     run_pou(*inst, c);
     return inst->vars[result_slot];
 }
@@ -229,16 +354,22 @@ void run_pou(Instance& inst, ExecContext& c) {
 }
 
 Flow Assign::exec(ExecContext& c) const {
-    const Value v = normalise(target->type.kind, value->eval(c));
-    target->ref(c) = v;
+    if (target->type.elementary()) {
+        // The value first: evaluating it may fail, and the target's index is checked after it.
+        const Value v = normalise(target->type.kind, value->eval(c));
+        target->ref(c) = v;
+    } else {
+        store(target->first(c), target->type, *value, c);
+    }
     return Flow::normal;
 }
 
 Flow FbCall::exec(ExecContext& c) const {
     Instance* i = inst.get(c);
-    for (const auto& [slot, e] : inputs) i->vars[slot] = normalise(e->type.kind, e->eval(c));
+    for (const auto& [v, e] : inputs) store(&i->vars[v->slot], v->type, *e, c);
+    for (const auto& [ref, var] : in_outs) i->refs[ref] = var->first(c);
     run_pou(*i, c);
-    for (const auto& [slot, dest] : outputs) dest->ref(c) = normalise(dest->type.kind, i->vars[slot]);
+    for (const auto& [v, dest] : outputs) copy_datum(dest->first(c), dest->type, &i->vars[v->slot], v->type);
     return Flow::normal;
 }
 

@@ -23,10 +23,11 @@ namespace rcsim::st {
 struct Instance;
 struct ExecContext;
 
-enum class VarKind : std::uint8_t { local, input, output, global };
+enum class VarKind : std::uint8_t { local, input, output, global, in_out };
 
-/// One declared variable of a POU. Elementary and array variables live in Instance::vars from
-/// `slot` on (Type::slots() of them); FB instances are Instance::fbs[slot].
+/// One declared variable of a POU. Data live in Instance::vars from `slot` on (Type::slots() of
+/// them); FB instances are Instance::fbs[slot]; a VAR_IN_OUT is Instance::refs[slot], the first
+/// slot of the caller's variable it was given in this call.
 struct VarInfo {
     std::string name; // as declared
     Type type;
@@ -34,7 +35,8 @@ struct VarInfo {
     std::size_t slot = 0;
     SourcePos pos;
     std::vector<Value> init; // elementary/array: the initial value of each slot
-    bool read_only = false;  // the predefined axes
+    bool read_only = false;  // the predefined axes, VAR CONSTANT
+    bool constant = false;   // VAR CONSTANT: the compiler uses `init` in its place
 };
 
 /// A block written in C++ (TON, TOF, the MC_ blocks): called with its instance, whose input
@@ -57,6 +59,7 @@ struct PouType {
     std::map<std::string, std::size_t> index; // upper-case name -> vars entry
     std::size_t value_slots = 0;
     std::size_t fb_slots = 0;
+    std::size_t ref_slots = 0;      // VAR_IN_OUT
     Block body;
     Type result;                    // FUNCTION: its type, in the variable named like the function
     std::function<std::unique_ptr<NativeBlock>()> native;
@@ -72,6 +75,7 @@ struct Instance {
     const PouType* type = nullptr;
     std::vector<Value> vars;
     std::vector<std::unique_ptr<Instance>> fbs;
+    std::vector<Value*> refs; // VAR_IN_OUT: set by each call, used only during it
     std::unique_ptr<NativeBlock> native;
 };
 
@@ -99,6 +103,8 @@ struct Expr {
     SourcePos pos;
     virtual ~Expr() = default;
     virtual Value eval(ExecContext& c) const = 0;
+    /// A STRING expression's characters (the other types are never asked).
+    virtual std::string text(ExecContext&) const { return {}; }
     /// A literal (or an expression of literals, folded): its value is known to the compiler.
     virtual bool constant() const { return false; }
 };
@@ -106,8 +112,10 @@ using ExprPtr = std::unique_ptr<Expr>;
 
 struct Const : Expr {
     Value v;
+    std::string s; // a STRING literal's characters
     bool untyped_int = false, untyped_real = false; // ANY_INT / ANY_REAL literal: adapts to its use
     Value eval(ExecContext&) const override { return v; }
+    std::string text(ExecContext&) const override { return s; }
     bool constant() const override { return true; }
 };
 
@@ -118,35 +126,37 @@ struct InstancePath {
     Instance* get(ExecContext& c) const { return (global ? c.globals : c.self)->fbs[slot].get(); }
 };
 
-/// A variable that can be read and written.
+/// A variable that can be read and written: the slots of an instance (the running POU's, the
+/// globals', an FB instance's member, or those a VAR_IN_OUT refers to), a fixed offset (STRUCT
+/// members) and the array indices, each checked against its bounds.
 struct LValue : Expr {
-    virtual Value& ref(ExecContext& c) const = 0;
-    Value eval(ExecContext& c) const override { return ref(c); }
+    enum class Base : std::uint8_t { self, global, fb_member, in_out };
+    Base base = Base::self;
+    InstancePath inst;    // Base::fb_member: the instance
+    std::size_t slot = 0; // the variable's first slot (Base::in_out: its refs entry)
+    std::size_t offset = 0;
+    struct Index {
+        ExprPtr index;
+        std::int64_t lo = 0, hi = 0;
+        std::size_t stride = 1;
+    };
+    std::vector<Index> indices;
     bool read_only = false;
     std::string name;
+
+    /// The first slot of the datum.
+    Value* first(ExecContext& c) const;
+    Value& ref(ExecContext& c) const { return *first(c); }
+    Value eval(ExecContext& c) const override { return *first(c); }
+    std::string text(ExecContext& c) const override { return unpack(first(c)); }
 };
 using LValuePtr = std::unique_ptr<LValue>;
 
-struct VarRef : LValue {
-    bool global = false;
-    std::size_t slot = 0;
-    Value& ref(ExecContext& c) const override { return (global ? c.globals : c.self)->vars[slot]; }
-};
-
-struct IndexRef : LValue {
-    bool global = false;
-    std::size_t base = 0;
-    std::int64_t lo = 0, hi = 0;
-    ExprPtr index;
-    Value& ref(ExecContext& c) const override;
-};
-
-/// instance.member (an input or output of an FB instance).
-struct MemberRef : LValue {
-    InstancePath inst;
-    std::size_t slot = 0;
-    Value& ref(ExecContext& c) const override { return inst.get(c)->vars[slot]; }
-};
+/// Stores `e` (of a type assignable to `t`) in the slots from `dst`: one value, a STRING (cut to
+/// t.len characters), or a STRUCT or ARRAY copied slot by slot from the variable `e` names.
+void store(Value* dst, const Type& t, const Expr& e, ExecContext& c);
+/// Copies a datum of type `from` at `src` into one of type `to` (equal, or both STRINGs).
+void copy_datum(Value* dst, const Type& to, const Value* src, const Type& from);
 
 enum class Op : std::uint8_t { add, sub, mul, div, mod, pow, lt, le, gt, ge, eq, ne, and_, or_, xor_, neg, not_ };
 
@@ -172,7 +182,42 @@ struct Convert : Expr {
     Value eval(ExecContext& c) const override;
 };
 
-/// ABS, SQRT, MIN, MAX, LIMIT, SIN, COS, ...: a C++ function of the evaluated arguments.
+/// A comparison of two STRINGs (character codes, as IEC 61131-3 §6.6.2.5.11 orders them).
+struct StringCompare : Expr {
+    Op op = Op::eq;
+    ExprPtr a, b;
+    Value eval(ExecContext& c) const override;
+};
+
+/// A STRING function (CONCAT, LEFT, RIGHT, MID, INSERT, DELETE, ...): a C++ function of the
+/// arguments' texts and integers; the result cut to `type.len`.
+struct StringFn : Expr {
+    std::vector<ExprPtr> args;
+    std::string (*fn)(const std::vector<std::string>& s, const std::vector<std::int64_t>& n, const SourcePos& at) =
+        nullptr;
+    Value eval(ExecContext&) const override { return {}; }
+    std::string text(ExecContext& c) const override;
+};
+
+/// LEN, FIND: an integer of STRING arguments.
+struct StringInt : Expr {
+    std::vector<ExprPtr> args;
+    std::int64_t (*fn)(const std::vector<std::string>& s) = nullptr;
+    Value eval(ExecContext& c) const override;
+};
+
+/// SEL(G, IN0, IN1) and MUX(K, IN0, ..., INn) (IEC 61131-3 Table 32): only the chosen input is
+/// evaluated. K outside 0..n is a runtime error (the standard calls it an error; nothing to pick).
+struct Select : Expr {
+    bool mux = false;
+    ExprPtr selector;
+    std::vector<ExprPtr> inputs;
+    const Expr& chosen(ExecContext& c) const;
+    Value eval(ExecContext& c) const override { return chosen(c).eval(c); }
+    std::string text(ExecContext& c) const override { return chosen(c).text(c); }
+};
+
+/// ABS, SQRT, MIN, MAX, LIMIT, SIN, COS, SHL, ROL, ...: a C++ function of the evaluated arguments.
 struct Builtin : Expr {
     std::string fname;
     std::vector<ExprPtr> args;
@@ -183,14 +228,15 @@ struct Builtin : Expr {
 /// A user FUNCTION: a fresh instance per call, the inputs set, the body run, the result read.
 struct FunctionCall : Expr {
     const PouType* fn = nullptr;
-    std::vector<std::pair<std::size_t, ExprPtr>> inputs; // slot, value
+    std::vector<std::pair<const VarInfo*, ExprPtr>> inputs; // the input, its value
+    std::vector<std::pair<std::size_t, LValuePtr>> in_outs; // refs entry, the variable
     std::size_t result_slot = 0;
     Value eval(ExecContext& c) const override;
 };
 
 // ---- statements ----------------------------------------------------------------------------------
 
-enum class Flow : std::uint8_t { normal, exit, ret };
+enum class Flow : std::uint8_t { normal, exit, cont, ret };
 
 struct Stmt {
     SourcePos pos;
@@ -210,8 +256,9 @@ struct Assign : Stmt {
 /// instance's, then the outputs copied out.
 struct FbCall : Stmt {
     InstancePath inst;
-    std::vector<std::pair<std::size_t, ExprPtr>> inputs;     // slot, value
-    std::vector<std::pair<std::size_t, LValuePtr>> outputs;  // slot, destination
+    std::vector<std::pair<const VarInfo*, ExprPtr>> inputs;     // the input, its value
+    std::vector<std::pair<const VarInfo*, LValuePtr>> outputs;  // the output, its destination
+    std::vector<std::pair<std::size_t, LValuePtr>> in_outs;     // refs entry, the variable
     Flow exec(ExecContext& c) const override;
 };
 
@@ -253,6 +300,10 @@ struct Repeat : Stmt {
 
 struct Exit : Stmt {
     Flow exec(ExecContext& c) const override;
+};
+
+struct Continue : Stmt {
+    Flow exec(ExecContext&) const override { return Flow::cont; }
 };
 
 struct Return : Stmt {

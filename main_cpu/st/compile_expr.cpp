@@ -3,6 +3,8 @@
 #include "main_cpu/st/compiler_impl.h"
 #include "main_cpu/st/grammar.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -10,12 +12,12 @@ namespace rcsim::st::detail {
 
 namespace g = grammar;
 
-namespace {
-
 bool untyped(const Expr& e) {
     const auto* c = dynamic_cast<const Const*>(&e);
     return c && (c->untyped_int || c->untyped_real);
 }
+
+namespace {
 
 std::string describe(const Expr& e) {
     if (const auto* c = dynamic_cast<const Const*>(&e)) {
@@ -117,6 +119,105 @@ ExprPtr Compiler::literal(const ParseNode& n) {
     return c;
 }
 
+ExprPtr Compiler::string_literal(const ParseNode& n) {
+    // 'text' with IEC 61131-3's escapes (Table 6): $$ $' $L $N $P $R $T and $hh.
+    const std::string raw = trim(n.string());
+    std::string out;
+    for (std::size_t k = 1; k + 1 < raw.size(); ++k) {
+        if (raw[k] != '$') {
+            out += raw[k];
+            continue;
+        }
+        const char e = static_cast<char>(std::toupper(static_cast<unsigned char>(raw[++k])));
+        if (std::isxdigit(static_cast<unsigned char>(e)) && std::isxdigit(static_cast<unsigned char>(raw[k + 1])) &&
+            !(e == 'L' || e == 'N' || e == 'P' || e == 'R' || e == 'T')) {
+            out += static_cast<char>(std::stoi(raw.substr(k, 2), nullptr, 16));
+            ++k;
+        } else {
+            out += e == 'L' || e == 'N' ? '\n' : e == 'P' ? '\f' : e == 'R' ? '\r' : e == 'T' ? '\t' : raw[k];
+        }
+    }
+    if (out.size() > 1024) fail(n, "a string literal of more than 1024 characters");
+    auto c = std::make_unique<Const>();
+    c->pos = at(n);
+    c->s = out;
+    c->type = Type::of(Kind::String);
+    c->type.len = std::max<std::int64_t>(1, static_cast<std::int64_t>(out.size()));
+    return c;
+}
+
+ExprPtr Compiler::typed_literal(const ParseNode& n) {
+    // INT#5, WORD#16#FF, REAL#1.5, BOOL#TRUE, BOOL#1, INT#-5, Color#Red (§6.3.2, §6.4.4.2).
+    const ParseNode& prefix = *n.children.at(0);
+    const ParseNode& value = *n.children.back();
+    const bool neg = n.children.size() > 2;
+    const std::string text = trim(n.string());
+    const Type t = resolve_type(prefix);
+    if (value.is_type<g::enum_value>()) {
+        if (t.kind != Kind::Enum) fail(n, "'" + text + "': " + t.name() + " has no named values");
+        for (const auto& [name, v] : t.en->values)
+            if (upper(name) == upper(name_of(value))) {
+                auto c = std::make_unique<Const>();
+                c->pos = at(n);
+                c->type = t;
+                c->v.i = v;
+                return c;
+            }
+        fail(value, "'" + name_of(value) + "' is not a value of " + t.name());
+    }
+    if (t.kind == Kind::Enum || !t.elementary() || t.kind == Kind::AxisRef || t.kind == Kind::Time)
+        fail(n, "'" + text + "': a typed literal of " + t.name() + " is not supported");
+    ExprPtr c = literal(value);
+    auto& k = dynamic_cast<Const&>(*c);
+    k.pos = at(n);
+    if (neg) {
+        if (!k.untyped_int && !k.untyped_real) fail(n, "'" + text + "': only a number takes a sign");
+        k.v.i = -k.v.i;
+        k.v.r = -k.v.r;
+    }
+    if (t.kind == Kind::Bool && k.untyped_int && (k.v.i == 0 || k.v.i == 1)) {
+        k.untyped_int = false;
+        k.type = t;
+        return c;
+    }
+    return coerce(std::move(c), t, "the typed literal '" + text + "'");
+}
+
+ExprPtr Compiler::named_constant(const ParseNode& id) {
+    const std::string key = upper(name_of(id));
+    const Found f = try_lookup(key);
+    if (f.var) {
+        if (!f.var->constant) return nullptr;
+        auto c = std::make_unique<Const>();
+        c->pos = at(id);
+        c->type = f.var->type;
+        if (c->type.kind == Kind::String) c->s = unpack(f.var->init.data());
+        else if (c->type.elementary()) c->v = f.var->init.at(0);
+        else return nullptr; // a CONSTANT STRUCT or ARRAY is read through its slots
+        return c;
+    }
+    std::unique_ptr<Const> found;
+    for (const auto& e : u_.enums)
+        for (const auto& [name, v] : e->values)
+            if (upper(name) == key) {
+                if (found)
+                    fail(id, "'" + name_of(id) + "' is a value of " + found->type.name() + " and of " + e->name +
+                                 "; write " + e->name + "#" + name);
+                found = std::make_unique<Const>();
+                found->pos = at(id);
+                found->type = Type::of(Kind::Enum);
+                found->type.en = e.get();
+                found->v.i = v;
+            }
+    return found;
+}
+
+ExprPtr Compiler::value_expr(const ParseNode& n) {
+    if (n.is_type<g::variable>() && !(n.children.size() == 1 && named_constant(*n.children[0])))
+        return variable(n, false, true);
+    return expr(n);
+}
+
 ExprPtr Compiler::fold(ExprPtr e) {
     ExecContext none;
     auto c = std::make_unique<Const>();
@@ -132,8 +233,10 @@ ExprPtr Compiler::fold(ExprPtr e) {
 
 ExprPtr Compiler::coerce(ExprPtr e, const Type& to, const std::string& what) {
     if (e->type == to && !untyped(*e)) return e;
+    // Any STRING fits any STRING variable: a longer one is cut on the store (§6.4.2).
+    if (e->type.kind == Kind::String && to.kind == Kind::String) return e;
     if (auto* c = dynamic_cast<Const*>(e.get()); c && (c->untyped_int || c->untyped_real)) {
-        if (c->untyped_int && to.integer()) {
+        if (c->untyped_int && (to.integer() || to.bits())) {
             if (!fits(to.kind, c->v.i))
                 throw CompileError(e->pos.str() + ": the literal " + std::to_string(c->v.i) + " does not fit in " +
                                    to.name() + " (" + what + ")");
@@ -176,10 +279,46 @@ ExprPtr Compiler::binary(Op op, const std::string& sym, ExprPtr a, ExprPtr b, co
     const bool both_const = a->constant() && b->constant();
     bool untyped_int = false, untyped_real = false;
     const Kind ka = a->type.kind, kb = b->type.kind;
-    if (op == Op::and_ || op == Op::or_ || op == Op::xor_) {
+    const bool bits = a->type.bits() || b->type.bits();
+    if ((op == Op::and_ || op == Op::or_ || op == Op::xor_) && (bits || (untyped(*a) && untyped(*b)))) {
+        // On the bit strings, bit by bit (Table 28); two integer literals stay a literal.
+        for (const Expr* x : {a.get(), b.get()})
+            if (!x->type.bits() && !(untyped(*x) && dynamic_cast<const Const&>(*x).untyped_int))
+                fail(at_node, "type mismatch: the operands of " + sym + " are " + describe(*a) + " and " + describe(*b) +
+                                  " (both BOOL, or both BYTE, WORD, DWORD)");
+        const Type t = untyped(*a) && untyped(*b) ? Type::of(Kind::Dint) : common_type(*a, *b, sym, at_node);
+        untyped_int = untyped(*a) && untyped(*b);
+        if (!untyped_int) {
+            a = coerce(std::move(a), t, "the left operand of " + sym);
+            b = coerce(std::move(b), t, "the right operand of " + sym);
+        }
+        node->operand = node->type = t;
+    } else if (op == Op::and_ || op == Op::or_ || op == Op::xor_) {
         a = coerce(std::move(a), Type::of(Kind::Bool), "the left operand of " + sym);
         b = coerce(std::move(b), Type::of(Kind::Bool), "the right operand of " + sym);
         node->operand = node->type = Type::of(Kind::Bool);
+    } else if (ka == Kind::String || kb == Kind::String) {
+        if (ka != kb || !comparison(op))
+            fail(at_node, "type mismatch: '" + sym + "' is not defined for " + describe(*a) + " and " + describe(*b) +
+                              (ka == kb ? " (CONCAT joins strings)" : ""));
+        auto sc = std::make_unique<StringCompare>();
+        sc->op = op;
+        sc->pos = node->pos;
+        sc->type = Type::of(Kind::Bool);
+        sc->a = std::move(a);
+        sc->b = std::move(b);
+        return both_const ? fold(std::move(sc)) : std::move(sc);
+    } else if (comparison(op) && (bits || ka == Kind::Enum || kb == Kind::Enum)) {
+        // Bit strings compare as unsigned numbers; values of one enumeration only for equality.
+        if ((ka == Kind::Enum || kb == Kind::Enum) && (a->type != b->type || (op != Op::eq && op != Op::ne)))
+            fail(at_node, "type mismatch: '" + sym + "' is not defined for " + describe(*a) + " and " + describe(*b));
+        const Type t = common_type(*a, *b, sym, at_node);
+        if (!t.bits() && t.kind != Kind::Enum)
+            fail(at_node, "type mismatch: '" + sym + "' is not defined for " + describe(*a) + " and " + describe(*b));
+        a = coerce(std::move(a), t, "the left operand of '" + sym + "'");
+        b = coerce(std::move(b), t, "the right operand of '" + sym + "'");
+        node->operand = t;
+        node->type = Type::of(Kind::Bool);
     } else if (ka == Kind::Time || kb == Kind::Time) {
         // TIME +/- TIME, TIME * or / a number (IEC 61131-3 Table 30), TIME comparisons.
         if (ka == Kind::Time && kb == Kind::Time && (op == Op::add || op == Op::sub || comparison(op))) {
@@ -254,7 +393,8 @@ ExprPtr Compiler::unary(const ParseNode& n) {
     const bool lit_int = lit && dynamic_cast<Const&>(*a).untyped_int;
     if (op.is_type<g::op_not>()) {
         u->op = Op::not_;
-        a = coerce(std::move(a), Type::of(Kind::Bool), "the operand of NOT");
+        if (lit_int) fail(op, "NOT of an integer literal: give it a type, e.g. NOT WORD#16#FF");
+        if (!a->type.bits()) a = coerce(std::move(a), Type::of(Kind::Bool), "the operand of NOT");
     } else {
         u->op = Op::neg;
         if (!a->type.numeric() && a->type.kind != Kind::Time)
@@ -276,71 +416,88 @@ ExprPtr Compiler::unary(const ParseNode& n) {
     return c;
 }
 
-LValuePtr Compiler::variable(const ParseNode& n, bool for_write) {
-    const ParseNode& id = *n.children.at(0);
-    const Found f = lookup(id);
-    const Type& t = f.var->type;
-    if (n.children.size() > 2) fail(*n.children[2], "only one member or index after a name is in this subset");
-    if (n.children.size() == 1) {
-        if (t.kind == Kind::Fb)
-            fail(id, "'" + name_of(id) + "' is a " + t.name() + " instance, not a value (use its outputs, e.g. " +
-                         name_of(id) + ".Q)");
-        if (t.kind == Kind::Array) fail(id, "'" + name_of(id) + "' is an ARRAY; index it: " + name_of(id) + "[i]");
-        auto r = std::make_unique<VarRef>();
-        r->global = f.global;
-        r->slot = f.var->slot;
-        r->type = t;
-        r->read_only = f.var->read_only;
-        r->name = f.var->name;
-        r->pos = at(id);
-        if (for_write && r->read_only) fail(id, "'" + r->name + "' is read-only");
-        return r;
-    }
-    const ParseNode& sub = *n.children[1];
-    if (sub.is_type<g::member>()) {
-        const ParseNode& mid = *sub.children.at(0);
-        if (t.kind != Kind::Fb) fail(mid, "'" + name_of(id) + "' is " + t.name() + "; it has no members");
-        const VarInfo* m = t.fb->find(upper(name_of(mid)));
-        if (!m || (m->kind != VarKind::input && m->kind != VarKind::output))
-            fail(mid, "'" + name_of(mid) + "' is not an input or output of " + t.name());
-        if (!m->type.elementary()) fail(mid, "'" + name_of(mid) + "' is not of an elementary type");
-        auto r = std::make_unique<MemberRef>();
-        r->inst = InstancePath{f.global, f.var->slot};
-        r->slot = m->slot;
-        r->type = m->type;
-        r->name = f.var->name + "." + m->name;
-        r->pos = at(id);
-        r->read_only = m->kind == VarKind::output;
-        if (for_write && r->read_only)
-            fail(id, "'" + r->name + "' is an output of " + t.name() + " and only the block writes it");
-        return r;
-    }
-    if (t.kind != Kind::Array) fail(sub, "'" + name_of(id) + "' is " + t.name() + ", not an ARRAY");
-    ExprPtr idx = expr(*sub.children.at(0));
-    if (untyped(*idx)) idx = coerce(std::move(idx), Type::of(Kind::Dint), "an array index");
-    if (!idx->type.integer()) fail(*sub.children[0], "type mismatch: an array index must be an integer, not " + idx->type.name());
-    if (idx->constant()) {
-        ExecContext none;
-        const std::int64_t i = idx->eval(none).i;
-        if (i < t.lo || i > t.hi)
-            fail(*sub.children[0], "index " + std::to_string(i) + " outside " + name_of(id) + "[" +
-                                       std::to_string(t.lo) + ".." + std::to_string(t.hi) + "]");
-    }
-    auto r = std::make_unique<IndexRef>();
-    r->global = f.global;
-    r->base = f.var->slot;
-    r->lo = t.lo;
-    r->hi = t.hi;
-    r->index = std::move(idx);
-    r->type = Type::of(t.elem);
+LValuePtr Compiler::place(const Found& f, const ParseNode& id) {
+    auto r = std::make_unique<LValue>();
+    r->base = f.var->kind == VarKind::in_out ? LValue::Base::in_out
+              : f.global                     ? LValue::Base::global
+                                             : LValue::Base::self;
+    r->slot = f.var->slot;
+    r->type = f.var->type;
+    r->read_only = f.var->read_only;
     r->name = f.var->name;
     r->pos = at(id);
+    return r;
+}
+
+LValuePtr Compiler::variable(const ParseNode& n, bool for_write, bool whole) {
+    // name, then members (of an FB instance: its inputs and outputs; of a STRUCT: its members) and
+    // indices, each step narrowing the place: a fixed offset, an index checked when it runs.
+    const ParseNode& id = *n.children.at(0);
+    const Found f = lookup(id);
+    LValuePtr r = place(f, id);
+    bool output = false; // an FB's output: only the block writes it
+    for (std::size_t k = 1; k < n.children.size(); ++k) {
+        const ParseNode& sub = *n.children[k];
+        const Type t = r->type;
+        if (sub.is_type<g::member>()) {
+            const ParseNode& mid = *sub.children.at(0);
+            if (t.kind == Kind::Fb) {
+                const VarInfo* m = t.fb->find(upper(name_of(mid)));
+                if (!m || (m->kind != VarKind::input && m->kind != VarKind::output))
+                    fail(mid, "'" + name_of(mid) + "' is not an input or output of " + t.name());
+                if (r->base == LValue::Base::fb_member || r->offset || !r->indices.empty())
+                    fail(mid, "only one function block instance in a name is in this subset");
+                r->inst = InstancePath{r->base == LValue::Base::global, r->slot};
+                r->base = LValue::Base::fb_member;
+                r->slot = m->slot;
+                r->type = m->type;
+                output = m->kind == VarKind::output;
+            } else if (t.kind == Kind::Struct) {
+                const StructType::Member* m = t.st->find(upper(name_of(mid)));
+                if (!m) fail(mid, "'" + name_of(mid) + "' is not a member of " + t.name());
+                r->offset += m->offset;
+                r->type = m->type;
+            } else {
+                fail(mid, "'" + r->name + "' is " + t.name() + "; it has no members");
+            }
+            r->name += "." + name_of(mid);
+            continue;
+        }
+        if (t.kind != Kind::Array) fail(sub, "'" + r->name + "' is " + t.name() + ", not an ARRAY");
+        ExprPtr idx = expr(*sub.children.at(0));
+        if (untyped(*idx)) idx = coerce(std::move(idx), Type::of(Kind::Dint), "an array index");
+        if (!idx->type.integer()) fail(*sub.children[0], "type mismatch: an array index must be an integer, not " + idx->type.name());
+        if (idx->constant()) {
+            ExecContext none;
+            const std::int64_t i = idx->eval(none).i;
+            if (i < t.lo || i > t.hi)
+                fail(*sub.children[0], "index " + std::to_string(i) + " outside " + r->name + "[" +
+                                           std::to_string(t.lo) + ".." + std::to_string(t.hi) + "]");
+        }
+        r->indices.push_back(LValue::Index{std::move(idx), t.lo, t.hi, t.element().slots()});
+        r->type = t.element();
+    }
+    const Type& t = r->type;
+    if (t.kind == Kind::Fb)
+        fail(id, "'" + name_of(id) + "' is a " + t.name() + " instance, not a value (use its outputs, e.g. " +
+                     name_of(id) + ".Q)");
+    if (t.kind == Kind::Array && !whole) fail(id, "'" + r->name + "' is an ARRAY; index it: " + r->name + "[i]");
+    if (t.kind == Kind::Struct && !whole)
+        fail(id, "'" + r->name + "' is a STRUCT " + t.name() + "; use its members, e.g. " + r->name + "." +
+                     t.st->members.front().name);
+    if (for_write && output)
+        fail(id, "'" + r->name + "' is an output of " + f.var->type.name() + " and only the block writes it");
+    if (for_write && f.var->constant) fail(id, "'" + f.var->name + "' is a CONSTANT");
+    if (for_write && r->read_only) fail(id, "'" + r->name + "' is read-only");
+    r->read_only = r->read_only || output;
     return r;
 }
 
 ExprPtr Compiler::expr(const ParseNode& n) {
     if (n.is_type<g::int_lit>() || n.is_type<g::real_lit>() || n.is_type<g::time_lit>() || n.is_type<g::bool_lit>())
         return literal(n);
+    if (n.is_type<g::typed_lit>()) return typed_literal(n);
+    if (n.is_type<g::string_lit>()) return string_literal(n);
     if (n.is_type<g::negation>()) return unary(n);
     if (n.is_type<g::paren>()) return expr(*n.children.at(0));
     if (n.is_type<g::power>() || n.is_type<g::term>() || n.is_type<g::sum>() || n.is_type<g::comparison>() ||
@@ -348,7 +505,11 @@ ExprPtr Compiler::expr(const ParseNode& n) {
         n.is_type<g::disjunction>())
         return binary_chain(n);
     if (n.is_type<g::call>()) return call(n);
-    if (n.is_type<g::variable>()) return variable(n, false);
+    if (n.is_type<g::variable>()) {
+        if (n.children.size() == 1)
+            if (ExprPtr c = named_constant(*n.children[0])) return c;
+        return variable(n, false);
+    }
     fail(n, "expected an expression");
 }
 

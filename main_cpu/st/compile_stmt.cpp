@@ -11,7 +11,10 @@ namespace g = grammar;
 namespace {
 
 /// Whether a value of type `from` may be stored in `to` (same type or a widening).
-bool assignable(const Type& from, const Type& to) { return from == to || (from.elementary() && widens(from.kind, to.kind)); }
+bool assignable(const Type& from, const Type& to) {
+    return from == to || (from.elementary() && widens(from.kind, to.kind)) ||
+           (from.kind == Kind::String && to.kind == Kind::String);
+}
 
 } // namespace
 
@@ -49,6 +52,9 @@ StmtPtr Compiler::statement(const ParseNode& n) {
     } else if (n.is_type<g::exit_stmt>()) {
         if (loops_ == 0) fail(n, "EXIT outside FOR, WHILE or REPEAT");
         s = std::make_unique<Exit>();
+    } else if (n.is_type<g::continue_stmt>()) {
+        if (loops_ == 0) fail(n, "CONTINUE outside FOR, WHILE or REPEAT");
+        s = std::make_unique<Continue>();
     } else if (n.is_type<g::return_stmt>()) {
         s = std::make_unique<Return>();
     } else {
@@ -60,9 +66,22 @@ StmtPtr Compiler::statement(const ParseNode& n) {
 
 StmtPtr Compiler::assignment(const ParseNode& n) {
     auto a = std::make_unique<Assign>();
-    a->target = variable(*n.children.at(0), true);
-    a->value = coerce(expr(*n.children.at(1)), a->target->type, "the value assigned to '" + a->target->name + "'");
+    a->target = variable(*n.children.at(0), true, true);
+    a->value = coerce(value_expr(*n.children.at(1)), a->target->type,
+                      "the value assigned to '" + a->target->name + "'");
     return a;
+}
+
+LValuePtr Compiler::in_out_argument(const VarInfo& v, const ParseNode& value, const std::string& pou) {
+    // IEC 61131-3 §6.5.2.2: a VAR_IN_OUT is given a variable of its own type, which the callee
+    // reads and writes in place (for a STRING, of the same length: the callee writes that many).
+    if (!value.is_type<g::variable>())
+        fail(value, "VAR_IN_OUT '" + v.name + "' of " + pou + " needs a variable, not an expression");
+    LValuePtr var = variable(value, true, true);
+    if (var->type != v.type)
+        fail(value, "type mismatch: VAR_IN_OUT '" + v.name + "' of " + pou + " is " + v.type.name() + ", '" + var->name +
+                        "' is " + var->type.name());
+    return var;
 }
 
 StmtPtr Compiler::fb_call(const ParseNode& n) {
@@ -77,6 +96,9 @@ StmtPtr Compiler::fb_call(const ParseNode& n) {
     auto call = std::make_unique<FbCall>();
     call->inst = InstancePath{f.global, f.var->slot};
     std::vector<std::string> seen;
+    std::vector<const VarInfo*> in_outs;
+    for (const VarInfo& v : fb.vars)
+        if (v.kind == VarKind::in_out) in_outs.push_back(&v);
     for (const auto& a : n.children.at(1)->children) {
         if (!a->is_type<g::arg_input>() && !a->is_type<g::arg_output>())
             fail(*a, "the arguments of a function block call are named: " + name_of(id) + "(IN := value, Q => variable)");
@@ -85,19 +107,24 @@ StmtPtr Compiler::fb_call(const ParseNode& n) {
         if (std::find(seen.begin(), seen.end(), pk) != seen.end()) fail(pn, "'" + name_of(pn) + "' is given twice");
         seen.push_back(pk);
         const VarInfo* v = fb.find(pk);
-        if (a->is_type<g::arg_input>()) {
+        if (a->is_type<g::arg_input>() && v && v->kind == VarKind::in_out) {
+            call->in_outs.emplace_back(v->slot, in_out_argument(*v, *a->children.at(1), fb.name));
+        } else if (a->is_type<g::arg_input>()) {
             if (!v || v->kind != VarKind::input) fail(pn, "'" + name_of(pn) + "' is not an input of " + fb.name);
-            call->inputs.emplace_back(v->slot, coerce(expr(*a->children.at(1)), v->type,
-                                                      "input " + v->name + " of " + fb.name));
+            call->inputs.emplace_back(v, coerce(value_expr(*a->children.at(1)), v->type,
+                                                "input " + v->name + " of " + fb.name));
         } else {
             if (!v || v->kind != VarKind::output) fail(pn, "'" + name_of(pn) + "' is not an output of " + fb.name);
-            LValuePtr dest = variable(*a->children.at(1), true);
+            LValuePtr dest = variable(*a->children.at(1), true, true);
             if (!assignable(v->type, dest->type))
                 fail(*a->children[1], "type mismatch: output " + v->name + " of " + fb.name + " is " + v->type.name() +
                                           ", '" + dest->name + "' is " + dest->type.name());
-            call->outputs.emplace_back(v->slot, std::move(dest));
+            call->outputs.emplace_back(v, std::move(dest));
         }
     }
+    for (const VarInfo* v : in_outs)
+        if (std::find(seen.begin(), seen.end(), upper(v->name)) == seen.end())
+            fail(id, "VAR_IN_OUT '" + v->name + "' of " + fb.name + " is not given (every call names its variable)");
     return call;
 }
 
@@ -120,7 +147,8 @@ StmtPtr Compiler::case_stmt(const ParseNode& n) {
     if (s->selector->constant() && dynamic_cast<Const&>(*s->selector).untyped_int)
         s->selector = coerce(std::move(s->selector), Type::of(Kind::Dint), "the CASE selector");
     const Type sel = s->selector->type;
-    if (!sel.integer()) fail(*n.children[0], "type mismatch: the CASE selector must be an integer, not " + sel.name());
+    if (!sel.integer() && sel.kind != Kind::Enum)
+        fail(*n.children[0], "type mismatch: the CASE selector must be an integer or an enumeration, not " + sel.name());
     for (std::size_t i = 1; i < n.children.size(); ++i) {
         const ParseNode& part = *n.children[i];
         if (part.is_type<g::else_part>()) {
@@ -129,12 +157,10 @@ StmtPtr Compiler::case_stmt(const ParseNode& n) {
         }
         Case::Element e;
         for (const auto& range : part.children.at(0)->children) {
-            const ParseNode& lo_n = *range->children.at(0);
-            const std::int64_t lo = integer_literal(trim(lo_n.string()), lo_n);
-            const std::int64_t hi = range->children.size() > 1
-                                        ? integer_literal(trim(range->children[1]->string()), *range->children[1])
-                                        : lo;
-            const std::string label = std::to_string(lo) + (hi != lo ? ".." + std::to_string(hi) : "");
+            const std::int64_t lo = case_label(*range->children.at(0), sel);
+            const std::int64_t hi = range->children.size() > 1 ? case_label(*range->children[1], sel) : lo;
+            std::string label = std::to_string(lo) + (hi != lo ? ".." + std::to_string(hi) : "");
+            if (sel.kind == Kind::Enum) label = sel.en->value_name(lo) + (hi != lo ? ".." + sel.en->value_name(hi) : "");
             if (!fits(sel.kind, lo) || !fits(sel.kind, hi))
                 fail(*range, "the CASE label " + label + " is outside " + sel.name());
             if (hi < lo) fail(*range, "the CASE range " + label + " is empty");
@@ -151,19 +177,27 @@ StmtPtr Compiler::case_stmt(const ParseNode& n) {
     return s;
 }
 
+std::int64_t Compiler::case_label(const ParseNode& n, const Type& sel) {
+    // An integer, a typed literal (INT#5, Color#Red), an enumeration value or a CONSTANT.
+    if (n.is_type<g::signed_int>()) {
+        if (sel.kind == Kind::Enum) fail(n, "the CASE selector is " + sel.name() + ": its labels are its values");
+        return integer_literal(trim(n.string()), n);
+    }
+    ExprPtr e = n.is_type<g::typed_lit>() ? typed_literal(n) : named_constant(n);
+    if (!e) fail(n, "the CASE label '" + name_of(n) + "' is neither a CONSTANT nor a value of " + sel.name());
+    e = coerce(std::move(e), sel, "a CASE label");
+    ExecContext none;
+    return e->eval(none).i;
+}
+
 StmtPtr Compiler::for_stmt(const ParseNode& n) {
     auto s = std::make_unique<For>();
     const ParseNode& id = *n.children.at(0);
     const Found f = lookup(id);
     if (!f.var->type.integer())
         fail(id, "type mismatch: the FOR variable '" + name_of(id) + "' must be an integer, not " + f.var->type.name());
-    auto v = std::make_unique<VarRef>();
-    v->global = f.global;
-    v->slot = f.var->slot;
-    v->type = f.var->type;
-    v->name = f.var->name;
-    v->pos = at(id);
-    if (f.var->read_only) fail(id, "'" + v->name + "' is read-only");
+    LValuePtr v = place(f, id);
+    if (f.var->read_only) fail(id, "'" + v->name + "' is " + (f.var->constant ? "a CONSTANT" : "read-only"));
     const Type t = v->type;
     s->from = coerce(expr(*n.children.at(1)), t, "the start of FOR " + v->name);
     s->to = coerce(expr(*n.children.at(2)), t, "the end of FOR " + v->name);

@@ -21,6 +21,8 @@ namespace rcsim::st {
 struct Unit {
     std::deque<std::string> texts, files; // the sources (the tree's positions point into these)
     std::vector<std::unique_ptr<PouType>> pous;
+    std::vector<std::unique_ptr<EnumType>> enums;     // TYPE ... END_TYPE
+    std::vector<std::unique_ptr<StructType>> structs;
     PouType globals;
     std::map<std::string, const PouType*> programs; // upper-case name -> PROGRAM
     std::vector<std::string> program_names;          // as declared, in order

@@ -1,6 +1,6 @@
 // rcsim — the blocks a Structured Text program gets without declaring them: the IEC 61131-3
-// standard function blocks (R_TRIG, F_TRIG, CTU written in ST exactly as the standard's §6.6.3
-// figures give them; TON and TOF in C++, they need the cycle's time) and the PLCopen motion
+// standard function blocks (R_TRIG, F_TRIG, SR, RS, CTU, CTD, CTUD written in ST as the standard's
+// §6.6.3 tables give them; TON, TOF and TP in C++, they need the cycle's time) and the PLCopen motion
 // blocks of main_cpu/motion/plcopen.h on AXIS_REF inputs (mc_blocks.cpp).
 #pragma once
 
@@ -20,7 +20,7 @@ struct PouBuilder {
 
 /// The standard blocks written in ST (compiled with every program).
 const std::string& standard_prelude();
-/// TON and TOF.
+/// TON, TOF and TP.
 void add_timer_blocks(Unit& u);
 /// MC_Power, MC_Reset, MC_Home, MC_MoveAbsolute, MC_MoveRelative, MC_MoveVelocity, MC_Stop,
 /// MC_Halt, MC_LineMove2, MC_LineMove (2-4 axes), MC_CircleCenterMove.

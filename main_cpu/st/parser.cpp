@@ -17,6 +17,8 @@ namespace pt = tao::pegtl::parse_tree;
 
 template <typename R, typename = void> struct has_expected : std::false_type {};
 template <typename R> struct has_expected<R, std::void_t<decltype(R::expected)>> : std::true_type {};
+template <typename R, typename = void> struct has_unsupported : std::false_type {};
+template <typename R> struct has_unsupported<R, std::void_t<decltype(R::unsupported)>> : std::true_type {};
 
 /// What the text holds where the parse failed: a word, a character, or the end.
 template <typename Input> std::string found_at(const Input& in) {
@@ -48,10 +50,11 @@ constexpr bool nests = std::is_same_v<Rule, g::paren> || std::is_same_v<Rule, g:
                        std::is_same_v<Rule, g::index> || std::is_same_v<Rule, g::call> ||
                        std::is_same_v<Rule, g::if_stmt> || std::is_same_v<Rule, g::case_stmt> ||
                        std::is_same_v<Rule, g::for_stmt> || std::is_same_v<Rule, g::while_stmt> ||
-                       std::is_same_v<Rule, g::repeat_stmt>;
+                       std::is_same_v<Rule, g::repeat_stmt> || std::is_same_v<Rule, g::struct_init>;
 
-/// Raises every must<> failure as "expected <what the rule names>, found <text>", and refuses
-/// nesting deeper than max_nesting.
+/// Raises every must<> failure as "expected <what the rule names>, found <text>", a construct
+/// outside the subset (grammar::refused) as "<construct> is not supported", and refuses nesting
+/// deeper than max_nesting.
 template <typename Rule> struct control : pg::normal<Rule> {
     template <typename Input, typename... States> static void start(const Input& in, States&&...) {
         if constexpr (nests<Rule>)
@@ -66,6 +69,8 @@ template <typename Rule> struct control : pg::normal<Rule> {
     }
     template <typename Input, typename... States>
     [[noreturn]] static void raise(const Input& in, States&&...) {
+        if constexpr (has_unsupported<Rule>::value)
+            throw pg::parse_error(std::string(Rule::unsupported) + " is not supported (docs/st.md)", in);
         std::string what = "valid syntax";
         if constexpr (has_expected<Rule>::value) what = Rule::expected;
         throw pg::parse_error("expected " + what + ", found " + found_at(in), in);
@@ -77,13 +82,16 @@ using selector = pt::selector<
     Rule,
     pt::store_content::on<g::ident, g::int_lit, g::real_lit, g::time_lit, g::bool_lit, g::signed_int, g::op_pow,
                           g::op_neg, g::op_not, g::op_mul, g::op_add, g::op_cmp, g::op_eq, g::op_and, g::op_xor,
-                          g::op_or, g::var_kind>,
+                          g::op_or, g::var_kind, g::type_prefix, g::typed_neg, g::enum_value, g::string_lit,
+                          g::var_constant, g::typed_lit>,
     pt::remove_content::on<g::paren, g::member, g::index, g::variable, g::arg_input, g::arg_output, g::arguments, g::call,
                            g::negation, g::statements, g::call_stmt, g::assignment, g::else_part, g::elsif_part,
                            g::if_stmt, g::case_range, g::case_labels, g::case_element, g::case_stmt, g::for_by,
                            g::for_stmt, g::while_stmt, g::repeat_stmt, g::exit_stmt, g::return_stmt, g::array_type,
                            g::array_init, g::init, g::names, g::var_decl, g::var_block, g::program,
-                           g::function_block, g::function>,
+                           g::function_block, g::function, g::continue_stmt, g::string_type,
+                           g::enum_item, g::enum_spec, g::struct_spec, g::type_decl, g::type_block, g::member_init,
+                           g::struct_init>,
     pt::fold_one::on<g::power, g::term, g::sum, g::comparison, g::equality, g::conjunction, g::exclusive,
                      g::disjunction>>;
 

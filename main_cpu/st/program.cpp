@@ -91,6 +91,30 @@ nlohmann::json to_json(const Type& t, const Value& v) {
     }
 }
 
+/// A datum of any type: arrays as lists, STRUCTs as objects, STRINGs as text, enumeration values
+/// by name.
+nlohmann::json datum_json(const Type& t, const Value* p) {
+    switch (t.kind) {
+    case Kind::Array: {
+        nlohmann::json a = nlohmann::json::array();
+        const Type e = t.element();
+        for (std::int64_t k = 0; k <= t.hi - t.lo; ++k) a.push_back(datum_json(e, p + k * static_cast<std::int64_t>(e.slots())));
+        return a;
+    }
+    case Kind::Struct: {
+        nlohmann::json o = nlohmann::json::object();
+        for (const StructType::Member& m : t.st->members) o[m.name] = datum_json(m.type, p + m.offset);
+        return o;
+    }
+    case Kind::String: return unpack(p);
+    case Kind::Enum: {
+        const std::string n = t.en->value_name(p->i);
+        return n.empty() ? nlohmann::json(p->i) : nlohmann::json(n);
+    }
+    default: return to_json(t, *p);
+    }
+}
+
 void add_vars(const Instance& inst, const std::string& prefix, bool interface_only, nlohmann::json& out) {
     for (const VarInfo& v : inst.type->vars) {
         if (v.read_only) continue;
@@ -98,12 +122,8 @@ void add_vars(const Instance& inst, const std::string& prefix, bool interface_on
         const std::string name = prefix + v.name;
         if (v.type.kind == Kind::Fb) {
             add_vars(*inst.fbs[v.slot], name + ".", true, out);
-        } else if (v.type.kind == Kind::Array) {
-            nlohmann::json a = nlohmann::json::array();
-            for (std::size_t k = 0; k < v.type.slots(); ++k) a.push_back(to_json(Type::of(v.type.elem), inst.vars[v.slot + k]));
-            out[name] = a;
-        } else {
-            out[name] = to_json(v.type, inst.vars[v.slot]);
+        } else if (v.kind != VarKind::in_out) {
+            out[name] = datum_json(v.type, &inst.vars[v.slot]);
         }
     }
 }
@@ -134,19 +154,27 @@ Value* StProgram::locate(const std::string& path) {
         v = inst->type->find(upper(head));
     }
     if (!v) throw std::out_of_range("no variable '" + head + "'");
+    // Only single-slot data: a forced STRING length or STRUCT slot could break what the compiler
+    // laid out.
     if (!member.empty()) {
+        if (v->type.kind == Kind::Struct) {
+            const StructType::Member* m = v->type.st->find(upper(member));
+            if (!m || !m->type.elementary()) throw std::out_of_range("no elementary member '" + member + "' in " + head);
+            return &inst->vars[v->slot + m->offset];
+        }
         if (v->type.kind != Kind::Fb) throw std::out_of_range("'" + head + "' has no members");
         Instance& fb = *inst->fbs[v->slot];
         const VarInfo* m = fb.type->find(upper(member));
-        if (!m) throw std::out_of_range("no member '" + member + "' in " + head);
+        if (!m || m->kind == VarKind::in_out || !m->type.elementary())
+            throw std::out_of_range("no elementary member '" + member + "' in " + head);
         return &fb.vars[m->slot];
     }
     if (indexed) {
-        if (v->type.kind != Kind::Array || index < v->type.lo || index > v->type.hi)
+        if (v->type.kind != Kind::Array || index < v->type.lo || index > v->type.hi || !v->type.element().elementary())
             throw std::out_of_range("no element " + path);
-        return &inst->vars[v->slot + static_cast<std::size_t>(index - v->type.lo)];
+        return &inst->vars[v->slot + static_cast<std::size_t>(index - v->type.lo) * v->type.element().slots()];
     }
-    if (v->type.kind == Kind::Fb || v->type.kind == Kind::Array) throw std::out_of_range("'" + head + "' is not elementary");
+    if (!v->type.elementary()) throw std::out_of_range("'" + head + "' is not elementary");
     return &inst->vars[v->slot];
 }
 

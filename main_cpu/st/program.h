@@ -56,8 +56,9 @@ public:
     std::uint64_t cycles() const { return cycles_; }
     std::uint64_t max_statements() const { return max_statements_; }
 
-    /// A variable of the program or a global: "x", "a[3]", "t1.Q"; throws std::out_of_range
-    /// for a name that is not there. BOOL/integers/TIME (microseconds)/AXIS_REF in .i, REAL in .r.
+    /// A variable of the program or a global: "x", "a[3]", "t1.Q", "p.x" (a STRUCT's member);
+    /// throws std::out_of_range for a name that is not there or not a single value (a STRING,
+    /// a whole STRUCT: variables() shows those). BOOL/integers/TIME (microseconds)/AXIS_REF in .i, REAL in .r.
     Value value(const std::string& path) const;
     /// Writes one (a test or a monitor forcing an input); no type check beyond the path's.
     void set_value(const std::string& path, Value v);

@@ -1,6 +1,6 @@
 // The IEC 61131-3 standard function blocks of the subset, cycle by cycle against the standard's
-// definitions (3rd ed. §6.6.3.5: R_TRIG/F_TRIG Table 44, CTU Table 45, TON/TOF Table 46 and their
-// timing diagrams). The test drives the inputs between cycles; each expectation is derived in a
+// definitions (3rd ed. §6.6.3.5: SR/RS Table 43, R_TRIG/F_TRIG Table 44, CTU/CTD/CTUD Table 45,
+// TON/TOF/TP Table 46 and their timing diagrams). The test drives the inputs between cycles; each expectation is derived in a
 // comment.
 #include "tests/st/st_test.h"
 
@@ -121,6 +121,144 @@ TEST(StStandardBlocks, TofHoldsQForPtAfterInFalls) {
     set_bool(*p, "in", true);
     p->run_once(31'000);
     EXPECT_EQ(p->value("off.ET").i, 0);
+}
+
+TEST(StStandardBlocks, TpGivesOnePulseOfPtPerRisingEdge) {
+    // Figure 15 a (TP): an edge of IN while no pulse runs starts one; Q stays TRUE for PT whatever
+    // IN does; an edge during the pulse is ignored. After it ET stays at PT while IN is TRUE and
+    // goes to 0 with IN.
+    auto p = started(R"(
+PROGRAM T
+VAR in : BOOL; tp1 : TP; END_VAR
+tp1(IN := in, PT := T#10ms);
+END_PROGRAM)");
+    auto at = [&](bool in, std::int64_t ms) {
+        set_bool(*p, "in", in);
+        p->run_once(ms * 1000);
+    };
+    at(true, 100); // edge: Q = TRUE, ET = 0
+    EXPECT_TRUE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 0);
+    at(false, 104); // IN falls: the pulse goes on
+    EXPECT_TRUE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 4'000);
+    at(true, 108); // an edge during the pulse: ignored
+    EXPECT_TRUE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 8'000);
+    at(true, 110); // PT reached: Q = FALSE, ET = PT while IN
+    EXPECT_FALSE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 10'000);
+    at(true, 130); // IN held: no new pulse, ET stays
+    EXPECT_FALSE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 10'000);
+    at(false, 131); // IN falls: ET = 0
+    EXPECT_EQ(p->value("tp1.ET").i, 0);
+    at(true, 140); // a new edge: a new pulse
+    EXPECT_TRUE(get_bool(*p, "tp1.Q"));
+    at(false, 149);
+    EXPECT_TRUE(get_bool(*p, "tp1.Q"));
+    at(false, 150); // PT after the edge, IN FALSE: Q = FALSE, ET = 0
+    EXPECT_FALSE(get_bool(*p, "tp1.Q"));
+    EXPECT_EQ(p->value("tp1.ET").i, 0);
+}
+
+TEST(StStandardBlocks, CtdLoadsPvAndCountsDownRisingEdges) {
+    // Table 45 CTD: LD loads CV := PV; each rising edge of CD decrements; Q := CV <= 0.
+    auto p = started(R"(
+PROGRAM T
+VAR cd, ld : BOOL; c : CTD; END_VAR
+c(CD := cd, LD := ld, PV := 2);
+END_PROGRAM)");
+    int k = 0;
+    auto step = [&](bool cd, bool ld) {
+        set_bool(*p, "cd", cd);
+        set_bool(*p, "ld", ld);
+        p->run_once(k++ * 1000);
+    };
+    step(false, true); // CV = 2
+    EXPECT_EQ(p->value("c.CV").i, 2);
+    EXPECT_FALSE(get_bool(*p, "c.Q"));
+    step(true, false); // edge: 1
+    step(true, false); // held: still 1
+    EXPECT_EQ(p->value("c.CV").i, 1);
+    step(false, false);
+    step(true, false); // edge: 0, Q = TRUE
+    EXPECT_EQ(p->value("c.CV").i, 0);
+    EXPECT_TRUE(get_bool(*p, "c.Q"));
+    step(false, false);
+    step(true, false); // CV goes on below 0 (down to PVmin): -1
+    EXPECT_EQ(p->value("c.CV").i, -1);
+    EXPECT_TRUE(get_bool(*p, "c.Q"));
+}
+
+TEST(StStandardBlocks, CtudCountsBothWaysWithQuAndQd) {
+    // Table 45 CTUD: R resets (before LD), LD loads PV; an edge of CU counts up, of CD down, both
+    // in one call none; QU := CV >= PV, QD := CV <= 0.
+    auto p = started(R"(
+PROGRAM T
+VAR cu, cd, r, ld : BOOL; c : CTUD; END_VAR
+c(CU := cu, CD := cd, R := r, LD := ld, PV := 2);
+END_PROGRAM)");
+    int k = 0;
+    auto step = [&](bool cu, bool cd, bool r, bool ld) {
+        set_bool(*p, "cu", cu);
+        set_bool(*p, "cd", cd);
+        set_bool(*p, "r", r);
+        set_bool(*p, "ld", ld);
+        p->run_once(k++ * 1000);
+    };
+    step(false, false, false, false); // CV = 0: QD
+    EXPECT_TRUE(get_bool(*p, "c.QD"));
+    EXPECT_FALSE(get_bool(*p, "c.QU"));
+    step(true, false, false, false); // up: 1, neither
+    EXPECT_EQ(p->value("c.CV").i, 1);
+    EXPECT_FALSE(get_bool(*p, "c.QD"));
+    EXPECT_FALSE(get_bool(*p, "c.QU"));
+    step(false, false, false, false);
+    step(true, false, false, false); // up: 2 = PV: QU
+    EXPECT_EQ(p->value("c.CV").i, 2);
+    EXPECT_TRUE(get_bool(*p, "c.QU"));
+    step(false, false, false, false);
+    step(true, true, false, false); // both edges in one call: no change
+    EXPECT_EQ(p->value("c.CV").i, 2);
+    step(false, false, false, false);
+    step(false, true, false, false); // down: 1
+    EXPECT_EQ(p->value("c.CV").i, 1);
+    step(false, false, true, true); // R and LD: R wins, CV = 0
+    EXPECT_EQ(p->value("c.CV").i, 0);
+    step(false, false, false, true); // LD: CV = PV
+    EXPECT_EQ(p->value("c.CV").i, 2);
+    EXPECT_TRUE(get_bool(*p, "c.QU"));
+}
+
+TEST(StStandardBlocks, SrIsSetDominantAndRsResetDominant) {
+    // Table 43: SR Q1 := S1 OR (NOT R AND Q1); RS Q1 := NOT R1 AND (S OR Q1).
+    auto p = started(R"(
+PROGRAM T
+VAR s, r : BOOL; sr1 : SR; rs1 : RS; END_VAR
+sr1(S1 := s, R := r);
+rs1(S := s, R1 := r);
+END_PROGRAM)");
+    int k = 0;
+    auto step = [&](bool s, bool r) {
+        set_bool(*p, "s", s);
+        set_bool(*p, "r", r);
+        p->run_once(k++ * 1000);
+    };
+    step(true, true); // both: SR sets, RS resets
+    EXPECT_TRUE(get_bool(*p, "sr1.Q1"));
+    EXPECT_FALSE(get_bool(*p, "rs1.Q1"));
+    step(true, false); // set: both TRUE
+    EXPECT_TRUE(get_bool(*p, "rs1.Q1"));
+    step(false, false); // neither: both hold
+    EXPECT_TRUE(get_bool(*p, "sr1.Q1"));
+    EXPECT_TRUE(get_bool(*p, "rs1.Q1"));
+    step(false, true); // reset: both FALSE
+    EXPECT_FALSE(get_bool(*p, "sr1.Q1"));
+    EXPECT_FALSE(get_bool(*p, "rs1.Q1"));
+    step(false, false); // neither: both hold FALSE
+    EXPECT_FALSE(get_bool(*p, "sr1.Q1"));
+    EXPECT_FALSE(get_bool(*p, "rs1.Q1"));
 }
 
 } // namespace
