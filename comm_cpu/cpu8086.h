@@ -88,10 +88,11 @@ public:
         debug_bus_observer_ = {hook, context, i8086::kAllBusKinds};
         install_bus_observers();
     }
-    /// Instruction-boundary hook of the core (debugger, profiler); see i8086::StepHook.
-    void set_step_observer(i8086::StepHook hook, void* context) {
+    /// Instruction-boundary hook of the core (debugger, profiler; a counter with `skipped`, which
+    /// keeps the fast-forward on); see i8086::Cpu::set_step_hook.
+    void set_step_observer(i8086::StepHook hook, void* context, i8086::SkipHook skipped = nullptr) {
         step_observer_ = {hook, context};
-        core_.set_step_hook(hook, context);
+        core_.set_step_hook(hook, context, skipped);
     }
     /// The hook set_step_observer installed last and its context, for an observer that chains
     /// in front of it (coverage beside the profiler or the debugger).

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "comm_cpu/i8086_history.h"
+#include "comm_cpu/i8086_types.h"
 #include "models/memory.h"
 
 #include <array>
@@ -24,88 +25,6 @@
 #include <vector>
 
 namespace rcsim::i8086 {
-
-using cycles_t = std::uint64_t;
-
-/// Bus cycle kind = the status lines S2..S0 (same encoding as rcsim::BusCycle).
-enum class Bus : std::uint8_t { int_ack, io_read, io_write, halt, code_fetch, mem_read, mem_write, passive };
-const char* to_string(Bus b);
-
-/// T-states of the bus interface unit.
-enum class TState : std::uint8_t { Ti, T1, T2, T3, Tw, T4 };
-const char* to_string(TState t);
-
-/// Queue status QS1/QS0 as reported for the previous clock.
-enum class QueueOp : std::uint8_t { idle, first, subsequent, flush };
-
-/// Segment status S4/S3 during a bus cycle.
-enum class SegStatus : std::uint8_t { ES, SS, CS, DS, none };
-
-/// Everything that is not direct RAM/ROM. Called once per bus cycle at T1 with the absolute
-/// start cycle; returns the number of Tw states the device inserts. `width` is 1 or 2 (a word
-/// only at an even address). For reads, the handler stores the value in `data`.
-class BusHandler {
-public:
-    virtual ~BusHandler() = default;
-    virtual unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
-                                cycles_t start) = 0;
-    /// A write into a read-only direct region (ROM) at T1 cycle `start`: the core drops it (the
-    /// ROM's outputs stay off during a write cycle); the handler may log it.
-    virtual void write_ignored(std::uint32_t /*address*/, unsigned /*width*/, cycles_t /*start*/) {}
-};
-
-/// One completed bus cycle, for the observation hook.
-struct BusRecord {
-    Bus kind;
-    std::uint32_t address;
-    std::uint16_t data;   // value transferred (word or byte, lane-aligned to bit 0)
-    std::uint8_t width;   // 1 or 2 bytes
-    unsigned wait_states;
-    cycles_t start;       // cycle number of T1
-};
-using BusHook = void (*)(void* context, const BusRecord& record);
-/// A set of bus-cycle kinds, one bit each (bus_kind_bit): the cycles a bus hook is called for.
-using BusKinds = std::uint8_t;
-constexpr BusKinds bus_kind_bit(Bus b) { return static_cast<BusKinds>(1u << static_cast<unsigned>(b)); }
-constexpr BusKinds kAllBusKinds = 0xFF;
-
-class Cpu;
-/// Called at each instruction boundary, before the instruction at cpu.pc() executes (its opcode
-/// byte is already read from the queue; prefixes count as part of it). Returning true stops the
-/// run_until() in progress before that instruction; the next step() executes it without calling
-/// the hook again, so a debugger can resume from a breakpoint without removing it.
-using StepHook = bool (*)(void* context, const Cpu& cpu);
-
-/// One clock of the per-cycle trace (the fields of the SingleStepTests cycle lists).
-struct CycleRecord {
-    bool ale;
-    std::uint32_t address_latch;
-    SegStatus segment;
-    bool mem_read, mem_write, io_read, io_write; // 8288 command outputs active this clock
-    bool bhe;                                    // BHE# asserted (active low on the pin)
-    std::uint16_t data;                          // data bus (valid where a transfer completes)
-    Bus status;                                  // S2..S0 (passive outside T1/T2 of a cycle)
-    TState t;
-    QueueOp qop;                                 // queue operation of the previous clock
-    std::uint8_t qbyte;
-    bool transfer;                               // a read or write completes in this clock
-    bool lock;                                   // LOCK# asserted (active low on the pin)
-};
-
-enum Reg16 { AX, CX, DX, BX, SP, BP, SI, DI };
-enum SReg { ES, CS, SS, DS };
-
-struct Registers {
-    std::uint16_t r[8] = {};
-    std::uint16_t s[4] = {};
-    std::uint16_t ip = 0;
-    std::uint16_t flags = 0xF002;
-};
-
-namespace flag {
-constexpr std::uint16_t CF = 0x0001, PF = 0x0004, AF = 0x0010, ZF = 0x0040, SF = 0x0080, TF = 0x0100,
-                        IF = 0x0200, DF = 0x0400, OF = 0x0800;
-}
 
 class Cpu {
 public:
@@ -126,8 +45,15 @@ public:
     /// narrows it, so those cycles keep the direct path and a fast-forward does not replay
     /// them to it one by one.
     void set_bus_hook_kinds(BusKinds kinds) { hook_kinds_ = hook_ ? kinds : 0; }
-    /// Instruction-boundary observer for debuggers and profilers (nullptr turns it off).
-    void set_step_hook(StepHook hook, void* context) { step_hook_ = hook; step_hook_ctx_ = context; }
+    /// Instruction-boundary observer (nullptr turns it off). Without `skipped` (debuggers,
+    /// profilers: they need each instruction's time, and may stop) the fast-forward is off while
+    /// it is set, so the hook sees every boundary. With `skipped` (counters) the fast-forward
+    /// stays on: the boundaries it goes past are told to `skipped` (same context) instead.
+    void set_step_hook(StepHook hook, void* context, SkipHook skipped = nullptr) {
+        step_hook_ = hook;
+        step_hook_ctx_ = context;
+        skip_hook_ = hook ? skipped : nullptr;
+    }
     /// Per-cycle trace into `out` (nullptr turns it off).
     void set_cycle_trace(std::vector<CycleRecord>* out) {
         trace_ = out;
@@ -184,7 +110,8 @@ public:
     /// back at the boundary where the run would stop clock by clock (the first at the limit,
     /// or the last at or before the horizon). A handler answer that differs from the recorded
     /// one (data, wait states) or that ends the run falls back to executing. Never used while a
-    /// step hook or a cycle trace is attached (every instruction and clock is then executed).
+    /// cycle trace or a step hook without a SkipHook is attached (every instruction and clock
+    /// is then executed); with a SkipHook, the boundaries gone past are told to it.
     void set_fast_forward(bool on);
     /// Clocks advanced by the fast-forward so far (included in cycles()).
     cycles_t forwarded_cycles() const { return ff_cycles_; }
@@ -490,6 +417,9 @@ private:
         std::uint64_t instructions;
         std::size_t cycles_at, writes_at, reads_at;
         std::uint32_t pc;
+        // boundaries_ there; in a Loop, relative: the position in Loop::boundaries of the
+        // point's boundary (or of the next one the step hook sees, if it sees none here).
+        std::uint64_t boundaries;
     };
     struct LoopMark {           // a boundary at the candidate instruction while recording
         Snapshot state;
@@ -512,6 +442,9 @@ private:
         std::vector<LoopWrite> writes, reads;
         std::vector<std::uint8_t> written;      // writes[i]'s value
         std::vector<IfChange> if_changes;       // IF changes, cycle and instructions relative
+        // The points at which step() calls the step hook (not an interrupt entry), in order:
+        // what a forwarding tells the SkipHook it went past.
+        std::vector<Boundary> boundaries;
         std::vector<std::pair<std::uint32_t, std::uint32_t>> by_pc; // (pc, point index), sorted
         // Per point, once asked: the RAM bytes read before written from there, with the value
         // read (ff_holds_at); `needs_known` says which lists are filled.
@@ -548,6 +481,10 @@ private:
     void ff_restore(const LoopPoint& p, cycles_t at);
     void ff_reexecute(unsigned delivered);
     void ff_record_point(const Snapshot& s);
+    /// Tells the SkipHook that Loop::boundaries [from, to) were passed `times` more times.
+    void ff_tell_skipped(std::size_t from, std::size_t to, std::uint64_t times) {
+        if (skip_hook_ && to > from && times) skip_hook_(step_hook_ctx_, ff_loop_.boundaries.data() + from, to - from, times);
+    }
     /// The forwarding committed the loop's clocks [from, to) of a period that began at `base`
     /// (instructions at instructions_base): the IF changes made there, into the history.
     void ff_replay_if(cycles_t from, cycles_t to, cycles_t base, std::uint64_t instructions_base);
@@ -626,6 +563,10 @@ private:
     StepHook step_hook_ = nullptr;
     void* step_hook_ctx_ = nullptr;
     bool step_hook_done_ = false; // the hook already saw (and stopped at) the current boundary
+    SkipHook skip_hook_ = nullptr;
+    // Boundaries at which step() called the step hook (or would have: counted without one), for
+    // the fast-forward's points: which of them the hook sees (not an interrupt entry, a HLT).
+    std::uint64_t boundaries_ = 0;
     std::vector<CycleRecord>* trace_ = nullptr;
 
     cycles_t cycle_ = 0;

@@ -478,10 +478,13 @@ void Cpu::step() {
         opcode_ = q_read(QueueOp::first);
         return;
     }
-    if (step_hook_ && !step_hook_done_ && step_hook_(step_hook_ctx_, *this)) {
-        step_hook_done_ = true;
-        stop_ = true;
-        return;
+    if (!step_hook_done_) {
+        ++boundaries_;
+        if (step_hook_ && step_hook_(step_hook_ctx_, *this)) {
+            step_hook_done_ = true;
+            stop_ = true;
+            return;
+        }
     }
     step_hook_done_ = false;
     instr_ip_ = r_.ip;
@@ -538,8 +541,9 @@ void Cpu::run_until(cycles_t limit, bool burn_halt, cycles_t horizon) {
         Cpu& c;
         ~Reset() { c.limit_ = c.horizon_ = ~cycles_t(0); }
     } reset_limit{*this};
-    // The fast-forward skips instructions: not while something observes each one or each clock.
-    const bool forward = ff_on_ && !step_hook_ && !trace_;
+    // The fast-forward skips instructions: not while something observes each one or each clock
+    // (a step hook with a SkipHook only counts them: it is told which ones were skipped).
+    const bool forward = ff_on_ && (!step_hook_ || skip_hook_) && !trace_;
     while (cycle_ < limit_ && !stop_) {
         if (halted_ && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
             if (!burn_halt) return;

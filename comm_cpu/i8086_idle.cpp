@@ -107,6 +107,17 @@ private:
     std::size_t n_ = 0;
 };
 
+// The registers of a packed state: the first fields of state_fields(), in its order.
+Registers registers_of(const std::uint8_t* state) {
+    Registers r;
+    Unpacker u(state);
+    for (auto& x : r.r) u(x);
+    for (auto& x : r.s) u(x);
+    u(r.ip);
+    u(r.flags);
+    return r;
+}
+
 } // namespace
 
 // Everything the clocks after an instruction boundary depend on, except memory, the cycle
@@ -210,7 +221,8 @@ void Cpu::ff_record_point(const Snapshot& s) {
         ff_recording_ = false;
         return;
     }
-    ff_points_.push_back(LoopPoint{s, cycle_, instructions_, ff_log_.size(), ff_writes_.size(), ff_reads_.size(), pc()});
+    ff_points_.push_back(
+        LoopPoint{s, cycle_, instructions_, ff_log_.size(), ff_writes_.size(), ff_reads_.size(), pc(), boundaries_});
 }
 
 // Recording starts at the current boundary, whose instruction becomes the candidate.
@@ -268,7 +280,16 @@ void Cpu::ff_learn(const LoopMark& m) {
         c.instructions_at -= m.instructions;
     }
     l.points.assign(ff_points_.begin() + static_cast<std::ptrdiff_t>(m.points_at), ff_points_.end());
+    // The boundaries the step hook sees: those after which step() counted one (a point's step
+    // is one instruction, or an interrupt entry or a HLT clock, which the hook does not see).
+    const std::uint64_t boundaries_base = l.points.front().boundaries; // the mark's own point
+    l.boundaries.clear();
+    for (std::size_t i = 0; i < l.points.size(); ++i) {
+        const std::uint64_t next = i + 1 < l.points.size() ? l.points[i + 1].boundaries : boundaries_;
+        if (next != l.points[i].boundaries) l.boundaries.push_back(Boundary{l.points[i].pc, registers_of(l.points[i].state.data())});
+    }
     for (LoopPoint& p : l.points) {
+        p.boundaries -= boundaries_base;
         p.cycle -= m.cycle;
         p.instructions -= m.instructions;
         p.cycles_at -= m.cycles_at;
@@ -369,6 +390,13 @@ bool Cpu::ff_forward(std::size_t k) {
     ff_recording_ = false;
     const cycles_t start = cycle_;
     bool period_written = false; // the RAM holds what the loop's writes leave at its start
+    // The boundaries of committed segments, for the SkipHook: a part of a period at once, whole
+    // periods counted and told in one call as the forwarding ends (however it ends).
+    struct WholePeriods {
+        Cpu& cpu;
+        std::uint64_t n = 0;
+        ~WholePeriods() { cpu.ff_tell_skipped(0, cpu.ff_loop_.boundaries.size(), n); }
+    } whole{*this};
     // The first point past `from` at or after `offset`. (always_inline: inlined alike in the
     // profile-generating copy of the core; comm_cpu/pgo/README.md.)
     const auto after = [&l](std::size_t from, cycles_t offset) __attribute__((always_inline)) {
@@ -383,6 +411,8 @@ bool Cpu::ff_forward(std::size_t k) {
         if (at_limit == l.points.size() && base + l.period <= horizon_) {
             if (!ff_replay(p.cycles_at, l.cycles.size(), base, instructions_ - p.instructions, base + l.period))
                 return true;
+            if (k == 0) ++whole.n;
+            else ff_tell_skipped(p.boundaries, l.boundaries.size(), 1);
             if (!(k == 0 && period_written)) ff_apply_writes(p.writes_at, l.writes.size());
             period_written = period_written || k == 0;
             ff_replay_if(p.cycle, l.period, base, instructions_ - p.instructions);
@@ -399,6 +429,7 @@ bool Cpu::ff_forward(std::size_t k) {
         if (j == k || j == l.points.size()) break;
         const LoopPoint& q = l.points[j];
         if (!ff_replay(p.cycles_at, q.cycles_at, base, instructions_ - p.instructions, base + q.cycle)) return true;
+        ff_tell_skipped(p.boundaries, q.boundaries, 1);
         ff_apply_writes(p.writes_at, q.writes_at);
         ff_replay_if(p.cycle, q.cycle, base, instructions_ - p.instructions);
         ff_restore(q, base + q.cycle);

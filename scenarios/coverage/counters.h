@@ -24,14 +24,10 @@ public:
     /// The region [base, base + code.size()): `code` is its bytes (the opcodes are read from it).
     Counters(std::uint32_t base, std::vector<std::uint8_t> code);
 
-    void step(const i8086::Cpu& cpu) {
-        const std::uint32_t off = cpu.pc() - base_;
-        if (off >= executed_.size()) return; // outside the region (code in RAM)
-        ++executed_[off];
-        if (const std::uint8_t op = jump_[off]) {
-            if (taken(op, cpu.regs())) ++taken_[off];
-            else ++not_taken_[off];
-        }
+    void step(const i8086::Cpu& cpu) { count(cpu.pc(), cpu.regs(), 1); }
+    /// Boundaries the core's fast-forward went past (i8086::SkipHook), each `times` times.
+    void skipped(const i8086::Boundary* b, std::size_t n, std::uint64_t times) {
+        for (std::size_t i = 0; i < n; ++i) count(b[i].pc, b[i].regs, times);
     }
 
     std::uint32_t base() const { return base_; }
@@ -48,6 +44,12 @@ public:
     Tracefile tracefile(const CodeMap& map) const;
 
 private:
+    void count(std::uint32_t pc, const i8086::Registers& r, std::uint64_t times) {
+        const std::uint32_t off = pc - base_;
+        if (off >= executed_.size()) return; // outside the region (code in RAM)
+        executed_[off] += times;
+        if (const std::uint8_t op = jump_[off]) (taken(op, r) ? taken_ : not_taken_)[off] += times;
+    }
     static bool taken(std::uint8_t opcode, const i8086::Registers& r);
     std::uint64_t at(const std::vector<std::uint64_t>& v, std::uint32_t linear) const {
         const std::uint32_t off = linear - base_;

@@ -50,7 +50,13 @@ bool is_built_firmware(const std::string& rom) {
 
 CoverageRun::CoverageRun(World& world, CodeMap map)
     : map_(std::move(map)), counters_(kRomBase, rom_bytes(world)), next_(world.ctl.comm.cpu.step_observer()) {
-    world.ctl.comm.cpu.set_step_observer(&CoverageRun::on_step, this);
+    // Alone, a counter: the fast-forward may skip boundaries and say which. Another observer
+    // needs each one executed, so then none is skipped.
+    world.ctl.comm.cpu.set_step_observer(&CoverageRun::on_step, this, next_.first ? nullptr : &CoverageRun::on_skipped);
+}
+
+void CoverageRun::on_skipped(void* self, const i8086::Boundary* b, std::size_t n, std::uint64_t times) {
+    static_cast<CoverageRun*>(self)->counters_.skipped(b, n, times);
 }
 
 bool CoverageRun::on_step(void* self, const i8086::Cpu& cpu) {

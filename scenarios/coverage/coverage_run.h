@@ -4,9 +4,11 @@
 //
 // The counters sit on the CPU's instruction-boundary hook, in front of any observer already there
 // (the profiler, the gdb stub), which is called after them: coverage adds no bus observer and
-// changes no timing, so every figure of the run is the same with and without it. (The core's
-// idle fast-forward does not run while a step hook is set; it is exact, so that changes no figure
-// either, only the run's speed: docs/performance.md.)
+// changes no timing, so every figure of the run is the same with and without it. Alone on the
+// hook they are a counter: the core's idle fast-forward stays on and tells them the boundaries it
+// went past (i8086::SkipHook), so the counts are those of executing every instruction at a
+// fraction of the cost; in front of the profiler or the gdb stub, which need every boundary, the
+// fast-forward is off as for them alone (docs/performance.md).
 #pragma once
 
 #include "scenarios/coverage/code_map.h"
@@ -38,6 +40,7 @@ public:
 
 private:
     static bool on_step(void* self, const i8086::Cpu& cpu);
+    static void on_skipped(void* self, const i8086::Boundary* b, std::size_t n, std::uint64_t times);
 
     CodeMap map_;
     Counters counters_;

@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <tuple>
 #include <vector>
 
 using namespace rcsim::i8086;
@@ -235,6 +237,55 @@ TEST(CpuFastForward, NotWhileAStepHookIsSet) {
     ASSERT_TRUE(b.cpu.halted());
     EXPECT_EQ(b.cpu.forwarded_cycles(), 0u);
     EXPECT_EQ(steps, b.cpu.instructions()); // once before every instruction (HLT included)
+}
+
+// A counter on the step hook with a SkipHook (coverage): the fast-forward stays on and tells it
+// the boundaries it went past, so the counts per boundary (address, and the registers a branch
+// counter decides from) are those of every boundary executed with the fast-forward off.
+struct BoundaryCounts {
+    std::map<std::tuple<std::uint32_t, std::uint16_t, std::uint16_t>, std::uint64_t> seen; // (pc, flags, CX)
+    void add(std::uint32_t pc, const Registers& r, std::uint64_t n) { seen[{pc, r.flags, r.r[CX]}] += n; }
+    std::uint64_t total() const {
+        std::uint64_t t = 0;
+        for (const auto& e : seen) t += e.second;
+        return t;
+    }
+    static bool step(void* c, const Cpu& cpu) {
+        static_cast<BoundaryCounts*>(c)->add(cpu.pc(), cpu.regs(), 1);
+        return false;
+    }
+    static void skipped(void* c, const Boundary* b, std::size_t n, std::uint64_t times) {
+        for (std::size_t i = 0; i < n; ++i) static_cast<BoundaryCounts*>(c)->add(b[i].pc, b[i].regs, times);
+    }
+};
+
+TEST(CpuFastForward, ACountingStepHookIsToldTheSkippedBoundaries) {
+    // The CALL loop in slices that end inside its period (partial segments), up to an INTR whose
+    // ISR ends the loop (an interrupt entry, which the hook does not see, in the run), and the
+    // port polling loop (whole periods) whose answer changes mid-period (a re-execution).
+    constexpr cycles_t slice = 1009, irq = 100 * slice + 17;
+    BoundaryCounts on, off;
+    Board a, b;
+    a.cpu.set_step_hook(&BoundaryCounts::step, &on, &BoundaryCounts::skipped);
+    b.cpu.set_step_hook(&BoundaryCounts::step, &off);
+    call_loop(a, true, irq, slice);
+    call_loop(b, false, irq, slice);
+    expect_same_run(a, b);
+    EXPECT_GT(a.cpu.forwarded_instructions(), a.cpu.instructions() / 2) << "the fast-forward stayed on";
+    EXPECT_EQ(b.cpu.forwarded_instructions(), 0u);
+    EXPECT_EQ(off.total(), b.cpu.instructions()); // once before every instruction (HLT included)
+    EXPECT_EQ(on.seen, off.seen);
+
+    BoundaryCounts on2, off2;
+    Board c, d;
+    c.cpu.set_step_hook(&BoundaryCounts::step, &on2, &BoundaryCounts::skipped);
+    d.cpu.set_step_hook(&BoundaryCounts::step, &off2);
+    poll_port(c, true, 200'003);
+    poll_port(d, false, 200'003);
+    expect_same_run(c, d);
+    EXPECT_GT(c.cpu.forwarded_instructions(), c.cpu.instructions() / 2);
+    EXPECT_EQ(on2.seen, off2.seen);
+    EXPECT_EQ(on2.total(), d.cpu.instructions());
 }
 
 // ---------------------------------------------------------------------------------------------

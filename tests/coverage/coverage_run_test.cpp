@@ -163,6 +163,31 @@ TEST(CoverageFirmware, ReportsAreByteIdenticalWithAndWithoutCoverage) {
     EXPECT_EQ(slurp(w / "off.trace.json"), slurp(w / "on.trace.json"));
 }
 
+// The core's fast-forward stays on under --coverage and tells the counters the instruction
+// boundaries it skipped (i8086::SkipHook): the tracefile (lines, functions, BRDA taken / not
+// taken) is the one of the run that executes every instruction (board: {fast_forward: false}),
+// with traffic and on an idle board, where most of the run is forwarded.
+TEST(CoverageFirmware, TheTracefileIsByteIdenticalWithTheFastForwardOffAndOn) {
+    const fs::path w = work("fast_forward");
+    for (const char* scenario : {"clean", "idle"}) {
+        const std::string text = slurp(kData + "/" + scenario + ".yaml");
+        ASSERT_EQ(text.find("\nboard:"), std::string::npos) << scenario;
+        for (const char* value : {"false", "true"}) {
+            const fs::path yaml = w / (std::string(scenario) + "_" + value + ".yaml");
+            std::ofstream(yaml) << text << "board: {fast_forward: " << value << "}\n";
+            const fs::path dir = w / (std::string(scenario) + "_" + value);
+            const int rc = rcsim_cmd("run " + q(yaml) + " --reproducible --coverage --out " + q(dir), dir.string() + ".log");
+            ASSERT_LE(rc, 1) << slurp(dir.string() + ".log");
+        }
+        const std::string off = slurp(w / (std::string(scenario) + "_false") / "coverage.info");
+        EXPECT_NE(off.find("BRDA:"), std::string::npos) << scenario;
+        EXPECT_EQ(off, slurp(w / (std::string(scenario) + "_true") / "coverage.info")) << scenario;
+        EXPECT_EQ(slurp(w / (std::string(scenario) + "_false") / "report.json"),
+                  slurp(w / (std::string(scenario) + "_true") / "report.json"))
+            << scenario;
+    }
+}
+
 // lcov --summary and genhtml read the tracefile; lcov's figures are ours.
 TEST(CoverageFirmware, LcovSummaryAndGenhtmlReadTheTracefile) {
     const fs::path w = work("lcov");
