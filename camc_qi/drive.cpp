@@ -91,6 +91,7 @@ void CamcQi::start(unsigned axis) {
     auto d = std::make_shared<Drive>();
     d->mode = mode;
     d->members = members;
+    d->master = axis;
     d->start = sc_core::sc_time_stamp();
     const bool origin = mode == dcfg::origin_pos || mode == dcfg::origin_neg;
     d->params = params(m, origin);

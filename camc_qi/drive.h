@@ -27,6 +27,7 @@ struct CamcQi::Drive {
     sc_core::sc_time start;
     std::uint64_t limit = unlimited; // total steps (unlimited for continuous and origin drives)
     std::uint32_t members = 0;       // axis mask
+    unsigned master = 0;             // the axis STRN was written to: its registers hold the rates
     std::array<std::int64_t, axes> base{};
     int dir = 1;                     // single-axis drives
     LinearPath line;

@@ -163,6 +163,7 @@ protected:
     std::uint16_t begin() override;
     void running() override;
     int phase_ = 0;
+    bool faulted_ = false; // the drive was in Fault at the edge: a fault reset is due
 };
 
 class MC_Stop : public McExecuteFb {

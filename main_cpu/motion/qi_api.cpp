@@ -88,7 +88,13 @@ int QiMotionApi::speeds(int a, double vel, double acc, double dec, std::uint32_t
         bus_.write(a, qi::write | qi::SW2, static_cast<std::uint32_t>(std::lround(100 * pd)));
     }
     bus_.write(a, qi::write | qi::DCFG, mode_bits | prof);
+    set_master(1u << a, a, 1);
     return axl::success;
+}
+
+void QiMotionApi::set_master(std::uint32_t mask, int master, double scale) {
+    for (int i = 0; i < 4; ++i)
+        if (mask & (1u << i)) master_[i] = master, step_scale_[i] = scale;
 }
 
 int QiMotionApi::SetProfileMode(int a, unsigned mode) {
@@ -250,6 +256,7 @@ int QiMotionApi::LineMove(int c, const std::int32_t* pos, double vel, double acc
     if (int r = speeds(master, vel * k, acc * k, dec * k,
                        (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift)))
         return r;
+    set_master(mask, master, k);
     n = 0;
     for (int a = 0; a < 4; ++a)
         if (mask & (1u << a)) bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(pos[n++]));
@@ -294,6 +301,7 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
                        ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
                            (coord_[c] << dcfg::axes_shift)))
         return r;
+    set_master(coord_[c], ids[0], k);
     bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(cx));
     bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(cy));
     bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(ex));
@@ -310,8 +318,9 @@ int QiMotionApi::SlowStop(int a, double dec) {
     homing_[a].step = -1; // a stop ends a homing sequence
     homing_[a].result = home::err_not_detect;
     if (dec > 0) {
-        bus_.write(a, qi::write | qi::RATE2, reg(dec));
-        bus_.write(a, qi::write | qi::DCFG, bus_.read(a, qi::DCFG) | 1u); // use RATE2
+        const int m = master_[a];
+        bus_.write(m, qi::write | qi::RATE2, reg(dec * step_scale_[a]));
+        bus_.write(m, qi::write | qi::DCFG, bus_.read(m, qi::DCFG) | 1u); // use RATE2
     }
     bus_.write(a, qi::SSTOP, 0);
     return axl::success;
@@ -338,8 +347,14 @@ void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
 std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }
 std::int64_t QiMotionApi::ActPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT2)); }
 void QiMotionApi::SetPos(int a, std::int64_t pos) {
+    const std::int64_t shift = pos - CmdPos(a);
+    const std::int64_t act = ActPos(a);
     bus_.write(a, qi::write | qi::CNT1, static_cast<std::uint32_t>(pos));
-    bus_.write(a, qi::write | qi::CNT2, static_cast<std::uint32_t>(pos));
+    bus_.write(a, qi::write | qi::CNT2, static_cast<std::uint32_t>(act + shift));
+}
+
+void QiMotionApi::SetCmdPos(int a, std::int64_t pos) {
+    bus_.write(a, qi::write | qi::CNT1, static_cast<std::uint32_t>(pos));
 }
 
 } // namespace rcsim::motion
