@@ -435,6 +435,7 @@ std::uint16_t MC_Stop::begin() {
     const double dec = Deceleration;
     job_ = make_job({Axis}, AxisState::stopping, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
     job_->is_stop = true;
+    issued_ = true;
     Axis->submit(job_, BufferMode::aborting);
     return 0;
 }
@@ -442,13 +443,17 @@ std::uint16_t MC_Stop::begin() {
 void MC_Stop::running() {}
 
 void MC_Stop::after() {
-    if (!Axis) return;
+    // Only the instance that stopped the axis holds and releases Stopping: another MC_Stop of the
+    // same axis idling with Execute low (a program's own next to the token layer's) must not
+    // release it (the rule is the axis', whichever program calls the blocks).
+    if (!Axis || !issued_) return;
     if (Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
     if (!Execute) {
         if (job_)
             Axis->drop_stop_hold(); // Stopping until Done, then Standstill (or a buffered command)
         else
             Axis->release_stop();
+        issued_ = false;
     }
 }
 

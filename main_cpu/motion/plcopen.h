@@ -178,6 +178,9 @@ protected:
     std::uint16_t begin() override;
     void running() override;
     void after() override;
+
+private:
+    bool issued_ = false; // this instance's stop holds the axis in Stopping
 };
 
 class MC_Halt : public McExecuteFb {

@@ -285,23 +285,20 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
     const ArcDirection ad = dir == dir_cw ? ArcDirection::cw : ArcDirection::ccw;
     std::uint64_t steps = 0;
     try {
-        steps = circle_step_count(s, e, ad); // the paper's eqs. 1-10, on the pulse lattice
+        // The paper's eqs. 1-10 on the pulse lattice, plus the chip's final correction step when
+        // the end lies off the track (camc_qi/README.md "Circular interpolation").
+        const CircleWalk w = circle_walk(s, e, ad);
+        steps = w.steps + (w.end != e ? 1 : 0);
     } catch (const InterpolationError&) {
         return axl::interpolation_value;
     }
-    // Path speed -> step rate: steps per unit of arc length (between 1 and sqrt(2)).
-    const double R = std::sqrt(static_cast<double>(s.x) * s.x + static_cast<double>(s.y) * s.y);
-    const double pi = std::acos(-1.0);
-    double sweep = std::atan2(static_cast<double>(e.y), static_cast<double>(e.x)) -
-                   std::atan2(static_cast<double>(s.y), static_cast<double>(s.x));
-    if (ad == ArcDirection::cw) sweep = -sweep;
-    while (sweep <= 1e-12) sweep += 2 * pi;
-    const double k = static_cast<double>(steps) / (R * sweep);
-    if (int r = speeds(ids[0], vel * k, acc * k, dec * k,
+    // Constant vector speed: Vel, Acc and Dec are along the arc (PLCopen's path velocity), the
+    // chip spaces the steps by the arc length they cover.
+    if (int r = speeds(ids[0], vel, acc, dec,
                        ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
-                           (coord_[c] << dcfg::axes_shift)))
+                           (coord_[c] << dcfg::axes_shift) | dcfg::vector_speed))
         return r;
-    set_master(coord_[c], ids[0], k);
+    set_master(coord_[c], ids[0], 1);
     bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(cx));
     bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(cy));
     bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(ex));

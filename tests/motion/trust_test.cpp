@@ -4,6 +4,7 @@
 #include "tests/motion/motion_bench.h"
 
 #include <cmath>
+#include <vector>
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -171,6 +172,73 @@ TEST(Trust, HomingLeavesActualEqualToCommandAtRest) {
         EXPECT_EQ(b.mc.chip().command_position(0), 0);
         EXPECT_EQ(b.mc.chip().encoder_position(0), 0);
     }, cfg);
+}
+
+// An arc whose programmed end lies off the chip's track (a host rounding an angle) ends exactly
+// on that end point: the chip's final correction step, so chained arcs do not drift.
+TEST(Trust, ArcWithAnEndOffTheTrackEndsExactlyOnIt) {
+    const double pi = std::acos(-1.0), R = 7071.3;
+    rcsim::camc::Point s, e;
+    for (int deg = 1; deg < 360; ++deg) { // the first rounded end the interpolator misses
+        s = {std::llround(R), 0};
+        e = {std::llround(R * std::cos(deg * pi / 180)), std::llround(R * std::sin(deg * pi / 180))};
+        try {
+            if (rcsim::camc::circle_walked_end(s, e, rcsim::camc::ArcDirection::ccw) != e) break;
+        } catch (const rcsim::camc::InterpolationError&) {
+        }
+    }
+    ASSERT_NE(rcsim::camc::circle_walked_end(s, e, rcsim::camc::ArcDirection::ccw), e);
+    run_bench([s, e](Bench& b) {
+        b.power_on();
+        MC_CircleCenterMove& c = b.mc.circle_move();
+        // Twice the same arc, the second from where the first ended: no drift.
+        for (int i = 1; i <= 2; ++i) {
+            const std::int64_t x0 = b.mc.chip().command_position(0), y0 = b.mc.chip().command_position(1);
+            c.CenterX = static_cast<std::int32_t>(-s.x), c.CenterY = static_cast<std::int32_t>(-s.y);
+            c.EndX = static_cast<std::int32_t>(e.x - s.x), c.EndY = static_cast<std::int32_t>(e.y - s.y);
+            c.Direction = dir_ccw, c.Velocity = 50000, c.Acceleration = c.Deceleration = 500000;
+            c.Execute = true;
+            b.until([&] { return c.Done || c.Error; }, 20000);
+            ASSERT_TRUE(c.Done) << c.ErrorID;
+            EXPECT_EQ(b.mc.chip().command_position(0), x0 + (e.x - s.x)) << "arc " << i;
+            EXPECT_EQ(b.mc.chip().command_position(1), y0 + (e.y - s.y)) << "arc " << i;
+            c.Execute = false;
+            b.cycles(1);
+        }
+    });
+}
+
+// PLCopen's Velocity of an interpolated move is the path velocity: with the chip's constant
+// vector speed mode the speed along a circle stays within 1 % of it in cruise, near the axes
+// (one-axis steps) as at 45 degrees (two-axis steps), and the circle still closes exactly.
+TEST(Trust, CirclePathSpeedStaysWithinOnePercentOfVelocityInCruise) {
+    run_bench([](Bench& b) {
+        b.power_on();
+        MC_CircleCenterMove& c = b.mc.circle_move();
+        const double v = 20000, acc = 200000, R = 5000;
+        c.CenterX = -5000, c.CenterY = 0, c.EndX = 0, c.EndY = 0, c.Direction = dir_ccw;
+        c.Velocity = v, c.Acceleration = c.Deceleration = acc;
+        c.Execute = true;
+        std::vector<std::pair<double, double>> xy; // one sample per 1 ms cycle
+        while (!c.Done && xy.size() < 5000) {
+            b.cycles(1);
+            xy.emplace_back(b.mc.chip().command_position(0), b.mc.chip().command_position(1));
+        }
+        ASSERT_TRUE(c.Done);
+        const double ramp_ms = 1000 * v / acc;                   // 100 ms each way
+        const double cruise_ms = 1000 * (2 * 3.14159265 * R / v) - ramp_ms; // the full length at v minus a ramp
+        const int w = 25; // windows of 25 ms: 500 pulses of path, the chord 0.03 % short of the arc
+        double lo = 1e9, hi = 0;
+        for (int i = static_cast<int>(ramp_ms) + 5; i + w < static_cast<int>(cruise_ms) - 5; i += w) {
+            const double chord = std::hypot(xy[i + w].first - xy[i].first, xy[i + w].second - xy[i].second);
+            const double speed = chord / (w / 1000.0);
+            lo = std::min(lo, speed), hi = std::max(hi, speed);
+        }
+        EXPECT_GE(lo, 0.99 * v);
+        EXPECT_LE(hi, 1.01 * v);
+        EXPECT_EQ(b.mc.chip().command_position(0), 0);
+        EXPECT_EQ(b.mc.chip().command_position(1), 0);
+    });
 }
 
 } // namespace
