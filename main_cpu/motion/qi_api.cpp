@@ -342,6 +342,7 @@ std::uint32_t QiMotionApi::DriveStatus(int a) { return bus_.read(a, qi::STAT2); 
 std::uint32_t QiMotionApi::EndStatus(int a) { return bus_.read(a, qi::STAT1); }
 void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
 std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }
+double QiMotionApi::CurrentSpeed(int a) { return static_cast<double>(bus_.read(a, qi::CURSPD)); }
 std::int64_t QiMotionApi::ActPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT2)); }
 void QiMotionApi::SetPos(int a, std::int64_t pos) {
     const std::int64_t shift = pos - CmdPos(a);

@@ -115,6 +115,8 @@ public:
     void ClearEndStatus(int AxisNo);
     std::int64_t CmdPos(int AxisNo);
     std::int64_t ActPos(int AxisNo);
+    /// CURSPD: the speed of the drive the axis is in, pulses/s (0 at rest).
+    double CurrentSpeed(int AxisNo);
     /// Shifts CNT1 to pos and CNT2 by the same amount (PLCopen MC_SetPosition: both by the same
     /// value, no motion): a following error in progress is kept, so when the motor has caught
     /// up, actual = command again.

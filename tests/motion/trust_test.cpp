@@ -241,4 +241,97 @@ TEST(Trust, CirclePathSpeedStaysWithinOnePercentOfVelocityInCruise) {
     });
 }
 
+// PLCopen Part 1 reads (Enable-type, §2.4.2) and MC_SetPosition (§3.8): values from the axis,
+// Error with an ErrorID where the axis cannot answer, everything reset when Enable falls.
+TEST(Trust, ReadBlocksAndSetPositionFollowPartOne) {
+    MotionConfig cfg;
+    cfg.switches[1].pelm = 2000;
+    run_bench([](Bench& b) {
+        b.power_on();
+        MC_ReadStatus st;
+        MC_ReadActualPosition pos;
+        MC_ReadAxisError ae;
+        MC_ReadParameter par;
+        st.Axis = pos.Axis = ae.Axis = par.Axis = &b.mc.axis(0);
+        st.Enable = pos.Enable = ae.Enable = par.Enable = true;
+        st.call();
+        EXPECT_TRUE(st.Valid && st.Busy && st.Standstill && !st.DiscreteMotion && !st.Error);
+        MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
+        m.Position = 3000, m.Velocity = 20000, m.Acceleration = m.Deceleration = 200000;
+        m.Execute = true;
+        b.cycles(20);
+        st.call();
+        EXPECT_TRUE(st.DiscreteMotion && !st.Standstill);
+        par.ParameterNumber = 11; // CommandedVelocity: the cruise at 20000 (reached after 0.1 s)
+        b.cycles(100);
+        par.call();
+        EXPECT_TRUE(par.Valid);
+        EXPECT_DOUBLE_EQ(par.Value, 20000);
+        b.until([&] { return m.Done; }, 2000);
+        b.cycles(30);
+        pos.call();
+        EXPECT_DOUBLE_EQ(pos.Position, 3000);
+        par.ParameterNumber = 1; // CommandedPosition
+        par.call();
+        EXPECT_DOUBLE_EQ(par.Value, 3000);
+        par.ParameterNumber = 8; // MaxVelocitySystem: the chip's 10 Mpps
+        par.call();
+        EXPECT_DOUBLE_EQ(par.Value, 10e6);
+        par.ParameterNumber = 2; // SWLimitPos: this axis has none
+        par.call();
+        EXPECT_TRUE(par.Error && !par.Valid);
+        EXPECT_EQ(par.ErrorID, err::parameter_unsupported);
+        par.Enable = false;
+        par.call();
+        EXPECT_FALSE(par.Error || par.Valid || par.Busy);
+        EXPECT_EQ(par.ErrorID, 0);
+        // No axis: Error 4101.
+        MC_ReadStatus none;
+        none.Enable = true;
+        none.call();
+        EXPECT_TRUE(none.Error);
+        EXPECT_EQ(none.ErrorID, err::invalid_axis);
+
+        // MC_SetPosition: both counters shift, nothing moves.
+        const std::int64_t pulses = b.mc.chip().pulse_count(0);
+        MC_SetPosition& sp = b.mc.blocks(0).set_pos;
+        sp.Position = -500;
+        sp.Execute = true;
+        b.cycles(1);
+        EXPECT_TRUE(sp.Done);
+        EXPECT_EQ(b.mc.chip().command_position(0), -500);
+        EXPECT_EQ(b.mc.chip().encoder_position(0), -500);
+        EXPECT_EQ(b.mc.chip().pulse_count(0), pulses);
+        sp.Execute = false;
+        b.cycles(1);
+        sp.Position = 100, sp.Relative = true;
+        sp.Execute = true;
+        b.cycles(1);
+        EXPECT_EQ(b.mc.chip().command_position(0), -400);
+        sp.Execute = false;
+        b.cycles(1);
+        // Refused while the axis moves (0x7004).
+        m.Execute = false;
+        b.cycles(1);
+        m.Position = 20000;
+        m.Execute = true;
+        b.cycles(5);
+        sp.Relative = false;
+        sp.Execute = true;
+        b.cycles(1);
+        EXPECT_TRUE(sp.Error);
+        EXPECT_EQ(sp.ErrorID, err::wrong_state);
+
+        // The axis error of an ErrorStop by PELM (axis 1).
+        MC_MoveAbsolute& m1 = b.mc.blocks(1).move_abs;
+        m1.Position = 5000, m1.Velocity = 20000, m1.Acceleration = m1.Deceleration = 200000;
+        m1.Execute = true;
+        b.until([&] { return m1.Error; }, 2000);
+        ae.Axis = &b.mc.axis(1);
+        ae.call();
+        EXPECT_TRUE(ae.Valid);
+        EXPECT_EQ(ae.AxisErrorID, err::limit_positive);
+    }, cfg);
+}
+
 } // namespace

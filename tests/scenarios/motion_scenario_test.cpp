@@ -311,3 +311,33 @@ TEST(MotionScenario, LastingFaultKeepsMcResetFailing) {
 }
 
 } // namespace
+
+namespace {
+
+// MC_MoveVelocity from a scenario `fb:` (done at InVelocity, then stopped by MC_Halt),
+// MC_SetPosition, and the reads: a parameter the axis does not have is an expected error 0x7006.
+TEST(MotionScenario, MoveVelocitySetPositionAndReadsFromFb) {
+    const std::string yaml =
+        "motion:\n  duration_s: 0.6\n  commands:\n    - {at_ms: 0, token: SV, data: '1'}\n"
+        "    - {at_ms: 10, fb: MC_MoveVelocity, axis: 0, velocity: 10000, acceleration: 100000,"
+        " deceleration: 100000}\n"
+        "    - {at_ms: 200, fb: MC_Halt, axis: 0, deceleration: 100000}\n"
+        "    - {at_ms: 400, fb: MC_SetPosition, axis: 0, position: 0}\n"
+        "    - {at_ms: 410, fb: MC_ReadStatus, axis: 0}\n"
+        "    - {at_ms: 410, fb: MC_ReadParameter, axis: 0, parameter: 2, expect: error, error_id: 0x7006}\n"
+        "  checks:\n    final_state: STANDSTILL\n    final_positions: [0]\n";
+    nlohmann::json report;
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_fb_reads";
+    ASSERT_EQ(run_motion_scenario(YAML::Load(yaml), "v.yaml", out, 0, report), 0) << report.dump(2);
+    const nlohmann::json& c = report["motion"]["commands"];
+    // MC_MoveVelocity: "done" at InVelocity, after its ramp from STD 100 (the scenario default)
+    // to 10000 at 100000 pulses/s^2: 99 ms after 10 ms, seen at a control cycle of 1 ms.
+    EXPECT_EQ(c[1]["fb"], "MC_MoveVelocity");
+    EXPECT_EQ(c[1]["outcome"], "done");
+    EXPECT_GE(c[1]["outcome_ms"].get<double>(), 108.0);
+    EXPECT_LE(c[1]["outcome_ms"].get<double>(), 110.0);
+    EXPECT_EQ(c[3]["outcome"], "done");
+}
+
+} // namespace
+

@@ -236,3 +236,37 @@ END_PROGRAM)";
 }
 
 } // namespace
+
+namespace {
+
+// The read blocks and MC_SetPosition from ST (docs/st.md "Motion blocks"): the position read
+// back after MC_SetPosition, the status BOOLs, and a parameter the axis does not have.
+TEST(StMotion, ReadBlocksAndSetPosition) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; sp : MC_SetPosition; rp : MC_ReadActualPosition; rs : MC_ReadStatus;
+    par : MC_ReadParameter; bad : MC_ReadParameter; go : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+sp(Axis := Axis0, Execute := go AND power.Status, Position := 1234);
+rp(Axis := Axis0, Enable := TRUE);
+rs(Axis := Axis0, Enable := TRUE);
+par(Axis := Axis0, Enable := TRUE, ParameterNumber := 8);
+bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
+END_PROGRAM)";
+    run(text, [](StBench& b) {
+        b.cycles(10);
+        EXPECT_EQ(b.var("rs.Standstill"), 1);
+        EXPECT_EQ(b.var("rs.Valid"), 1);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(3);
+        EXPECT_EQ(b.var("sp.Done"), 1);
+        EXPECT_EQ(b.program->value("rp.Position").r, 1234.0);
+        EXPECT_EQ(b.program->value("par.Value").r, 10e6);
+        EXPECT_EQ(b.var("bad.Error"), 1);
+        EXPECT_EQ(b.var("bad.ErrorID"), 0x7006);
+        EXPECT_EQ(b.mc.chip().command_position(0), 1234);
+    });
+}
+
+} // namespace
+
