@@ -223,8 +223,11 @@ void MotionController::run_blocks() {
         fb_time_ += cfg_.cost.fb_call;
         spend(cfg_.cost.fb_call);
         Blocks& b = blocks_[a];
-        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.move_vel, &b.halt, &b.set_pos})
+        for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.move_vel, &b.halt})
             run(*fb);
+        // MC_SetPosition acts at Execute's edge and is Done at once: called only while a command
+        // of it is pending, so that the layer's cycle costs what it did without it.
+        if (b.set_pos.Execute || b.set_pos.Done || b.set_pos.Error) run(b.set_pos);
         call_block(b.stop);
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
     }
