@@ -110,8 +110,10 @@ void CamcQi::execute(unsigned axis, std::uint8_t code) {
     case qi::STRN: start(axis); break;
     case qi::SSTOP:
         if (a.drive) {
-            // The ramp down uses RATE2 as it is now (the host may lower it for this stop).
-            const ProfileParams now = params(a, false);
+            // The ramp down uses RATE2 as it is now (the host may lower it for this stop), of the
+            // axis that holds the drive's rates: an interpolation's master, whichever member
+            // axis the stop is written to (the others' RATE registers are not the path's).
+            const ProfileParams now = params(ax_[a.drive->master], false);
             a.drive->params.decel = now.decel;
             a.drive->params.decel_jerk = now.decel_jerk;
             stop_drive(a.drive, true, endst::slowdown_cmd);

@@ -102,6 +102,10 @@ constexpr std::uint32_t signal_mask = 0x3u << signal_shift;
 enum Signal : std::uint32_t { sig_org = 0, sig_z = 1, sig_pelm = 2, sig_nelm = 3 };
 constexpr std::uint32_t search_inactive = 1u << 14;  // 0: until the signal becomes active, 1: inactive
 constexpr std::uint32_t search_immediate = 1u << 15; // 0: slow-down stop at the edge, 1: immediate stop
+// Constant vector speed (circles; README "Constant vector speed"): STD/OBJ/RATE1/RATE2 are speeds
+// and rates along the arc, and the steps follow the arc length, so the path speed is OBJ whatever
+// the mix of one- and two-axis steps. Lines ignore it (their step length is constant anyway).
+constexpr std::uint32_t vector_speed = 1u << 16;
 } // namespace dcfg
 
 /// UCFG1 fields (our layout).

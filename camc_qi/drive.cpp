@@ -91,6 +91,7 @@ void CamcQi::start(unsigned axis) {
     auto d = std::make_shared<Drive>();
     d->mode = mode;
     d->members = members;
+    d->master = axis;
     d->start = sc_core::sc_time_stamp();
     const bool origin = mode == dcfg::origin_pos || mode == dcfg::origin_neg;
     d->params = params(m, origin);
@@ -133,8 +134,16 @@ void CamcQi::start(unsigned axis) {
             const Axis &X = ax_[d->cx], &Y = ax_[d->cy];
             const Point s{-std::int64_t{X.cent}, -std::int64_t{Y.cent}};
             const Point e{std::int64_t{X.pos} - X.cent, std::int64_t{Y.pos} - Y.cent};
-            d->circle = CirclePath(s, e, mode == dcfg::circle_cw ? ArcDirection::cw : ArcDirection::ccw);
-            d->limit = distance = d->circle.steps();
+            const ArcDirection ad = mode == dcfg::circle_cw ? ArcDirection::cw : ArcDirection::ccw;
+            d->circle = CirclePath(s, e, ad);
+            d->end_fix = circle_walked_end(s, e, ad) != e;
+            d->limit = distance = d->circle.steps() + (d->end_fix ? 1 : 0);
+            if (m.dcfg & dcfg::vector_speed) {
+                d->vector = true;
+                d->radius = std::sqrt(static_cast<double>(d->circle.radius_squared()));
+                d->sweep = arc_sweep(s, e, ad);
+                d->steps_real = arc_steps_real(s, d->sweep, ad);
+            }
         }
         }
     } catch (const InterpolationError& e) {
@@ -171,9 +180,9 @@ void CamcQi::start(unsigned axis) {
     } else if (is_interpolation(mode) && m.isnum != 0 && m.isnum != distance) {
         // Deceleration is planned over the host's QiISNUM, not over the real step count: too
         // small a number crawls on at STD, too large a number ends the drive still fast.
-        d->profile = SpeedProfile::preset(p, static_cast<double>(m.isnum), true);
+        d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(m.isnum)), true);
     } else {
-        d->profile = SpeedProfile::preset(p, static_cast<double>(distance));
+        d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(distance)));
     }
     d->plan_end();
 
@@ -318,7 +327,7 @@ std::optional<std::uint64_t> CamcQi::step_reaching(const Drive& d, unsigned axis
         CirclePath walk = d.circle;
         walk.at(0);
         for (std::uint64_t k = 1; k <= d.limit; ++k) {
-            const Point p = walk.at(k);
+            const Point p = d.circle_point(walk, k);
             if (k > from && (axis == d.cx ? p.x - s0.x : p.y - s0.y) == o) return k;
         }
         return std::nullopt;
@@ -364,7 +373,7 @@ void CamcQi::plan_edges(Drive& d) const {
     }
     if (best == unlimited) return;
     d.edge_k = best;
-    d.edge_t = std::max(now, d.profile.time_of(static_cast<double>(best) - step_eps));
+    d.edge_t = std::max(now, d.profile.time_of(d.pos_of_steps(static_cast<double>(best) - step_eps)));
     if (!(d.edge_t < d.end_t)) d.edge_t = SpeedProfile::never; // the drive ends first (or there)
 }
 
@@ -389,7 +398,7 @@ void CamcQi::record_trace(const Drive& d) {
     Drive replay = d; // own copy of the circle walker, restarted from step 0
     std::array<std::int64_t, axes> prev{};
     for (std::uint64_t k = 1; k <= n; ++k) {
-        const double t = replay.profile.time_of(static_cast<double>(k) - step_eps);
+        const double t = replay.profile.time_of(replay.pos_of_steps(static_cast<double>(k) - step_eps));
         const sc_core::sc_time at = d.start + ps(static_cast<std::uint64_t>(std::llround(t * 1e12)));
         for (unsigned i = 0; i < axes; ++i) {
             if (!(d.members & (1u << i)) || !ax_[i].trace) continue;

@@ -27,12 +27,41 @@ struct CamcQi::Drive {
     sc_core::sc_time start;
     std::uint64_t limit = unlimited; // total steps (unlimited for continuous and origin drives)
     std::uint32_t members = 0;       // axis mask
+    unsigned master = 0;             // the axis STRN was written to: its registers hold the rates
     std::array<std::int64_t, axes> base{};
     int dir = 1;                     // single-axis drives
     LinearPath line;
     std::array<int, axes> line_index{}; // axis -> index in `line`
     mutable CirclePath circle;
     unsigned cx = 0, cy = 1;         // circle axes
+    // The arc's end lies off the track (within a pulse): one final correction step onto the
+    // programmed end point, so chained arcs do not drift.
+    bool end_fix = false;
+    // Constant vector speed: the profile runs in pulses of arc length (radius x angle), the step
+    // count follows arc_steps_real() of the angle, scaled so that the arc's end is step `limit`.
+    bool vector = false;
+    double radius = 0, sweep = 0, steps_real = 0;
+
+    /// Steps driven when the profile is at position s (identity unless vector).
+    double steps_of_pos(double s) const {
+        if (!vector) return s;
+        const double length = radius * sweep;
+        if (s >= length) return static_cast<double>(limit) * s / length;
+        return static_cast<double>(limit) * arc_steps_real(circle.start(), s / radius, circle.direction()) / steps_real;
+    }
+    /// The profile position at which k steps are driven: the least s with steps_of_pos(s) >= k
+    /// (to the bisection's resolution, from above, so that step k is due at that time).
+    double pos_of_steps(double k) const {
+        if (!vector) return k;
+        const double length = radius * sweep;
+        if (k >= static_cast<double>(limit)) return length * k / static_cast<double>(limit);
+        double lo = 0, hi = length;
+        for (int i = 0; i < 100 && hi - lo > 1e-9 * (1 + length); ++i) {
+            const double mid = (lo + hi) / 2;
+            (steps_of_pos(mid) < k ? lo : hi) = mid;
+        }
+        return hi;
+    }
     std::uint32_t cause = 0;         // end-status bits of the stop cause (0 = normal end)
     double end_t = SpeedProfile::never; // seconds from start
     bool at_limit = false;           // the drive ends by reaching `limit`
@@ -53,14 +82,14 @@ struct CamcQi::Drive {
         end_t = profile.end_time();
         at_limit = false;
         if (limit == unlimited) return;
-        const double t_lim = profile.time_of(static_cast<double>(limit) - step_eps);
+        const double t_lim = profile.time_of(pos_of_steps(static_cast<double>(limit) - step_eps));
         if (t_lim <= end_t) {
             end_t = t_lim;
             at_limit = true;
         } else if (end_t != SpeedProfile::never) {
             // A preset profile planned over exactly `limit` steps ends a rounding error short.
             const double lim = static_cast<double>(limit);
-            at_limit = profile.position(end_t) >= lim - std::max(1e-6, 1e-9 * lim);
+            at_limit = steps_of_pos(profile.position(end_t)) >= lim - std::max(1e-6, 1e-9 * lim);
         }
     }
 
@@ -76,7 +105,7 @@ struct CamcQi::Drive {
         if (t >= end_t && stop_k != unlimited) return stop_k; // stopped at a sensor edge
         if (t >= end_t && at_limit) return limit; // a normal end: every step was driven
         t = std::min(t, end_t);
-        const double s = std::floor(profile.position(t) + step_eps);
+        const double s = std::floor(steps_of_pos(profile.position(t)) + step_eps);
         if (s <= 0) return 0;
         return std::min<std::uint64_t>(static_cast<std::uint64_t>(s), limit);
     }
@@ -86,11 +115,16 @@ struct CamcQi::Drive {
         case dcfg::linear: return line.position(static_cast<unsigned>(line_index[axis]), k);
         case dcfg::circle_cw:
         case dcfg::circle_ccw: {
-            const Point p = circle.at(k), s = circle.start();
+            const Point p = circle_point(circle, k), s = circle.start();
             return axis == cx ? p.x - s.x : p.y - s.y;
         }
         default: return dir * static_cast<std::int64_t>(k);
         }
+    }
+
+    /// The arc's point after k steps, `walk` being this drive's path or a copy of it.
+    Point circle_point(CirclePath& walk, std::uint64_t k) const {
+        return end_fix && k >= limit ? walk.programmed_end() : walk.at(k);
     }
 
     /// Sign of the axis' motion at step k (for the limit inputs).

@@ -97,9 +97,9 @@ Point chip_step(Point p, int oct, ArcDirection dir, std::int64_t r2) {
     return iabs(radius_error(p2, r2)) < iabs(radius_error(p1, r2)) ? p2 : p1;
 }
 
-/// Steps the interpolator spends in octant `oct` starting at p before it reaches a point of
-/// another octant (that point, the first track point of the next octant, is returned in `exit`).
-std::int64_t steps_to_exit(Point p, int oct, ArcDirection dir, std::int64_t r2, Point& exit) {
+/// The last step n (from p, in octant `oct`) whose track point is still in the octant: the
+/// interpolator walks exactly the track points up to there.
+std::int64_t last_track_step(Point p, int oct, ArcDirection dir, std::int64_t r2) {
     const std::int64_t s0 = short_coord(p, oct), sd = short_dir(oct, dir);
     auto outside = [&](std::int64_t n) { return octant_of(track_point(oct, s0 + sd * n, r2), dir) != oct; };
     // Past |s| > R the track point lies on an axis of another octant, so this bound is outside.
@@ -108,9 +108,24 @@ std::int64_t steps_to_exit(Point p, int oct, ArcDirection dir, std::int64_t r2, 
         const std::int64_t mid = lo + (hi - lo) / 2;
         (outside(mid) ? hi : lo) = mid;
     }
+    return hi - 1;
+}
+
+/// The point the interpolator reaches n steps after p in octant `oct` (n within the piece).
+Point point_in_piece(Point p, int oct, ArcDirection dir, std::int64_t r2, std::int64_t n) {
+    const std::int64_t j = std::min(n, last_track_step(p, oct, dir, r2));
+    Point cur = j == 0 ? p : track_point(oct, short_coord(p, oct) + short_dir(oct, dir) * j, r2);
+    for (std::int64_t i = j; i < n; ++i) cur = chip_step(cur, oct, dir, r2);
+    return cur;
+}
+
+/// Steps the interpolator spends in octant `oct` starting at p before it reaches a point of
+/// another octant (that point, the first track point of the next octant, is returned in `exit`).
+std::int64_t steps_to_exit(Point p, int oct, ArcDirection dir, std::int64_t r2, Point& exit) {
+    const std::int64_t s0 = short_coord(p, oct), sd = short_dir(oct, dir);
     // The border step itself is taken as the chip takes it: from the last point inside, the long
     // axis moves at most one pulse, so near a border of a tiny circle it can lag the track point.
-    std::int64_t n = hi - 1;
+    std::int64_t n = last_track_step(p, oct, dir, r2);
     Point cur = n == 0 ? p : track_point(oct, s0 + sd * n, r2);
     do {
         cur = chip_step(cur, oct, dir, r2);
@@ -245,6 +260,14 @@ std::uint64_t CirclePath::walk_to_end() {
 // ---------------------------------------------------------------------------------------------
 
 std::uint64_t circle_step_count(Point start, Point end, ArcDirection dir) {
+    return circle_walk(start, end, dir).steps;
+}
+
+Point circle_walked_end(Point start, Point end, ArcDirection dir) {
+    return circle_walk(start, end, dir).end;
+}
+
+CircleWalk circle_walk(Point start, Point end, ArcDirection dir) {
     validate_arc(start, end);
     const std::int64_t r2 = start.x * start.x + start.y * start.y;
     const int end_oct = end_octant_of(end, dir);
@@ -267,7 +290,7 @@ std::uint64_t circle_step_count(Point start, Point end, ArcDirection dir) {
             // octant right at the end's short coordinate).
             const std::int64_t n = (short_coord(end, oct) - short_coord(p, oct)) * short_dir(oct, dir);
             if (n < 0 || n > piece) throw off_track();
-            return steps + static_cast<std::uint64_t>(n);
+            return {steps + static_cast<std::uint64_t>(n), point_in_piece(p, oct, dir, r2, n)};
         }
         const int next = octant_of(exit, dir);
         const int adv = advance(oct, next, dir);
@@ -275,7 +298,7 @@ std::uint64_t circle_step_count(Point start, Point end, ArcDirection dir) {
         if (done + adv > needed) {
             // The track jumps over the end octant (radius of a few pulses): only its landing
             // point can be the end.
-            if (exit == end) return steps;
+            if (exit == end) return {steps, exit};
             throw off_track();
         }
         done += adv;
@@ -284,17 +307,23 @@ std::uint64_t circle_step_count(Point start, Point end, ArcDirection dir) {
     }
 }
 
-double circle_step_count_real(Point start, Point end, ArcDirection dir) {
+double arc_sweep(Point start, Point end, ArcDirection dir) {
     validate_arc(start, end);
-    const double pi = std::acos(-1.0), eighth = pi / 4;
-    const double R = std::sqrt(static_cast<double>(start.x) * start.x + static_cast<double>(start.y) * start.y);
-    double a = std::atan2(static_cast<double>(start.y), static_cast<double>(start.x));
-    double b = std::atan2(static_cast<double>(end.y), static_cast<double>(end.x));
+    const double pi = std::acos(-1.0);
+    const double a = std::atan2(static_cast<double>(start.y), static_cast<double>(start.x));
+    const double b = std::atan2(static_cast<double>(end.y), static_cast<double>(end.x));
     // The paper's TotalRadian (eqs. 3-4 of step 3/4): the angle swept, a full turn when equal.
     double sweep = dir == ArcDirection::ccw ? b - a : a - b;
     while (sweep <= 0) sweep += 2 * pi;
     while (sweep > 2 * pi) sweep -= 2 * pi;
     if (start == end) sweep = 2 * pi;
+    return sweep;
+}
+
+double arc_steps_real(Point start, double sweep, ArcDirection dir) {
+    const double eighth = std::acos(-1.0) / 4;
+    const double R = std::sqrt(static_cast<double>(start.x) * start.x + static_cast<double>(start.y) * start.y);
+    const double a = std::atan2(static_cast<double>(start.y), static_cast<double>(start.x));
     const double sgn = dir == ArcDirection::ccw ? 1.0 : -1.0;
     // Octant borders at integer multiples of 45 degrees, visited by index so that rounding of
     // the angle can never stall the walk.
@@ -314,6 +343,10 @@ double circle_step_count_real(Point start, Point end, ArcDirection dir) {
         border += dir == ArcDirection::ccw ? 1 : -1;
     }
     return total;
+}
+
+double circle_step_count_real(Point start, Point end, ArcDirection dir) {
+    return arc_steps_real(start, arc_sweep(start, end, dir), dir);
 }
 
 } // namespace rcsim::camc

@@ -125,9 +125,26 @@ private:
 /// is exact, not rounded. Throws InterpolationError as CirclePath does.
 std::uint64_t circle_step_count(Point start, Point end, ArcDirection dir);
 
+/// The point where the interpolator stops after circle_step_count() steps (closed form, no
+/// walk): the end point itself when it lies on the track, else the track point with the end's
+/// short coordinate (within one pulse of the end, MCX514 §3.2).
+Point circle_walked_end(Point start, Point end, ArcDirection dir);
+struct CircleWalk {
+    std::uint64_t steps = 0;
+    Point end;
+};
+/// Both of the above in one pass.
+CircleWalk circle_walk(Point start, Point end, ArcDirection dir);
+
 /// The same sum with real numbers (R from the start point, borders at exact 45-degree angles):
 /// full circle = 4*sqrt(2)*R. Differs from circle_step_count() by < 1 per diagonal border crossed.
 double circle_step_count_real(Point start, Point end, ArcDirection dir);
+
+/// The angle (radians, > 0) an arc sweeps from start to end in `dir`; 2 pi when end == start.
+double arc_sweep(Point start, Point end, ArcDirection dir);
+/// The step-count sum of circle_step_count_real() over the first `sweep` radians of an arc from
+/// `start`: the interpolation steps per unit of arc angle, for the constant vector speed mode.
+double arc_steps_real(Point start, double sweep, ArcDirection dir);
 
 /// Integer square root (floor) for 0 <= v < 2^62.
 std::int64_t isqrt(std::int64_t v);

@@ -65,6 +65,9 @@ void Cia402Drive::enter(Cia402State s, int transition) {
             target_position = static_cast<std::int32_t>(actual_);
         pp_active_ = false;
         target_reached_ = true;
+        // Pulse train: the deviation counter was cleared with the power stage off, so the pulses
+        // counted meanwhile (a stop ramp, a move the drive did not follow) move nothing now.
+        pulse_zero_ = static_cast<std::int64_t>(actual_) - pulse_in_;
     }
 }
 
@@ -169,7 +172,7 @@ void Cia402Drive::start_pp() {
 void Cia402Drive::step_reference(double dt) {
     const double before = ref_;
     switch (mode_display_) {
-    case mode::pulse_train: ref_ = static_cast<double>(pulse_in_); break;
+    case mode::pulse_train: ref_ = static_cast<double>(pulse_in_ + pulse_zero_); break;
     case mode::csp: ref_ = target_position; break;
     case mode::pp:
         if (pp_active_) {

@@ -9,7 +9,9 @@
 // plotter) follows the pulse input; 8 CSP follows 0x607A; 1 PP runs a trapezoid to 0x607A on a
 // new set-point; 3 PV / 9 CSV integrate a velocity; 4 PT / 10 CST set the torque (no load model:
 // the position holds). The motor follows the reference through a first-order lag (time constant
-// = the configurable following lag), so the following error is about speed * lag.
+// = the configurable following lag), so the following error is about speed * lag. In pulse-train
+// mode the drive's deviation counter is cleared while the power stage is off (as a pulse-train
+// servo amplifier clears it at servo off): enabling never moves the motor.
 #pragma once
 
 #include "camc_qi/profile.h"
@@ -105,6 +107,7 @@ private:
     bool svon_ = true, almrst_ = false, fault_cause_ = false;
     double init_left_;
     std::int64_t pulse_in_ = 0, actual_ = 0;
+    std::int64_t pulse_zero_ = 0; // pulse count of the motor's position when operation was enabled
     double ref_ = 0, motor_ = 0, vel_ = 0, cmd_vel_ = 0;
     std::int16_t torque_ = 0;
     // Profile position move in progress.

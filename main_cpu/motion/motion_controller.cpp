@@ -54,6 +54,7 @@ MotionController::MotionController(sc_core::sc_module_name name, const MotionCon
         power_[a].Axis = axes_[a].get();
         Blocks& b = blocks_[a];
         b.reset.Axis = b.stop.Axis = b.home.Axis = b.move_abs.Axis = b.move_rel.Axis = b.move_vel.Axis = b.halt.Axis =
+            b.set_pos.Axis =
             axes_[a].get();
         chip_.set_encoder_source(a, [this, a] { return drives_[a].actual_position(); });
         camc::Sensors sensors;
@@ -224,6 +225,9 @@ void MotionController::run_blocks() {
         Blocks& b = blocks_[a];
         for (McExecuteFb* fb : std::initializer_list<McExecuteFb*>{&b.reset, &b.home, &b.move_abs, &b.move_rel, &b.move_vel, &b.halt})
             run(*fb);
+        // MC_SetPosition acts at Execute's edge and is Done at once: called only while a command
+        // of it is pending, so that the layer's cycle costs what it did without it.
+        if (b.set_pos.Execute || b.set_pos.Done || b.set_pos.Error) run(b.set_pos);
         call_block(b.stop);
         if ((b.stop.Done || b.stop.Error) && auto_.erase(&b.stop)) b.stop.Execute = false;
     }

@@ -144,6 +144,7 @@ public:
         MC_MoveRelative move_rel;
         MC_MoveVelocity move_vel;
         MC_Halt halt;
+        MC_SetPosition set_pos;
     };
     Blocks& blocks(unsigned a) { return blocks_[a]; }
     MC_LineMove2& line_move() { return line_; }

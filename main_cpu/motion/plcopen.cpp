@@ -127,7 +127,20 @@ void McAxis::cycle() {
             return;
         }
     }
-    if (!active_) return;
+    if (!active_) {
+        // A group move aborted or stopped through its partner axis leaves this axis without a
+        // job, still driven by the chip's ramp down: it is at rest when the chip is.
+        const bool moving_state = state_ == AxisState::discrete_motion || state_ == AxisState::continuous_motion ||
+                                  state_ == AxisState::synchronized_motion;
+        if (!moving_state || api_.InMotion(ax)) return;
+        if (!queued_) {
+            settle_state();
+            return;
+        }
+        active_ = std::move(queued_); // a command buffered behind the group move starts now
+        active_->status = Job::Status::active;
+        state_ = active_->motion_state;
+    }
     if (active_->status != Job::Status::active && active_->status != Job::Status::queued) {
         active_.reset(); // finished through the partner axis of a group job
         if (queued_) active_ = std::move(queued_);
@@ -343,7 +356,11 @@ void MC_Power::call() {
         d.set_controlword(write);
         history.emplace_back(write, d.statusword());
     }
+    const bool was = Status;
     Status = d.state() == Cia402State::operation_enabled && !write;
+    // The drive enabled where its motor is (its deviation counter cleared): the command counter
+    // starts there too, or the next move would carry the old difference to its end point.
+    if (Status && !was && !api.InMotion(ax)) api.SetCmdPos(ax, api.ActPos(ax));
     if (!Status && !d.alarm_output() && ++waited_ > timeout_cycles && !Error) {
         Error = true;
         ErrorID = err::power_timeout;
@@ -367,18 +384,26 @@ void MC_Reset::running() {
     QiMotionApi& api = Axis->api();
     const int ax = static_cast<int>(Axis->index());
     switch (phase_) {
-    case 0: // ALMRST on, controlword bit 7 rising edge, clear the chip's end status
-        api.SignalServoAlarmReset(ax, 1);
-        d.set_alarm_reset_input(true);
-        d.set_controlword(static_cast<std::uint16_t>(d.controlword() & ~cw::fault_reset));
-        d.set_controlword(cw::fault_reset);
+    case 0:
+        // Only a drive in Fault gets a fault reset (ALMRST, controlword bit 7 rising with the
+        // enable bits kept): an axis in StandStill, or in ErrorStop by a limit switch, keeps its
+        // power stage on (CiA402: bit 7 acts in Fault only; 0x80 alone would disable voltage).
+        faulted_ = d.alarm_output();
+        if (faulted_) {
+            api.SignalServoAlarmReset(ax, 1);
+            d.set_alarm_reset_input(true);
+            d.set_controlword(static_cast<std::uint16_t>(d.controlword() & ~cw::fault_reset));
+            d.set_controlword(static_cast<std::uint16_t>(d.controlword() | cw::fault_reset));
+        }
         api.ClearEndStatus(ax);
         phase_ = 1;
         break;
     case 1:
-        api.SignalServoAlarmReset(ax, 0);
-        d.set_alarm_reset_input(false);
-        d.set_controlword(0);
+        if (faulted_) {
+            api.SignalServoAlarmReset(ax, 0);
+            d.set_alarm_reset_input(false);
+            d.set_controlword(static_cast<std::uint16_t>(d.controlword() & ~cw::fault_reset));
+        }
         if (d.alarm_output()) { // the cause is still there
             job_->status = Job::Status::error;
             job_->error_id = err::drive_fault;
@@ -410,6 +435,7 @@ std::uint16_t MC_Stop::begin() {
     const double dec = Deceleration;
     job_ = make_job({Axis}, AxisState::stopping, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
     job_->is_stop = true;
+    issued_ = true;
     Axis->submit(job_, BufferMode::aborting);
     return 0;
 }
@@ -417,13 +443,17 @@ std::uint16_t MC_Stop::begin() {
 void MC_Stop::running() {}
 
 void MC_Stop::after() {
-    if (!Axis) return;
+    // Only the instance that stopped the axis holds and releases Stopping: another MC_Stop of the
+    // same axis idling with Execute low (a program's own next to the token layer's) must not
+    // release it (the rule is the axis', whichever program calls the blocks).
+    if (!Axis || !issued_) return;
     if (Execute && Axis->state() == AxisState::stopping) Axis->hold_stop();
     if (!Execute) {
         if (job_)
             Axis->drop_stop_hold(); // Stopping until Done, then Standstill (or a buffered command)
         else
             Axis->release_stop();
+        issued_ = false;
     }
 }
 

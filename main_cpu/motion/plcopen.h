@@ -40,6 +40,7 @@ constexpr std::uint16_t axis_error_stop = 0x7002; // motion command while ErrorS
 constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop.Execute
 constexpr std::uint16_t wrong_state = 0x7004;    // e.g. MC_Home outside Standstill
 constexpr std::uint16_t power_timeout = 0x7005;  // drive did not reach Operation enabled
+constexpr std::uint16_t parameter_unsupported = 0x7006; // MC_ReadParameter: a number not listed in docs/motion.md
 constexpr std::uint16_t limit_positive = 0x7101, limit_negative = 0x7102, drive_fault = 0x7103;
 constexpr std::uint16_t emergency_stop = 0x7104, home_not_found = 0x7105;
 } // namespace err
@@ -163,6 +164,7 @@ protected:
     std::uint16_t begin() override;
     void running() override;
     int phase_ = 0;
+    bool faulted_ = false; // the drive was in Fault at the edge: a fault reset is due
 };
 
 class MC_Stop : public McExecuteFb {
@@ -177,6 +179,9 @@ protected:
     std::uint16_t begin() override;
     void running() override;
     void after() override;
+
+private:
+    bool issued_ = false; // this instance's stop holds the axis in Stopping
 };
 
 class MC_Halt : public McExecuteFb {
@@ -285,6 +290,84 @@ public:
     int Direction = dir_ccw;
     double Velocity = 0, Acceleration = 0, Deceleration = 0;
     BufferMode Mode = BufferMode::aborting;
+
+protected:
+    std::uint16_t begin() override;
+};
+
+/// Enable-type block (Part 1 §2.4.2): while Enable, Busy and, when the value could be read,
+/// Valid with the outputs refreshed every call; otherwise Error with ErrorID. All reset when
+/// Enable falls.
+class McEnableFb {
+public:
+    virtual ~McEnableFb() = default;
+    McAxis* Axis = nullptr;
+    bool Enable = false;
+    bool Valid = false, Busy = false, Error = false;
+    std::uint16_t ErrorID = 0;
+    void call();
+
+protected:
+    /// Reads the values into the outputs (Axis is set); returns an ErrorID or 0.
+    virtual std::uint16_t read() = 0;
+    /// Clears the value outputs (Enable low, or an error).
+    virtual void clear() = 0;
+};
+
+/// Part 1 §3.11: the axis' state of the state diagram, one BOOL each.
+class MC_ReadStatus : public McEnableFb {
+public:
+    bool ErrorStop = false, Disabled = false, Stopping = false, Homing = false, Standstill = false;
+    bool DiscreteMotion = false, ContinuousMotion = false, SynchronizedMotion = false;
+
+protected:
+    std::uint16_t read() override;
+    void clear() override;
+};
+
+/// Part 1 §3.13: the actual position, pulses (the CAMC-QI's encoder counter CNT2).
+class MC_ReadActualPosition : public McEnableFb {
+public:
+    double Position = 0;
+
+protected:
+    std::uint16_t read() override;
+    void clear() override { Position = 0; }
+};
+
+/// Part 1 §3.12: the axis error (the ErrorID that put it in ErrorStop, 0 without).
+class MC_ReadAxisError : public McEnableFb {
+public:
+    std::uint16_t AxisErrorID = 0;
+
+protected:
+    std::uint16_t read() override;
+    void clear() override { AxisErrorID = 0; }
+};
+
+/// Part 1 §3.10 with the parameter numbers of its Table 3 that this axis has: 1 CommandedPosition
+/// (CNT1), 8 MaxVelocitySystem (the chip's 10 Mpps), 10 ActualVelocity (the drive's 0x606C),
+/// 11 CommandedVelocity (the chip's current drive speed, pulses/s; of the path for an
+/// interpolation's master). Others: Error 0x7006.
+class MC_ReadParameter : public McEnableFb {
+public:
+    std::int32_t ParameterNumber = 0;
+    double Value = 0;
+
+protected:
+    std::uint16_t read() override;
+    void clear() override { Value = 0; }
+};
+
+/// Part 1 §3.8: shifts the axis' coordinate system without motion: the command and the actual
+/// position by the same amount, so that the command position becomes Position (Relative: moves
+/// by Position). Refused while the axis moves (0x7004) or in ErrorStop/Disabled as motion is;
+/// Done at once.
+class MC_SetPosition : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    std::int32_t Position = 0;
+    bool Relative = false;
 
 protected:
     std::uint16_t begin() override;

@@ -88,7 +88,13 @@ int QiMotionApi::speeds(int a, double vel, double acc, double dec, std::uint32_t
         bus_.write(a, qi::write | qi::SW2, static_cast<std::uint32_t>(std::lround(100 * pd)));
     }
     bus_.write(a, qi::write | qi::DCFG, mode_bits | prof);
+    set_master(1u << a, a, 1);
     return axl::success;
+}
+
+void QiMotionApi::set_master(std::uint32_t mask, int master, double scale) {
+    for (int i = 0; i < 4; ++i)
+        if (mask & (1u << i)) master_[i] = master, step_scale_[i] = scale;
 }
 
 int QiMotionApi::SetProfileMode(int a, unsigned mode) {
@@ -250,6 +256,7 @@ int QiMotionApi::LineMove(int c, const std::int32_t* pos, double vel, double acc
     if (int r = speeds(master, vel * k, acc * k, dec * k,
                        (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift)))
         return r;
+    set_master(mask, master, k);
     n = 0;
     for (int a = 0; a < 4; ++a)
         if (mask & (1u << a)) bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(pos[n++]));
@@ -278,22 +285,20 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
     const ArcDirection ad = dir == dir_cw ? ArcDirection::cw : ArcDirection::ccw;
     std::uint64_t steps = 0;
     try {
-        steps = circle_step_count(s, e, ad); // the paper's eqs. 1-10, on the pulse lattice
+        // The paper's eqs. 1-10 on the pulse lattice, plus the chip's final correction step when
+        // the end lies off the track (camc_qi/README.md "Circular interpolation").
+        const CircleWalk w = circle_walk(s, e, ad);
+        steps = w.steps + (w.end != e ? 1 : 0);
     } catch (const InterpolationError&) {
         return axl::interpolation_value;
     }
-    // Path speed -> step rate: steps per unit of arc length (between 1 and sqrt(2)).
-    const double R = std::sqrt(static_cast<double>(s.x) * s.x + static_cast<double>(s.y) * s.y);
-    const double pi = std::acos(-1.0);
-    double sweep = std::atan2(static_cast<double>(e.y), static_cast<double>(e.x)) -
-                   std::atan2(static_cast<double>(s.y), static_cast<double>(s.x));
-    if (ad == ArcDirection::cw) sweep = -sweep;
-    while (sweep <= 1e-12) sweep += 2 * pi;
-    const double k = static_cast<double>(steps) / (R * sweep);
-    if (int r = speeds(ids[0], vel * k, acc * k, dec * k,
+    // Constant vector speed: Vel, Acc and Dec are along the arc (PLCopen's path velocity), the
+    // chip spaces the steps by the arc length they cover.
+    if (int r = speeds(ids[0], vel, acc, dec,
                        ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
-                           (coord_[c] << dcfg::axes_shift)))
+                           (coord_[c] << dcfg::axes_shift) | dcfg::vector_speed))
         return r;
+    set_master(coord_[c], ids[0], 1);
     bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(cx));
     bus_.write(ids[1], qi::write | qi::CENT, static_cast<std::uint32_t>(cy));
     bus_.write(ids[0], qi::write | qi::POS, static_cast<std::uint32_t>(ex));
@@ -310,8 +315,9 @@ int QiMotionApi::SlowStop(int a, double dec) {
     homing_[a].step = -1; // a stop ends a homing sequence
     homing_[a].result = home::err_not_detect;
     if (dec > 0) {
-        bus_.write(a, qi::write | qi::RATE2, reg(dec));
-        bus_.write(a, qi::write | qi::DCFG, bus_.read(a, qi::DCFG) | 1u); // use RATE2
+        const int m = master_[a];
+        bus_.write(m, qi::write | qi::RATE2, reg(dec * step_scale_[a]));
+        bus_.write(m, qi::write | qi::DCFG, bus_.read(m, qi::DCFG) | 1u); // use RATE2
     }
     bus_.write(a, qi::SSTOP, 0);
     return axl::success;
@@ -336,10 +342,17 @@ std::uint32_t QiMotionApi::DriveStatus(int a) { return bus_.read(a, qi::STAT2); 
 std::uint32_t QiMotionApi::EndStatus(int a) { return bus_.read(a, qi::STAT1); }
 void QiMotionApi::ClearEndStatus(int a) { bus_.write(a, qi::ESCLR, 0); }
 std::int64_t QiMotionApi::CmdPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT1)); }
+double QiMotionApi::CurrentSpeed(int a) { return static_cast<double>(bus_.read(a, qi::CURSPD)); }
 std::int64_t QiMotionApi::ActPos(int a) { return static_cast<std::int32_t>(bus_.read(a, qi::CNT2)); }
 void QiMotionApi::SetPos(int a, std::int64_t pos) {
+    const std::int64_t shift = pos - CmdPos(a);
+    const std::int64_t act = ActPos(a);
     bus_.write(a, qi::write | qi::CNT1, static_cast<std::uint32_t>(pos));
-    bus_.write(a, qi::write | qi::CNT2, static_cast<std::uint32_t>(pos));
+    bus_.write(a, qi::write | qi::CNT2, static_cast<std::uint32_t>(act + shift));
+}
+
+void QiMotionApi::SetCmdPos(int a, std::int64_t pos) {
+    bus_.write(a, qi::write | qi::CNT1, static_cast<std::uint32_t>(pos));
 }
 
 } // namespace rcsim::motion

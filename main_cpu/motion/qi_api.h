@@ -86,6 +86,9 @@ public:
     int HomeSetMethod(int AxisNo, const HomeMethod& m);
     int HomeSetStart(int AxisNo);
     unsigned HomeGetResult(int AxisNo);
+    /// Slow-down stop; Decel > 0 replaces the programmed deceleration for this stop (pulses/s^2
+    /// along the path for an interpolation: it is written to the master axis, whose RATE2 the
+    /// chip uses whichever member the stop is written to).
     int SlowStop(int AxisNo, double Decel);
     int EmergencyStop(int AxisNo);
     int EmergencyStopAll();
@@ -112,7 +115,14 @@ public:
     void ClearEndStatus(int AxisNo);
     std::int64_t CmdPos(int AxisNo);
     std::int64_t ActPos(int AxisNo);
-    void SetPos(int AxisNo, std::int64_t pos); // CNT1 and CNT2 (after homing)
+    /// CURSPD: the speed of the drive the axis is in, pulses/s (0 at rest).
+    double CurrentSpeed(int AxisNo);
+    /// Shifts CNT1 to pos and CNT2 by the same amount (PLCopen MC_SetPosition: both by the same
+    /// value, no motion): a following error in progress is kept, so when the motor has caught
+    /// up, actual = command again.
+    void SetPos(int AxisNo, std::int64_t pos);
+    /// Presets CNT1 alone (no pulses: AxmStatusSetCmdPos).
+    void SetCmdPos(int AxisNo, std::int64_t pos);
 
     static constexpr int coords = 4;
 
@@ -131,11 +141,16 @@ private:
     std::array<Homing, 4> homing_{};
     std::array<unsigned, 4> profile_{1, 1, 1, 1};
     std::array<double, 4> accel_jerk_{}, decel_jerk_{}, jerk_{};
+    // The axis holding the rates of the drive an axis was last started in (itself, or the master
+    // of its interpolation), and that drive's chip steps per pulse of path (for SlowStop's Decel).
+    std::array<int, 4> master_{0, 1, 2, 3};
+    std::array<double, 4> step_scale_{1, 1, 1, 1};
 
     static bool axis_ok(long a) { return a >= 0 && a < 4; }
     int home_step(int axis);
     int speeds(int axis, double vel, double acc, double dec, std::uint32_t profile_mode);
     void uio(int axis, unsigned bit, bool on);
+    void set_master(std::uint32_t mask, int master, double scale);
 };
 
 } // namespace rcsim::motion

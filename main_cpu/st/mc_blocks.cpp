@@ -62,7 +62,12 @@ template <typename Fb, typename C, typename M> Field<Fb> input(const char* name,
 
 template <typename Fb, typename C, typename M> Field<Fb> output(const char* name, M C::*m) {
     Field<Fb> f{name, VarKind::output, std::is_same_v<M, bool> ? Kind::Bool : Kind::Udint, {}, {}, {}};
-    f.out = [m](const Fb& b, Value& v) { v.i = static_cast<std::int64_t>(b.*m); };
+    if constexpr (std::is_floating_point_v<M>) {
+        f.type = Kind::Lreal;
+        f.out = [m](const Fb& b, Value& v) { v.r = static_cast<double>(b.*m); };
+    } else {
+        f.out = [m](const Fb& b, Value& v) { v.i = static_cast<std::int64_t>(b.*m); };
+    }
     return f;
 }
 
@@ -102,6 +107,19 @@ template <typename Fb> std::vector<Field<Fb>> execute_block(std::vector<Field<Fb
     f.push_back(output<Fb>("CommandAborted", &Fb::CommandAborted));
     f.push_back(output<Fb>("Error", &Fb::Error));
     f.push_back(output<Fb>("ErrorID", &Fb::ErrorID));
+    return f;
+}
+
+/// Axis, Enable and the outputs of every Enable-type block (PLCopen Part 1 §2.4.2), around
+/// `inputs` (after Enable) and `values` (after ErrorID).
+template <typename Fb>
+std::vector<Field<Fb>> enable_block(std::vector<Field<Fb>> inputs, std::vector<Field<Fb>> values) {
+    std::vector<Field<Fb>> f = {input<Fb>("Axis", &Fb::Axis), input<Fb>("Enable", &Fb::Enable)};
+    f.insert(f.end(), inputs.begin(), inputs.end());
+    for (auto o : {output<Fb>("Valid", &Fb::Valid), output<Fb>("Busy", &Fb::Busy), output<Fb>("Error", &Fb::Error),
+                   output<Fb>("ErrorID", &Fb::ErrorID)})
+        f.push_back(o);
+    f.insert(f.end(), values.begin(), values.end());
     return f;
 }
 
@@ -223,6 +241,30 @@ void add_motion_blocks(Unit& u) {
          input<CC>("Direction", &CC::Direction), // 0 counter-clockwise, 1 clockwise (AXL DIR_CCW/DIR_CW)
          input<CC>("Velocity", &CC::Velocity), input<CC>("Acceleration", &CC::Acceleration),
          input<CC>("Deceleration", &CC::Deceleration), input<CC>("BufferMode", &CC::Mode)}, true);
+    // The axis reads (Enable-type) and MC_SetPosition (PLCopen Part 1 §3.8, 3.10-3.13).
+    using RS = MC_ReadStatus;
+    static const auto read_status = enable_block<RS>(
+        {}, {output<RS>("ErrorStop", &RS::ErrorStop), output<RS>("Disabled", &RS::Disabled),
+             output<RS>("Stopping", &RS::Stopping), output<RS>("Homing", &RS::Homing),
+             output<RS>("Standstill", &RS::Standstill), output<RS>("DiscreteMotion", &RS::DiscreteMotion),
+             output<RS>("ContinuousMotion", &RS::ContinuousMotion),
+             output<RS>("SynchronizedMotion", &RS::SynchronizedMotion)});
+    using RP = MC_ReadActualPosition;
+    static const auto read_pos = enable_block<RP>({}, {output<RP>("Position", &RP::Position)});
+    using RE = MC_ReadAxisError;
+    static const auto read_err = enable_block<RE>({}, {output<RE>("AxisErrorID", &RE::AxisErrorID)});
+    using RA = MC_ReadParameter;
+    static const auto read_par = enable_block<RA>({input<RA>("ParameterNumber", &RA::ParameterNumber)},
+                                                  {output<RA>("Value", &RA::Value)});
+    using SP = MC_SetPosition;
+    static const auto set_pos = execute_block<SP>(
+        {input<SP>("Axis", &SP::Axis), input<SP>("Position", &SP::Position), input<SP>("Relative", &SP::Relative)},
+        false);
+    add_block(u, "MC_ReadStatus", read_status);
+    add_block(u, "MC_ReadActualPosition", read_pos);
+    add_block(u, "MC_ReadAxisError", read_err);
+    add_block(u, "MC_ReadParameter", read_par);
+    add_block(u, "MC_SetPosition", set_pos);
     add_block(u, "MC_Reset", reset);
     add_block(u, "MC_Stop", stop);
     add_block(u, "MC_Halt", halt);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 namespace rcsim {
@@ -240,6 +241,62 @@ std::function<Issued(MotionController&)> read_block(YamlMap& f, const std::strin
         };
     }
     if (fb == "MC_LineMove") return read_line_move(f, v);
+    if (fb == "MC_MoveVelocity") {
+        // Never Done (Part 1 §3.9): the command's outcome is InVelocity ("done"), Error or
+        // CommandAborted. The sign of velocity gives the direction, as for the MV token.
+        const unsigned a = axis_of();
+        const double vel = v("velocity"), acc = v("acceleration"), dec = v("deceleration");
+        const BufferMode m = buffer_of(f);
+        return [=](MotionController& mc) {
+            auto& b = mc.blocks(a).move_vel;
+            b.Velocity = vel, b.Acceleration = acc, b.Deceleration = dec, b.Mode = m;
+            b.Direction = motion::McDirection::positive;
+            Issued is = trigger(mc, b);
+            is.watch.poll = [&b]() -> std::optional<std::pair<FbOutcome, std::uint16_t>> {
+                if (b.InVelocity) return std::make_pair(FbOutcome::done, std::uint16_t{0});
+                if (b.Error) return std::make_pair(FbOutcome::error, b.ErrorID);
+                if (b.CommandAborted) return std::make_pair(FbOutcome::aborted, std::uint16_t{0});
+                return std::nullopt;
+            };
+            return is;
+        };
+    }
+    if (fb == "MC_SetPosition") {
+        const unsigned a = axis_of();
+        const std::int32_t pos = pulses("position");
+        const bool rel = f.get<bool>("relative", false);
+        return [=](MotionController& mc) {
+            auto& b = mc.blocks(a).set_pos;
+            b.Position = pos, b.Relative = rel;
+            return trigger(mc, b);
+        };
+    }
+    if (fb == "MC_ReadStatus" || fb == "MC_ReadActualPosition" || fb == "MC_ReadAxisError" ||
+        fb == "MC_ReadParameter") {
+        // Enable-type reads: one call with Enable when the command runs; "done" when Valid,
+        // "error" with the ErrorID (e.g. 0x7006 for a parameter number the axis does not have).
+        const unsigned a = axis_of();
+        const std::int32_t number = fb == "MC_ReadParameter" ? static_cast<std::int32_t>(f.require_number("parameter", 0, 1000)) : 0;
+        return [=](MotionController& mc) {
+            std::shared_ptr<motion::McEnableFb> b;
+            if (fb == "MC_ReadStatus") b = std::make_shared<motion::MC_ReadStatus>();
+            else if (fb == "MC_ReadActualPosition") b = std::make_shared<motion::MC_ReadActualPosition>();
+            else if (fb == "MC_ReadAxisError") b = std::make_shared<motion::MC_ReadAxisError>();
+            else {
+                auto p = std::make_shared<motion::MC_ReadParameter>();
+                p->ParameterNumber = number;
+                b = p;
+            }
+            b->Axis = &mc.axis(a);
+            b->Enable = true;
+            b->call();
+            return Issued{{nullptr, [b]() -> std::optional<std::pair<FbOutcome, std::uint16_t>> {
+                               if (b->Error) return std::make_pair(FbOutcome::error, b->ErrorID);
+                               return std::make_pair(FbOutcome::done, std::uint16_t{0});
+                           }},
+                          std::nullopt};
+        };
+    }
     if (fb == "MC_CircleCenterMove") {
         const std::int32_t cx = pulses("center_x"), cy = pulses("center_y"), ex = pulses("end_x"), ey = pulses("end_y");
         const bool cw = f.choice("direction", "ccw", {"cw", "ccw"}) == "cw";

@@ -400,6 +400,43 @@ std::string inline_svg(std::string s) {
 
 /// The motion section: the figures of a run with main_cpu.motion (control cycle, command
 /// latency, CSP path) when there are any, then the trajectory pictures.
+/// A motion run's function-block outcomes (report.json motion.commands, token commands left out),
+/// the largest following error and the final positions per axis.
+void motion_outcomes(std::ostream& o, const json& m) {
+    if (m.contains("max_following_error_pulses") || m.contains("final_cmd_pulses")) {
+        o << "<table><tr><th class=\"l\"></th><th>axis 0</th><th>axis 1</th><th>axis 2</th><th>axis 3</th></tr>\n";
+        for (const auto& [key, label] : {std::pair{"final_cmd_pulses", "final command position [pulses]"},
+                                         std::pair{"final_act_pulses", "final actual position [pulses]"}}) {
+            if (!m.contains(key) || !m[key].is_array()) continue;
+            o << "<tr><td class=\"l\">" << label << "</td>";
+            for (const json& v : m[key]) o << "<td>" << (v.is_number() ? std::to_string(v.get<std::int64_t>()) : "-") << "</td>";
+            o << "</tr>\n";
+        }
+        o << "</table>\n";
+        if (m.contains("max_following_error_pulses"))
+            o << "<p class=\"note\">maximum following error (command &minus; actual, any axis): "
+              << num(jd(m, "max_following_error_pulses"), 1) << " pulses</p>\n";
+    }
+    if (!m.contains("commands") || !m["commands"].is_array()) return;
+    bool any = false;
+    for (const json& c : m["commands"]) any |= c.contains("fb");
+    if (!any) return;
+    o << "<table id=\"fb-outcomes\"><tr><th>at [ms]</th><th class=\"l\">function block</th><th>expected</th>"
+         "<th>outcome</th><th>at [ms]</th><th>ErrorID</th><th></th></tr>\n";
+    for (const json& c : m["commands"]) {
+        if (!c.contains("fb")) continue;
+        const std::string expect = js(c, "expect", "done"), outcome = js(c, "outcome", "none");
+        const bool id_ok = !c.contains("expect_error_id") || c.value("error_id", -1) == c.value("expect_error_id", -2);
+        const bool ok = expect == outcome && id_ok;
+        o << "<tr><td>" << num(jd(c, "at_ms"), 0) << "</td><td class=\"l\">" << esc(js(c, "fb")) << "</td><td>"
+          << esc(expect) << "</td><td>" << esc(outcome) << "</td><td>"
+          << (c.contains("outcome_ms") && c["outcome_ms"].is_number() ? num(jd(c, "outcome_ms"), 0) : "-") << "</td><td>"
+          << (c.contains("error_id") ? std::to_string(c.value("error_id", 0)) : "") << "</td><td class=\""
+          << (ok ? "ok\">as expected" : "ko\">NOT as expected") << "</td></tr>\n";
+    }
+    o << "</table>\n";
+}
+
 void section_motion(std::ostream& o, const json& r, const HtmlOptions& opt) {
     const json& m = jo(r, "motion");
     o << "<section id=\"motion\"><h2>Motion trajectory</h2>\n<p class=\"note\">state " << esc(js(m, "state", "?"))
@@ -426,6 +463,7 @@ void section_motion(std::ostream& o, const json& r, const HtmlOptions& opt) {
               << num(jd(k, "max_actual_radial_error_pulses"), 2) << " pulses</p>\n";
         }
     }
+    motion_outcomes(o, m);
     if (!opt.trajectory_svg.empty()) o << "<div class=\"chart\">" << inline_svg(opt.trajectory_svg) << "</div>\n";
     if (!opt.trajectory_time_svg.empty())
         o << "<div class=\"chart\">" << inline_svg(opt.trajectory_time_svg) << "</div>\n";

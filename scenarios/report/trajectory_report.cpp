@@ -133,6 +133,10 @@ std::string trajectory_svg(const motion::TrajectoryRecorder& rec, unsigned ax, u
             x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
         }
     }
+    // A margin of 5 % of the larger extent on every side: a move along the path's edge (a square's
+    // side) would otherwise lie on the frame and be hidden by it.
+    const double pad = 0.05 * std::max({x1 - x0, y1 - y0, 1.0});
+    x0 -= pad, x1 += pad, y0 -= pad, y1 += pad;
     // Equal scales on nice bounds: the larger extent sets the span and the step; the other axis
     // gets the same span on multiples of that step around its middle.
     const bool x_big = x1 - x0 >= y1 - y0;
@@ -220,7 +224,7 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
                                 const std::optional<CircleOverlay>& circle) {
     const auto& v = rec.samples();
     const double W = 900, M = 80, PW = 640, PH = 170, gap = 80, top = 60;
-    const unsigned panels = circle ? 4 : 3;
+    const unsigned panels = circle ? 5 : 4;
     const double H = top + panels * (PH + gap) + 10;
     svg::Doc d(W, H, title);
     d.rect(0, 0, W, H, "white");
@@ -259,6 +263,18 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
     y += PH + gap;
     heading("velocity (from one control cycle to the next)");
     time_panel(d, v, M, y, PW, PH, "[pulses/s]", vel, t0, t1);
+    y += PH + gap;
+    // The speed along the X-Y path (axes 0 and 1): what PLCopen's Velocity of an interpolated
+    // move commands, which neither axis' velocity shows alone.
+    heading("path speed of axes 0/1: sqrt(vx^2 + vy^2), from one control cycle to the next");
+    std::vector<Series> path;
+    for (const bool act : {false, true})
+        path.push_back({act ? "actual" : "command", act ? "#d62728" : "#1f77b4", act ? "4 3" : "",
+                        [act](const TrajectorySample& s, const TrajectorySample* p) -> std::optional<double> {
+                            if (!p || !has_axis(s, 1) || !has_axis(*p, 1) || !(s.t_s > p->t_s)) return std::nullopt;
+                            return std::hypot(velocity(s, p, 0, act), velocity(s, p, 1, act));
+                        }});
+    time_panel(d, v, M, y, PW, PH, "[pulses/s]", path, t0, t1);
     y += PH + gap;
     heading("following error (command - actual)");
     time_panel(d, v, M, y, PW, PH, "[pulses]", fe, t0, t1);

@@ -37,7 +37,8 @@ void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::file
                           unsigned ay, const std::string& title);
 
 /// Panels against time: position (command solid, actual dashed) and velocity per axis that moved,
-/// the following error per axis, and with `circle` the radial error of both paths over its window.
+/// the path speed of axes 0/1, the following error per axis, and with `circle` the radial error of
+/// both paths over its window.
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
                                 const std::optional<CircleOverlay>& circle);
 

@@ -217,6 +217,36 @@ TEST(CircularInterpolation, EndPointsRoundedFromAnglesEndWithinOnePulse) {
     EXPECT_GT(accepted, 2700); // nearly every rounded end is on the track
 }
 
+TEST(CircularInterpolation, WalkedEndInClosedFormIsWhereTheWalkStops) {
+    // circle_walked_end() (no walk) against the interpolator's own walk, for ends on and off the
+    // track, radii from 1 pulse (whose border steps lag the track) up; off-track ends exist.
+    std::mt19937_64 rng(7);
+    const double pi = std::acos(-1.0);
+    int off_track = 0, checked = 0;
+    for (int c = 0; c < 2000; ++c) {
+        const double R = 1.0 + static_cast<double>(rng() % (c < 500 ? 12 : 5000));
+        const double a = (rng() % 3600) * pi / 1800, b = (rng() % 3600) * pi / 1800;
+        const Point s{std::llround(R * std::cos(a)), std::llround(R * std::sin(a))};
+        const Point e{std::llround(R * std::cos(b)), std::llround(R * std::sin(b))};
+        if (s == Point{} || e == Point{}) continue;
+        const ArcDirection dir = (c & 1) ? ArcDirection::cw : ArcDirection::ccw;
+        CircleWalk w;
+        try {
+            w = circle_walk(s, e, dir);
+        } catch (const InterpolationError&) {
+            continue;
+        }
+        CirclePath arc(s, e, dir);
+        ASSERT_EQ(arc.walk_to_end(), w.steps) << c;
+        ASSERT_EQ(arc.walked_end(), w.end) << c << " R " << R;
+        EXPECT_EQ(circle_walked_end(s, e, dir), w.end);
+        off_track += w.end != e;
+        ++checked;
+    }
+    EXPECT_GT(checked, 1500);
+    EXPECT_GT(off_track, 10);
+}
+
 TEST(CircularInterpolation, PaperAndChipFigures) {
     // Full circle R=1000 from (R,0) (centre at (-1000,0) from the start): 4*sqrt(2)*R = 5657
     // steps to within the rounding of the 4 diagonal borders; each axis emits 4R pulses.

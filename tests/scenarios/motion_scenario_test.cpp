@@ -266,3 +266,78 @@ TEST(MotionScenario, BadLineMoveNamesTheKey) {
                   .find("'motion.commands[0].distances[1]' must be a whole number of pulses"),
               std::string::npos);
 }
+
+namespace {
+
+// docs/motion.md's `motion:` example runs as shown: the circle, a drive fault whose cause clears
+// (`clear_after: yes`), the move refused in ErrorStop (0x7002), MC_Reset back to Standstill and a
+// move to 100 afterwards; every check passes.
+TEST(MotionScenario, TheDocsExampleWithATransientFaultAndMcResetPasses) {
+    std::ifstream in(std::string(RCSIM_SOURCE_DIR) + "/docs/motion.md");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string doc = ss.str();
+    const std::size_t from = doc.find("```yaml\nmotion:\n");
+    ASSERT_NE(from, std::string::npos);
+    const std::size_t begin = from + 8, end = doc.find("```", begin);
+    const std::string yaml = doc.substr(begin, end - begin);
+    ASSERT_NE(yaml.find("clear_after: yes"), std::string::npos);
+    nlohmann::json report;
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_docs_example";
+    ASSERT_EQ(run_motion_scenario(YAML::Load(yaml), "motion.md", out, 0, report), 0) << report.dump(2);
+    const nlohmann::json& cmds = report["motion"]["commands"];
+    int resets = 0;
+    for (const auto& c : cmds)
+        if (c.value("fb", "") == "MC_Reset") {
+            EXPECT_EQ(c["outcome"], "done");
+            ++resets;
+        }
+    EXPECT_EQ(resets, 1);
+    EXPECT_EQ(report["motion"]["final_cmd_pulses"][0], 100);
+    EXPECT_EQ(report["motion"]["state"], "STANDSTILL");
+}
+
+// Without clear_after the cause stays: MC_Reset answers Error 0x7103 (drive fault) and the axis
+// stays in ErrorStop.
+TEST(MotionScenario, LastingFaultKeepsMcResetFailing) {
+    const std::string yaml =
+        "motion:\n  duration_s: 0.3\n  commands:\n    - {at_ms: 0, token: SV, data: '1'}\n"
+        "    - {at_ms: 20, inject_fault: 0, code: 0x7500}\n"
+        "    - {at_ms: 50, fb: MC_Reset, axis: 0, expect: error, error_id: 0x7103}\n"
+        "  checks:\n    final_state: ERRORSTOP\n";
+    nlohmann::json report;
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_lasting_fault";
+    EXPECT_EQ(run_motion_scenario(YAML::Load(yaml), "f.yaml", out, 0, report), 0) << report.dump(2);
+}
+
+} // namespace
+
+namespace {
+
+// MC_MoveVelocity from a scenario `fb:` (done at InVelocity, then stopped by MC_Halt),
+// MC_SetPosition, and the reads: a parameter the axis does not have is an expected error 0x7006.
+TEST(MotionScenario, MoveVelocitySetPositionAndReadsFromFb) {
+    const std::string yaml =
+        "motion:\n  duration_s: 0.6\n  commands:\n    - {at_ms: 0, token: SV, data: '1'}\n"
+        "    - {at_ms: 10, fb: MC_MoveVelocity, axis: 0, velocity: 10000, acceleration: 100000,"
+        " deceleration: 100000}\n"
+        "    - {at_ms: 200, fb: MC_Halt, axis: 0, deceleration: 100000}\n"
+        "    - {at_ms: 400, fb: MC_SetPosition, axis: 0, position: 0}\n"
+        "    - {at_ms: 410, fb: MC_ReadStatus, axis: 0}\n"
+        "    - {at_ms: 410, fb: MC_ReadParameter, axis: 0, parameter: 2, expect: error, error_id: 0x7006}\n"
+        "  checks:\n    final_state: STANDSTILL\n    final_positions: [0]\n";
+    nlohmann::json report;
+    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_fb_reads";
+    ASSERT_EQ(run_motion_scenario(YAML::Load(yaml), "v.yaml", out, 0, report), 0) << report.dump(2);
+    const nlohmann::json& c = report["motion"]["commands"];
+    // MC_MoveVelocity: "done" at InVelocity, after its ramp from STD 100 (the scenario default)
+    // to 10000 at 100000 pulses/s^2: 99 ms after 10 ms, seen at a control cycle of 1 ms.
+    EXPECT_EQ(c[1]["fb"], "MC_MoveVelocity");
+    EXPECT_EQ(c[1]["outcome"], "done");
+    EXPECT_GE(c[1]["outcome_ms"].get<double>(), 108.0);
+    EXPECT_LE(c[1]["outcome_ms"].get<double>(), 110.0);
+    EXPECT_EQ(c[3]["outcome"], "done");
+}
+
+} // namespace
+

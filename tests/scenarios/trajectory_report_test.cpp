@@ -39,14 +39,16 @@ TEST(TrajectoryReport, CsvHasOneRowPerAxisPerSample) {
 
 TEST(TrajectoryReport, SvgDrawsBothPathsOnEqualScalesWithNiceBounds) {
     const std::string s = trajectory_svg(l_path(), 0, 1, "run <1>");
-    // Both axes span 0..1000: nice_range(0, 1000, 8) has step 200 and keeps [0, 1000], mapped
-    // onto the 500-pixel square at (70, 60): x = 70 + v / 2, y = 560 - v / 2.
-    EXPECT_NE(s.find("stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"70.0,560.0 570.0,560.0 570.0,60.0\""),
+    // Both axes span 0..1000, widened by 5 % of it on every side so that no move lies on the
+    // frame: nice_range(-50, 1050, 8) has step 200 and bounds [-200, 1200], mapped onto the
+    // 500-pixel square at (70, 60): x = 70 + (v + 200) / 2.8, y = 560 - (v + 200) / 2.8, so 0 is
+    // at 141.4 / 488.6 and 1000 at 498.6 / 131.4, inside the frame (70..570, 60..560).
+    EXPECT_NE(s.find("stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"141.4,488.6 498.6,488.6 498.6,131.4\""),
               std::string::npos)
         << s;
     // The actual path repeats its first point: the decimator merges it.
     EXPECT_NE(s.find("stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\" "
-                     "points=\"70.0,560.0 570.0,560.0\""),
+                     "points=\"141.4,488.6 498.6,488.6\""),
               std::string::npos)
         << s;
     EXPECT_NE(s.find(">run &lt;1&gt;</text>"), std::string::npos) << "the title is escaped";
@@ -54,25 +56,26 @@ TEST(TrajectoryReport, SvgDrawsBothPathsOnEqualScalesWithNiceBounds) {
     EXPECT_NE(s.find("axis 1 position [pulses]"), std::string::npos);
     EXPECT_NE(s.find(">commanded (CAMC-QI CNT1)</text>"), std::string::npos);
     EXPECT_NE(s.find(">actual (drive 0x6064)</text>"), std::string::npos);
-    // Ticks every 200 pulses, the axis starting and ending on one: 0 at x 70, 1000 at x 570.
-    EXPECT_NE(s.find("<text x=\"70.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">0</text>"),
+    // Ticks every 200 pulses, the axis starting and ending on one: -200 at x 70, 1200 at x 570.
+    EXPECT_NE(s.find("<text x=\"70.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">-200</text>"),
               std::string::npos);
-    EXPECT_NE(s.find("<text x=\"570.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">1000</text>"),
+    EXPECT_NE(s.find("<text x=\"570.0\" y=\"576.0\" text-anchor=\"middle\" font-size=\"11.0\">1200</text>"),
               std::string::npos);
     // Start mark on the first point, an arrow 40 pixels along the path pointing +x (tip at
-    // x 110, base 12 back, half-width 5.4), an end mark on (1000, 1000).
-    EXPECT_NE(s.find("<circle cx=\"70.0\" cy=\"560.0\" r=\"4.5\" fill=\"#2ca02c\"/>"), std::string::npos) << s;
-    EXPECT_NE(s.find("<polygon fill=\"#1f77b4\" points=\"110.0,560.0 98.0,565.4 98.0,554.6\"/>"), std::string::npos) << s;
-    EXPECT_NE(s.find("<rect x=\"567.0\" y=\"57.0\" width=\"6.0\" height=\"6.0\" fill=\"#333\"/>"), std::string::npos) << s;
+    // x 181.4, base 12 back, half-width 5.4), an end mark on (1000, 1000).
+    EXPECT_NE(s.find("<circle cx=\"141.4\" cy=\"488.6\" r=\"4.5\" fill=\"#2ca02c\"/>"), std::string::npos) << s;
+    EXPECT_NE(s.find("<polygon fill=\"#1f77b4\" points=\"181.4,488.6 169.4,494.0 169.4,483.2\"/>"), std::string::npos) << s;
+    EXPECT_NE(s.find("<rect x=\"495.6\" y=\"128.4\" width=\"6.0\" height=\"6.0\" fill=\"#333\"/>"), std::string::npos) << s;
     EXPECT_NE(s.find("following error (command - actual)"), std::string::npos);
 }
 
 TEST(TrajectoryReport, SvgOfOtherAxesUsesThem) {
-    // Axis 2 never moves: axis 0's span (1000, step 200) around axis 2's value 7 on multiples of
-    // the step: floor((7 - 500) / 200 + 0.5) = -2, so [-400, 600]; y(7) = 560 - 407 / 2 = 356.5.
+    // Axis 2 never moves: axis 0's span (1400, step 200, as above) around axis 2's value 7 on
+    // multiples of the step: floor((7 - 700) / 200 + 0.5) = -3, so [-600, 800];
+    // y(7) = 560 - 607 / 2.8 = 343.2.
     const std::string s = trajectory_svg(l_path(), 0, 2, "t");
     EXPECT_NE(s.find("axis 2 position [pulses]"), std::string::npos);
-    EXPECT_NE(s.find("points=\"70.0,356.5 570.0,356.5\""), std::string::npos) << s;
+    EXPECT_NE(s.find("points=\"141.4,343.2 498.6,343.2\""), std::string::npos) << s;
 }
 
 TEST(TrajectoryReport, CsvEveryNthSampleAndTheLast) {
@@ -95,7 +98,8 @@ TEST(TrajectoryReport, TimePlotHasItsPanels) {
     const std::string plain = trajectory_time_svg(l_path(), "name", std::nullopt);
     EXPECT_NE(plain.find(">name</text>"), std::string::npos);
     for (const char* panel : {">position</text>", ">velocity (from one control cycle to the next)</text>",
-                              ">following error (command - actual)</text>", ">time [s]</text>"})
+                              ">following error (command - actual)</text>", ">time [s]</text>",
+                              ">path speed of axes 0/1: sqrt(vx^2 + vy^2), from one control cycle to the next</text>"})
         EXPECT_NE(plain.find(panel), std::string::npos) << panel;
     EXPECT_EQ(plain.find("radial error"), std::string::npos) << "no circle, no radial panel";
     // Axes 0 and 1 moved, axis 2 did not: no series for it.
@@ -121,3 +125,17 @@ TEST(TrajectoryReport, UnwritableFileIsNamed) {
 }
 
 } // namespace
+
+// The path-speed panel: the L path's second leg moves 1000 pulses of Y in 1.5 ms, a path speed of
+// 666 667 pulses/s, the first leg 1000 pulses of X in 1 ms (1 000 000): the panel's nice range
+// reaches the larger one, and its value axis is labelled in pulses/s.
+TEST(TrajectoryReport, PathSpeedPanelSpansTheLegsSpeeds) {
+    const std::string s = trajectory_time_svg(l_path(), "name", std::nullopt);
+    const std::size_t at = s.find(">path speed of axes 0/1");
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t next = s.find(">following error (command - actual)</text>", at);
+    const std::string panel = s.substr(at, next - at);
+    EXPECT_NE(panel.find(">1000000</text>"), std::string::npos) << panel;
+    EXPECT_NE(panel.find("[pulses/s]"), std::string::npos);
+}
+

@@ -184,3 +184,89 @@ TEST(StMotion, McLineMoveWithoutAxisYIsInvalidAxis) {
 }
 
 } // namespace
+
+namespace {
+
+// PLCopen Part 1 (MC_Stop, Table 4): while MC_Stop.Execute is held the axis stays in Stopping and
+// every motion command is refused with 16#7003, also after Done. The same sequence through an ST
+// program (axis 0) and through the token layer's own blocks, the scenario `fb:` path (axis 1),
+// gets the same answer: the rules are the axis', whoever calls the blocks.
+TEST(StMotion, StopHeldRefusesAMoveAtDoneInStAndThroughTheControllersBlocks) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; mv : MC_MoveRelative; stop : MC_Stop; move : MC_MoveAbsolute; go, halt : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+mv(Axis := Axis0, Execute := go, Distance := 50000, Velocity := 20000, Acceleration := 200000, Deceleration := 200000);
+stop(Axis := Axis0, Execute := halt, Deceleration := 200000);
+move(Axis := Axis0, Execute := stop.Done, Position := 0, Velocity := 20000, Acceleration := 200000,
+     Deceleration := 200000);
+END_PROGRAM)";
+    run(text, [](StBench& b) {
+        b.mc.command("SV", "1");
+        b.cycles(10);
+        b.program->set_value("go", st::Value{1, 0});
+        MotionController::Blocks& k = b.mc.blocks(1);
+        k.move_rel.Distance = 50000, k.move_rel.Velocity = 20000;
+        k.move_rel.Acceleration = k.move_rel.Deceleration = 200000;
+        k.move_rel.Execute = true;
+        b.cycles(100);
+        b.program->set_value("halt", st::Value{1, 0});
+        k.stop.Deceleration = 200000;
+        k.stop.Execute = true;
+        for (int i = 0; i < 400 && !k.stop.Done; ++i) b.cycles(1);
+        ASSERT_TRUE(k.stop.Done);
+        k.move_abs.Position = 0, k.move_abs.Velocity = 20000;
+        k.move_abs.Acceleration = k.move_abs.Deceleration = 200000;
+        k.move_abs.Execute = true; // at Done, MC_Stop.Execute still high
+        b.cycles(3);
+        EXPECT_EQ(b.var("stop.Done"), 1);
+        EXPECT_EQ(b.var("move.Error"), 1);
+        EXPECT_EQ(b.var("move.ErrorID"), 0x7003);
+        EXPECT_TRUE(k.move_abs.Error);
+        EXPECT_EQ(k.move_abs.ErrorID, 0x7003);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::stopping);
+        EXPECT_EQ(b.mc.axis(1).state(), AxisState::stopping);
+        // Execute low: both leave Stopping (Note 6).
+        b.program->set_value("halt", st::Value{0, 0});
+        k.stop.Execute = false;
+        b.cycles(2);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        EXPECT_EQ(b.mc.axis(1).state(), AxisState::standstill);
+    });
+}
+
+} // namespace
+
+namespace {
+
+// The read blocks and MC_SetPosition from ST (docs/st.md "Motion blocks"): the position read
+// back after MC_SetPosition, the status BOOLs, and a parameter the axis does not have.
+TEST(StMotion, ReadBlocksAndSetPosition) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; sp : MC_SetPosition; rp : MC_ReadActualPosition; rs : MC_ReadStatus;
+    par : MC_ReadParameter; bad : MC_ReadParameter; go : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+sp(Axis := Axis0, Execute := go AND power.Status, Position := 1234);
+rp(Axis := Axis0, Enable := TRUE);
+rs(Axis := Axis0, Enable := TRUE);
+par(Axis := Axis0, Enable := TRUE, ParameterNumber := 8);
+bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
+END_PROGRAM)";
+    run(text, [](StBench& b) {
+        b.cycles(10);
+        EXPECT_EQ(b.var("rs.Standstill"), 1);
+        EXPECT_EQ(b.var("rs.Valid"), 1);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(3);
+        EXPECT_EQ(b.var("sp.Done"), 1);
+        EXPECT_EQ(b.program->value("rp.Position").r, 1234.0);
+        EXPECT_EQ(b.program->value("par.Value").r, 10e6);
+        EXPECT_EQ(b.var("bad.Error"), 1);
+        EXPECT_EQ(b.var("bad.ErrorID"), 0x7006);
+        EXPECT_EQ(b.mc.chip().command_position(0), 1234);
+    });
+}
+
+} // namespace
+
