@@ -106,8 +106,13 @@ void carry_overflow(Micro& m, bool fits) {
     corx(m, multiplier, n);
     m.run(1); // F1 NEGATE
     if (f1) {
+        // NEGATE's line 7 tests tmpb as PREIMUL left it: IMUL replaced a negative multiplicand
+        // by NEG tmpb, which is still negative for the most negative value (80h, 8000h): that
+        // one takes the shorter CF1 RTN path (issue #30).
+        const std::uint16_t tmpb =
+            sign && (multiplicand & top) ? std::uint16_t((0u - multiplicand) & ((1u << n) - 1)) : multiplicand;
         m.jump();
-        negate_full(m, !sign && (multiplicand & top)); // IMUL made tmpb positive before CORX
+        negate_full(m, tmpb & top);
     }
     m.run(1); // X0 IMULCOF
     if (sign) {
