@@ -25,6 +25,8 @@ CommBoard::CommBoard(sc_core::sc_module_name name, const CommBoardConfig& cfg)
     cpu.set_lookahead(cfg.lookahead);
     cpu.set_fast_sync(cfg.fast_sync);
     cpu.set_fast_forward(cfg.fast_forward);
+    cpu.set_stable_reads(&io, &mem);
+    cpu.set_stable_reads_enabled(cfg.stable_reads);
     cpu.map_memory({"ram", cfg.ram_base, cfg.ram_size, ram_.data(), cfg.ram_wait, true});
     cpu.map_memory({"rom", cfg.rom_base, cfg.rom_size, rom_.data(), cfg.rom_wait, false});
 
@@ -49,6 +51,7 @@ CommBoard::CommBoard(sc_core::sc_module_name name, const CommBoardConfig& cfg)
 void CommBoard::connect_dpram(Idt7130& dpram, IrqLine& int_l) {
     mem.out.bind(dpram.left);
     mem.map(config.dpram_base, Idt7130::kSize, 0, dpram.name(), config.dpram_wait);
+    mem.declare_stable(config.dpram_base, &dpram);
     pic.ir[kDpramIr](int_l);
 }
 

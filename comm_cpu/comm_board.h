@@ -37,6 +37,7 @@ struct CommBoardConfig {
     bool lookahead = true;             // bound slices by the next pending kernel event
     bool fast_sync = true;             // a TLM access ends the slice only when it left activity now
     bool fast_forward = true;          // the core's exact idle fast-forward (docs/performance.md)
+    bool stable_reads = true;          // reads a target declares stable skip the kernel sync
 };
 
 class CommBoard : public sc_core::sc_module {

@@ -117,9 +117,12 @@ void Cpu8086::run() {
 
 unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                              i8086::cycles_t start) {
-    // Sync so the target sees sc_time_stamp() == T1 of this cycle.
+    // Sync so the target sees sc_time_stamp() == T1 of this cycle, unless the read is one the
+    // target declared stable and nothing is scheduled before T1.
     const sc_time t1 = clock_.cycles(start);
-    if (t1 > sc_time_stamp()) {
+    if (t1 > sc_time_stamp() && may_read_early(kind, address, width, t1)) {
+        ++stable_reads_;
+    } else if (t1 > sc_time_stamp()) {
         ++kernel_waits_;
         ++access_waits_;
         wait(t1 - sc_time_stamp());
@@ -148,7 +151,19 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     return r.wait_states;
 }
 
-// Kernel time is the access's T1. Activity left at the current time (a signal write, an
+// A read ahead of kernel time (docs/architecture.md "Stable reads"): the target declared it
+// stable, and T1 comes before every pending kernel event, so the sync would only move time:
+// no process runs between now and T1 (one due at T1 itself might run first: the sync then).
+bool Cpu8086::may_read_early(i8086::Bus kind, std::uint32_t address, unsigned width, const sc_time& t1) const {
+    if (!stable_reads_on_) return false;
+    const StableReads* decl = kind == i8086::Bus::io_read ? io_stable_
+                              : kind == i8086::Bus::mem_read || kind == i8086::Bus::code_fetch ? mem_stable_
+                                                                                                  : nullptr;
+    if (!decl || !decl->read_is_stable(address, width)) return false;
+    return !sc_pending_activity() || t1 < sc_time_stamp() + sc_time_to_pending_activity();
+}
+
+// Kernel time is the access's T1 (or, after a stable read, before it). Activity left at the current time (a signal write, an
 // immediate or delta notification) may change INTR/NMI: the slice ends at the next boundary
 // and the kernel runs it. Otherwise nothing can change before the next timed event, which the
 // access may have moved closer: the slice goes on with its limit lowered to that event, the

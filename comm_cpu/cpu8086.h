@@ -62,6 +62,24 @@ public:
     /// (its limit, or the last boundary before the next pending kernel event). Off: every
     /// instruction is executed.
     void set_fast_forward(bool on) { core_.set_fast_forward(on); }
+    /// The current sc_start() ends at `t`: the kernel is told (an event), so a slice stops
+    /// there and the core stands at the first boundary at or after it, whichever syncs the
+    /// speed-ups saved (a run cut between a read's kernel time and its T1 would leave the core
+    /// wherever its next sync is).
+    void end_slices_at(const sc_core::sc_time& t) {
+        if (t > sc_core::sc_time_stamp()) run_end_.notify(t - sc_core::sc_time_stamp());
+    }
+    /// Where the I/O and memory targets declare their stable reads (models/bus.h StableReads;
+    /// the board's routers), nullptr: none.
+    void set_stable_reads(const StableReads* io_space, const StableReads* memory) {
+        io_stable_ = io_space;
+        mem_stable_ = memory;
+    }
+    /// With stable reads on (the default), a read its target declares stable whose T1 lies
+    /// before the next pending kernel event is made without the kernel sync (nothing can run
+    /// before T1 that the sync would let run first). Off: every access syncs first (the
+    /// reference behaviour; the results are the same).
+    void set_stable_reads_enabled(bool on) { stable_reads_on_ = on; }
 
     i8086::Cpu& core() { return core_; }
     const Clock& clock() const { return clock_; }
@@ -108,6 +126,8 @@ public:
     /// Of kernel_waits(), those before a bus access (the sync the access needs; the others end
     /// a slice or sleep in HLT).
     std::uint64_t access_waits() const { return access_waits_; }
+    /// Reads made ahead of kernel time under a stable-read declaration (each a wait saved).
+    std::uint64_t stable_reads() const { return stable_reads_; }
 
     /// Debugger memory access (no bus cycle, no time, no device side effect): RAM and ROM
     /// through the direct map (ROM writable here), everything else through the memory socket's
@@ -128,6 +148,7 @@ private:
     }
     void sample_inputs();
     void after_access();
+    bool may_read_early(i8086::Bus kind, std::uint32_t address, unsigned width, const sc_core::sc_time& t1) const;
     unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                         i8086::cycles_t start) override;
     void write_ignored(std::uint32_t address, unsigned width, i8086::cycles_t start) override;
@@ -148,6 +169,11 @@ private:
     sc_core::sc_time quantum_;
     bool lookahead_ = true;
     bool fast_sync_ = true;
+    bool stable_reads_on_ = true;
+    sc_core::sc_event run_end_{"run_end"}; // end_slices_at(): nothing waits on it, it bounds slices
+    const StableReads* io_stable_ = nullptr;
+    const StableReads* mem_stable_ = nullptr;
+    std::uint64_t stable_reads_ = 0;
     std::vector<i8086::cycles_t>* boundary_log_ = nullptr;
     std::uint64_t slices_ = 0;
     std::uint64_t kernel_waits_ = 0;

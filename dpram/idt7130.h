@@ -33,7 +33,7 @@
 
 namespace rcsim {
 
-class Idt7130 : public sc_core::sc_module {
+class Idt7130 : public sc_core::sc_module, public StableReads {
 public:
     static constexpr unsigned kSize = 1024;
     static constexpr unsigned kMailboxLeft = 0x3FE;  // message to the left CPU (INT_L)
@@ -99,6 +99,14 @@ public:
     /// Board reset: both mailbox interrupts cleared. The RAM keeps its contents (there is no reset pin
     /// on the chip; SRAM content survives a CPU reset).
     void reset();
+
+    /// The left port's stable reads (models/bus.h): every location but the left mailbox 0x3FE,
+    /// whose read clears INT_L. A location's value changes only by a write of either port, each
+    /// decided at its initiator's kernel event; the BUSY window and the counters of a read
+    /// follow its T1 (BusExtension::start), never sc_time_stamp().
+    bool read_is_stable(std::uint64_t address, unsigned len) const override {
+        return address + len <= kSize && !(address <= kMailboxLeft && kMailboxLeft < address + len);
+    }
 
     // Side-effect-free state.
     std::uint8_t peek(unsigned address) const { return mem_.at(address); }

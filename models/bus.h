@@ -52,6 +52,24 @@ struct BusExtension : tlm::tlm_extension<BusExtension> {
     }
 };
 
+/// A target's declaration of the reads an initiator may make without first syncing kernel time
+/// to the cycle's T1 (docs/architecture.md "Stable reads"). A read of [address, address + len)
+/// (a local offset) is stable when the target answers it, and leaves itself in, exactly what it
+/// would at T1 however early in kernel time the access is made, provided nothing the kernel
+/// schedules runs in between: its value depends on the target's state only (never on
+/// sc_time_stamp()), that state changes only at the target's own events or by other agents'
+/// accesses (each one a kernel event of theirs), and the read changes nothing another agent can
+/// observe before T1. The initiator makes such a read early only when T1 lies before the next
+/// pending kernel event. A timer count, a status that follows the time, a read that clears a flag
+/// or an interrupt: not stable.
+class StableReads {
+public:
+    virtual bool read_is_stable(std::uint64_t address, unsigned len) const = 0;
+
+protected:
+    ~StableReads() = default;
+};
+
 /// Result of one bus access made through bus_access().
 struct BusResult {
     tlm::tlm_response_status status = tlm::TLM_INCOMPLETE_RESPONSE;

@@ -26,6 +26,20 @@ void Router::map(std::uint64_t base, std::uint64_t size, unsigned port, const st
     ranges_.push_back({base, size, port, what, wait_states});
 }
 
+void Router::declare_stable(std::uint64_t base, const StableReads* target) {
+    for (auto& r : ranges_)
+        if (r.base == base) {
+            r.stable = target;
+            return;
+        }
+    throw std::invalid_argument(std::string(name()) + ": no range is mapped at the address a stable-read declaration names");
+}
+
+bool Router::read_is_stable(std::uint64_t address, unsigned len) const {
+    const Range* r = decode(address);
+    return r && r->stable && address - r->base + len <= r->size && r->stable->read_is_stable(address - r->base, len);
+}
+
 const Router::Range* Router::decode(std::uint64_t addr) const {
     for (const auto& r : ranges_)
         if (addr - r.base < r.size) return &r;

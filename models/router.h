@@ -6,6 +6,8 @@
 // sees an open bus (0xFF on reads), as on a board without a pull-down.
 #pragma once
 
+#include "models/bus.h"
+
 #include <systemc>
 #include <tlm>
 #include <tlm_utils/multi_passthrough_initiator_socket.h>
@@ -17,7 +19,7 @@
 
 namespace rcsim {
 
-class Router : public sc_core::sc_module {
+class Router : public sc_core::sc_module, public StableReads {
 public:
     tlm_utils::simple_target_socket<Router> in;
     tlm_utils::multi_passthrough_initiator_socket<Router> out;
@@ -30,6 +32,11 @@ public:
     /// top of what the target itself answers). Throws std::invalid_argument on overlap.
     void map(std::uint64_t base, std::uint64_t size, unsigned port, const std::string& what,
              unsigned wait_states = 0);
+    /// The stable-read declaration of the target mapped at `base` (nullptr: none of its reads is).
+    void declare_stable(std::uint64_t base, const StableReads* target);
+    /// The declaration of the target the address decodes to, for its local offset; false for an
+    /// unmapped address or a target that declared nothing.
+    bool read_is_stable(std::uint64_t address, unsigned len) const override;
 
     std::uint64_t unmapped_accesses() const { return unmapped_; }
 
@@ -39,6 +46,7 @@ private:
         unsigned port;
         std::string what;
         unsigned wait_states;
+        const StableReads* stable = nullptr;
     };
     std::vector<Range> ranges_;
     std::uint64_t unmapped_ = 0;

@@ -134,6 +134,11 @@ std::vector<Variant> variants() {
                      s.checks.min_frames_delivered.reset();
                      s.board.comm.fast_forward = false;
                  }, 3});
+    v.push_back({"no traffic, stable_reads off", [](Scenario& s) {
+                     for (auto& p : s.ports) p.host = PortScenario::Host::none;
+                     s.checks.min_frames_delivered.reset();
+                     s.board.comm.stable_reads = false;
+                 }, 3});
     return v;
 }
 

@@ -202,7 +202,7 @@ bool BoardMonitor::run_until(const sc_time& end) {
         for (const auto& [id, s] : subs_)
             if (s.sim_clock && s.next_sim > now) run = std::min(run, s.next_sim - now);
         const auto w0 = Clock::now();
-        sc_core::sc_start(run);
+        world_.start_for(run);
         const auto wall = Clock::now() - w0;
         if (sc_core::sc_time_stamp() < now + run && stop_signal() == 0) return true; // sc_pause: a host ended it
         if (wall < std::chrono::milliseconds(2)) slice = std::min(slice * 2, kMaxSlice);
@@ -382,7 +382,7 @@ void BoardMonitor::step(const sc_time& t) {
         sc_time run = end - now;
         if (next_command_ < commands_.size() && commands_[next_command_].at > now)
             run = std::min(run, commands_[next_command_].at - now);
-        sc_core::sc_start(run);
+        world_.start_for(run);
         run_due_commands();
         if (sc_core::sc_time_stamp() < now + run) break; // sc_pause
     }

@@ -331,7 +331,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const std::unique_ptr<modbus::ModbusBridge> modbus = start_modbus(mon.get(), opt);
     const auto wall0 = std::chrono::steady_clock::now();
     if (mon) mon->run_until(s.duration_s > 0 ? ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)) : sc_core::sc_max_time());
-    else if (s.duration_s > 0) sc_core::sc_start(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
+    else if (s.duration_s > 0) world.start_for(ps(static_cast<std::uint64_t>(s.duration_s * 1e12 + 0.5)));
     else sc_core::sc_start(); // duration_s 0: until a tcp client disconnects / a replay log ends (sc_pause)
     if (stop_signal() == 0) world.drain(s.drain_s);
     if (progress) progress->finish(); // before the warnings of the report's making, and the summary

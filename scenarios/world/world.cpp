@@ -283,7 +283,7 @@ void World::drain(double drain_s) {
         return false;
     };
     while (busy() && sc_core::sc_time_stamp() < end && stop_signal() == 0)
-        sc_core::sc_start(std::min(step, end - sc_core::sc_time_stamp()));
+        start_for(std::min(step, end - sc_core::sc_time_stamp()));
 }
 
 void World::finish_files() {

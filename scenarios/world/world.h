@@ -71,6 +71,12 @@ public:
     /// main CPU owes handed and finished by the comm CPU — or `drain_s` has passed, so that frames
     /// in flight at the end are not counted as lost.
     void drain(double drain_s);
+    /// sc_start(d), its end an event the comm CPU's slices stop at (Cpu8086::end_slices_at): every
+    /// run of the world's kernel goes through here, so the report does not depend on the syncs.
+    void start_for(const sc_core::sc_time& d) {
+        ctl.comm.cpu.end_slices_at(sc_core::sc_time_stamp() + d);
+        sc_core::sc_start(d);
+    }
     /// Hands the observers what the main CPU received and sent since the last call, then closes
     /// their comparisons. Call once, after the run.
     void finish_observers();

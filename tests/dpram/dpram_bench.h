@@ -71,6 +71,15 @@ public:
         return value;
     }
 
+    /// A read of the cycle starting at `start`, made now (kernel time may be earlier: a read
+    /// the initiator makes ahead of its T1 under a stable-read declaration).
+    template <typename Socket>
+    std::uint8_t read_ahead(Socket& socket, const sc_core::sc_time& start, unsigned address) {
+        std::uint8_t value = 0;
+        bus_access(socket, BusCycle::mem_read, address, &value, 1, start);
+        return value;
+    }
+
 private:
     void run_left() {
         if (left_body) left_body();

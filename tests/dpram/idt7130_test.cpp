@@ -498,3 +498,71 @@ TEST(Idt7130BadInput, ZeroPortClockIsAnError) {
         EXPECT_TRUE(contains(r.get_msg(), "left port timing")) << r.get_msg();
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Stable reads (models/bus.h StableReads): the left port declares every location stable but its
+// mailbox; a read made ahead of its T1 then answers and arbitrates as the synced one does.
+
+TEST(Idt7130StableReads, EveryLocationButTheLeftMailboxIsDeclared) {
+    DpramBench tb("tb");
+    for (unsigned a = 0; a < Idt7130::kSize; ++a)
+        EXPECT_EQ(tb.ram.read_is_stable(a, 1), a != Idt7130::kMailboxLeft) << "address 0x" << std::hex << a;
+    EXPECT_FALSE(tb.ram.read_is_stable(0x3FD, 2)) << "a word read that takes in 0x3FE";
+    EXPECT_TRUE(tb.ram.read_is_stable(0x3FC, 2));
+    EXPECT_FALSE(tb.ram.read_is_stable(0x3FF, 2)) << "past the end";
+}
+
+// Two benches in one kernel (nothing couples them): the same cycles, the left read of 0x100
+// (T1 at 1000 ns) made at its T1 in one and at 200 ns in the other. A right write of the same
+// location at 1100 ns overlaps it: BUSY goes to the right port alike in both.
+TEST(Idt7130StableReads, AReadAheadOfItsT1AnswersAndArbitratesAsTheSyncedOne) {
+    DpramBench synced("synced"), ahead("ahead");
+    std::uint8_t got_synced = 0, got_ahead = 0;
+    for (DpramBench* tb : {&synced, &ahead})
+        tb->right_body = [tb] {
+            tb->write_at(tb->right, ns(0), 0x100, 0x55);
+            tb->write_at(tb->right, ns(1100), 0x100, 0x66);
+        };
+    synced.left_body = [&] { got_synced = synced.read_at(synced.left, ns(1000), 0x100); };
+    ahead.left_body = [&] {
+        sc_core::wait(ns(200));
+        got_ahead = ahead.read_ahead(ahead.left, ns(1000), 0x100);
+    };
+    sc_core::sc_start();
+    EXPECT_EQ(got_synced, 0x55);
+    EXPECT_EQ(got_ahead, got_synced);
+    ASSERT_EQ(synced.busy.size(), 1u);
+    ASSERT_EQ(ahead.busy.size(), 1u);
+    EXPECT_EQ(ahead.busy[0].port, Idt7130::right_port);
+    EXPECT_EQ(ahead.busy[0].wait_states, synced.busy[0].wait_states);
+    EXPECT_EQ(ahead.busy[0].busy_low, synced.busy[0].busy_low);
+    EXPECT_EQ(ahead.ram.stats(Idt7130::left_port).accesses, synced.ram.stats(Idt7130::left_port).accesses);
+}
+
+// What the declaration does not cover, so the initiator must check it: a write of the other
+// port between the read's kernel time and its T1. Read ahead, the old value; synced, the new.
+TEST(Idt7130StableReads, AWriteOfTheOtherPortBeforeT1MakesAReadAheadWrong) {
+    DpramBench synced("synced"), ahead("ahead");
+    std::uint8_t got_synced = 0, got_ahead = 0;
+    for (DpramBench* tb : {&synced, &ahead}) tb->right_body = [tb] { tb->write_at(tb->right, ns(500), 0x200, 0x77); };
+    synced.left_body = [&] { got_synced = synced.read_at(synced.left, ns(1000), 0x200); };
+    ahead.left_body = [&] { got_ahead = ahead.read_ahead(ahead.left, ns(1000), 0x200); };
+    sc_core::sc_start();
+    EXPECT_EQ(got_synced, 0x77);
+    EXPECT_EQ(got_ahead, 0x00);
+}
+
+// Why the left mailbox is left out: its read clears INT_L's flag at once, so a read ahead of
+// T1 shows the change to every observer before T1 (int_l_pending(), the 8259A's view of it).
+TEST(Idt7130StableReads, TheLeftMailboxReadIsSeenBeforeItsT1) {
+    DpramBench tb("tb");
+    bool pending_after_read = true;
+    tb.right_body = [&] { tb.write_at(tb.right, ns(0), Idt7130::kMailboxLeft, 0x12); };
+    tb.left_body = [&] {
+        sc_core::wait(ns(1000));
+        tb.read_ahead(tb.left, ns(3000), Idt7130::kMailboxLeft);
+        pending_after_read = tb.ram.int_l_pending(); // at 1000 ns, 2000 ns before the read's T1
+    };
+    sc_core::sc_start();
+    EXPECT_FALSE(pending_after_read);
+}
