@@ -163,11 +163,11 @@ bool Cpu8086::may_read_early(i8086::Bus kind, std::uint32_t address, unsigned wi
     return !sc_pending_activity() || t1 < sc_time_stamp() + sc_time_to_pending_activity();
 }
 
-// Kernel time is the access's T1 (or, after a stable read, before it). Activity left at the current time (a signal write, an
-// immediate or delta notification) may change INTR/NMI: the slice ends at the next boundary
-// and the kernel runs it. Otherwise nothing can change before the next timed event, which the
-// access may have moved closer: the slice goes on with its limit lowered to that event, the
-// same limit a fresh slice would compute.
+// Kernel time is the access's T1 (or, after a stable read, before it). Activity left at the
+// current time (a signal write, an immediate or delta notification) may change INTR/NMI: the
+// slice ends at the next boundary and the kernel runs it. Otherwise nothing can change before
+// the next timed event, which the access may have moved closer: the slice goes on with its limit
+// lowered to that event, the same limit a fresh slice would compute.
 void Cpu8086::after_access() {
     if (!fast_sync_ || !lookahead_ || sc_pending_activity_at_current_time()) {
         core_.stop_run();

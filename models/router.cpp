@@ -32,7 +32,8 @@ void Router::declare_stable(std::uint64_t base, const StableReads* target) {
             r.stable = target;
             return;
         }
-    throw std::invalid_argument(std::string(name()) + ": no range is mapped at the address a stable-read declaration names");
+    throw std::invalid_argument(std::string(name()) +
+                                ": no range is mapped at the address a stable-read declaration names");
 }
 
 bool Router::read_is_stable(std::uint64_t address, unsigned len) const {
