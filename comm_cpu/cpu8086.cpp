@@ -120,12 +120,14 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     // Sync so the target sees sc_time_stamp() == T1 of this cycle, unless the read is one the
     // target declared stable and nothing is scheduled before T1.
     const sc_time t1 = clock_.cycles(start);
-    if (t1 > sc_time_stamp() && may_read_early(kind, address, width, t1)) {
-        ++stable_reads_;
-    } else if (t1 > sc_time_stamp()) {
-        ++kernel_waits_;
-        ++access_waits_;
-        wait(t1 - sc_time_stamp());
+    if (t1 > sc_time_stamp()) {
+        if (may_read_early(kind, address, width, t1)) {
+            ++stable_reads_;
+        } else {
+            ++kernel_waits_;
+            ++access_waits_;
+            wait(t1 - sc_time_stamp());
+        }
     }
     std::uint8_t buf[2] = {std::uint8_t(data), std::uint8_t(data >> 8)};
     BusResult r;

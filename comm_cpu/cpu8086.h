@@ -67,6 +67,7 @@ public:
     /// speed-ups saved (a run cut between a read's kernel time and its T1 would leave the core
     /// wherever its next sync is).
     void end_slices_at(const sc_core::sc_time& t) {
+        run_end_.cancel(); // one left by a run sc_pause() ended early would win over a later time
         if (t > sc_core::sc_time_stamp()) run_end_.notify(t - sc_core::sc_time_stamp());
     }
     /// Where the I/O and memory targets declare their stable reads (models/bus.h StableReads;
