@@ -120,23 +120,24 @@ void run_variant(const Scenario& base, Variant& v, bool first, const std::string
     v.last = r;
 }
 
+// The scenario without its hosts: the firmware's idle loop and the timer interrupts only.
+void no_traffic(Scenario& s) {
+    for (auto& p : s.ports) p.host = PortScenario::Host::none;
+    s.checks.min_frames_delivered.reset();
+}
+
 std::vector<Variant> variants() {
     std::vector<Variant> v;
     v.push_back({"all speed-ups on", [](Scenario&) {}});
     v.push_back({"fast_sync off", [](Scenario& s) { s.board.comm.fast_sync = false; }, 0});
     v.push_back({"fast_forward off", [](Scenario& s) { s.board.comm.fast_forward = false; }, 0});
-    v.push_back({"no traffic, all on", [](Scenario& s) {
-                     for (auto& p : s.ports) p.host = PortScenario::Host::none;
-                     s.checks.min_frames_delivered.reset();
-                 }});
+    v.push_back({"no traffic, all on", no_traffic});
     v.push_back({"no traffic, fast_forward off", [](Scenario& s) {
-                     for (auto& p : s.ports) p.host = PortScenario::Host::none;
-                     s.checks.min_frames_delivered.reset();
+                     no_traffic(s);
                      s.board.comm.fast_forward = false;
                  }, 3});
     v.push_back({"no traffic, stable_reads off", [](Scenario& s) {
-                     for (auto& p : s.ports) p.host = PortScenario::Host::none;
-                     s.checks.min_frames_delivered.reset();
+                     no_traffic(s);
                      s.board.comm.stable_reads = false;
                  }, 3});
     return v;

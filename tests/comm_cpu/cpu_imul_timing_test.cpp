@@ -263,6 +263,12 @@ void check(Runner& run, Mismatch& bad, std::uint16_t acc, std::uint16_t operand,
     }
 }
 
+// Every (accumulator, operand) byte pair of one form.
+void check_byte_pairs(Runner& run, Mismatch& bad, bool sign, bool mem) {
+    for (unsigned a = 0; a < 256; ++a)
+        for (unsigned b = 0; b < 256; ++b) check(run, bad, std::uint16_t(a), std::uint16_t(b), false, sign, mem);
+}
+
 // A fixed 32-bit LCG (Numerical Recipes constants): the sample is the same on every run.
 struct Lcg {
     std::uint32_t s;
@@ -301,8 +307,7 @@ TEST(Cpu8086MulTiming, MicrocodeModelComputesTheProduct) {
 TEST(Cpu8086MulTiming, ImulReg8AllPairs) {
     Runner run;
     Mismatch bad;
-    for (unsigned a = 0; a < 256; ++a)
-        for (unsigned b = 0; b < 256; ++b) check(run, bad, std::uint16_t(a), std::uint16_t(b), false, true, false);
+    check_byte_pairs(run, bad, true, false);
     EXPECT_EQ(bad.count, 0u) << "first: " << bad.first;
 }
 
@@ -310,8 +315,7 @@ TEST(Cpu8086MulTiming, ImulReg8AllPairs) {
 TEST(Cpu8086MulTiming, ImulMem8AllPairs) {
     Runner run;
     Mismatch bad;
-    for (unsigned a = 0; a < 256; ++a)
-        for (unsigned b = 0; b < 256; ++b) check(run, bad, std::uint16_t(a), std::uint16_t(b), false, true, true);
+    check_byte_pairs(run, bad, true, true);
     EXPECT_EQ(bad.count, 0u) << "first: " << bad.first;
 }
 
@@ -319,9 +323,7 @@ TEST(Cpu8086MulTiming, ImulMem8AllPairs) {
 TEST(Cpu8086MulTiming, MulByteAllPairs) {
     Runner run;
     Mismatch bad;
-    for (bool mem : {false, true})
-        for (unsigned a = 0; a < 256; ++a)
-            for (unsigned b = 0; b < 256; ++b) check(run, bad, std::uint16_t(a), std::uint16_t(b), false, false, mem);
+    for (bool mem : {false, true}) check_byte_pairs(run, bad, false, mem);
     EXPECT_EQ(bad.count, 0u) << "first: " << bad.first;
 }
 
