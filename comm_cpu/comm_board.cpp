@@ -27,6 +27,7 @@ CommBoard::CommBoard(sc_core::sc_module_name name, const CommBoardConfig& cfg)
     cpu.set_fast_forward(cfg.fast_forward);
     cpu.set_stable_reads(&io, &mem);
     cpu.set_stable_reads_enabled(cfg.stable_reads);
+    cpu.set_slice_chain(cfg.slice_chain);
     cpu.map_memory({"ram", cfg.ram_base, cfg.ram_size, ram_.data(), cfg.ram_wait, true});
     cpu.map_memory({"rom", cfg.rom_base, cfg.rom_size, rom_.data(), cfg.rom_wait, false});
 

@@ -38,6 +38,7 @@ struct CommBoardConfig {
     bool fast_sync = true;             // a TLM access ends the slice only when it left activity now
     bool fast_forward = true;          // the core's exact idle fast-forward (docs/performance.md)
     bool stable_reads = true;          // reads a target declares stable skip the kernel sync
+    bool slice_chain = true;           // slices ending before the next event follow inside the core
 };
 
 class CommBoard : public sc_core::sc_module {

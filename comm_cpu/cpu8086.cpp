@@ -46,11 +46,50 @@ void Cpu8086::track_inputs() {
     }
 }
 
-// The levels as they were just before the current kernel time (the core's boundary).
-void Cpu8086::sample_inputs() {
-    const sc_time now = sc_time_stamp();
-    core_.set_intr(sampled(intr_now_, intr_prev_, intr_changed_, now));
-    core_.set_nmi(sampled(nmi_now_, nmi_prev_, nmi_changed_, now));
+// The levels as they were just before time `at` (the core's boundary).
+void Cpu8086::sample_inputs(const sc_time& at) {
+    core_.set_intr(sampled(intr_now_, intr_prev_, intr_changed_, at));
+    core_.set_nmi(sampled(nmi_now_, nmi_prev_, nmi_changed_, at));
+}
+
+// The slice that begins at cycle `start`, at kernel time or ahead of it (now_ps): its limit (no
+// further than the quantum and event_ps, the next pending event's time, kNoEvent: none or no
+// lookahead) and its horizon (no input can change before it). One boundary only after a fresh
+// change of INTR/NMI: the kernel runs what it caused before the core goes on.
+void Cpu8086::plan_slice(std::uint64_t now_ps, i8086::cycles_t start, bool fresh_change, std::uint64_t event_ps,
+                         i8086::cycles_t& limit, i8086::cycles_t& horizon) const {
+    const std::uint64_t period = clock_.period_ps();
+    limit = horizon = start + 1;
+    if (fresh_change) return;
+    std::uint64_t end_ps = now_ps + to_ps(quantum_);
+    if (event_ps != kNoEvent) {
+        if (event_ps < end_ps) end_ps = event_ps;
+        // Boundaries at edges up to and including the event time still see the old level.
+        horizon = event_ps / period + 1;
+    }
+    limit = end_ps / period + 1;
+    if (limit <= start) limit = start + 1;
+    if (horizon < limit) horizon = limit;
+}
+
+// The slice chain (docs/architecture.md "Slice chain"): the core reached its limit at cycle `at`,
+// before the next pending event, with no activity left at the current time. The sync run()
+// would make next only moves kernel time (no process runs before that event), and the inputs
+// it samples then hold the levels they have now: the next slice is planned here, as run() would.
+// A halted core goes back to run(), which sleeps until INTR or NMI changes.
+bool Cpu8086::next_slice(i8086::cycles_t at, i8086::cycles_t& limit, i8086::cycles_t& horizon) {
+    if (!slice_chain_ || !lookahead_ || boundary_log_ || core_.halted()) return false;
+    // One kernel query: zero with activity at the current time, sc_max_time() - now with nothing
+    // pending (then no event would ever end the chain).
+    const sc_time now = sc_time_stamp(), ahead = sc_time_to_pending_activity();
+    if (ahead == sc_max_time() - now) return false;
+    const std::uint64_t at_ps = at * clock_.period_ps(), event_ps = to_ps(now) + to_ps(ahead);
+    if (at_ps >= event_ps) return false;
+    sample_inputs(ps(at_ps));
+    plan_slice(at_ps, at, false, event_ps, limit, horizon);
+    ++slices_;
+    slice_limit_ = limit;
+    return true;
 }
 
 void Cpu8086::run() {
@@ -64,7 +103,7 @@ void Cpu8086::run() {
             wait(core_time - sc_time_stamp());
         }
         const sc_time now = sc_time_stamp();
-        sample_inputs();
+        sample_inputs(now);
         const bool fresh_change = intr_changed_ == now || nmi_changed_ == now;
 
         if (core_.halted() && !(intr_now_ && (core_.regs().flags & i8086::flag::IF)) && !nmi_now_) {
@@ -78,22 +117,11 @@ void Cpu8086::run() {
         }
 
         const i8086::cycles_t start = core_.cycles();
-        i8086::cycles_t limit = start + 1;
-        i8086::cycles_t horizon = limit; // no input can change before it (the fast-forward's bound)
-        if (!fresh_change) {
-            sc_time span = quantum_;
-            bool event_ahead = false;
-            if (lookahead_ && sc_pending_activity()) {
-                const sc_time ahead = sc_time_to_pending_activity();
-                if (ahead < span) span = ahead;
-                // Boundaries at edges up to and including the event time still see the old level.
-                horizon = (to_ps(now) + to_ps(ahead)) / period + 1;
-                event_ahead = true;
-            }
-            limit = (to_ps(now) + to_ps(span)) / period + 1;
-            if (limit <= start) limit = start + 1;
-            if (!event_ahead || horizon < limit) horizon = limit;
-        }
+        i8086::cycles_t limit, horizon; // horizon: no input can change before it (the fast-forward's bound)
+        const std::uint64_t event_ps = lookahead_ && sc_pending_activity()
+                                           ? to_ps(now) + to_ps(sc_time_to_pending_activity())
+                                           : kNoEvent;
+        plan_slice(to_ps(now), start, fresh_change, event_ps, limit, horizon);
         ++slices_;
         slice_end_ = false;
         slice_limit_ = limit;

@@ -81,6 +81,12 @@ public:
     /// before T1 that the sync would let run first). Off: every access syncs first (the
     /// reference behaviour; the results are the same).
     void set_stable_reads_enabled(bool on) { stable_reads_on_ = on; }
+    /// With the slice chain on (the default), a slice that ends before the next pending kernel
+    /// event, nothing left to run at the current time, is followed by the next one inside the
+    /// core, without the kernel round trip whose only effect would be to move kernel time
+    /// (docs/architecture.md "Slice chain"). Off: every slice returns to the kernel (the
+    /// reference behaviour; the results are the same).
+    void set_slice_chain(bool on) { slice_chain_ = on; }
 
     i8086::Cpu& core() { return core_; }
     const Clock& clock() const { return clock_; }
@@ -119,6 +125,7 @@ public:
     /// Records the cycle number of every instruction boundary into `log` (nullptr: off).
     void set_boundary_log(std::vector<i8086::cycles_t>* log) { boundary_log_ = log; }
 
+    /// Slices run, chained ones included (set_slice_chain).
     std::uint64_t slices() const { return slices_; }
     /// The times this thread handed control to the kernel (wait()): kernel time catching up
     /// with the core at a slice start or before a bus access, and HLT's sleep. Each is a
@@ -147,7 +154,11 @@ private:
     bool sampled(bool now, bool prev, const sc_core::sc_time& changed, const sc_core::sc_time& at) const {
         return changed < at ? now : prev;
     }
-    void sample_inputs();
+    void sample_inputs(const sc_core::sc_time& at);
+    static constexpr std::uint64_t kNoEvent = ~std::uint64_t{0};
+    void plan_slice(std::uint64_t now_ps, i8086::cycles_t start, bool fresh_change, std::uint64_t event_ps,
+                    i8086::cycles_t& limit, i8086::cycles_t& horizon) const;
+    bool next_slice(i8086::cycles_t at, i8086::cycles_t& limit, i8086::cycles_t& horizon) override;
     void after_access();
     bool may_read_early(i8086::Bus kind, std::uint32_t address, unsigned width, const sc_core::sc_time& t1) const;
     unsigned bus_access(i8086::Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
@@ -171,6 +182,7 @@ private:
     bool lookahead_ = true;
     bool fast_sync_ = true;
     bool stable_reads_on_ = true;
+    bool slice_chain_ = true;
     sc_core::sc_event run_end_{"run_end"}; // end_slices_at(): nothing waits on it, it bounds slices
     const StableReads* io_stable_ = nullptr;
     const StableReads* mem_stable_ = nullptr;

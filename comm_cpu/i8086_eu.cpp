@@ -544,7 +544,7 @@ void Cpu::run_until(cycles_t limit, bool burn_halt, cycles_t horizon) {
     // The fast-forward skips instructions: not while something observes each one or each clock
     // (a step hook with a SkipHook only counts them: it is told which ones were skipped).
     const bool forward = ff_on_ && (!step_hook_ || skip_hook_) && !trace_;
-    while (cycle_ < limit_ && !stop_) {
+    while (!stop_ && (cycle_ < limit_ || next_slice())) {
         if (halted_ && !nmi_pending_ && !(intr_ && get_flag(flag::IF))) {
             if (!burn_halt) return;
             skip_to(limit_);

@@ -384,7 +384,8 @@ bool Cpu::ff_try_forward(std::uint32_t here) {
 // writes made, the state of its end point restored), to the point where the run would stop
 // clock by clock: the first one at or after the limit, unless the horizon comes first (then the
 // last one before it). Never past the limit: the slices, and so the boundary the core stands at
-// when the simulation stops, stay those of the run without the fast-forward. True if time moved.
+// when the simulation stops, stay those of the run without the fast-forward. At the limit, a
+// slice the handler chains (run_until) is forwarded on from that point. True if time moved.
 bool Cpu::ff_forward(std::size_t k) {
     const Loop& l = ff_loop_;
     ff_found_ = true;
@@ -406,7 +407,8 @@ bool Cpu::ff_forward(std::size_t k) {
                                             [](const LoopPoint& q, cycles_t c) { return q.cycle < c; }) -
                            l.points.begin());
     };
-    while (!stop_ && cycle_ < limit_) {
+    // At the limit, a chained slice (run_until) goes on along the path from the same point.
+    while (!stop_ && (cycle_ < limit_ || (!halted_ && next_slice()))) {
         const LoopPoint& p = l.points[k];
         const cycles_t base = cycle_ - p.cycle; // where the current period started
         const std::size_t at_limit = after(k, limit_ - base); // l.points.size(): the period's end
@@ -440,7 +442,7 @@ bool Cpu::ff_forward(std::size_t k) {
         ff_instructions_ += q.instructions - p.instructions;
         ff_cycles_ += q.cycle - p.cycle;
         k = j;
-        break;
+        if (cycle_ < limit_) break; // the last point before the horizon: executed from here
     }
     ff_last_pc_ = pc();
     ff_landed_cycle_ = cycle_;

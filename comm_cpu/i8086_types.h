@@ -34,6 +34,11 @@ public:
     /// A write into a read-only direct region (ROM) at T1 cycle `start`: the core drops it (the
     /// ROM's outputs stay off during a write cycle); the handler may log it.
     virtual void write_ignored(std::uint32_t /*address*/, unsigned /*width*/, cycles_t /*start*/) {}
+    /// The slice chain: run_until() reached its limit at the boundary at cycle `at`. A handler
+    /// that would begin the next slice right there, with nothing else to run in between, sets
+    /// its limit and horizon and answers true; run_until() goes on (docs/architecture.md "Slice
+    /// chain"). False (the default): run_until() returns.
+    virtual bool next_slice(cycles_t /*at*/, cycles_t& /*limit*/, cycles_t& /*horizon*/) { return false; }
 };
 
 /// One completed bus cycle, for the observation hook.

@@ -140,6 +140,10 @@ std::vector<Variant> variants() {
                      no_traffic(s);
                      s.board.comm.stable_reads = false;
                  }, 3});
+    v.push_back({"no traffic, slice_chain off", [](Scenario& s) {
+                     no_traffic(s);
+                     s.board.comm.slice_chain = false;
+                 }, 3});
     return v;
 }
 

@@ -320,6 +320,7 @@ void read_board(YamlMap m, ControllerConfig& b) {
     c.fast_sync = m.get<bool>("fast_sync", true); // speed-ups: off gives the same results, slower
     c.fast_forward = m.get<bool>("fast_forward", true);
     c.stable_reads = m.get<bool>("stable_reads", true);
+    c.slice_chain = m.get<bool>("slice_chain", true);
     YamlMap w = m.map("wait_states");
     c.ram_wait = static_cast<unsigned>(w.integer("ram", c.ram_wait, 0, 64));
     c.rom_wait = static_cast<unsigned>(w.integer("rom", c.rom_wait, 0, 64));
