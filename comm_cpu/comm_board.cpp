@@ -41,6 +41,7 @@ CommBoard::CommBoard(sc_core::sc_module_name name, const CommBoardConfig& cfg)
     for (unsigned n = 0; n < kPorts; ++n) {
         io.out.bind(uart[n].bus);
         io.map(uart_io_address(n, 0), 2 * 8, n, uart[n].name(), cfg.io_wait);
+        io.declare_stable(uart_io_address(n, 0), &uart[n]);
         uart[n].int_out(uart_int[n]);
         pic.ir[n](uart_int[n]);
     }

@@ -95,8 +95,6 @@ public:
     /// limit, a next slice the BusHandler chains (BusHandler::next_slice) continues the run.
     void run_until(cycles_t limit, bool burn_halt = true, cycles_t horizon = 0);
     void stop_run() { stop_ = true; }
-    /// Slices the BusHandler chained inside run_until() so far (BusHandler::next_slice).
-    std::uint64_t chained_slices() const { return chained_slices_; }
     /// Lowers the limit and the horizon of the run_until() in progress (never raises them).
     void shorten_run(cycles_t limit) {
         if (limit < limit_) limit_ = limit;
@@ -293,11 +291,7 @@ private:
         return b;
     }
     /// At the limit of run_until(): the next slice, when the handler chains one.
-    bool next_slice() {
-        if (!handler_ || !handler_->next_slice(cycle_, limit_, horizon_)) return false;
-        ++chained_slices_;
-        return true;
-    }
+    bool next_slice() { return handler_ && handler_->next_slice(cycle_, limit_, horizon_); }
     void flush_queue();
     void suspend_fetch();
     void susp();
@@ -642,7 +636,6 @@ private:
     bool rep_interrupted_ = false;  // a REP run stopped for an interrupt (IP at the last prefix)
     bool rep_suspended_ = false;    // a REP run parked at a run_until limit between elements
     cycles_t limit_ = ~cycles_t(0); // the current run_until limit
-    std::uint64_t chained_slices_ = 0;
 
 public:
     std::uint64_t rom_writes() const { return rom_writes_; }

@@ -166,6 +166,18 @@ std::uint8_t Uart82510::peek(unsigned bank, unsigned offset) const {
     return v;
 }
 
+bool Uart82510::read_is_stable(std::uint64_t address, unsigned len) const {
+    const std::uint64_t lane = (1ULL << cfg_.addr_shift) - 1;
+    if (len != 1 || (address & lane) || (address >> cfg_.addr_shift) > 7) return false;
+    const auto off = static_cast<unsigned>(address >> cfg_.addr_shift);
+    if (off == GIR) return true;
+    switch (bank_) { // the reads with an effect in read_bank0 / read_bank1
+    case 0: return !((off == RXD && !(lcr_ & LCR_DLAB)) || off == LSR || off == MSR);
+    case 1: return !(off == RXD || off == TMST || off == RST || off == 6);
+    default: return true; // banks 2 and 3: configuration only
+    }
+}
+
 std::uint8_t Uart82510::read_reg(unsigned off, bool effects) {
     if (off == GIR) return gir();
     const bool dlab = lcr_ & LCR_DLAB;

@@ -17,6 +17,7 @@
 // stop bit leaves the transmitter, and a timer one event per expiry.
 #pragma once
 
+#include "models/bus.h"
 #include "models/irq.h"
 #include "models/serial_line.h"
 
@@ -69,7 +70,7 @@ constexpr std::uint8_t CLCF_RX1X = 0x80, CLCF_RXBRGA = 0x40, CLCF_TX1X = 0x20, C
 constexpr std::uint8_t BxCF_BRG = 0x04; // BACF.BAM / BBCF.BBM: 1 = baud generator, 0 = timer
 } // namespace i82510
 
-class Uart82510 : public sc_core::sc_module, public SerialEndpoint {
+class Uart82510 : public sc_core::sc_module, public SerialEndpoint, public StableReads {
 public:
     struct Config {
         std::uint64_t clock_hz = 18'432'000; // crystal; BRG input is clock/2, 16x sampling
@@ -116,6 +117,13 @@ public:
     /// The same for a register of any bank (a debugger's register dump): the bank pointer is
     /// left as it is.
     std::uint8_t peek(unsigned bank, unsigned offset) const;
+    /// Stable reads (models/bus.h, docs/architecture.md "Stable reads"): a byte read of a
+    /// register in the bank selected now whose read has no effect. Its value follows the
+    /// registers, FIFOs and timers only, which change at this part's own events (a character
+    /// in, the transmitter, a timer) or by accesses, never with the time alone: GIR in every
+    /// bank, GSR, FLR, RXF and the configuration registers. Not stable: the reads that pop the
+    /// RX FIFO or clear a status (RXD, LSR, MSR, TMST, RST), which may move INT.
+    bool read_is_stable(std::uint64_t address, unsigned len) const override;
 
     /// The RESET pin: every register, FIFO, timer and the bank pointer (not the Stats).
     void reset();

@@ -4,7 +4,10 @@
 // uart82510_serial_test.cpp; the bench both use is uart82510_bench.h.
 #include "tests/uart82510/uart82510_bench.h"
 
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 using namespace rcsim;
 using namespace rcsim::i82510;
@@ -415,4 +418,89 @@ TEST(Uart82510Interrupts, ModemDeltasAndMieGating) {
         b.cpu.wr(ICM, ICM_STC); // status clear takes the delta too
         EXPECT_EQ(b.cpu.rd(GIR), 0x21);
     });
+}
+
+// ---- stable reads --------------------------------------------------------------------------
+
+// The declaration (Uart82510::read_is_stable, docs/architecture.md "Stable reads"): a read it
+// declares stable changes nothing (every register of every bank, INT, the FIFO levels), so it
+// may be made ahead of kernel time; each of the others, made with every source pending, clears
+// or pops something (the data sheet's reads with an effect: RXD, LSR, MSR in bank 0; RXD, TMST,
+// RST and MSR in bank 1), so made early it would move INT before its T1.
+TEST(Uart82510StableReads, DeclaredReadsChangeNothingTheOthersClearSomething) {
+    Bench b;
+    std::set<std::pair<unsigned, unsigned>> with_effect;
+    run([&] {
+        Cpu& c = b.cpu;
+        const auto dump = [&] {
+            settle();
+            std::vector<unsigned> d;
+            for (unsigned bank = 0; bank < 4; ++bank)
+                for (unsigned off = 0; off < 8; ++off) d.push_back(b.uart.peek(bank, off));
+            d.push_back(b.irq.read());
+            d.push_back(b.uart.rx_level());
+            d.push_back(b.uart.tx_level());
+            return d;
+        };
+        c.setup_9600_8e1();
+        c.wr(LCR, 0x9B); // DLAB: offsets 0 and 1 of bank 3 are BBL and BBH
+        c.bank(3);
+        c.wr(BBL, 9); // timer B: ~1 us (GirPriorityWithSeveralSourcesPending)
+        c.wr(BBH, 0);
+        c.bank(0);
+        c.wr(LCR, 0x1B);
+        c.bank(3);
+        c.wr(TMIE, 0x02);
+        c.bank(0);
+        c.wr(GER, 0x3F);
+        bool cts = false;
+        std::uint64_t sent = 0;
+        // Every source pending: a character with a parity error in the RX FIFO, a modem delta,
+        // timer B expired (and stopped).
+        const auto raise_all = [&] {
+            b.line.inject(SerialLine::b, sent++, FaultKind::flip_data_bit, 0);
+            b.host.send("p");
+            cts = !cts;
+            b.uart.set_modem_inputs(cts, false, false, false);
+            c.bank(1);
+            c.wr(TMCR, 0x22);
+            sc_core::wait(k_char + us(2));
+            c.wr(TMCR, 0x00);
+        };
+        raise_all();
+        unsigned stable = 0;
+        for (unsigned bank = 0; bank < 4; ++bank)
+            for (unsigned off = 0; off < 8; ++off) {
+                c.bank(bank);
+                if (!b.uart.read_is_stable(off * 2, 1)) continue;
+                const std::vector<unsigned> before = dump();
+                c.rd(off);
+                EXPECT_EQ(dump(), before) << "bank " << bank << " offset " << off << " is declared stable";
+                ++stable;
+            }
+        EXPECT_EQ(stable, 32u - 7u);
+        for (unsigned bank = 0; bank < 2; ++bank)
+            for (unsigned off = 0; off < 8; ++off) {
+                c.bank(bank);
+                if (b.uart.read_is_stable(off * 2, 1)) continue;
+                raise_all();
+                c.bank(bank);
+                const std::vector<unsigned> before = dump();
+                c.rd(off);
+                EXPECT_NE(dump(), before) << "bank " << bank << " offset " << off << " is not declared stable";
+                with_effect.insert({bank, off});
+            }
+        // With DLAB, offset 0 of bank 0 is BAL: no FIFO pop, stable.
+        c.bank(0);
+        c.wr(LCR, 0x9B);
+        EXPECT_TRUE(b.uart.read_is_stable(RXD * 2, 1));
+        c.wr(LCR, 0x1B);
+        // Only byte reads of a register's lane.
+        EXPECT_FALSE(b.uart.read_is_stable(GIR * 2 + 1, 1));
+        EXPECT_FALSE(b.uart.read_is_stable(GIR * 2, 2));
+        EXPECT_FALSE(b.uart.read_is_stable(16, 1));
+    }, sc_time(50, sc_core::SC_MS));
+    const std::set<std::pair<unsigned, unsigned>> datasheet{{0, RXD}, {0, LSR}, {0, MSR}, {1, RXD},
+                                                           {1, TMST}, {1, RST}, {1, MSR}};
+    EXPECT_EQ(with_effect, datasheet);
 }
