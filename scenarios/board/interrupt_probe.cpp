@@ -70,19 +70,19 @@ void InterruptProbe::on_cycle(const BusRecord& r) {
     const bool dpram_write = r.kind == Bus::mem_write && r.address - dpram_base_ < 0x400;
     // Outside interrupts only INTA and DP-RAM writes matter: skip the rest cheaply.
     if (stack_.empty() && r.kind != Bus::int_ack && !dpram_write) return;
-    const sc_core::sc_time t = cpu_.time_of(r.start);
+    // The cycle's time only where a record takes it (most cycles of a handler just count).
     if (r.kind == Bus::int_ack) {
-        on_inta(r, t);
+        on_inta(r, cpu_.time_of(r.start));
     } else if (!stack_.empty()) {
         Open& top = stack_.back();
         // The entry's pushes may straddle the first handler fetch: the 8086 flushes the queue to the
         // new CS:IP between pushing CS and pushing IP (FARCALL microcode), so the BIU can fetch at the
         // handler before the return IP is written. Until all three pushes are seen, entry cycles
         // are matched even after the handler was entered.
-        const bool entry_cycle = (!top.entered || top.pushes < 3) && on_entry_cycle(top, r, t);
-        if (!entry_cycle && top.entered) on_handler_cycle(r, t);
+        const bool entry_cycle = (!top.entered || top.pushes < 3) && on_entry_cycle(top, r);
+        if (!entry_cycle && top.entered) on_handler_cycle(r);
     }
-    if (dpram_write && on_dpram_write) on_dpram_write(r, t);
+    if (dpram_write && on_dpram_write) on_dpram_write(r, cpu_.time_of(r.start));
 }
 
 void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
@@ -178,7 +178,7 @@ sc_core::sc_time InterruptProbe::start_horizon() const {
 
 void InterruptProbe::flush() { hand_over(sc_core::sc_max_time()); }
 
-bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::sc_time& t) {
+bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r) {
     if (o.rec.inta2 == sc_core::SC_ZERO_TIME) return false;
     const std::uint32_t ivt = o.rec.vector * 4u;
     if (r.kind == Bus::mem_read && o.ivt_reads < 2 && (r.address == ivt || r.address == ivt + 2)) {
@@ -220,18 +220,17 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r, const sc_core::
             return true;
         }
     }
-    (void)t;
     return false;
 }
 
-void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time& t) {
+void InterruptProbe::on_handler_cycle(const BusRecord& r) {
     Open& o = stack_.back();
     if (!o.entered) return;
     switch (r.kind) {
     case Bus::io_write:
         // OCW2 (A0=0, D4:D3 = 00) with the EOI bit (D5) set.
         if (r.address == pic_io_base_ && (r.data & 0x18) == 0 && (r.data & 0x20) && !o.rec.has_eoi) {
-            o.rec.eoi = t;
+            o.rec.eoi = cpu_.time_of(r.start);
             o.rec.has_eoi = true;
         }
         break;
@@ -244,7 +243,7 @@ void InterruptProbe::on_handler_cycle(const BusRecord& r, const sc_core::sc_time
         break;
     case Bus::code_fetch: {
         const std::uint32_t ret = ((std::uint32_t(o.ret_cs) << 4) + o.ret_ip) & 0xFFFFF;
-        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) close_top(t);
+        if (o.popped && (r.address == ret || r.address == (ret & ~1u))) close_top(cpu_.time_of(r.start));
         break;
     }
     default:

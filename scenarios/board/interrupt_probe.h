@@ -203,8 +203,8 @@ private:
     static void bus_hook(void* self, const i8086::BusRecord& r);
     void on_cycle(const i8086::BusRecord& r);
     void on_inta(const i8086::BusRecord& r, const sc_core::sc_time& t);
-    bool on_entry_cycle(Open& o, const i8086::BusRecord& r, const sc_core::sc_time& t);
-    void on_handler_cycle(const i8086::BusRecord& r, const sc_core::sc_time& t);
+    bool on_entry_cycle(Open& o, const i8086::BusRecord& r);
+    void on_handler_cycle(const i8086::BusRecord& r);
     void close_top(const sc_core::sc_time& iret_done);
     void hand_over(const sc_core::sc_time& horizon);
     sc_core::sc_time start_horizon() const;
