@@ -74,6 +74,12 @@ foreach(scenario IN LISTS SCENARIOS)
       if(f STREQUAL "interrupts.csv" AND NOT EXISTS ${fa} AND NOT EXISTS ${fb})
         continue() # a motion-only scenario: no comm board, no interrupts.csv in either run
       endif()
+      if(NOT EXISTS ${fa} OR NOT EXISTS ${fb})
+        # Not a difference: a run that wrote nothing (Speed.ComparisonDetectsADifference must not
+        # pass on it).
+        list(APPEND failed "${stem}: ${f} missing after the run with ${switch} ${a} or ${b}")
+        continue()
+      endif()
       execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${fa} ${fb} RESULT_VARIABLE diff)
       if(NOT diff EQUAL 0)
         list(APPEND failed "${stem}: ${f} differs with ${switch} ${a} vs ${b}")
