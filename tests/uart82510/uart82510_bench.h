@@ -45,6 +45,19 @@ struct Cpu : sc_core::sc_module {
         wr(BAH, 0);
         wr(LCR, 0x1B);
     }
+    /// Timer B as a timer of ~1 us (divisor 9 x 2 clocks at 18.432 MHz is ~0.98 us; BBCF's reset
+    /// value selects timer mode) with its interrupt enabled in TMIE; left in bank 3.
+    void timer_b_1us() {
+        bank(0);
+        wr(LCR, LCR_DLAB | 0x1B); // DLAB: offsets 0 and 1 of bank 3 are BBL and BBH
+        bank(3);
+        wr(BBL, 9);
+        wr(BBH, 0);
+        bank(0);
+        wr(LCR, 0x1B);
+        bank(3);
+        wr(TMIE, 0x02);
+    }
 };
 
 /// The far end of the line: records what it receives, sends when told.

@@ -208,18 +208,7 @@ TEST(Uart82510Interrupts, GirPriorityWithSeveralSourcesPending) {
     run([&] {
         Cpu& c = b.cpu;
         c.setup_9600_8e1();
-        // Timer B: 1 us period (divisor 9 x 2 clocks at 18.432 MHz is ~0.98 us).
-        c.bank(3);
-        c.wr(LCR, 0x9B); // DLAB from bank 3: LCR is only in bank 0, so go back
-        c.bank(0);
-        c.wr(LCR, 0x9B);
-        c.bank(3);
-        c.wr(BBL, 9);
-        c.wr(BBH, 0);
-        c.bank(0);
-        c.wr(LCR, 0x1B);
-        c.bank(3);
-        c.wr(TMIE, 0x02);
+        c.timer_b_1us();
         c.bank(1);
         c.wr(TMCR, 0x22); // start B, gate open
         b.line.inject(SerialLine::b, 0, FaultKind::flip_data_bit, 0);
@@ -443,14 +432,7 @@ TEST(Uart82510StableReads, DeclaredReadsChangeNothingTheOthersClearSomething) {
             return d;
         };
         c.setup_9600_8e1();
-        c.wr(LCR, 0x9B); // DLAB: offsets 0 and 1 of bank 3 are BBL and BBH
-        c.bank(3);
-        c.wr(BBL, 9); // timer B: ~1 us (GirPriorityWithSeveralSourcesPending)
-        c.wr(BBH, 0);
-        c.bank(0);
-        c.wr(LCR, 0x1B);
-        c.bank(3);
-        c.wr(TMIE, 0x02);
+        c.timer_b_1us();
         c.bank(0);
         c.wr(GER, 0x3F);
         bool cts = false;
