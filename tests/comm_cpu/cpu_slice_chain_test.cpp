@@ -10,16 +10,13 @@
 #include "comm_cpu/cpu8086.h"
 #include "models/bus.h"
 #include "models/router.h"
+#include "tests/support/child_run.h"
 #include "tests/support/sc_test.h"
 
 #include <tlm_utils/simple_target_socket.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstring>
 #include <memory>
-#include <stdexcept>
 #include <vector>
 
 using namespace rcsim;
@@ -131,42 +128,20 @@ struct BoardRun {
     std::uint64_t cycles = 0, kernel_waits = 0, slices = 0;
 };
 
-// The run in a child process; what it logged and counted comes back through a pipe.
+// The run in a child process (tests/support/child_run.h).
 BoardRun run_board(const Options& o) {
-    int fd[2];
-    if (pipe(fd) != 0) throw std::runtime_error("pipe() failed");
-    const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error("fork() failed");
-    if (pid == 0) {
-        close(fd[0]);
+    const test::ChildResult c = test::run_in_child([&o] {
         Board b("board", o);
         sc_start(run_time());
-        const std::vector<std::uint8_t> log = b.log();
-        const std::uint64_t head[4] = {log.size(), b.cpu.cycles(), b.cpu.kernel_waits(), b.cpu.slices()};
-        bool ok = write(fd[1], head, sizeof head) == ssize_t(sizeof head);
-        ok = ok && write(fd[1], log.data(), log.size()) == ssize_t(log.size());
-        _exit(ok ? 0 : 1);
-    }
-    close(fd[1]);
-    std::uint64_t head[4] = {};
+        return test::ChildResult{{b.cpu.cycles(), b.cpu.kernel_waits(), b.cpu.slices()}, b.log()};
+    });
     BoardRun r;
-    if (read(fd[0], head, sizeof head) == ssize_t(sizeof head)) {
-        r.log.resize(head[0]);
-        std::size_t got = 0;
-        while (got < r.log.size()) {
-            const ssize_t n = read(fd[0], r.log.data() + got, r.log.size() - got);
-            if (n <= 0) break;
-            got += std::size_t(n);
-        }
-        r.log.resize(got);
-        r.cycles = head[1];
-        r.kernel_waits = head[2];
-        r.slices = head[3];
+    r.log = c.log;
+    if (c.counts.size() == 3) {
+        r.cycles = c.counts[0];
+        r.kernel_waits = c.counts[1];
+        r.slices = c.counts[2];
     }
-    close(fd[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the child run failed";
     return r;
 }
 
