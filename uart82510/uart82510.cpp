@@ -111,13 +111,18 @@ void Uart82510::reset_registers() {
 // ---------------------------------------------------------------------------------------------
 // Bus
 
+std::optional<unsigned> Uart82510::register_at(std::uint64_t address) const {
+    const std::uint64_t lane = (1ULL << cfg_.addr_shift) - 1;
+    if ((address & lane) || (address >> cfg_.addr_shift) > 7) return std::nullopt;
+    return static_cast<unsigned>(address >> cfg_.addr_shift);
+}
+
 void Uart82510::b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time&) {
     BusView view(gp, true);
     view->wait_states = 0;
-    const std::uint64_t addr = gp.get_address();
     const unsigned len = gp.get_data_length();
-    const std::uint64_t lane = (1ULL << cfg_.addr_shift) - 1;
-    if (view->kind == BusCycle::int_ack || (addr & lane) || (addr >> cfg_.addr_shift) > 7) {
+    const std::optional<unsigned> off = register_at(gp.get_address());
+    if (view->kind == BusCycle::int_ack || !off) {
         gp.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE); // not wired to this lane / cycle
         return;
     }
@@ -129,23 +134,20 @@ void Uart82510::b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time&) {
         gp.set_response_status(tlm::TLM_BYTE_ENABLE_ERROR_RESPONSE);
         return;
     }
-    const unsigned off = static_cast<unsigned>(addr >> cfg_.addr_shift);
     unsigned char* data = gp.get_data_ptr();
     if (gp.is_read()) {
-        data[0] = read(off);
+        data[0] = read(*off);
         if (len == 2) data[1] = 0xFF; // the high byte lane floats
     } else if (gp.is_write()) {
-        write(off, data[0]);
+        write(*off, data[0]);
     }
     gp.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
 unsigned Uart82510::transport_dbg(tlm::tlm_generic_payload& gp) {
-    const std::uint64_t addr = gp.get_address();
-    if (!gp.is_read() || gp.get_data_length() == 0 || (addr & ((1ULL << cfg_.addr_shift) - 1)) ||
-        (addr >> cfg_.addr_shift) > 7)
-        return 0;
-    gp.get_data_ptr()[0] = peek(static_cast<unsigned>(addr >> cfg_.addr_shift));
+    const std::optional<unsigned> off = register_at(gp.get_address());
+    if (!gp.is_read() || gp.get_data_length() == 0 || !off) return 0;
+    gp.get_data_ptr()[0] = peek(*off);
     return 1;
 }
 
@@ -167,13 +169,12 @@ std::uint8_t Uart82510::peek(unsigned bank, unsigned offset) const {
 }
 
 bool Uart82510::read_is_stable(std::uint64_t address, unsigned len) const {
-    const std::uint64_t lane = (1ULL << cfg_.addr_shift) - 1;
-    if (len != 1 || (address & lane) || (address >> cfg_.addr_shift) > 7) return false;
-    const auto off = static_cast<unsigned>(address >> cfg_.addr_shift);
-    if (off == GIR) return true;
+    const std::optional<unsigned> off = register_at(address);
+    if (len != 1 || !off) return false;
+    if (*off == GIR) return true;
     switch (bank_) { // the reads with an effect in read_bank0 / read_bank1
-    case 0: return !((off == RXD && !(lcr_ & LCR_DLAB)) || off == LSR || off == MSR);
-    case 1: return !(off == RXD || off == TMST || off == RST || off == 6);
+    case 0: return !((*off == RXD && !(lcr_ & LCR_DLAB)) || *off == LSR || *off == MSR);
+    case 1: return !(*off == RXD || *off == TMST || *off == RST || *off == MSR); // MSR again at 6
     default: return true; // banks 2 and 3: configuration only
     }
 }

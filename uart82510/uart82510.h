@@ -207,6 +207,9 @@ private:
     Stats stats_;
     std::optional<sc_core::sc_time> first_overrun_;
 
+    /// The register (A2..A0) an address selects: on byte lane 0 (register r at r << addr_shift)
+    /// and not past offset 7, else none (not wired to this part).
+    std::optional<unsigned> register_at(std::uint64_t address) const;
     void b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time& delay);
     unsigned transport_dbg(tlm::tlm_generic_payload& gp);
 

@@ -474,7 +474,7 @@ TEST(Uart82510StableReads, DeclaredReadsChangeNothingTheOthersClearSomething) {
             }
         // With DLAB, offset 0 of bank 0 is BAL: no FIFO pop, stable.
         c.bank(0);
-        c.wr(LCR, 0x9B);
+        c.wr(LCR, LCR_DLAB | 0x1B);
         EXPECT_TRUE(b.uart.read_is_stable(RXD * 2, 1));
         c.wr(LCR, 0x1B);
         // Only byte reads of a register's lane.
