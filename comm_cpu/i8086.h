@@ -19,8 +19,12 @@
 #include "comm_cpu/i8086_types.h"
 #include "models/memory.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <utility>
 #include <vector>
 
@@ -530,14 +534,31 @@ private:
     std::vector<LoopMark> ff_marks_;
     std::vector<LoopPoint> ff_points_;        // every boundary of the recording
     Loop ff_loop_;
-    std::vector<std::uint64_t> ff_pc_bits_;  // one bit per linear address: a pc of the loop's points
+    /// A zeroed array from calloc(), which takes large blocks from pages the kernel maps zeroed
+    /// on first touch: the per-address tables below cost only the pages a loop uses, where a
+    /// vector's zeroing touched all 4.1 MB at every start (page faults, a part of each short run).
+    template <class T>
+    struct ZeroedArray {
+        std::unique_ptr<T[], void (*)(void*)> p{nullptr, std::free};
+        std::size_t n = 0;
+        void allocate(std::size_t count) {
+            p.reset(static_cast<T*>(std::calloc(count, sizeof(T))));
+            if (!p) throw std::bad_alloc();
+            n = count;
+        }
+        void clear() { std::fill(p.get(), p.get() + n, T{}); }
+        bool empty() const { return n == 0; }
+        T& operator[](std::size_t i) { return p[i]; }
+        const T& operator[](std::size_t i) const { return p[i]; }
+    };
+    ZeroedArray<std::uint64_t> ff_pc_bits_;   // one bit per linear address: a pc of the loop's points
     unsigned ff_misses_ = 0;
     // Where the last forwarding stopped (cycle, instructions, point): a boundary still there has
     // the RAM that point needs (the forwarding made it so, nothing has run since).
     cycles_t ff_landed_cycle_ = ~cycles_t(0);
     std::uint64_t ff_landed_instructions_ = 0;
     std::size_t ff_landed_point_ = 0;
-    std::vector<std::uint32_t> ff_seen_;      // per RAM byte: the last check that saw a write to it
+    ZeroedArray<std::uint32_t> ff_seen_;      // per RAM byte: the last check that saw a write to it
     std::uint32_t ff_check_ = 0;
     struct Answer {
         std::uint16_t data;

@@ -445,9 +445,11 @@ void Cpu::step() {
     // still points at it) when an interrupt is taken.
     if (boundary_pending_) {
         boundary_pending_ = false;
-        // (the cheap test first: nothing to check when no request, inhibit or trap is set, and
-        // the end of start-up has been seen: interrupts_enabled_at)
-        if ((inhibit_ || rep_interrupted_ || nmi_pending_ || intr_ || trap_armed_ || interrupts_enabled_at_ == kNever) &&
+        // (the cheap test first: nothing to check when no request, inhibit or trap is set and
+        // the end of start-up is not due: it is seen at the first boundary with IF = 1,
+        // interrupts_enabled_at)
+        if ((inhibit_ || rep_interrupted_ || nmi_pending_ || intr_ || trap_armed_ ||
+             (interrupts_enabled_at_ == kNever && get_flag(flag::IF))) &&
             check_interrupts()) {
             opcode_ = q_read(QueueOp::first);
             return;

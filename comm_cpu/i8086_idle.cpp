@@ -187,8 +187,8 @@ template <class Self, class V> void Cpu::state_fields(Self& c, V& v) {
 void Cpu::set_fast_forward(bool on) {
     ff_on_ = on;
     ff_recording_ = false;
-    if (on && ff_seen_.empty()) ff_seen_.assign(std::size_t(1) << 20, 0);
-    if (on && ff_pc_bits_.empty()) ff_pc_bits_.assign((std::size_t(1) << 20) / 64, 0);
+    if (on && ff_seen_.empty()) ff_seen_.allocate(std::size_t(1) << 20);
+    if (on && ff_pc_bits_.empty()) ff_pc_bits_.allocate((std::size_t(1) << 20) / 64);
     if (!on) ff_drop_loop();
 }
 
@@ -246,7 +246,7 @@ void Cpu::ff_start() {
 // value it had before its first write there.
 bool Cpu::ff_ram_restored(std::size_t from) {
     if (++ff_check_ == 0) {
-        std::fill(ff_seen_.begin(), ff_seen_.end(), 0);
+        ff_seen_.clear();
         ff_check_ = 1;
     }
     for (std::size_t i = from; i < ff_writes_.size(); ++i) {
@@ -337,7 +337,7 @@ bool Cpu::ff_holds_at(std::size_t k) {
         l.needs_known[k] = true;
         std::vector<LoopWrite>& need = l.needs[k];
         if (++ff_check_ == 0) {
-            std::fill(ff_seen_.begin(), ff_seen_.end(), 0);
+            ff_seen_.clear();
             ff_check_ = 1;
         }
         const std::size_t n = l.points.size();

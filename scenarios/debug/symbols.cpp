@@ -59,12 +59,18 @@ std::string plain(const std::string& name) { return name.size() > 1 && name[0] =
 // ---- the table ----
 
 void SymbolTable::add(Symbol symbol, const std::string& where) {
+    append(std::move(symbol), where);
+    sort();
+}
+
+// The loaders append every symbol of a map and sort once (fill_sizes): sorting after each one,
+// as add() does, made loading a map quadratic in its symbols.
+void SymbolTable::append(Symbol symbol, const std::string& where) {
     if (by_name_.count(symbol.name))
         throw SymbolError((where.empty() ? std::string("symbol table") : where) + ": duplicate symbol '" +
                           symbol.name + "'");
     by_name_.emplace(symbol.name, symbols_.size());
     symbols_.push_back(std::move(symbol));
-    sort();
 }
 
 void SymbolTable::sort() {
@@ -82,6 +88,7 @@ void SymbolTable::sort() {
 }
 
 void SymbolTable::fill_sizes(std::uint32_t code_end, std::uint32_t data_end) {
+    sort(); // (the symbols a loader appended)
     for (std::size_t i = 0; i < symbols_.size(); ++i) {
         Symbol& s = symbols_[i];
         if (s.size != 0) continue;
@@ -191,7 +198,7 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
             throw SymbolError(e.where + ": symbol '" + e.name + "' in segment " + std::to_string(e.segment) +
                               " (the firmware links code in 0 and data in 3)");
         }
-        table.add(std::move(s), e.where);
+        table.append(std::move(s), e.where);
     }
     table.fill_sizes(code_end, data_end);
     return table;
@@ -269,7 +276,7 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
                 s.address = base + (real - origin);
                 if (sec != sections.end()) code_end = std::max(code_end, base + (sec->second.stop - origin));
             }
-            table.add(std::move(s), at(path, n));
+            table.append(std::move(s), at(path, n));
         }
     }
     if (!header_seen) throw SymbolError(path + ": empty file, not a nasm map");
@@ -405,7 +412,7 @@ SymbolTable SymbolTable::load_publics_map(const std::string& path, std::uint16_t
         });
         const bool code = in_segment != segments.end() ? in_segment->code : s.address >= rom_base && s.address < rom_end;
         s.kind = code ? Symbol::Kind::code : Symbol::Kind::data;
-        table.add(std::move(s), row.where);
+        table.append(std::move(s), row.where);
     }
     table.fill_sizes(code_end ? code_end : rom_end, data_end);
     return table;
@@ -464,7 +471,7 @@ SymbolTable SymbolTable::load_text(const std::string& path) {
         } else {
             s.kind = s.address >= rom_base && s.address < rom_end ? Symbol::Kind::code : Symbol::Kind::data;
         }
-        table.add(std::move(s), where);
+        table.append(std::move(s), where);
     }
     table.fill_sizes(rom_end, 0);
     return table;

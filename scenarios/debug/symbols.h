@@ -102,6 +102,8 @@ public:
     std::size_t size() const { return symbols_.size(); }
 
 private:
+    /// add() without the sort: fill_sizes(), which every loader ends with, sorts.
+    void append(Symbol symbol, const std::string& where);
     void sort();
 
     std::vector<Symbol> symbols_;
