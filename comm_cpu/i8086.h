@@ -525,7 +525,7 @@ private:
     // Recordings that find no period (a loop interrupted more often than its period, or none)
     // back off, doubling up to kFfMaxBackoff clocks: their logging is pure cost.
     static constexpr cycles_t kFfMaxBackoff = 65536;
-    bool ff_found_ = true;          // the current/last recording forwarded
+    bool ff_found_ = true;          // the current/last recording found its period
     cycles_t ff_backoff_ = 0, ff_quiet_until_ = 0;
     std::vector<LoopCycle> ff_log_;
     std::vector<LoopWrite> ff_writes_;

@@ -388,8 +388,6 @@ bool Cpu::ff_try_forward(std::uint32_t here) {
 // slice the handler chains (run_until) is forwarded on from that point. True if time moved.
 bool Cpu::ff_forward(std::size_t k) {
     const Loop& l = ff_loop_;
-    ff_found_ = true;
-    ff_backoff_ = 0;
     ff_recording_ = false;
     const cycles_t start = cycle_;
     bool period_written = false; // the RAM holds what the loop's writes leave at its start
@@ -549,6 +547,12 @@ bool Cpu::ff_boundary(std::uint32_t here, bool backward) {
             const LoopMark& m = ff_marks_[i];
             if (m.cycle < cycle_ && m.state == now && ff_ram_restored(m.writes_at)) {
                 ff_learn(m);
+                // A recording that found its period: the next may start without a pause.
+                // (Forwarding along a loop already learned says nothing of that, and after
+                // each interrupt it made the first boundaries off the loop's path start a
+                // recording the loop's return then dropped.)
+                ff_found_ = true;
+                ff_backoff_ = 0;
                 return ff_forward(0);
             }
         }
