@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <map>
 #include <fstream>
 #include <iterator>
@@ -30,6 +31,12 @@ std::string write(const std::string& text) {
     const std::string path = testing::TempDir() + "rcsim_sym_" + info->name() + "_" + std::to_string(getpid());
     std::ofstream(path) << text;
     return path;
+}
+
+std::string hex_of(unsigned v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%X", v);
+    return buf;
 }
 
 std::string error_of(const std::string& text, SymbolTable (*load)(const std::string&)) {
@@ -432,6 +439,29 @@ TEST(Symbols, TextFormatAddressesSizesAndKinds) {
     // symbols() is sorted by address
     EXPECT_TRUE(std::is_sorted(table.symbols().begin(), table.symbols().end(),
                                [](const Symbol& a, const Symbol& b) { return a.address < b.address; }));
+}
+
+// A map as big as a large firmware's, in descending address order: loaded sorted, each name found
+// at its line's address, each symbol sized to the next, a name given twice refused at its line.
+// (The loaders sort once; they sorted after every symbol before, quadratic in the map's size.)
+TEST(Symbols, ALargeMapInDescendingOrderLoadsSortedAndSized) {
+    constexpr unsigned kSymbols = 20000;
+    std::string text;
+    for (unsigned i = kSymbols; i-- > 0;) text += "f" + std::to_string(i) + " 0x" + hex_of(0xA0000 + 4 * i) + "\n";
+    const auto table = SymbolTable::load_text(write(text));
+    ASSERT_EQ(table.size(), kSymbols);
+    for (unsigned i = 0; i < kSymbols; i += 997) {
+        const Symbol* s = table.find("f" + std::to_string(i));
+        ASSERT_NE(s, nullptr) << i;
+        EXPECT_EQ(s->address, 0xA0000u + 4 * i);
+        EXPECT_EQ(table.symbols()[i].name, "f" + std::to_string(i));
+        if (i + 1 < kSymbols) {
+            EXPECT_EQ(s->size, 4u) << i;
+        }
+        EXPECT_EQ(table.containing(0xA0000 + 4 * i + 3), s);
+    }
+    EXPECT_THAT(error_of(text + "f7 0xB0000\n", &SymbolTable::load_text),
+                HasSubstr(":" + std::to_string(kSymbols + 1) + ": duplicate symbol 'f7'"));
 }
 
 TEST(Symbols, TextFormatErrorsNameTheLine) {
