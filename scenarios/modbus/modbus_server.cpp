@@ -38,6 +38,11 @@ constexpr int kGatewayTarget = MODBUS_EXCEPTION_GATEWAY_TARGET; // no device wit
 
 std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
 
+// "60 s", or "500 ms" for a time that is not whole seconds (the log's words for the idle timeout).
+std::string duration_text(std::chrono::milliseconds t) {
+    return t.count() % 1000 == 0 ? std::to_string(t.count() / 1000) + " s" : std::to_string(t.count()) + " ms";
+}
+
 struct Connection {
     int fd = -1;
     std::string peer;
@@ -49,7 +54,8 @@ struct Connection {
 
 class ModbusServer::Impl {
 public:
-    Impl(int listen_fd, std::ostream& log) : listen_fd_(listen_fd), log_(log) {
+    Impl(int listen_fd, std::ostream& log, std::chrono::milliseconds idle_timeout)
+        : listen_fd_(listen_fd), log_(log), idle_timeout_(idle_timeout) {
         ctx_ = modbus_new_tcp("127.0.0.1", 0); // only for modbus_reply(): it never connects or listens
         map_ = modbus_mapping_new(table_size(Table::coil), table_size(Table::discrete_input),
                                   table_size(Table::holding_register), table_size(Table::input_register));
@@ -87,6 +93,7 @@ public:
 private:
     int listen_fd_;
     std::ostream& log_;
+    const std::chrono::milliseconds idle_timeout_; // no complete request for this long: closed
     modbus_t* ctx_ = nullptr;
     modbus_mapping_t* map_ = nullptr;
     std::array<std::vector<std::uint16_t>, 4> writable_; // per table, the cells a client may write
@@ -112,7 +119,7 @@ private:
             if (fds[0].revents & POLLIN) accept();
             const auto now = Clock::now();
             for (std::size_t i = conns_.size(); i-- > 0;)
-                if (now - conns_[i].last > kIdleTimeout) drop(i, "idle for 60 s");
+                if (now - conns_[i].last > idle_timeout_) drop(i, "idle for " + duration_text(idle_timeout_));
         }
     }
 
@@ -264,7 +271,8 @@ private:
     }
 };
 
-ModbusServer::ModbusServer(const std::string& host, unsigned port, std::ostream& log) {
+ModbusServer::ModbusServer(const std::string& host, unsigned port, std::ostream& log,
+                           std::chrono::milliseconds idle_timeout) {
     const std::string where = "--modbus '" + host + ":" + std::to_string(port) + "'";
     in_addr ip{};
     if (::inet_pton(AF_INET, host.c_str(), &ip) != 1) throw ConfigError(where + ": HOST must be a numeric IPv4 address");
@@ -283,7 +291,7 @@ ModbusServer::ModbusServer(const std::string& host, unsigned port, std::ostream&
     socklen_t len = sizeof a;
     ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
     port_ = ntohs(a.sin_port);
-    impl_ = std::make_unique<Impl>(fd, log);
+    impl_ = std::make_unique<Impl>(fd, log, idle_timeout);
 }
 
 ModbusServer::~ModbusServer() = default;

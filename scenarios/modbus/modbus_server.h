@@ -28,7 +28,7 @@ namespace rcsim::modbus {
 class ModbusServer {
 public:
     static constexpr std::size_t kMaxConnections = 16;         // the 17th is closed at once
-    static constexpr auto kIdleTimeout = std::chrono::seconds(60); // no complete request: closed
+    static constexpr std::chrono::milliseconds kIdleTimeout{60000}; // no complete request: closed
     static constexpr std::size_t kMaxPendingWrites = 4096;      // cells not yet taken: exception 06
     static constexpr std::uint8_t kUnitId = 1;                  // 255 is taken too (TCP's "none")
 
@@ -46,8 +46,11 @@ public:
     };
 
     /// Binds HOST:PORT (numeric IPv4; port 0 = ephemeral) and starts the io thread. Throws
-    /// ConfigError naming the address when it cannot be bound.
-    ModbusServer(const std::string& host, unsigned port, std::ostream& log);
+    /// ConfigError naming the address when it cannot be bound. `idle_timeout`: a connection
+    /// without a complete request for that long is closed (`rcsim run` keeps the default; a
+    /// test gives a short one).
+    ModbusServer(const std::string& host, unsigned port, std::ostream& log,
+                 std::chrono::milliseconds idle_timeout = kIdleTimeout);
     ~ModbusServer();
     ModbusServer(const ModbusServer&) = delete;
     ModbusServer& operator=(const ModbusServer&) = delete;
