@@ -523,8 +523,10 @@ private:
     bool ff_recording_ = false;
     std::uint32_t ff_pc_ = 0, ff_last_pc_ = 0;
     // Recordings that find no period (a loop interrupted more often than its period, or none)
-    // back off, doubling up to kFfMaxBackoff clocks: their logging is pure cost.
-    static constexpr cycles_t kFfMaxBackoff = 65536;
+    // back off, doubling up to kFfMaxBackoff clocks: their logging is pure cost. (65.5 ms at
+    // 8 MHz: with three saturated ports a recording every 8.2 ms, the earlier bound, cost 2 %
+    // of the run; a loop that becomes idle later is learned at most that much later.)
+    static constexpr cycles_t kFfMaxBackoff = 524288;
     bool ff_found_ = true;          // the current/last recording found its period
     cycles_t ff_backoff_ = 0, ff_quiet_until_ = 0;
     std::vector<LoopCycle> ff_log_;
