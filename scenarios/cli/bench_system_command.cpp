@@ -10,24 +10,25 @@
 // With --coverage: the cost of `rcsim run --coverage` instead, the run with its files written
 // (--out) against the same with --coverage, side by side.
 #include "comm_cpu/x86emu_anchor.h"
+#include "models/child_process.h"
 #include "models/cli_range.h"
 #include "scenarios/world/world.h"
 #include "scenarios/run/runner.h"
 
 #include <CLI/CLI.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace rcsim {
@@ -55,34 +56,22 @@ struct Variant {
     Sample last{};                     // the last round's: its simulated figures are every round's
 };
 
-// SystemC elaborates once per process: each measurement runs in a child process that sends
-// its figures back through a pipe. `measure` fills them; an exception marks the child failed.
+// SystemC elaborates once per process: each measurement runs in a child process
+// (models/child_process.h) that sends its figures back. `measure` fills them; a child that
+// failed (an exception) gives figures with `status` 1.
 template <class Figures>
 Figures in_child(const std::function<void(Figures&)>& measure) {
-    int fd[2];
-    if (pipe(fd) != 0) throw std::runtime_error("bench system: pipe() failed");
-    const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error("bench system: fork() failed");
-    if (pid == 0) {
-        close(fd[0]);
-        Figures out;
-        try {
+    static_assert(std::is_trivially_copyable_v<Figures>, "the figures cross the pipe as bytes");
+    const std::optional<std::string> bytes = run_in_child_process(
+        [&] {
+            Figures out;
             measure(out);
-        } catch (const std::exception& e) {
-            std::cerr << "bench system: " << e.what() << "\n";
-            out.status = 1;
-        }
-        const ssize_t n = write(fd[1], &out, sizeof out);
-        _exit(n == ssize_t(sizeof out) ? 0 : 1);
-    }
-    close(fd[1]);
+            return std::string(reinterpret_cast<const char*>(&out), sizeof out);
+        },
+        "bench system");
     Figures in;
     in.status = 1;
-    const ssize_t n = read(fd[0], &in, sizeof in);
-    close(fd[0]);
-    int st = 0;
-    waitpid(pid, &st, 0);
-    if (n != ssize_t(sizeof in) || st != 0) in.status = 1;
+    if (bytes && bytes->size() == sizeof in) std::memcpy(&in, bytes->data(), sizeof in);
     return in;
 }
 

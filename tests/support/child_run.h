@@ -1,17 +1,15 @@
-// A run in a child process. SystemC elaborates once per process, and two boards in one kernel
-// would bound each other's CPU slices, so a test that compares two runs of a board (a switch on
-// and off) makes each in a child of its own and gets what the run counted back through a pipe.
+// A board run in a child process (models/child_process.h), for a test that compares two runs of a
+// board (a switch on and off): what the run counted comes back as counters and a byte log.
 #pragma once
 
-#include <gtest/gtest.h>
+#include "models/child_process.h"
 
-#include <sys/wait.h>
-#include <unistd.h>
+#include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstring>
 #include <functional>
-#include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,47 +21,33 @@ struct ChildResult {
     std::vector<std::uint8_t> log;
 };
 
-/// Runs `body` in a child process and returns what it returned. The child's own failure (an
-/// exception, a short write, a crash) fails the calling test and gives an empty result.
+/// Runs `body` in a child process (models/child_process.h) and returns what it returned. The
+/// child's own failure (an exception, a short write, a crash) fails the calling test and gives an
+/// empty result.
 inline ChildResult run_in_child(const std::function<ChildResult()>& body) {
-    int fd[2];
-    if (pipe(fd) != 0) throw std::runtime_error("pipe() failed");
-    const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error("fork() failed");
-    if (pid == 0) {
-        close(fd[0]);
-        bool ok = false;
-        try {
-            const ChildResult r = body();
-            const std::uint64_t head[2] = {r.counts.size(), r.log.size()};
-            const auto put = [&](const void* p, std::size_t n) { return write(fd[1], p, n) == ssize_t(n); };
-            ok = put(head, sizeof head) && put(r.counts.data(), r.counts.size() * sizeof(std::uint64_t)) &&
-                 put(r.log.data(), r.log.size());
-        } catch (...) {
-        }
-        _exit(ok ? 0 : 1);
-    }
-    close(fd[1]);
-    std::string bytes;
-    char buf[4096];
-    for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) bytes.append(buf, std::size_t(n));
-    close(fd[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    const bool child_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    EXPECT_TRUE(child_ok) << "the child run failed";
-    ChildResult r;
     std::uint64_t head[2] = {};
-    if (!child_ok || bytes.size() < sizeof head) return r;
-    std::memcpy(head, bytes.data(), sizeof head);
+    const std::optional<std::string> bytes = run_in_child_process(
+        [&] {
+            const ChildResult r = body();
+            const std::uint64_t sizes[2] = {r.counts.size(), r.log.size()};
+            std::string out(reinterpret_cast<const char*>(sizes), sizeof sizes);
+            out.append(reinterpret_cast<const char*>(r.counts.data()), r.counts.size() * sizeof(std::uint64_t));
+            out.append(reinterpret_cast<const char*>(r.log.data()), r.log.size());
+            return out;
+        },
+        "child run");
+    EXPECT_TRUE(bytes.has_value()) << "the child run failed";
+    ChildResult r;
+    if (!bytes || bytes->size() < sizeof head) return r;
+    std::memcpy(head, bytes->data(), sizeof head);
     const std::size_t counts_bytes = head[0] * sizeof(std::uint64_t);
-    if (bytes.size() != sizeof head + counts_bytes + head[1]) {
-        ADD_FAILURE() << "the child run sent " << bytes.size() << " bytes, not the ones it announced";
+    if (bytes->size() != sizeof head + counts_bytes + head[1]) {
+        ADD_FAILURE() << "the child run sent " << bytes->size() << " bytes, not the ones it announced";
         return r;
     }
     r.counts.resize(head[0]);
-    std::memcpy(r.counts.data(), bytes.data() + sizeof head, counts_bytes);
-    r.log.assign(bytes.begin() + std::ptrdiff_t(sizeof head + counts_bytes), bytes.end());
+    std::memcpy(r.counts.data(), bytes->data() + sizeof head, counts_bytes);
+    r.log.assign(bytes->begin() + std::ptrdiff_t(sizeof head + counts_bytes), bytes->end());
     return r;
 }
 
