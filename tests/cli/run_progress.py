@@ -12,15 +12,17 @@ import subprocess
 import sys
 import tempfile
 
-# Some four simulated seconds of a saturated port: long enough in wall time for a redraw or more
-# (every quarter second), short enough for a test.
-SCENARIO = """duration_s: 4
+# A minute simulated of a saturated port: some 3.5 s of wall time on the development machine, so
+# that a redraw (every quarter second) comes even on a machine several times faster; four
+# simulated seconds, as here before, had come down to 0.24 s as the simulator got faster, and a
+# run could end before its first redraw.
+SCENARIO = """duration_s: 60
 drain_s: 0.05
 ports:
   - {host: protocol, traffic: saturate, start_ms: 5, data_size: 16, tokens: {EC: 1}}
 """
 
-LINE = re.compile(rb"\r\x1b\[Krun \d+\.\d/4\.0 s  RTF \d+\.\d\d  ETA \d+:\d\d")
+LINE = re.compile(rb"\r\x1b\[Krun \d+\.\d/60\.0 s  RTF \d+\.\d\d  ETA \d+:\d\d")
 
 
 def run_on_terminal(rcsim, scenario, out, env):
