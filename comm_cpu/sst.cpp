@@ -245,7 +245,14 @@ std::string row(bool ale, std::uint32_t addr, const std::string& status, const s
 } // namespace
 
 unsigned Runner::Harness::bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
-                                     cycles_t) {
+                                     cycles_t start) {
+    const unsigned waits = max_waits ? (address ^ (address >> 3) ^ unsigned(kind)) % (max_waits + 1) : 0;
+    answer(kind, address, data, width);
+    if (log) log->push_back(BusRecord{kind, address, data, std::uint8_t(width), waits, start});
+    return waits;
+}
+
+void Runner::Harness::answer(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width) {
     const std::uint32_t a1 = (address + 1) & (kRamSize - 1);
     switch (kind) {
     case Bus::code_fetch: {
@@ -269,7 +276,6 @@ unsigned Runner::Harness::bus_access(Bus kind, std::uint32_t address, std::uint1
         if (kind != Bus::io_write) data = 0xFFFF;
         break;
     }
-    return 0;
 }
 
 Runner::Runner() : ram_(new std::uint8_t[kRamSize]) {
@@ -384,10 +390,17 @@ std::vector<Test> Runner::convert(const json& tests, const std::string& file) {
     return out;
 }
 
-std::vector<std::uint64_t> Runner::cycles_per_test(const std::vector<Test>& tests, bool trace) {
-    std::vector<std::uint64_t> out;
-    out.reserve(tests.size());
-    for (const Test& t : tests) out.push_back(run_one(t, OpcodeInfo{}, nullptr, trace));
+std::vector<Runner::Timing> Runner::timing_per_test(const std::vector<Test>& tests, bool trace, unsigned max_waits) {
+    std::vector<Timing> out(tests.size());
+    harness_.max_waits = max_waits;
+    for (std::size_t i = 0; i < tests.size(); ++i) {
+        harness_.log = &out[i].bus;
+        const cycles_t base = cpu_.cycles(); // (the core's count runs on from test to test)
+        out[i].cycles = run_one(tests[i], OpcodeInfo{}, nullptr, trace);
+        for (BusRecord& r : out[i].bus) r.start -= base;
+    }
+    harness_.log = nullptr;
+    harness_.max_waits = 0;
     return out;
 }
 

@@ -104,9 +104,17 @@ public:
     static std::vector<Test> convert(const nlohmann::json& tests, const std::string& file);
     /// Runs converted tests without comparison or trace (benchmarks); returns cycles executed.
     std::uint64_t run_converted(const std::vector<Test>& tests);
-    /// Runs converted tests without comparison, with the per-cycle trace on or off, and returns
-    /// the cycles each one took (the idle-clock skip is taken only with the trace off).
-    std::vector<std::uint64_t> cycles_per_test(const std::vector<Test>& tests, bool trace);
+    /// What one test did on the bus: its clocks and its bus cycles in order (T1 clocks counted
+    /// from the test's start).
+    struct Timing {
+        std::uint64_t cycles = 0;
+        std::vector<BusRecord> bus;
+    };
+    /// Runs converted tests without comparison, with the per-cycle trace on (every clock
+    /// simulated) or off (idle and waiting clocks taken in one step), and returns what each did.
+    /// With `max_waits` > 0 the harness inserts 0..max_waits wait states per cycle, a fixed
+    /// function of its address (no capture has them: for comparing the two ways alone).
+    std::vector<Timing> timing_per_test(const std::vector<Test>& tests, bool trace, unsigned max_waits = 0);
     /// Runs every test of one file; throws InputError on unreadable or malformed content. With
     /// `only` set, a file whose status is by reg runs the tests of that status alone, and its
     /// stem names their reg values ("8F/0").
@@ -125,8 +133,11 @@ private:
     struct Harness : BusHandler {
         std::uint8_t* ram = nullptr;
         std::size_t code_left = 0; // instruction bytes not yet fetched
+        unsigned max_waits = 0;    // timing_per_test's wait states
+        std::vector<BusRecord>* log = nullptr; // ... and its record of the cycles
         unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width,
                             cycles_t start) override;
+        void answer(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width);
     };
     cycles_t run_one(const Test& t, const OpcodeInfo& info, FileResult* result, bool trace);
     bool check_state(const Test& t, const OpcodeInfo& info, std::string* why) const;
