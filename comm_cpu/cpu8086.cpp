@@ -160,15 +160,15 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     std::uint8_t buf[2] = {std::uint8_t(data), std::uint8_t(data >> 8)};
     BusResult r;
     switch (kind) {
-    case i8086::Bus::io_read: r = rcsim::bus_access(io, BusCycle::io_read, address, buf, width, t1); break;
-    case i8086::Bus::io_write: r = rcsim::bus_access(io, BusCycle::io_write, address, buf, width, t1); break;
+    case i8086::Bus::io_read: r = payload_.access(io, BusCycle::io_read, address, buf, width, t1); break;
+    case i8086::Bus::io_write: r = payload_.access(io, BusCycle::io_write, address, buf, width, t1); break;
     case i8086::Bus::mem_read:
     case i8086::Bus::code_fetch:
-        r = rcsim::bus_access(mem, kind == i8086::Bus::mem_read ? BusCycle::mem_read : BusCycle::code_fetch,
+        r = payload_.access(mem, kind == i8086::Bus::mem_read ? BusCycle::mem_read : BusCycle::code_fetch,
                               address, buf, width, t1);
         break;
-    case i8086::Bus::mem_write: r = rcsim::bus_access(mem, BusCycle::mem_write, address, buf, width, t1); break;
-    case i8086::Bus::int_ack: r = rcsim::bus_access(inta, BusCycle::int_ack, address, buf, 1, t1); break;
+    case i8086::Bus::mem_write: r = payload_.access(mem, BusCycle::mem_write, address, buf, width, t1); break;
+    case i8086::Bus::int_ack: r = payload_.access(inta, BusCycle::int_ack, address, buf, 1, t1); break;
     default: return 0;
     }
     const bool read = kind != i8086::Bus::io_write && kind != i8086::Bus::mem_write;

@@ -192,6 +192,7 @@ private:
     std::uint64_t kernel_waits_ = 0;
     std::uint64_t access_waits_ = 0;
     BusErrorLog bus_errors_;
+    BusPayload payload_; // every access of the core's (one at a time: the core waits in it)
     bool slice_end_ = false; // a TLM access happened: recompute the lookahead at the boundary
     i8086::cycles_t slice_limit_ = 0; // the cycle the current slice runs to
 

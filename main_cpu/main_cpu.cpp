@@ -68,7 +68,7 @@ void MainCpu::log(const std::string& msg) const {
 // DP-RAM driver: one byte per bus cycle, stretched by the target's BUSY wait states
 
 void MainCpu::access(BusCycle kind, std::uint16_t addr, std::uint8_t& value, unsigned extra_cycles) {
-    const BusResult r = bus_access(dpram, kind, addr, &value, 1, sc_time_stamp(), 1);
+    const BusResult r = payload_.access(dpram, kind, addr, &value, 1, sc_time_stamp(), 1);
     if (!r.ok()) {
         const std::string msg = std::string(to_string(kind)) + " at DP-RAM offset " +
                                 std::to_string(addr) + " failed (TLM response " +

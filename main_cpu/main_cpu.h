@@ -249,6 +249,7 @@ private:
     std::uint64_t unknown_words_ = 0;
     std::uint64_t mailbox_overwrites_ = 0;
     std::uint64_t dpram_accesses_ = 0;
+    BusPayload payload_; // every DP-RAM access (one at a time: the control thread waits in it)
     sc_core::sc_time busy_wait_;
 };
 

@@ -76,3 +76,63 @@ TEST(Router, RebasesAddressAndReturnsWaitStates) {
     EXPECT_EQ(r.status, tlm::TLM_ADDRESS_ERROR_RESPONSE);
     EXPECT_EQ(io.unmapped_accesses(), 1u);
 }
+
+namespace {
+// A target that reports what the payload held on entry, then leaves it as a careless target
+// might: wait states, an error status, DMI allowed, a byte-enable pointer of its own.
+struct Dirtier : sc_core::sc_module {
+    tlm_utils::simple_target_socket<Dirtier> socket{"socket"};
+    unsigned entry_waits = ~0u;
+    tlm::tlm_response_status entry_status = tlm::TLM_OK_RESPONSE;
+    bool entry_dmi = true;
+    unsigned char* entry_byte_enable = nullptr;
+    bool entry_a0 = false, entry_bhe = false;
+    unsigned answer_waits = 0;
+    unsigned char mask[2] = {0xFF, 0xFF};
+    explicit Dirtier(sc_core::sc_module_name n) : sc_module(n) {
+        socket.register_b_transport(this, &Dirtier::b_transport);
+    }
+    void b_transport(tlm::tlm_generic_payload& gp, sc_core::sc_time&) {
+        BusView bus(gp, false);
+        entry_waits = bus->wait_states;
+        entry_status = gp.get_response_status();
+        entry_dmi = gp.is_dmi_allowed();
+        entry_byte_enable = gp.get_byte_enable_ptr();
+        entry_a0 = bus->a0;
+        entry_bhe = bus->bhe;
+        bus->wait_states = answer_waits;
+        gp.set_dmi_allowed(true);
+        gp.set_byte_enable_ptr(mask);
+        gp.set_response_status(answer_waits ? tlm::TLM_OK_RESPONSE : tlm::TLM_GENERIC_ERROR_RESPONSE);
+    }
+};
+} // namespace
+
+// A kept payload (Cpu8086 and MainCpu make every access with one) starts each access as a fresh
+// one would: the previous access's answer does not leak into the next.
+TEST(BusPayload, EachAccessStartsFresh) {
+    Cpu cpu("cpu");
+    Dirtier target("target");
+    cpu.socket.bind(target.socket);
+    sc_core::sc_start(sc_core::SC_ZERO_TIME);
+
+    BusPayload payload;
+    std::uint8_t data[2] = {};
+    target.answer_waits = 5;
+    BusResult r = payload.access(cpu.socket, BusCycle::mem_read, 0x101, data, 1, sc_core::sc_time_stamp());
+    EXPECT_TRUE(r.ok());
+    EXPECT_EQ(r.wait_states, 5u);
+    EXPECT_TRUE(target.entry_a0);
+    EXPECT_TRUE(target.entry_bhe);
+
+    target.answer_waits = 0;
+    r = payload.access(cpu.socket, BusCycle::mem_write, 0x100, data, 1, sc_core::sc_time_stamp());
+    EXPECT_EQ(target.entry_waits, 0u);
+    EXPECT_EQ(target.entry_status, tlm::TLM_INCOMPLETE_RESPONSE);
+    EXPECT_FALSE(target.entry_dmi);
+    EXPECT_EQ(target.entry_byte_enable, nullptr);
+    EXPECT_FALSE(target.entry_a0);
+    EXPECT_FALSE(target.entry_bhe);
+    EXPECT_EQ(r.status, tlm::TLM_GENERIC_ERROR_RESPONSE);
+    EXPECT_EQ(r.wait_states, 0u);
+}
