@@ -165,7 +165,7 @@ unsigned Cpu8086::bus_access(i8086::Bus kind, std::uint32_t address, std::uint16
     case i8086::Bus::mem_read:
     case i8086::Bus::code_fetch:
         r = payload_.access(mem, kind == i8086::Bus::mem_read ? BusCycle::mem_read : BusCycle::code_fetch,
-                              address, buf, width, t1);
+                            address, buf, width, t1);
         break;
     case i8086::Bus::mem_write: r = payload_.access(mem, BusCycle::mem_write, address, buf, width, t1); break;
     case i8086::Bus::int_ack: r = payload_.access(inta, BusCycle::int_ack, address, buf, 1, t1); break;
