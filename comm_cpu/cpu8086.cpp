@@ -118,9 +118,11 @@ void Cpu8086::run() {
 
         const i8086::cycles_t start = core_.cycles();
         i8086::cycles_t limit, horizon; // horizon: no input can change before it (the fast-forward's bound)
-        const std::uint64_t event_ps = lookahead_ && sc_pending_activity()
-                                           ? to_ps(now) + to_ps(sc_time_to_pending_activity())
-                                           : kNoEvent;
+        std::uint64_t event_ps = kNoEvent;
+        if (lookahead_) { // (one kernel query, as in next_slice)
+            const sc_time ahead = sc_time_to_pending_activity();
+            if (ahead != sc_max_time() - now) event_ps = to_ps(now) + to_ps(ahead);
+        }
         plan_slice(to_ps(now), start, fresh_change, event_ps, limit, horizon);
         ++slices_;
         slice_end_ = false;
@@ -190,7 +192,9 @@ bool Cpu8086::may_read_early(i8086::Bus kind, std::uint32_t address, unsigned wi
                               : kind == i8086::Bus::mem_read || kind == i8086::Bus::code_fetch ? mem_stable_
                                                                                                   : nullptr;
     if (!decl || !decl->read_is_stable(address, width)) return false;
-    return !sc_pending_activity() || t1 < sc_time_stamp() + sc_time_to_pending_activity();
+    // (one kernel query: zero with activity at the current time, sc_max_time() - now with nothing
+    // pending, so that T1 is before every pending event exactly when it is before now + this)
+    return t1 < sc_time_stamp() + sc_time_to_pending_activity();
 }
 
 // Kernel time is the access's T1 (or, after a stable read, before it). Activity left at the
@@ -204,8 +208,11 @@ void Cpu8086::after_access() {
         slice_end_ = true;
         return;
     }
-    if (!sc_pending_activity()) return;
-    const std::uint64_t event_ps = to_ps(sc_time_stamp()) + to_ps(sc_time_to_pending_activity());
+    // Nothing at the current time: the query is the next timed event's distance, or
+    // sc_max_time() - now with none pending.
+    const sc_time now = sc_time_stamp(), ahead = sc_time_to_pending_activity();
+    if (ahead == sc_max_time() - now) return;
+    const std::uint64_t event_ps = to_ps(now) + to_ps(ahead);
     const i8086::cycles_t limit = event_ps / clock_.period_ps() + 1;
     if (limit < slice_limit_) slice_limit_ = limit;
     core_.shorten_run(limit);
