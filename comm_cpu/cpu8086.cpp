@@ -72,6 +72,13 @@ void Cpu8086::plan_slice(std::uint64_t now_ps, i8086::cycles_t start, bool fresh
     if (horizon < limit) horizon = limit;
 }
 
+// sc_time_to_pending_activity() says all three: zero with activity at the current time,
+// sc_max_time() - now with nothing pending, else the distance to the next timed event.
+std::uint64_t Cpu8086::next_activity_ps() {
+    const sc_time now = sc_time_stamp(), ahead = sc_time_to_pending_activity();
+    return ahead == sc_max_time() - now ? kNoEvent : to_ps(now) + to_ps(ahead);
+}
+
 // The slice chain (docs/architecture.md "Slice chain"): the core reached its limit at cycle `at`,
 // before the next pending event, with no activity left at the current time. The sync run()
 // would make next only moves kernel time (no process runs before that event), and the inputs
@@ -79,12 +86,9 @@ void Cpu8086::plan_slice(std::uint64_t now_ps, i8086::cycles_t start, bool fresh
 // A halted core goes back to run(), which sleeps until INTR or NMI changes.
 bool Cpu8086::next_slice(i8086::cycles_t at, i8086::cycles_t& limit, i8086::cycles_t& horizon) {
     if (!slice_chain_ || !lookahead_ || boundary_log_ || core_.halted()) return false;
-    // One kernel query: zero with activity at the current time, sc_max_time() - now with nothing
-    // pending (then no event would ever end the chain).
-    const sc_time now = sc_time_stamp(), ahead = sc_time_to_pending_activity();
-    if (ahead == sc_max_time() - now) return false;
-    const std::uint64_t at_ps = at * clock_.period_ps(), event_ps = to_ps(now) + to_ps(ahead);
-    if (at_ps >= event_ps) return false;
+    // (nothing pending: no event would ever end the chain)
+    const std::uint64_t event_ps = next_activity_ps(), at_ps = at * clock_.period_ps();
+    if (event_ps == kNoEvent || at_ps >= event_ps) return false;
     sample_inputs(ps(at_ps));
     plan_slice(at_ps, at, false, event_ps, limit, horizon);
     ++slices_;
@@ -118,11 +122,7 @@ void Cpu8086::run() {
 
         const i8086::cycles_t start = core_.cycles();
         i8086::cycles_t limit, horizon; // horizon: no input can change before it (the fast-forward's bound)
-        std::uint64_t event_ps = kNoEvent;
-        if (lookahead_) { // (one kernel query, as in next_slice)
-            const sc_time ahead = sc_time_to_pending_activity();
-            if (ahead != sc_max_time() - now) event_ps = to_ps(now) + to_ps(ahead);
-        }
+        const std::uint64_t event_ps = lookahead_ ? next_activity_ps() : kNoEvent;
         plan_slice(to_ps(now), start, fresh_change, event_ps, limit, horizon);
         ++slices_;
         slice_end_ = false;
@@ -208,11 +208,8 @@ void Cpu8086::after_access() {
         slice_end_ = true;
         return;
     }
-    // Nothing at the current time: the query is the next timed event's distance, or
-    // sc_max_time() - now with none pending.
-    const sc_time now = sc_time_stamp(), ahead = sc_time_to_pending_activity();
-    if (ahead == sc_max_time() - now) return;
-    const std::uint64_t event_ps = to_ps(now) + to_ps(ahead);
+    const std::uint64_t event_ps = next_activity_ps(); // (none now: the next timed one)
+    if (event_ps == kNoEvent) return;
     const i8086::cycles_t limit = event_ps / clock_.period_ps() + 1;
     if (limit < slice_limit_) slice_limit_ = limit;
     core_.shorten_run(limit);

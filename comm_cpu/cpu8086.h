@@ -156,6 +156,9 @@ private:
     }
     void sample_inputs(const sc_core::sc_time& at);
     static constexpr std::uint64_t kNoEvent = ~std::uint64_t{0};
+    /// The time of the next pending kernel activity in ps (now, with activity at the current
+    /// time), kNoEvent with none pending: one kernel query.
+    static std::uint64_t next_activity_ps();
     void plan_slice(std::uint64_t now_ps, i8086::cycles_t start, bool fresh_change, std::uint64_t event_ps,
                     i8086::cycles_t& limit, i8086::cycles_t& horizon) const;
     bool next_slice(i8086::cycles_t at, i8086::cycles_t& limit, i8086::cycles_t& horizon) override;
