@@ -3,6 +3,7 @@
 #include "scenarios/debug/symbols.h"
 
 #include "scenarios/debug/elf_symbols.h"
+#include "models/hex.h"
 
 #include "comm_fw_symbols.h" // generated from the same map by comm_fw_mkrom
 
@@ -11,7 +12,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <map>
 #include <fstream>
 #include <iterator>
@@ -31,12 +31,6 @@ std::string write(const std::string& text) {
     const std::string path = testing::TempDir() + "rcsim_sym_" + info->name() + "_" + std::to_string(getpid());
     std::ofstream(path) << text;
     return path;
-}
-
-std::string hex_of(unsigned v) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%X", v);
-    return buf;
 }
 
 std::string error_of(const std::string& text, SymbolTable (*load)(const std::string&)) {
@@ -447,7 +441,7 @@ TEST(Symbols, TextFormatAddressesSizesAndKinds) {
 TEST(Symbols, ALargeMapInDescendingOrderLoadsSortedAndSized) {
     constexpr unsigned kSymbols = 20000;
     std::string text;
-    for (unsigned i = kSymbols; i-- > 0;) text += "f" + std::to_string(i) + " 0x" + hex_of(0xA0000 + 4 * i) + "\n";
+    for (unsigned i = kSymbols; i-- > 0;) text += "f" + std::to_string(i) + " 0x" + rcsim::hex(0xA0000 + 4 * i, 5) + "\n";
     const auto table = SymbolTable::load_text(write(text));
     ASSERT_EQ(table.size(), kSymbols);
     for (unsigned i = 0; i < kSymbols; i += 997) {

@@ -25,7 +25,6 @@ struct ChildResult {
 /// child's own failure (an exception, a short write, a crash) fails the calling test and gives an
 /// empty result.
 inline ChildResult run_in_child(const std::function<ChildResult()>& body) {
-    std::uint64_t head[2] = {};
     const std::optional<std::string> bytes = run_in_child_process(
         [&] {
             const ChildResult r = body();
@@ -38,6 +37,7 @@ inline ChildResult run_in_child(const std::function<ChildResult()>& body) {
         "child run");
     EXPECT_TRUE(bytes.has_value()) << "the child run failed";
     ChildResult r;
+    std::uint64_t head[2] = {}; // the sizes the child announced: counts, log bytes
     if (!bytes || bytes->size() < sizeof head) return r;
     std::memcpy(head, bytes->data(), sizeof head);
     const std::size_t counts_bytes = head[0] * sizeof(std::uint64_t);
