@@ -5,7 +5,7 @@
 #include "camc_qi/drive.h"
 
 #include "models/bus.h"
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <cmath>
 #include <string>

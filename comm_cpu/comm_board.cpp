@@ -1,7 +1,7 @@
 #include "comm_cpu/comm_board.h"
 
 #include "dpram/idt7130.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <algorithm>
 

@@ -11,7 +11,7 @@
 // a cycle-by-cycle run would see it (the 8086 samples INTR in the clock before the boundary).
 #pragma once
 
-#include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086/cpu.h"
 #include "models/bus.h"
 #include "models/bus_error_log.h"
 #include "models/clock.h"

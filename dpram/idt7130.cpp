@@ -2,7 +2,7 @@
 #include "dpram/idt7130.h"
 
 #include "models/clock.h"
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <algorithm>
 #include <string>

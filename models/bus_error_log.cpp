@@ -2,7 +2,7 @@
 #include "models/bus_error_log.h"
 
 #include "models/clock.h"
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <string>
 

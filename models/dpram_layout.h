@@ -1,6 +1,6 @@
 // rcsim — the DP-RAM layout and mailbox words of docs/system.md §4: the interface the two boards
 // share (the main CPU, the measurement probes and the demo use it; the firmware restates it in C,
-// comm_cpu/firmware/fw.h, and tests/firmware checks the two agree).
+// comm_cpu/firmware/fw.h, and tests/comm_cpu/firmware checks the two agree).
 //
 //   p*340 + 0 .. p*340 + 338   data[p]   chunk of frame bytes for port p (p = 0, 1, 2)
 //   p*340 + 339                pflag[p]  0 free, 1 EXT_USE (comm CPU), 2 RBT_USE (main CPU)

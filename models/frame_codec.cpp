@@ -1,7 +1,7 @@
 // rcsim — the serial frame of docs/system.md §5.3 (see frame_codec.h).
 #include "models/frame_codec.h"
 
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <cctype>
 #include <stdexcept>

@@ -1,7 +1,7 @@
 #include "models/rom_image.h"
 
-#include "models/config_error.h"
-#include "models/hex.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/hex.h"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,7 +1,7 @@
 // rcsim — Intel 8259A Programmable Interrupt Controller. See pic8259.h and README.md.
 #include "pic8259/pic8259.h"
 
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <string>
 

@@ -5,7 +5,7 @@
 #include "uart82510/uart82510.h"
 
 #include "models/bus.h"
-#include "models/cli_range.h"
+#include "models/plumbing/cli_range.h"
 #include "models/clock.h"
 
 #include <CLI/CLI.hpp>

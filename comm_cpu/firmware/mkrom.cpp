@@ -9,7 +9,7 @@
 // FFFF:0000) a far jump to F000:start. The tool checks that the data image sits where the
 // start-up code copies it from, that code + data fit below the reset stub, and that the
 // variables leave room for the stack below STACK_TOP.
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <cstdint>
 #include <fstream>

@@ -1,7 +1,7 @@
 // rcsim — `rcsim bench motion`: four axes moving continuously for a simulated time with the
 // control cycle at 1 ms (back-and-forth moves on every axis), wall time measured around sc_start.
 #include "main_cpu/motion/motion_controller.h"
-#include "models/cli_range.h"
+#include "models/plumbing/cli_range.h"
 
 #include <CLI/CLI.hpp>
 

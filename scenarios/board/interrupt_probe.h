@@ -24,7 +24,7 @@
 #pragma once
 
 #include "scenarios/board/latency_cause.h"
-#include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086/cpu.h"
 #include "models/irq.h"
 #include "models/stats.h"
 

@@ -17,7 +17,7 @@
 // the core keep anyway: nothing grows with the run.
 #pragma once
 
-#include "comm_cpu/i8086_history.h"
+#include "comm_cpu/i8086/history.h"
 #include "pic8259/pic8259.h"
 
 #include <systemc>

@@ -4,7 +4,7 @@
 // against the exactly-once checks) and the process's memory: its resident size sampled through
 // the run (flat, or the soak fails its purpose) and its peak. The interrupt rows are not written
 // (--interrupts-csv none): the soak measures the model, not the disk.
-#include "models/cli_range.h"
+#include "models/plumbing/cli_range.h"
 #include "scenarios/run/failure.h"
 #include "scenarios/run/runner.h"
 

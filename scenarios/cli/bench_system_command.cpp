@@ -9,9 +9,9 @@
 // Host time is measured here only, for the report; nothing of it enters the model.
 // With --coverage: the cost of `rcsim run --coverage` instead, the run with its files written
 // (--out) against the same with --coverage, side by side.
-#include "comm_cpu/x86emu_anchor.h"
-#include "models/child_process.h"
-#include "models/cli_range.h"
+#include "comm_cpu/tools/x86emu_anchor.h"
+#include "models/plumbing/child_process.h"
+#include "models/plumbing/cli_range.h"
 #include "scenarios/world/world.h"
 #include "scenarios/run/runner.h"
 
@@ -57,7 +57,7 @@ struct Variant {
 };
 
 // SystemC elaborates once per process: each measurement runs in a child process
-// (models/child_process.h) that sends its figures back. `measure` fills them; a child that
+// (models/plumbing/child_process.h) that sends its figures back. `measure` fills them; a child that
 // failed (an exception) gives figures with `status` 1.
 template <class Figures>
 Figures in_child(const std::function<void(Figures&)>& measure) {

@@ -12,7 +12,7 @@
 #include "models/bus.h"
 #include "models/clock.h"
 #include "models/dpram_layout.h"
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 #include "models/irq.h"
 #include "pic8259/pic8259.h"
 

@@ -5,7 +5,7 @@
 #include "scenarios/debug/elf_symbols.h"
 #include "scenarios/debug/gdb_script.h"
 #include "scenarios/report/output.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <filesystem>
 #include <fstream>

@@ -1,12 +1,12 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
 //           [--profile] [--coverage] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
 //           [--modbus [[HOST:]PORT]]
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
 #include "scenarios/run/failure.h"
 #include "scenarios/run/runner.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/stop_signal.h"
 
 #include <CLI/CLI.hpp>
 

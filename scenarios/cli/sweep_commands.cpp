@@ -2,10 +2,10 @@
 //   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE] [--coverage]
 //   rcsim merge DIR... [--out DIR]
 //   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
-#include "models/cli_range.h"
-#include "models/config_error.h"
-#include "models/output_file.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/cli_range.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
+#include "models/plumbing/stop_signal.h"
 #include "scenarios/sweep/compare.h"
 #include "scenarios/sweep/expectation.h"
 #include "scenarios/sweep/merge.h"

@@ -2,7 +2,7 @@
 #include "scenarios/config/monitor_section.h"
 
 #include "models/clock.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/config/yaml_map.h"
 
 #include <algorithm>

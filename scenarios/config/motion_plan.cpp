@@ -1,7 +1,7 @@
 // rcsim — the `motion:` section read into a plan. See motion_plan.h.
 #include "scenarios/config/motion_plan.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/config/yaml_map.h"
 
 #include <algorithm>

@@ -6,7 +6,7 @@
 // Keys are named by their full path in messages: `motion.commands[2].axis`.
 #pragma once
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <yaml-cpp/yaml.h>
 

@@ -1,6 +1,6 @@
 #include "scenarios/coverage/as86_listing.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <cctype>
 #include <fstream>

@@ -1,7 +1,7 @@
 #include "scenarios/coverage/code_map.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 #include "scenarios/coverage/as86_listing.h"
 
 #include <algorithm>

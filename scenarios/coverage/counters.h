@@ -10,7 +10,7 @@
 // recognised at the jump's end and the next boundary is the handler's.
 #pragma once
 
-#include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086/cpu.h"
 #include "scenarios/coverage/code_map.h"
 #include "scenarios/coverage/tracefile.h"
 

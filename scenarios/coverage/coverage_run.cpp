@@ -1,6 +1,6 @@
 #include "scenarios/coverage/coverage_run.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/trace/profile_run.h"
 #include "scenarios/world/world.h"
 

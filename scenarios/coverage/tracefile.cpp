@@ -1,7 +1,7 @@
 #include "scenarios/coverage/tracefile.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 
 #include <charconv>
 #include <fstream>

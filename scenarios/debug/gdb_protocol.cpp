@@ -1,7 +1,7 @@
 // rcsim — gdb Remote Serial Protocol packets (gdb_protocol.h).
 #include "scenarios/debug/gdb_protocol.h"
 
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -12,7 +12,7 @@
 // (the 8086 has none) and ignore writes; the x87 registers of the layout are unavailable.
 #pragma once
 
-#include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086/cpu.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -2,9 +2,9 @@
 #include "scenarios/debug/gdb_stub.h"
 
 #include "comm_cpu/comm_board.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/host/tcp_host.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/stop_signal.h"
 
 #include <cstdarg>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // rcsim — pseudo-terminal serial backend (see pty_host.h).
 #include "scenarios/host/pty_host.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <fcntl.h>
 #include <sys/inotify.h>

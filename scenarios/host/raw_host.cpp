@@ -1,9 +1,9 @@
 // rcsim — a raw serial host (see raw_host.h).
 #include "scenarios/host/raw_host.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "models/frame_codec.h"
-#include "models/output_file.h"
+#include "models/plumbing/output_file.h"
 
 #include <algorithm>
 #include <cerrno>

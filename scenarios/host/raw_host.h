@@ -7,7 +7,7 @@
 // and "<time ps> BREAK on|off".
 #pragma once
 
-#include "models/output_file.h"
+#include "models/plumbing/output_file.h"
 #include "models/serial_line.h"
 #include "scenarios/host/host_line.h"
 
@@ -64,7 +64,7 @@ private:
     std::vector<Received> received_;
     std::vector<std::pair<sc_core::sc_time, bool>> breaks_;
     std::uint64_t sent_ = 0;
-    std::optional<OutputFile> record_, log_; // models/output_file.h
+    std::optional<OutputFile> record_, log_; // models/plumbing/output_file.h
 
     void end_of_elaboration() override;
     void run();

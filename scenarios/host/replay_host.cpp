@@ -2,7 +2,7 @@
 #include "scenarios/host/replay_host.h"
 
 #include "models/clock.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "models/frame_codec.h"
 
 #include <cerrno>

@@ -1,7 +1,7 @@
 // rcsim — TCP serial backend and real-time pacer (see tcp_host.h).
 #include "scenarios/host/tcp_host.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // rcsim — the Modbus TCP server's network side (see modbus_server.h, docs/monitor.md).
 #include "scenarios/modbus/modbus_server.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <modbus/modbus.h>
 

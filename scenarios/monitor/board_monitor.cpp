@@ -2,9 +2,9 @@
 #include "scenarios/monitor/board_monitor.h"
 
 #include "models/clock.h"
-#include "models/config_error.h"
-#include "models/hex.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/hex.h"
+#include "models/plumbing/stop_signal.h"
 #include "scenarios/monitor/monitor_page.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // rcsim — the remote monitor's network side (see monitor_server.h).
 #include "scenarios/monitor/monitor_server.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>

@@ -6,7 +6,7 @@
 #include "scenarios/report/interrupt_log.h"
 #include "scenarios/report/report_html.h"
 #include "scenarios/report/svg.h"
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 #include "models/stats.h"
 
 #include <nlohmann/json.hpp>

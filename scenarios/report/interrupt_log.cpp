@@ -2,8 +2,8 @@
 // rows (the histograms' samples, the two timeline windows). See interrupt_log.h.
 #include "scenarios/report/interrupt_log.h"
 
-#include "models/gzip_stream.h"
-#include "models/hex.h"
+#include "models/plumbing/gzip_stream.h"
+#include "models/plumbing/hex.h"
 #include "scenarios/report/svg.h"
 
 #include <algorithm>

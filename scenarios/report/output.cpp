@@ -1,7 +1,7 @@
 #include "scenarios/report/output.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 
 #include <cerrno>
 #include <cstring>

@@ -1,7 +1,7 @@
 // rcsim — interrupts.csv and report.html. See report_html.h.
 #include "scenarios/report/report_html.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "models/stats.h"
 #include "scenarios/report/html_parts.h"
 #include "scenarios/report/svg.h"

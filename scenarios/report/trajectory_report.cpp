@@ -1,8 +1,8 @@
 // rcsim — the trajectory files. See trajectory_report.h.
 #include "scenarios/report/trajectory_report.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 #include "scenarios/report/svg.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #include "scenarios/run/cause_symbols.h"
 
 #include "scenarios/trace/profile_run.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <cstdio>
 #include <memory>

@@ -1,6 +1,6 @@
 #include "scenarios/run/failure.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <systemc>
 

@@ -31,7 +31,7 @@ std::string one_line(const std::string& text);
 
 /// The exit code a subcommand's callback ends with, for main() to return after the command line
 /// was parsed. Handed over without an exception: in a sanitizer build ASan warns on stderr at the
-/// first throw on the main thread after sc_start() (tests/cli/CMakeLists.txt).
+/// first throw on the main thread after sc_start() (tests/scenarios/cli/CMakeLists.txt).
 void set_command_exit_code(int code);
 int command_exit_code();
 

@@ -5,7 +5,7 @@
 #include "main_cpu/motion/motion_controller.h"
 #include "main_cpu/st/program.h"
 #include "models/clock.h"
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/verdict/motion_checks.h"
 #include "scenarios/report/trajectory_report.h"
 

@@ -4,11 +4,11 @@
 // (duration_s 0, a motion run) only the time and the RTF.
 //
 // It only reads the simulated time and the wall clock, from the stop poller's millisecond poll
-// (models/stop_signal.h), and is made only when stderr is a terminal (models/progress_line.h):
+// (models/plumbing/stop_signal.h), and is made only when stderr is a terminal (models/plumbing/progress_line.h):
 // the simulation and every file a run writes are the same with it or without.
 #pragma once
 
-#include "models/progress_line.h"
+#include "models/plumbing/progress_line.h"
 
 #include <chrono>
 #include <optional>

@@ -12,7 +12,7 @@
 #include "scenarios/modbus/modbus_bridge.h"
 #include "scenarios/report/output.h"
 #include "scenarios/report/report_html.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/stop_signal.h"
 #include "scenarios/run/motion_run.h"
 #include "scenarios/run/run_progress.h"
 #include "scenarios/verdict/motion_figures.h"
@@ -21,9 +21,9 @@
 #include "scenarios/trace/perfetto_trace.h"
 #include "scenarios/trace/profile_run.h"
 #include "scenarios/coverage/coverage_run.h"
-#include "models/config_error.h"
-#include "models/gzip_stream.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/gzip_stream.h"
+#include "models/plumbing/output_file.h"
 
 #include <cerrno>
 #include <chrono>

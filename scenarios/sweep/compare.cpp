@@ -1,6 +1,6 @@
 #include "scenarios/sweep/compare.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/config/yaml_map.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #include "scenarios/sweep/merge.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 #include "scenarios/coverage/tracefile.h"
 #include "scenarios/sweep/expectation.h"
 

@@ -2,7 +2,7 @@
 // elaborate a second design in one process, so every run is its own `rcsim run`).
 #pragma once
 
-#include "models/progress_line.h"
+#include "models/plumbing/progress_line.h"
 
 #include <cstddef>
 #include <functional>
@@ -38,7 +38,7 @@ std::vector<JobResult> run_jobs(const std::vector<Job>& jobs, unsigned parallel,
 std::string self_executable();
 
 /// Progress on a terminal: "sweep 12/40  1 failed  ETA 0:31" rewritten in place on stderr
-/// (models/progress_line.h); in CI (stderr not a terminal, or CI set) nothing but the failures and
+/// (models/plumbing/progress_line.h); in CI (stderr not a terminal, or CI set) nothing but the failures and
 /// the final line.
 class Progress {
 public:

@@ -1,7 +1,7 @@
 #include "scenarios/sweep/sweep.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 #include "scenarios/config/check_names.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/config/yaml_map.h"

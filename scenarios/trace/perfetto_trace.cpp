@@ -1,6 +1,6 @@
 #include "scenarios/trace/perfetto_trace.h"
 
-#include "models/hex.h"
+#include "models/plumbing/hex.h"
 #include "scenarios/world/world.h"
 
 #include <cstdio>

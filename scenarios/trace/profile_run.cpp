@@ -1,7 +1,7 @@
 #include "scenarios/trace/profile_run.h"
 
-#include "models/config_error.h"
-#include "models/output_file.h"
+#include "models/plumbing/config_error.h"
+#include "models/plumbing/output_file.h"
 #include "scenarios/world/world.h"
 #include "scenarios/trace/flame_graph.h"
 
@@ -36,7 +36,7 @@ std::string function_name(const debug::SymbolTable& symbols, std::uint32_t linea
     return s->name + buf;
 }
 
-/// Writes `body` into `file` (models/output_file.h).
+/// Writes `body` into `file` (models/plumbing/output_file.h).
 template <class F>
 void write_with(const std::filesystem::path& file, F body) {
     OutputFile out(file);

@@ -1,5 +1,7 @@
 #include "scenarios/trace/profiler.h"
 
+#include "comm_cpu/i8086/disasm.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <ostream>
@@ -96,25 +98,25 @@ void CycleProfiler::close(cycles_t at, bool completed) {
     if (!frames_.empty()) frames_.back().interrupted += f.isr ? duration : f.interrupted;
 }
 
-// What the instruction at CS:IP will do to the call stack (prefixes skipped).
+// What the instruction at CS:IP will do to the call stack.
 CycleProfiler::Transfer CycleProfiler::decode(const Cpu& cpu) {
     const auto& r = cpu.regs();
-    for (int i = 0; i < 7; ++i) {
-        const int op = byte_at(cpu, linear_plus(r.s[i8086::CS], r.ip, i));
-        switch (op) {
-        case 0x26: case 0x2E: case 0x36: case 0x3E: case 0xF0: case 0xF2: case 0xF3: continue;
-        case 0xE8: return Transfer::call_near;
-        case 0x9A: return Transfer::call_far;
-        case 0xFF: {
-            const int reg = (byte_at(cpu, linear_plus(r.s[i8086::CS], r.ip, i + 1)) >> 3) & 7;
-            return reg == 2 ? Transfer::call_near : reg == 3 ? Transfer::call_far : Transfer::none;
-        }
-        case 0xC2: case 0xC3: case 0xCA: case 0xCB: case 0xCF: return Transfer::ret;
-        case 0xCC: case 0xCD: case 0xCE: return Transfer::int_sw;
-        default: return Transfer::none;
-        }
+    // Enough bytes for a few prefixes, the opcode and its ModR/M byte (what decides the flow),
+    // up to the first byte that is not directly mapped.
+    std::uint8_t bytes[8];
+    unsigned n = 0;
+    for (; n < sizeof bytes; ++n) {
+        const int b = byte_at(cpu, linear_plus(r.s[i8086::CS], r.ip, static_cast<int>(n)));
+        if (b < 0) break;
+        bytes[n] = static_cast<std::uint8_t>(b);
     }
-    return Transfer::none;
+    switch (i8086::decode(bytes, n).flow) {
+    case i8086::Flow::call_near: return Transfer::call_near;
+    case i8086::Flow::call_far: return Transfer::call_far;
+    case i8086::Flow::ret_near: case i8086::Flow::ret_far: case i8086::Flow::iret: return Transfer::ret;
+    case i8086::Flow::int_sw: return Transfer::int_sw;
+    default: return Transfer::none;
+    }
 }
 
 void CycleProfiler::bus(const i8086::BusRecord& r) {

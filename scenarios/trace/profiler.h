@@ -26,7 +26,7 @@
 // Plain C++ (no SystemC).
 #pragma once
 
-#include "comm_cpu/i8086.h"
+#include "comm_cpu/i8086/cpu.h"
 
 #include <cstdint>
 #include <functional>

@@ -1,6 +1,6 @@
 #include "scenarios/trace/trace_events.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 
 #include <cerrno>
 #include <cstdio>

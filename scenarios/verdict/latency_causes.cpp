@@ -2,7 +2,8 @@
 #include "scenarios/verdict/latency_causes.h"
 
 #include "scenarios/world/world.h"
-#include "models/hex.h"
+#include "comm_cpu/i8086/disasm.h"
+#include "models/plumbing/hex.h"
 
 #include <cstdio>
 
@@ -22,105 +23,6 @@ std::string at_us(const sc_core::sc_time& t) { return fmt("%.3f", to_us(t)); }
 std::string dur_us(const sc_core::sc_time& t) { return fmt("%.1f", to_us(t)); }
 std::string seg_off(std::uint16_t cs, std::uint16_t ip) { return hex(cs, 4) + ":" + hex(ip, 4); }
 std::string hex2(unsigned v) { return hex(v & 0xFF, 2); }
-
-// The mnemonic of the instruction in `b` (prefixes included), without its operands.
-std::string mnemonic(const std::uint8_t* b, unsigned n) {
-    static const char* const alu[] = {"ADD", "OR", "ADC", "SBB", "AND", "SUB", "XOR", "CMP"};
-    static const char* const shifts[] = {"ROL", "ROR", "RCL", "RCR", "SHL", "SHR", "SETMO", "SAR"};
-    static const char* const group3[] = {"TEST", "TEST", "NOT", "NEG", "MUL", "IMUL", "DIV", "IDIV"};
-    static const char* const group5[] = {"INC", "DEC", "CALL", "CALL FAR", "JMP", "JMP FAR", "PUSH", "PUSH"};
-    static const char* const strings[] = {"MOVSB", "MOVSW", "CMPSB", "CMPSW", "", "", "STOSB", "STOSW",
-                                          "LODSB", "LODSW", "SCASB", "SCASW"};
-    static const char* const segs[] = {"ES:", "CS:", "SS:", "DS:"};
-    std::string pre;
-    unsigned i = 0;
-    bool rep = false, repne = false;
-    for (; i < n; ++i) {
-        const std::uint8_t op = b[i];
-        if (op == 0xF3) rep = true;
-        else if (op == 0xF2) repne = true;
-        else if (op == 0xF0) pre += "LOCK ";
-        else if ((op & 0xE7) == 0x26) pre += std::string(segs[(op >> 3) & 3]) + " ";
-        else break;
-    }
-    if (i >= n) return pre.empty() ? "?" : pre + "?";
-    const std::uint8_t op = b[i];
-    const unsigned reg = i + 1 < n ? (b[i + 1] >> 3) & 7 : 0;
-    std::string m;
-    if (op >= 0xA4 && op <= 0xAF && op != 0xA8 && op != 0xA9) {
-        m = strings[op - 0xA4];
-        const bool compare = op == 0xA6 || op == 0xA7 || op == 0xAE || op == 0xAF;
-        if (rep) m = (compare ? "REPE " : "REP ") + m;
-        if (repne) m = "REPNE " + m;
-        return pre + m;
-    }
-    if (op < 0x40 && (op & 7) < 6) m = alu[op >> 3];
-    else if (op >= 0x40 && op < 0x48) m = "INC";
-    else if (op >= 0x48 && op < 0x50) m = "DEC";
-    else if (op >= 0x50 && op < 0x58) m = "PUSH";
-    else if (op >= 0x58 && op < 0x60) m = "POP";
-    else if (op >= 0x60 && op < 0x80) m = "Jcc";
-    else if (op >= 0x80 && op < 0x84) m = alu[reg];
-    else if (op >= 0x88 && op < 0x8D) m = "MOV";
-    else if (op >= 0xB0 && op < 0xC0) m = "MOV";
-    else if (op >= 0xD0 && op < 0xD4) m = shifts[reg];
-    else if (op >= 0xD8 && op < 0xE0) m = "ESC";
-    else if (op == 0xF6 || op == 0xF7) m = group3[reg];
-    else if (op == 0xFE || op == 0xFF) m = group5[reg];
-    else {
-        switch (op) {
-        case 0x27: m = "DAA"; break;
-        case 0x2F: m = "DAS"; break;
-        case 0x37: m = "AAA"; break;
-        case 0x3F: m = "AAS"; break;
-        case 0x84: case 0x85: case 0xA8: case 0xA9: m = "TEST"; break;
-        case 0x86: case 0x87: m = "XCHG"; break;
-        case 0x8D: m = "LEA"; break;
-        case 0x8E: m = "MOV"; break;
-        case 0x8F: m = "POP"; break;
-        case 0x90: m = "NOP"; break;
-        case 0x98: m = "CBW"; break;
-        case 0x99: m = "CWD"; break;
-        case 0x9A: m = "CALL FAR"; break;
-        case 0x9B: m = "WAIT"; break;
-        case 0x9C: m = "PUSHF"; break;
-        case 0x9D: m = "POPF"; break;
-        case 0x9E: m = "SAHF"; break;
-        case 0x9F: m = "LAHF"; break;
-        case 0xA0: case 0xA1: case 0xA2: case 0xA3: case 0xC6: case 0xC7: m = "MOV"; break;
-        case 0xC2: case 0xC3: m = "RET"; break;
-        case 0xC4: m = "LES"; break;
-        case 0xC5: m = "LDS"; break;
-        case 0xCA: case 0xCB: m = "RETF"; break;
-        case 0xCC: m = "INT3"; break;
-        case 0xCD: m = i + 1 < n ? "INT " + hex2(b[i + 1]) + "h" : "INT"; break;
-        case 0xCE: m = "INTO"; break;
-        case 0xCF: m = "IRET"; break;
-        case 0xD4: m = "AAM"; break;
-        case 0xD5: m = "AAD"; break;
-        case 0xD7: m = "XLAT"; break;
-        case 0xE0: m = "LOOPNE"; break;
-        case 0xE1: m = "LOOPE"; break;
-        case 0xE2: m = "LOOP"; break;
-        case 0xE3: m = "JCXZ"; break;
-        case 0xE4: case 0xE5: case 0xEC: case 0xED: m = "IN"; break;
-        case 0xE6: case 0xE7: case 0xEE: case 0xEF: m = "OUT"; break;
-        case 0xE8: m = "CALL"; break;
-        case 0xE9: case 0xEB: m = "JMP"; break;
-        case 0xEA: m = "JMP FAR"; break;
-        case 0xF4: m = "HLT"; break;
-        case 0xF5: m = "CMC"; break;
-        case 0xF8: m = "CLC"; break;
-        case 0xF9: m = "STC"; break;
-        case 0xFA: m = "CLI"; break;
-        case 0xFB: m = "STI"; break;
-        case 0xFC: m = "CLD"; break;
-        case 0xFD: m = "STD"; break;
-        default: m = "opcode " + hex2(op) + "h"; break;
-        }
-    }
-    return pre + m;
-}
 
 // What an IF change was: "reset", "interrupt entry", or the instruction.
 std::string change_name(const i8086::IfChange& c) {
@@ -202,7 +104,7 @@ json detail_json(const LatencyCause& c, unsigned vector_base, const SymbolOf& sy
         const auto& i = c.instruction;
         json j;
         put_code(j, "at", "symbol", i.cs, i.ip, symbol);
-        j["mnemonic"] = mnemonic(i.bytes.data(), i.nbytes);
+        j["mnemonic"] = i8086::mnemonic(i.bytes.data(), i.nbytes);
         std::string bytes;
         for (unsigned k = 0; k < i.nbytes; ++k) bytes += (k ? " " : "") + hex2(i.bytes[k]);
         j["bytes"] = bytes;
@@ -245,7 +147,7 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
     case Kind::instruction: {
         const auto& i = c.instruction;
         if (!i.valid) return "the instruction in progress: " + took;
-        const std::string what = mnemonic(i.bytes.data(), i.nbytes) + " at " + where(i.cs, i.ip, symbol);
+        const std::string what = i8086::mnemonic(i.bytes.data(), i.nbytes) + " at " + where(i.cs, i.ip, symbol);
         if (i.halted) return "waking from " + what + ": " + took;
         return std::string(i.sti_shadow ? "the instruction after STI, " : "the instruction in progress, ") + what +
                " begun at " + at_us(i.start) + " us: " + took + " to its end";

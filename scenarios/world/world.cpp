@@ -1,8 +1,8 @@
 #include "scenarios/world/world.h"
 
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "models/dpram_layout.h"
-#include "models/stop_signal.h"
+#include "models/plumbing/stop_signal.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -17,7 +17,7 @@
 #include "scenarios/host/tcp_host.h"
 #include "main_cpu/motion/motion_controller.h"
 #include "main_cpu/st/program.h"
-#include "models/output_file.h"
+#include "models/plumbing/output_file.h"
 #include "models/serial_line.h"
 #include "models/stats.h"
 
@@ -111,7 +111,7 @@ public:
 
 private:
     const Scenario& scenario_;
-    std::array<std::optional<OutputFile>, kPorts> logs_; // models/output_file.h
+    std::array<std::optional<OutputFile>, kPorts> logs_; // models/plumbing/output_file.h
     // RXD reads of each port since the probe last settled: enough to tell whether an interrupt
     // read a character, since its handler ran after that (see on_record).
     std::array<std::deque<sc_core::sc_time>, kPorts> recent_reads_;

@@ -7,8 +7,10 @@
 #   pic8259/ dpram/ uart82510/ camc_qi/   one chip model each  -> itself, models
 #   models/     the ground floor                               -> models
 #
-# The 8086 core (comm_cpu/i8086*, comm_cpu/sst*) is plain C++: it includes no SystemC or TLM header
-# and, of the tree, only the plain C++ headers models/memory.h and models/hex.h.
+# The 8086 core is the folder comm_cpu/i8086/, and it is plain C++: it includes no SystemC or TLM
+# header and, of the tree, only itself and the plain C++ headers models/memory.h and models/plumbing/hex.h.
+# Core code lives nowhere else: outside that folder, a source named i8086* or one that includes
+# the core's private microcode steps (comm_cpu/i8086/microcode.h) is a violation.
 #
 # Inside scenarios/ the same rule holds between its code folders (scenarios/README.md), each of
 # which may include the floors of the tree and these folders of scenarios/:
@@ -45,7 +47,7 @@ set(allowed_comm_cpu  comm_cpu pic8259 uart82510 dpram models)
 set(allowed_main_cpu  main_cpu camc_qi models)
 set(layers models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu)
 # The headers of models/ the plain C++ 8086 core may include (no SystemC behind them).
-set(core_models models/memory.h models/hex.h)
+set(core_models models/memory.h models/plumbing/hex.h)
 set(tree_dirs models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu scenarios tests)
 
 set(sc_host    host)
@@ -74,8 +76,14 @@ function(check_file file layer)
   set(n 0)
   set(bad ${violations})
   set(core FALSE)
-  if(layer STREQUAL "comm_cpu" AND rel MATCHES "^comm_cpu/(i8086|sst)[^/]*$")
+  if(rel MATCHES "^comm_cpu/i8086/")
     set(core TRUE)
+  else()
+    get_filename_component(name "${rel}" NAME)
+    if(name MATCHES "^i8086")
+      message("${rel}: core code outside comm_cpu/i8086/ (the core's folder)")
+      math(EXPR bad "${bad} + 1")
+    endif()
   endif()
   foreach(line IN LISTS all_lines)
     math(EXPR n "${n} + 1")
@@ -85,8 +93,13 @@ function(check_file file layer)
     set(quote "${CMAKE_MATCH_1}") # each MATCHES below resets CMAKE_MATCH_n
     set(header "${CMAKE_MATCH_2}")
     if(core AND (header MATCHES "^(systemc|tlm)" OR (quote STREQUAL "\"" AND
-        NOT header MATCHES "^comm_cpu/(i8086|sst)" AND NOT header IN_LIST core_models)))
+        NOT header MATCHES "^comm_cpu/i8086/" AND NOT header IN_LIST core_models)))
       message("${rel}:${n}: the plain C++ 8086 core includes ${header}")
+      math(EXPR bad "${bad} + 1")
+      continue()
+    endif()
+    if(NOT core AND header STREQUAL "comm_cpu/i8086/microcode.h")
+      message("${rel}:${n}: core code outside comm_cpu/i8086/ (includes the core's private ${header})")
       math(EXPR bad "${bad} + 1")
       continue()
     endif()

@@ -1,7 +1,7 @@
 // ROM images as firmware teams have them (models/rom_image.h): raw images mirrored as partial
 // address decoding does, Intel HEX placed by its records' addresses (the record layout and the
 // checksum of the Intel HEX specification), and even/odd EPROM pairs interleaved byte by byte.
-#include "models/config_error.h"
+#include "models/plumbing/config_error.h"
 #include "models/rom_image.h"
 
 #include <gtest/gtest.h>

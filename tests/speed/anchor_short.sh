@@ -8,7 +8,7 @@ set -eu
 RCSIM=$1 NASM=$2 SRC=$3 WORK=$4
 mkdir -p "$WORK"
 cd "$SRC"
-sed 's/^FRAMES  equ     54688/FRAMES  equ     2000/' comm_cpu/bench/protocol_loop.asm > "$WORK/loop2000.asm"
+sed 's/^FRAMES  equ     54688/FRAMES  equ     2000/' comm_cpu/tools/protocol_loop.asm > "$WORK/loop2000.asm"
 grep -q '^FRAMES  equ     2000$' "$WORK/loop2000.asm" || { echo "FAIL: the sed pattern no longer matches the FRAMES line"; exit 1; }
 "$NASM" -f bin -o "$WORK/loop2000.bin" "$WORK/loop2000.asm"
 out=$("$RCSIM" bench cpu --anchor --rounds 1 --seconds 0.1 --image "$WORK/loop2000.bin")

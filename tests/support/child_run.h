@@ -1,8 +1,8 @@
-// A board run in a child process (models/child_process.h), for a test that compares two runs of a
+// A board run in a child process (models/plumbing/child_process.h), for a test that compares two runs of a
 // board (a switch on and off): what the run counted comes back as counters and a byte log.
 #pragma once
 
-#include "models/child_process.h"
+#include "models/plumbing/child_process.h"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@ struct ChildResult {
     std::vector<std::uint8_t> log;
 };
 
-/// Runs `body` in a child process (models/child_process.h) and returns what it returned. The
+/// Runs `body` in a child process (models/plumbing/child_process.h) and returns what it returned. The
 /// child's own failure (an exception, a short write, a crash) fails the calling test and gives an
 /// empty result.
 inline ChildResult run_in_child(const std::function<ChildResult()>& body) {

@@ -1,0 +1,360 @@
+// Latency causes (scenarios/board/latency_cause.h) known-answer tests: nasm ROMs (tests/scenarios/board/kat/)
+// on an 8086 + 8259A (+ IDT7130) bench with the communication board's map and wait states, the
+// 8259A watched by the probe, IR lines raised at known times. Each phase of a latency and each
+// cause's figure is derived below in clocks, not taken from the probe:
+//   [TAB]  8086 clock tables (instruction already in the queue, boundary to boundary): NOP 3,
+//          CLI 2, STI 2; DIV r16 144-162, the fastest when every trial subtraction of the
+//          division fails (a zero quotient; the microcode's CORD loop, docs/cpu8086.md).
+//   [DS]   INTR is sampled at instruction boundaries (a boundary at clock edge c sees the level
+//          held before c); no recognition after STI when IF was 0 until the next instruction
+//          has run; an interrupt is not taken inside an instruction.
+//   [KAT]  the derivations of probe_known_answer_test.cpp for this layout (kat/latency_kat.inc):
+//          (E) entry: first_isr = B + 57 from a boundary B with the bus idle, INTA1 at B + 4;
+//          (H) the MOV/OUT/IRET handler entered at B: h = B + 52, EOI at h + 24, the return fetch
+//              at h + 57 = B + 109 (so a HLT woken at B resumes with its return fetch T1 at B + 109);
+//          (T) the same tail resumed by an IRET whose return fetch is at r0: OUT read r0 + 10,
+//              EOI T1 r0 + 20, IRET read r0 + 23;
+//          (C) after a return fetch at r (even, ROM 1 Tw): the first opcode read at r + 5 and its
+//              boundary at r + 6; each instruction's next read at its read + its clocks [TAB]
+//              while the queue keeps up (one byte per NOP, two per fetch of 5 clocks).
+//   [BRD]  ROM 1 wait state, RAM 0, I/O 1; the DP-RAM none but BUSY.
+//   [IDT]  IDT7130 55 ns grade: the loser's read completes tBDA + tBDD = 30 + 45 ns after the
+//          winner's cycle ends, its Tw states end at the first clock edge at or after that.
+// The phases partition [IR rise, first ISR instruction]; the cause is the kind with the most time.
+#include "comm_cpu/comm_board.h"
+#include "comm_cpu/cpu8086.h"
+#include "dpram/idt7130.h"
+#include "models/router.h"
+#include "pic8259/pic8259.h"
+#include "scenarios/board/interrupt_probe.h"
+#include "scenarios/debug/symbols.h"
+#include "scenarios/run/cause_symbols.h"
+#include "scenarios/verdict/latency_causes.h"
+#include "tests/support/sc_test.h"
+
+#include <tlm_utils/simple_initiator_socket.h>
+#include <tlm_utils/simple_target_socket.h>
+
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+using namespace rcsim;
+using namespace sc_core;
+using Kind = LatencyPhase::Kind;
+
+namespace {
+
+constexpr std::uint64_t kClockPs = 125'000; // 8 MHz
+sc_time at_clock(std::uint64_t c) { return ps(c * kClockPs); }
+sc_time mid_clock(std::uint64_t c) { return ps(c * kClockPs + kClockPs / 2); }
+
+constexpr unsigned kToInta1 = 4, kToFirstIsr = 57; // (E)
+constexpr unsigned kWakeToReturn = 109;            // (H): a HLT woken at B resumes at B + 109
+constexpr unsigned kHandlerEoi = 52 + 24;          // (E)+(H): the EOI's T1 from the boundary
+constexpr unsigned kTailOutRead = 10, kTailEoi = 20, kTailIretRead = 23; // (T)
+
+std::string kat(const std::string& file) { return std::string(RCSIM_LATENCY_KAT) + "/" + file; }
+
+std::vector<std::uint8_t> read_rom(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+struct IrStep {
+    sc_time at;
+    unsigned level;
+    bool value;
+};
+
+// Cpu8086 + 8259A + IDT7130 (left port at D0000) with the board's map and wait states; the ROM
+// and its symbols from nasm; vector 20h + n -> the ROM's isrN. A right-port read of the DP-RAM's
+// byte 010h at `right_at` (if set) holds it for `right_clocks` clocks.
+struct Bench : sc_module {
+    CommBoardConfig cfg;
+    std::vector<std::uint8_t> ram = std::vector<std::uint8_t>(cfg.ram_size, 0);
+    std::vector<std::uint8_t> rom;
+    debug::SymbolTable symbols;
+    Cpu8086 cpu{"cpu"};
+    Router io{"io", true};
+    Router mem{"mem"};
+    Pic8259 pic{"pic"};
+    Idt7130 dpram{"dpram"};
+    tlm_utils::simple_initiator_socket<Bench> right{"right"};
+    IrqLine intr{"intr"}, nmi{"nmi"}, int_l{"int_l"}, int_r{"int_r"};
+    sc_vector<IrqLine> ir{"ir", 8};
+    std::vector<IrStep> script;
+    sc_time right_at = SC_ZERO_TIME;
+    unsigned right_clocks = 100;
+    InterruptProbe probe;
+    std::vector<Idt7130::BusyEvent> busy;
+    std::vector<i8086::BusRecord> dpram_cycles; // the CPU's DP-RAM cycles
+
+    SC_HAS_PROCESS(Bench);
+    Bench(sc_module_name name, const std::string& rom_name, std::vector<IrStep> steps)
+        : sc_module(name), rom(read_rom(kat(rom_name + ".bin"))),
+          symbols(debug::SymbolTable::load_nasm_map(kat(rom_name + ".map"))), script(std::move(steps)),
+          probe("probe", cpu, lines(), cfg.pic_io_base, cfg.dpram_base, Idt7130::kSize) {
+        EXPECT_EQ(rom.size(), cfg.rom_size) << rom_name;
+        rom.resize(cfg.rom_size, 0xFF);
+        cpu.map_memory({"ram", cfg.ram_base, cfg.ram_size, ram.data(), cfg.ram_wait, true});
+        cpu.map_memory({"rom", cfg.rom_base, cfg.rom_size, rom.data(), cfg.rom_wait, false});
+        cpu.io.bind(io.in);
+        cpu.mem.bind(mem.in);
+        cpu.inta.bind(pic.inta);
+        cpu.intr(intr);
+        cpu.nmi(nmi);
+        pic.intr(intr);
+        io.out.bind(pic.bus);
+        io.map(cfg.pic_io_base, 4, 0, "pic", cfg.io_wait);
+        mem.out.bind(dpram.left);
+        mem.map(cfg.dpram_base, Idt7130::kSize, 0, "dpram", cfg.dpram_wait);
+        right.bind(dpram.right);
+        dpram.int_l(int_l);
+        dpram.int_r(int_r);
+        dpram.on_busy = [this](const Idt7130::BusyEvent& e) { busy.push_back(e); };
+        for (unsigned n = 0; n < 8; ++n) pic.ir[n](ir[n]);
+        probe.watch_pic(pic);
+        cpu.set_debug_bus_observer(
+            [](void* self, const i8086::BusRecord& r) {
+                auto* b = static_cast<Bench*>(self);
+                if (r.address - b->cfg.dpram_base < Idt7130::kSize && r.kind != i8086::Bus::io_read &&
+                    r.kind != i8086::Bus::io_write && r.kind != i8086::Bus::int_ack)
+                    b->dpram_cycles.push_back(r);
+            },
+            this);
+        for (unsigned n = 0; n < 8; ++n) {
+            const debug::Symbol* s = symbols.find("isr" + std::to_string(n));
+            EXPECT_NE(s, nullptr) << "isr" << n;
+            const std::uint32_t ip = s ? s->address - cfg.rom_base : 0;
+            std::uint8_t* v = &ram[4 * (0x20 + n)];
+            v[0] = ip & 0xFF;
+            v[1] = std::uint8_t(ip >> 8);
+            v[2] = 0x00;
+            v[3] = 0xF0;
+        }
+        test::spawn_checked([this] { drive(); }, "drive");
+        test::spawn_checked([this] { drive_right(); }, "drive_right");
+    }
+    std::vector<IrqLine*> lines() {
+        std::vector<IrqLine*> v;
+        for (auto& line : ir) v.push_back(&line);
+        return v;
+    }
+    void drive() {
+        for (const IrStep& s : script) {
+            wait(s.at - sc_time_stamp());
+            ir[s.level].write(s.value);
+        }
+    }
+    void drive_right() {
+        if (right_at == SC_ZERO_TIME) return;
+        dpram.ports[Idt7130::right_port].cycle_clocks = right_clocks;
+        wait(right_at - sc_time_stamp());
+        std::uint8_t data[2] = {0, 0};
+        bus_access(right, BusCycle::mem_read, 0x010, data, 1, sc_time_stamp());
+    }
+    const InterruptRecord& record_of(unsigned level, unsigned nth = 0) const {
+        for (const InterruptRecord& r : probe.records())
+            if (r.level == level && nth-- == 0) return r;
+        static const InterruptRecord none;
+        ADD_FAILURE() << "no record " << nth << " of level " << level;
+        return none;
+    }
+};
+
+struct Want {
+    Kind kind;
+    int level;
+    sc_time from, to;
+};
+
+// The phases are `want`, and they partition [ir_rise, first_isr].
+void expect_phases(const InterruptRecord& r, const std::vector<Want>& want) {
+    const LatencyCause& c = r.cause;
+    ASSERT_TRUE(c.known);
+    ASSERT_EQ(c.phases, want.size());
+    for (unsigned k = 0; k < c.phases; ++k) {
+        SCOPED_TRACE(testing::Message() << "phase " << k << " " << to_string(c.phase[k].kind));
+        EXPECT_EQ(c.phase[k].kind, want[k].kind);
+        EXPECT_EQ(c.phase[k].level, want[k].level);
+        EXPECT_EQ(c.phase[k].from, want[k].from);
+        EXPECT_EQ(c.phase[k].to, want[k].to);
+    }
+    EXPECT_EQ(c.phase[0].from, r.ir_rise);
+    EXPECT_EQ(c.phase[c.phases - 1].to, r.first_isr);
+    for (unsigned k = 1; k < c.phases; ++k) EXPECT_EQ(c.phase[k].from, c.phase[k - 1].to);
+    EXPECT_FALSE(c.truncated);
+}
+
+// The first level-3 record is the wake-up of main from HLT at boundary b (the CPU was halted:
+// its INTA1 is (E)'s).
+void expect_wake(const Bench& b, std::uint64_t wake) {
+    const InterruptRecord& w = b.record_of(3);
+    EXPECT_EQ(w.inta1, at_clock(wake + kToInta1));
+    EXPECT_EQ(w.iret_done, at_clock(wake + kWakeToReturn));
+}
+
+SymbolOf symbols_of(const std::string& rom) { return cause_symbols(kat(rom + ".map"), ""); }
+
+} // namespace
+
+// (1) MOV BX,1000h / XOR DX,DX / NOP / STI / HLT; IR3 wakes it at 601, its IRET returns at
+// r = 710 to CLI / 100 NOPs / STI / DIV BX (AX = 0020h from the handler: quotient 0). By (C) CLI
+// (F000:0120) is read at r+5 and begins at its boundary r+6 = 716; NOP j is read at r+7+3j; STI
+// (F000:0185) at r+307; DIV at r+309, beginning at r+310, where STI's effect is due: IF = 1 from
+// there, but the DIV, the instruction after STI, runs first [DS]: 144 clocks [TAB] (as in (3)),
+// to the boundary r+454 (queue full, bus idle), where the interrupt is taken; (E) from there.
+// IR3 rises again at r+20.5: IF = 0 to r+310 (289.5 clocks), the DIV 144, the entry 57: latency
+// 490.5 clocks, interrupts disabled since the CLI's boundary, until STI's end.
+TEST(LatencyCauseKat, InterruptsDisabledFromCliToSti) {
+    constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, until = r + 310, boundary = until + 144;
+    Bench b("bench", "kat_cli", {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 20), 3, true}});
+    sc_start(us(250));
+    ASSERT_EQ(b.probe.records().size(), 2u);
+    expect_wake(b, wake);
+    const InterruptRecord& x = b.record_of(3, 1);
+    EXPECT_EQ(x.first_isr - x.ir_rise, ps(490 * kClockPs + kClockPs / 2));
+    expect_phases(x, {{Kind::interrupts_disabled, -1, mid_clock(r + 20), at_clock(until)},
+                      {Kind::instruction, -1, at_clock(until), at_clock(boundary)},
+                      {Kind::entry, -1, at_clock(boundary), at_clock(boundary + kToFirstIsr)}});
+    const LatencyCause& c = x.cause;
+    EXPECT_EQ(c.cause, Kind::interrupts_disabled);
+    EXPECT_EQ(c.cause_time, ps(289 * kClockPs + kClockPs / 2));
+    ASSERT_TRUE(c.if_off.valid && c.if_off.has_off && c.if_off.has_on);
+    EXPECT_EQ(c.if_off.since, at_clock(r + 6)); // the CLI's boundary
+    EXPECT_EQ(c.if_off.off.opcode, 0xFA);
+    EXPECT_EQ(c.if_off.off.cs, 0xF000);
+    EXPECT_EQ(c.if_off.off.ip, 0x0120);
+    EXPECT_EQ(c.if_off.on.opcode, 0xFB);
+    EXPECT_EQ(c.if_off.on.ip, 0x0185);
+    EXPECT_EQ(c.if_off.until, at_clock(until));
+    EXPECT_TRUE(c.instruction.sti_shadow);
+    EXPECT_EQ(c.instruction.ip, 0x0186); // the DIV after STI
+    EXPECT_EQ(c.instruction.start, at_clock(until));
+    // since 716 clocks = 89.5 us, until 1020 clocks = 127.5 us; 289.5 clocks = 36.1875 us.
+    const std::string text = latency_cause_text(x, 0x20, symbols_of("kat_cli"));
+    EXPECT_EQ(text, "interrupts disabled (IF=0) since 89.500 us (CLI at F000:0120, cli_here) until 127.500 us "
+                    "(STI at F000:0185, sti_here); 36.2 us of the latency")
+        << text;
+}
+
+// (2) IR1 wakes main at 321 ((H)-like entry: its handler writes OCW3, STI, HLT at F000:0245 with
+// IR1 in service). IR3, lower, rises at 400.5: the 8259A holds it for IR1 in service. IR0 rises
+// at 480.5 (presented first, the CPU halted with IF = 1) and wakes the HLT at 481 [KAT]: INTA1
+// at 485 (IR0 in service from there), its EOI at 481 + 76 = 557 (IR1 in service again), its
+// return fetch at r0 = 481 + 109 = 590 into IR1's tail (T): IR1's EOI at r0+20 = 610 lets IR3
+// in; IF = 1 (IR0's IRET restored IR1's STI), so the OUT (begun at r0+11, F000:0248) ends at
+// the boundary r0+24 = 614 after the IRET's opcode read at r0+23, where IR3 is taken.
+// IR1 in service 80 + 53 = 133 clocks, IR0 72: the cause is rs232_1 in service.
+TEST(LatencyCauseKat, HigherPriorityHandlerInService) {
+    Bench b("bench", "kat_in_service",
+            {{mid_clock(320), 1, true}, {mid_clock(360), 1, false}, {mid_clock(400), 3, true}, {mid_clock(480), 0, true},
+             {mid_clock(520), 0, false}});
+    sc_start(us(150));
+    ASSERT_EQ(b.probe.records().size(), 3u);
+    constexpr std::uint64_t b0 = 481, r0 = b0 + kWakeToReturn, boundary = r0 + kTailIretRead + 1;
+    const InterruptRecord& ir0 = b.record_of(0);
+    EXPECT_EQ(ir0.inta1, at_clock(b0 + kToInta1));
+    EXPECT_EQ(ir0.eoi, at_clock(b0 + kHandlerEoi));
+    const InterruptRecord& ir1 = b.record_of(1);
+    EXPECT_EQ(ir1.eoi, at_clock(r0 + kTailEoi));
+    const InterruptRecord& x = b.record_of(3);
+    EXPECT_EQ(x.depth, 1u); // inside IR1's handler
+    EXPECT_GE(x.first_isr, at_clock(boundary + kToFirstIsr));
+    expect_phases(x, {{Kind::in_service, 1, mid_clock(400), mid_clock(480)},
+                      {Kind::priority, 0, mid_clock(480), at_clock(b0 + kToInta1)},
+                      {Kind::in_service, 0, at_clock(b0 + kToInta1), at_clock(b0 + kHandlerEoi)},
+                      {Kind::in_service, 1, at_clock(b0 + kHandlerEoi), at_clock(r0 + kTailEoi)},
+                      {Kind::instruction, -1, at_clock(r0 + kTailEoi), at_clock(boundary)},
+                      {Kind::entry, -1, at_clock(boundary), x.first_isr}});
+    const LatencyCause& c = x.cause;
+    EXPECT_EQ(c.cause, Kind::in_service);
+    EXPECT_EQ(c.cause_level, 1);
+    EXPECT_EQ(c.cause_time, at_clock(133));
+    EXPECT_EQ(c.instruction.ip, 0x0248); // OUT 0C0h,AL
+    EXPECT_EQ(c.instruction.start, at_clock(r0 + kTailOutRead + 1));
+    EXPECT_EQ(latency_cause_text(x, 0x20, symbols_of("kat_in_service")),
+              "the rs232_1 interrupt in service in the 8259A (higher priority) for 16.6 us");
+}
+
+// (3) MOV AX,5 / XOR DX,DX / MOV BX,1000h / STI / HLT; IR3 wakes it at 601, its IRET returns at
+// r = 710 to DIV BX (F000:0122; AX = 0020h from the handler): read at r+5, begun at r+6 = 716;
+// the quotient is 0, the fastest DIV r16: 144 clocks [TAB], so it ends at the boundary 860 (the
+// queue full, the bus idle), where IR0, risen at r+56.5 = 766.5, is taken: 93.5 clocks left of
+// the DIV, then (E).
+TEST(LatencyCauseKat, LongDivInProgress) {
+    constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, div_start = r + 6, boundary = div_start + 144;
+    Bench b("bench", "kat_div",
+            {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 56), 0, true}, {mid_clock(900), 0, false}});
+    sc_start(us(150));
+    ASSERT_EQ(b.probe.records().size(), 2u);
+    expect_wake(b, wake);
+    const InterruptRecord& x = b.record_of(0);
+    EXPECT_EQ(x.inta1, at_clock(boundary + kToInta1));
+    expect_phases(x, {{Kind::instruction, -1, mid_clock(r + 56), at_clock(boundary)},
+                      {Kind::entry, -1, at_clock(boundary), at_clock(boundary + kToFirstIsr)}});
+    const LatencyCause& c = x.cause;
+    EXPECT_EQ(c.cause, Kind::instruction);
+    EXPECT_EQ(c.cause_time, ps(93 * kClockPs + kClockPs / 2)); // the DIV's remaining clocks
+    ASSERT_TRUE(c.instruction.valid);
+    EXPECT_EQ(c.instruction.start, at_clock(div_start));
+    EXPECT_EQ(c.instruction.cs, 0xF000);
+    EXPECT_EQ(c.instruction.ip, 0x0122);
+    ASSERT_GE(c.instruction.nbytes, 2u);
+    EXPECT_EQ(c.instruction.bytes[0], 0xF7);
+    EXPECT_EQ(c.instruction.bytes[1], 0xF3);
+    EXPECT_FALSE(c.if_off.valid);
+    // div_start 716 clocks = 89.5 us; 93.5 clocks = 11.6875 us.
+    EXPECT_EQ(latency_cause_text(x, 0x20, symbols_of("kat_div")),
+              "the instruction in progress, DIV at F000:0122 (div_here) begun at 89.500 us: 11.7 us to its end");
+    const nlohmann::json j = latency_cause_json(x, 0x20, symbols_of("kat_div"));
+    EXPECT_EQ(j["cause"], "instruction");
+    EXPECT_EQ(j["detail"]["instruction"]["mnemonic"], "DIV");
+    EXPECT_EQ(j["detail"]["instruction"]["bytes"].get<std::string>().substr(0, 5), "F7 F3");
+    EXPECT_EQ(j["detail"]["instruction"]["symbol"], "div_here");
+}
+
+// (4) DS = D000; IR3 wakes main at 601, its IRET returns at r = 710 to MOV AL,[0010h]. The right
+// port reads byte 010h at r+5 = 715 with a 100-clock cycle: the CPU's read of it, later, gets
+// BUSY; its Tw states end at the first clock edge at or after 715 + 100 clocks + 75 ns [IDT]:
+// 816. IR0 rises at r+40.5 = 750.5, inside them: the bus is held 65.5 clocks of the latency; then
+// the rest of the MOV, then the entry.
+TEST(LatencyCauseKat, DpramBusyHoldsTheBus) {
+    constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, busy_end = r + 5 + 100 + 1;
+    Bench b("bench", "kat_busy",
+            {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 40), 0, true}, {mid_clock(1000), 0, false}});
+    b.right_at = at_clock(r + 5);
+    b.right_clocks = 100;
+    sc_start(us(200));
+    ASSERT_EQ(b.probe.records().size(), 2u);
+    expect_wake(b, wake);
+    ASSERT_EQ(b.busy.size(), 1u);
+    EXPECT_EQ(b.busy[0].port, Idt7130::left_port);
+    ASSERT_EQ(b.dpram_cycles.size(), 1u);
+    const i8086::BusRecord& read = b.dpram_cycles[0];
+    EXPECT_EQ(read.address, 0xD0010u);
+    EXPECT_EQ(read.wait_states, b.busy[0].wait_states);
+    EXPECT_EQ(read.start + 3 + read.wait_states, busy_end); // the Tw states end at 816
+    EXPECT_LT(at_clock(read.start + 3), mid_clock(r + 40)); // ... and began before the rise
+    const InterruptRecord& x = b.record_of(0);
+    const LatencyCause& c = x.cause;
+    ASSERT_TRUE(c.known);
+    ASSERT_EQ(c.phases, 3u);
+    const sc_time boundary = c.boundary;
+    expect_phases(x, {{Kind::dpram_busy, -1, mid_clock(r + 40), at_clock(busy_end)},
+                      {Kind::instruction, -1, at_clock(busy_end), boundary},
+                      {Kind::entry, -1, boundary, x.first_isr}});
+    EXPECT_LT(boundary - at_clock(busy_end), at_clock(8)); // T4 and the next opcode read
+    EXPECT_EQ(c.cause, Kind::dpram_busy);
+    EXPECT_EQ(c.cause_time, ps(65 * kClockPs + kClockPs / 2));
+    EXPECT_EQ(c.busy.wait_states, read.wait_states);
+    EXPECT_EQ(c.busy.address, 0xD0010u);
+    EXPECT_EQ(c.instruction.ip, 0x0120);
+    const std::string text = latency_cause_text(x, 0x20, symbols_of("kat_busy"));
+    EXPECT_EQ(text, "the bus held by DP-RAM BUSY for 8.2 us (" + std::to_string(read.wait_states) +
+                        " wait states at D0010)")
+        << text;
+}

@@ -1,0 +1,214 @@
+"""The monitor's JSON API (docs/monitor.md) driven through a short run of tests/scenarios/monitor/board.yaml:
+subscribe, pause, step, resume, a motion command that moves an axis, a frame sent as the host,
+a line fault, several clients, and the clients the server must drop (garbage, a huge message, a
+disconnect) while the run goes on.
+
+usage: api_test.py RCSIM SCENARIO"""
+import signal
+import sys
+import time
+
+from wsclient import Rcsim, http_get
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def updates(ws, n, timeout=5.0):
+    out = []
+    while len(out) < n:
+        out.append(ws.recv_until(lambda m: m.get("type") == "update", timeout))
+    return out
+
+
+def wait_state(ws, pred, timeout=5.0):
+    """The first update whose data satisfies pred."""
+    return ws.recv_until(lambda m: m.get("type") == "update" and pred(m["data"]), timeout)
+
+
+def main(rcsim, scenario):
+    run = Rcsim(rcsim, scenario)
+    try:
+        body_checks(run)
+    finally:
+        if failures:
+            run.kill()
+            print(run.stderr())
+    if failures:
+        return 1
+    run.proc.send_signal(signal.SIGINT)
+    rc, out, err = run.finish()
+    check(rc == 130, "SIGINT ends the monitored run with its reports (exit 130, got %d)" % rc)
+    for why in ("disconnected", "sent garbage", "over 65536 bytes"):
+        check(why in err, "the log names the dropped client: '%s'" % why)
+    check("paused at" in err and "resumed at" in err, "the log records pause and resume")
+    if failures:
+        print(out, err)
+    return 1 if failures else 0
+
+
+def body_checks(run):
+    # Plain HTTP: the page and the snapshot.
+    status, page = http_get("127.0.0.1", run.port, "/")
+    check(status == 200 and b'<canvas id="plot"' in page, "GET / serves the live page")
+    check(b"http://" not in page and b"https://" not in page and b"<script src" not in page,
+          "the page loads nothing from the network (script inline, no CDN)")
+    status, _ = http_get("127.0.0.1", run.port, "/nowhere")
+    check(status == 404, "an unknown path is 404")
+
+    a = run.ws()
+    hello = a.recv()
+    check(hello.get("type") == "hello" and hello.get("api") == 1, "the server greets with API version 1")
+
+    # Subscription in simulated time: one update every 10 ms of simulated time, exactly.
+    r = a.request({"op": "subscribe", "clock": "sim", "period_ms": 10})
+    check(r["type"] == "ok", "subscribe (sim clock, 10 ms)")
+    ts = [u["data"]["sim_time_s"] for u in updates(a, 6)]
+    gaps = [round(ts[i + 1] - ts[i], 9) for i in range(len(ts) - 1)]
+    check(all(g == 0.010 for g in gaps), "sim-clock updates come 10 ms of simulated time apart: %s" % gaps)
+    a.request({"op": "subscribe", "clock": "sim", "period_ms": 100})  # fewer, while it is not read
+
+    # Several clients at once: a second one subscribed in wall time gets its own updates.
+    b = run.ws()
+    b.recv()
+    b.request({"op": "subscribe", "clock": "wall", "period_ms": 50})
+    t0 = time.monotonic()
+    n = len(updates(b, 10))
+    rate = n / (time.monotonic() - t0)
+    check(rate >= 10, "a second client's wall-clock updates come at %.1f/s (>= 10/s at a 50 ms period)" % rate)
+    check(len(updates(a, 2)) == 2, "the first client is still served")
+
+    # A request that cannot be done is answered, and the client stays.
+    r = a.request({"op": "warp"})
+    check(r["type"] == "error" and "unknown op" in r["error"], "an unknown op gets an error reply")
+    r = a.request({"op": "step", "ms": -5})
+    check(r["type"] == "error" and "out of range" in r["error"], "a negative step is refused: " + r.get("error", ""))
+
+    # Pause: simulated time stands still; step advances it by exactly the asked amount.
+    r = a.request({"op": "pause"})
+    paused_at = r["sim_time_s"]
+    time.sleep(0.5)
+    s = a.request({"op": "snapshot"})["data"]
+    check(s["paused"] and s["sim_time_s"] == paused_at,
+          "paused: simulated time stays at %.6f s over 0.5 s of wall time" % paused_at)
+    r = a.request({"op": "step", "ms": 20})
+    check(abs(r["sim_time_s"] - (paused_at + 0.020)) < 1e-9, "step 20 ms: %.6f -> %.6f s" % (paused_at, r["sim_time_s"]))
+    s = a.request({"op": "snapshot"})["data"]
+    check(s["paused"], "the run is still paused after a step")
+
+    # A paused run with no client keeps its state.
+    b.close()
+    a.close()
+    time.sleep(0.5)
+    a = run.ws()
+    a.recv()
+    s = a.request({"op": "snapshot"})["data"]
+    check(s["paused"] and abs(s["sim_time_s"] - (paused_at + 0.020)) < 1e-9,
+          "with every client gone the run stays paused at the same time")
+
+    r = a.request({"op": "resume"})
+    check(r["type"] == "ok", "resume")
+    time.sleep(0.2)
+
+    # Pause for a second (no step: nothing else touches the pacer), then resume at real time (rtf
+    # 1, the scenario's): the pacer measures from the resume, so the run does not race to make up
+    # the second it stood still: over 0.5 s of wall time, at most about 0.5 s of simulated time
+    # passes (+0.15 s for the slices and the host's jitter).
+    a.request({"op": "pause"})
+    time.sleep(1.0)
+    before = a.request({"op": "snapshot"})["data"]["sim_time_s"]
+    a.request({"op": "resume"})
+    t0 = time.monotonic()
+    time.sleep(0.5)
+    after = a.request({"op": "snapshot"})["data"]["sim_time_s"]
+    wall = time.monotonic() - t0
+    check(0 < after - before <= wall + 0.15,
+          "after resume, %.3f s simulated in %.3f s wall at rtf 1 (pacer rebased)" % (after - before, wall))
+
+    # A motion command through the main CPU's dispatcher: servo on, then MA to 2000 pulses.
+    a.request({"op": "subscribe", "clock": "wall", "period_ms": 20, "path": False})
+    r = a.request({"op": "motion", "token": "SV", "data": "1"})
+    check(r["type"] == "ok" and r["bch"] == 0, "SV 1 accepted (BCH 00)")
+    wait_state(a, lambda d: d["motion"]["axes"][0]["state"] == "STANDSTILL")
+    r = a.request({"op": "motion", "token": "MA", "data": "0,2000,20000,200000,200000"})
+    check(r["type"] == "ok" and r["bch"] == 0, "MA 0,2000,... accepted (BCH 00)")
+    moving = wait_state(a, lambda d: d["motion"]["axes"][0]["state"] == "DISCRETE_MOTION")
+    check(moving is not None, "axis 0 enters DiscreteMotion")
+    done = wait_state(a, lambda d: d["motion"]["axes"][0]["state"] == "STANDSTILL", timeout=5)
+    ax = done["data"]["motion"]["axes"][0]
+    check(ax["cmd"] == 2000, "axis 0's command position ends at the target, 2000 pulses (got %s)" % ax["cmd"])
+    r = a.request({"op": "motion", "token": "MA", "data": "9,0,1,1,1"})
+    check(r["type"] == "ok" and r["bch"] == 2, "MA on axis 9 is refused with BCH 02 (bad parameter)")
+
+    # A frame sent as port 0's host would: EC echoes its data (docs/system.md §7).
+    r = a.request({"op": "send_frame", "port": 0, "token": "EC", "data": "hello"})
+    check(r["type"] == "ok", "send_frame EC on port 0")
+    d = wait_state(a, lambda d: (d["ports"][0]["last_sent"] or {}).get("data") == "hello", timeout=5)["data"]
+    check(d["ports"][0]["last_received"]["token"] == "EC", "the main CPU received the EC frame")
+    r = a.request({"op": "send_frame", "port": 1, "token": "EC", "data": "x"})
+    check(r["type"] == "error", "send_frame on a port without a protocol host is refused")
+    r = a.request({"op": "send_frame", "port": 0.5, "token": "EC"})
+    check(r["type"] == "error" and "whole number" in r["error"], "a fractional port is refused")
+    r = a.request({"op": "motion", "token": 5})
+    check(r["type"] == "error" and "must be a string" in r["error"], "a token that is not a string is refused")
+
+    # A line fault: one data bit of the host's next character flipped, so the 82510 sees one parity
+    # error (8E1: the parity bit no longer matches), and the host's frame still gets through on retry.
+    pe = a.request({"op": "snapshot"})["data"]["ports"][0]["uart"]["parity_errors"]
+    r = a.request({"op": "inject_fault", "port": 0, "kind": "flip_data_bit", "bit": 0})
+    check(r["type"] == "ok", "inject_fault flip_data_bit on port 0")
+    a.request({"op": "send_frame", "port": 0, "token": "EC", "data": "again"})
+    d = wait_state(a, lambda d: (d["ports"][0]["last_sent"] or {}).get("data") == "again", timeout=5)["data"]
+    check(d["ports"][0]["uart"]["parity_errors"] == pe + 1,
+          "the 82510 counted exactly one parity error (%d -> %d)" % (pe, d["ports"][0]["uart"]["parity_errors"]))
+
+    # Clients the server must drop; the run and the first client go on.
+    for name, payload in (("garbage", b"this is not json"), ("huge", b'"' + b"x" * 100000 + b'"')):
+        c = run.ws()
+        c.recv()
+        try:
+            c.send_raw(payload)  # the server may close before the whole huge message is sent
+            while True:
+                c.recv()
+        except ConnectionError:  # closed by the server (a timeout is no disconnection)
+            check(True, "the %s client is disconnected" % name)
+        except TimeoutError:
+            check(False, "the %s client is disconnected (it is still connected after 5 s)" % name)
+        c.close()
+    c = run.ws()
+    c.recv()
+    c.sock.close()  # gone without a close frame
+    t_before = a.request({"op": "snapshot"})["data"]["sim_time_s"]
+    time.sleep(0.2)
+    t_after = a.request({"op": "snapshot"})["data"]["sim_time_s"]
+    check(t_after > t_before, "the run goes on after the dropped clients")
+
+    # The HTTP snapshot is the same document as the API's.
+    status, body = http_get("127.0.0.1", run.port, "/api/v1/snapshot")
+    check(status == 200 and b'"api":1' in body, "GET /api/v1/snapshot")
+
+    # Unpaced: simulated time runs as fast as the host goes (faster than the rtf 1 so far).
+    # The pacer holds simulated time to 4x the wall time since set_rtf rebased it; a run that
+    # fell behind that line may catch up later at full speed, so the upper bound is taken from
+    # before set_rtf (w_pre is read before the sim time t_pre is), not from t0.
+    w_pre = time.monotonic()
+    t_pre = a.request({"op": "snapshot"})["data"]["sim_time_s"]
+    r = a.request({"op": "set_rtf", "rtf": 4})
+    check(r["type"] == "ok", "set_rtf 4")
+    t0, w0 = a.request({"op": "snapshot"})["data"]["sim_time_s"], time.monotonic()
+    time.sleep(0.6)
+    t1, w1 = a.request({"op": "snapshot"})["data"]["sim_time_s"], time.monotonic()
+    check(t1 - t0 > 1.5 * (w1 - w0), "at rtf 4, %.3f s simulated in %.3f s wall (more than 1.5x)" % (t1 - t0, w1 - w0))
+    check(t1 - t_pre <= 4 * (w1 - w_pre) + 0.15,
+          "at rtf 4, no more than 4x wall time since set_rtf (+0.15 s): %.3f s simulated in %.3f s wall"
+          % (t1 - t_pre, w1 - w_pre))
+    a.close()
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))
