@@ -1,8 +1,9 @@
 #!/bin/sh
-# The shortened anchor program of docs/performance.md ("Fourth round"), built by the commands the
-# doc shows, runs on the core and on libx86emu with the same result (the bench fails when they
-# differ): 2000 frames of 128 instructions (protocol_loop.asm's own count), 0.26 M; and the sed
-# pattern still matches the FRAMES line (else the doc's count would silently be the 7 M one).
+# The shortened anchor program of docs/performance.md ("8086 core against libx86emu"), built by
+# the commands the doc shows, runs on the core and on libx86emu with the same result (the bench
+# fails when they differ): 2000 frames of 128 instructions (protocol_loop.asm's own count),
+# 0.26 M; and the sed pattern still matches the FRAMES line (else the doc's count would silently
+# be the 7 M one).
 #   anchor_short.sh RCSIM NASM SRCDIR WORKDIR
 set -eu
 RCSIM=$1 NASM=$2 SRC=$3 WORK=$4

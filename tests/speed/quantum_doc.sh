@@ -1,5 +1,5 @@
 #!/bin/sh
-# docs/performance.md "Fifth round": the commands that make the 10 s no-traffic run with a
+# docs/performance-history.md "Fifth round": the commands that make the 10 s no-traffic run with a
 # 1000 us quantum (run here without valgrind), and the doc's claim that its report.json (but the
 # quantum_us field) and interrupts.csv are those of the 100 us default.
 set -eu
