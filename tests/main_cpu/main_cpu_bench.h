@@ -20,8 +20,6 @@ namespace rcsim::test::main_cpu {
 using namespace rcsim::dpram_layout;
 using sc_core::sc_time;
 
-inline sc_time ms(std::uint64_t v) { return us(v * 1000); }
-
 /// Records motion commands and control cycles.
 class FakeMotion : public MotionInterface {
 public:

@@ -8,6 +8,7 @@
 #include "models/bus.h"
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/serial_times.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 
@@ -104,7 +105,7 @@ inline void run(std::function<void()> body, const sc_time& limit = sc_core::SC_Z
     else sc_core::sc_start(limit);
 }
 
-inline const sc_time k_char = ps(1'145'833'333); // 11 bits at 18.432 MHz / (32 x 60)
+inline const sc_time k_char = test::char_time_9600_8e1();
 
 /// Lets INT follow a register access: the pin is driven one delta after the change.
 inline void settle() {

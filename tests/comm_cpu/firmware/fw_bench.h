@@ -15,6 +15,7 @@
 
 #include "comm_cpu/i8086/cpu.h"
 #include "comm_fw_symbols.h"
+#include "tests/support/files.h"
 
 #include <algorithm>
 #include <array>
@@ -301,9 +302,8 @@ public:
     std::vector<IrqRecord> irqs;
     rcsim::i8086::Cpu cpu;
 
-    explicit Bench(const std::string& rom_path = RCSIM_COMM_FW_ROM) : ram(0x10000, 0), dp(0x400, 0) {
-        std::ifstream in(rom_path, std::ios::binary);
-        rom.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    explicit Bench(const std::string& rom_path = RCSIM_COMM_FW_ROM)
+        : rom(rcsim::test::slurp_bytes(rom_path)), ram(0x10000, 0), dp(0x400, 0) {
         if (rom.size() != 0x10000) throw std::runtime_error("ROM image missing or not 64 KB: " + rom_path);
         cpu.map_memory(rcsim::MemRegion{"ram", 0x00000, 0x10000, ram.data(), 0, true});
         cpu.map_memory(rcsim::MemRegion{"rom", 0xF0000, 0x10000, rom.data(), 1, false});

@@ -31,6 +31,7 @@
 #include "scenarios/run/cause_symbols.h"
 #include "scenarios/verdict/latency_causes.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
@@ -57,11 +58,6 @@ constexpr unsigned kHandlerEoi = 52 + 24;          // (E)+(H): the EOI's T1 from
 constexpr unsigned kTailOutRead = 10, kTailEoi = 20, kTailIretRead = 23; // (T)
 
 std::string kat(const std::string& file) { return std::string(RCSIM_LATENCY_KAT) + "/" + file; }
-
-std::vector<std::uint8_t> read_rom(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 struct IrStep {
     sc_time at;
@@ -94,7 +90,7 @@ struct Bench : sc_module {
 
     SC_HAS_PROCESS(Bench);
     Bench(sc_module_name name, const std::string& rom_name, std::vector<IrStep> steps)
-        : sc_module(name), rom(read_rom(kat(rom_name + ".bin"))),
+        : sc_module(name), rom(test::slurp_bytes(kat(rom_name + ".bin"))),
           symbols(debug::SymbolTable::load_nasm_map(kat(rom_name + ".map"))), script(std::move(steps)),
           probe("probe", cpu, lines(), cfg.pic_io_base, cfg.dpram_base, Idt7130::kSize) {
         EXPECT_EQ(rom.size(), cfg.rom_size) << rom_name;

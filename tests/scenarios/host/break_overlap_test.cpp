@@ -13,6 +13,7 @@
 
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 
@@ -81,7 +82,7 @@ TEST(HostBreakOverlap, BreakStartingMidCharacterCutsItAndSwallowsTheNext) {
     // its even parity bit would be 1, read 0: parity error; STOP 0: framing error. 'B' starts at
     // one frame, inside the BREAK: no edge, nothing of it arrives. The log shows "01 PF".
     RawHostConfig cfg;
-    cfg.log_path = testing::TempDir() + "host_break_mid.log";
+    cfg.log_path = (test::scratch_dir() / "host_break_mid.log").string();
     Bench b(cfg);
     const sc_time fall = k_bit.span(11);
     Bench::at(sc_core::SC_ZERO_TIME, [&] {

@@ -15,8 +15,6 @@ using sc_core::sc_time;
 
 namespace {
 
-sc_time ms(std::uint64_t v) { return us(1000 * v); }
-
 /// Answers ENQ with ACK and a command frame with EOT, then 2 ms later sends ENQ and, 5 ms after
 /// that (the host's ACK takes one character, 1.15 ms), the response `respond(command)`.
 struct Responder : sc_core::sc_module, SerialEndpoint {

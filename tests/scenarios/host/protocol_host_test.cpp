@@ -5,6 +5,7 @@
 
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/serial_times.h"
 
 #include <deque>
 #include <map>
@@ -15,8 +16,7 @@ using sc_core::sc_time;
 
 namespace {
 
-const sc_time k_char = ps(1'145'833'333); // 9600 8E1
-sc_time ms(std::uint64_t v) { return us(1000 * v); }
+const sc_time k_char = test::char_time_9600_8e1();
 
 /// A scripted controller: answers trigger bytes from per-trigger reply lists (default: ENQ ->
 /// ACK, ETX -> EOT, "" = stay silent) after `delay`, and sends scheduled byte strings.
