@@ -2,7 +2,7 @@
 // communication board, the IDT7130, the behavioural main CPU and simulated external hosts
 // (scenarios/host): every assertion is about what is observable on the RS-232C line (a wire tap
 // on each SerialLine), what the hosts counted, and what the main CPU received or sent.
-#include "tests/system/system_bench.h"
+#include "tests/system/controller_on_lines.h"
 #include "tests/support/sc_test.h"
 
 using namespace rcsim;

@@ -1,6 +1,6 @@
-// The firmware's protocol on the plain 8086 core with the bench's fakes: the test plays the host
+// The firmware's protocol on the plain 8086 core with the fake board: the test plays the host
 // (bytes into 82510 #p, bytes out of TXD) and the main CPU (DP-RAM and the mailbox words).
-#include "fw_bench.h"
+#include "fake_board.h"
 #include "models/plumbing/hex.h"
 #include "tests/support/sc_test.h"
 
@@ -8,7 +8,7 @@
 
 namespace {
 
-using namespace fwbench;
+using namespace fakeboard;
 
 const char SOH = 0x01, STX = 0x02, ETX = 0x03, EOT = 0x04, ENQ = 0x05, ACK = 0x06, NAK = 0x15;
 
@@ -23,8 +23,8 @@ std::string frame(const std::string& token, const std::string& data, unsigned bc
     return std::string(1, SOH) + body + hex2(sum + sum_delta) + ETX;
 }
 
-// A booted bench.
-struct Booted : Bench {
+// A booted fake board.
+struct Booted : FakeBoard {
     Booted() { run_ms(5); }
 
     /// Host: ENQ, expect ACK; then the frame (without waiting for anything).
@@ -351,7 +351,7 @@ TEST(FirmwareProtocol, NakAndTimeoutAreRetriedWithBackoffThenReported) {
     EXPECT_GE(gap1, 9.0);
     EXPECT_LE(gap1, 12.5);
     ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
-    // attempt 2: no answer -> T1 then 20 ms back-off. The bench's transmitter is instantaneous,
+    // attempt 2: no answer -> T1 then 20 ms back-off. The fake board's transmitter is instantaneous,
     // so the ENQ has left at once; T1 (50 ms) ends at the START bit of the answer, which the
     // receiver has one 9600-bps character (1.146 ms) later: the firmware waits more than 50 +
     // 1.146 ms, and at most 50 + 2 (the character in whole ticks) + 1 (tick phase) ms, plus the
@@ -636,7 +636,7 @@ TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
     const std::string f[3] = {frame("EC", std::string(400, 'a')), frame("EC", std::string(400, 'b')),
                               frame("EC", std::string(400, 'c'))};
     for (unsigned p = 0; p < 3; ++p) b.host_byte(p, ENQ);
-    // Three ENQs at once: each ACK is written within ~0.3 ms of its interrupt, and the bench's
+    // Three ENQs at once: each ACK is written within ~0.3 ms of its interrupt, and the fake board's
     // instantaneous transmitter makes each transmitter-idle interrupt (T1 starts) follow at
     // once: all three ACKs within two character times (far inside T1).
     ASSERT_TRUE(b.run_until([&] { return b.uart[0].tx.size() && b.uart[1].tx.size() && b.uart[2].tx.size(); },

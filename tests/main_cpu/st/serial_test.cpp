@@ -40,7 +40,7 @@ TEST(StSerial, RnStartsTheLoadedProgramStReportsItSpStopsIt) {
     opt.reproducible = true;
     opt.on_world = [&sent](World& b) {
         ASSERT_TRUE(b.program);
-        auto observer = b.ctl.main.on_sent; // the bench's exactly-once observer: keep it
+        auto observer = b.ctl.main.on_sent; // the run's exactly-once observer: keep it
         b.ctl.main.on_sent = [observer, &sent](const FrameRecord& f) {
             if (observer) observer(f);
             sent.push_back(f);

@@ -1,4 +1,4 @@
-// rcsim — whole-controller test bench: the real firmware ROM (RCSIM_COMM_FW_ROM) on the assembled
+// rcsim — the whole controller on its lines: the real firmware ROM (RCSIM_COMM_FW_ROM) on the assembled
 // communication board, the IDT7130 and the behavioural main CPU (rcsim::Controller), one RS-232C
 // line per port with the controller's 82510 on side a and a simulated host on side b.
 #pragma once

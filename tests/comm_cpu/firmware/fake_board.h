@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace fwbench {
+namespace fakeboard {
 
 namespace fw = rcsim::comm_fw;
 using rcsim::i8086::Bus;
@@ -289,7 +289,7 @@ struct IrqRecord {
     bool eoi_seen = false;
 };
 
-class Bench : public rcsim::i8086::BusHandler {
+class FakeBoard : public rcsim::i8086::BusHandler {
 public:
     std::vector<std::uint8_t> rom, ram, dp;
     std::array<Uart, 3> uart;
@@ -302,7 +302,7 @@ public:
     std::vector<IrqRecord> irqs;
     rcsim::i8086::Cpu cpu;
 
-    explicit Bench(const std::string& rom_path = RCSIM_COMM_FW_ROM)
+    explicit FakeBoard(const std::string& rom_path = RCSIM_COMM_FW_ROM)
         : rom(rcsim::test::slurp_bytes(rom_path)), ram(0x10000, 0), dp(0x400, 0) {
         if (rom.size() != 0x10000) throw std::runtime_error("ROM image missing or not 64 KB: " + rom_path);
         cpu.map_memory(rcsim::MemRegion{"ram", 0x00000, 0x10000, ram.data(), 0, true});
@@ -500,4 +500,4 @@ private:
     }
 };
 
-} // namespace fwbench
+} // namespace fakeboard

@@ -1,4 +1,4 @@
-// The bench of the Intel 82510 tests (uart82510_test.cpp: registers and interrupts;
+// The set-up of the Intel 82510 tests (uart82510_test.cpp: registers and interrupts;
 // uart82510_serial_test.cpp: transmit, receive, timing, two 82510s, BREAK): the CPU's register
 // access over the bus, the host at the far end of the line, and one 82510 wired to both.
 #pragma once
@@ -85,13 +85,13 @@ struct Host : SerialEndpoint {
     }
 };
 
-struct Bench {
+struct UartOnLine {
     Uart82510 uart;
     Cpu cpu{"cpu"};
     IrqLine irq{"irq"};
     SerialLine line{"line"};
     Host host{line};
-    explicit Bench(Uart82510::Config cfg = {}) : uart("uart", cfg) {
+    explicit UartOnLine(Uart82510::Config cfg = {}) : uart("uart", cfg) {
         cpu.sock.bind(uart.bus);
         uart.int_out.bind(irq);
         uart.connect(line, SerialLine::a);
