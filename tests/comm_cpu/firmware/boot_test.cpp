@@ -159,7 +159,7 @@ TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {
     EXPECT_EQ(b.irqs[irqs].bank_at_eoi, 0x40);
     std::vector<unsigned> banks;
     for (std::size_t i = writes; i < b.io_writes.size(); ++i)
-        if (b.io_writes[i].port == 0x84) banks.push_back(b.io_writes[i].value);
+        if (b.io_writes[i].port == kUartIoBase + 2 * u::BANK) banks.push_back(b.io_writes[i].value); // #0's BANK
     ASSERT_GE(banks.size(), 2u);
     EXPECT_EQ(banks[0], 0x20u);
     EXPECT_EQ(banks[1], 0x40u);
@@ -168,13 +168,13 @@ TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {
 
 TEST(FirmwareBoot, ClearsDpramFlagsAndTheStaleMailbox) {
     FakeBoard b;
-    for (unsigned p = 0; p < 3; ++p) b.dp[p * 340 + 339] = 0x5A;
-    b.dp[0x3FE] = 0x77;
+    for (unsigned p = 0; p < 3; ++p) b.dp[dl::pflag_addr(p)] = 0x5A;
+    b.dp[dl::int2ext] = 0x77;
     b.int_l = true; // left over from before the reset
     b.run_ms(5);
     for (unsigned p = 0; p < 3; ++p) EXPECT_EQ(b.pflag(p), 0) << p;
     EXPECT_FALSE(b.int_l);
-    EXPECT_EQ(b.dp[0x3FE], 0);
+    EXPECT_EQ(b.dp[dl::int2ext], 0);
     EXPECT_TRUE(b.posted.empty()) << "no word to the main CPU at start-up";
 }
 
