@@ -17,9 +17,10 @@ using cycles_t = std::uint64_t;
 
 /// Picoseconds as an sc_time, without going through double.
 inline sc_core::sc_time ps(std::uint64_t value) { return sc_core::sc_time::from_value(value); }
-/// Nanoseconds as an sc_time, without going through double.
+/// Nanoseconds, microseconds and milliseconds as an sc_time, without going through double.
 inline sc_core::sc_time ns(std::uint64_t value) { return ps(value * 1000); }
 inline sc_core::sc_time us(std::uint64_t value) { return ps(value * 1000000); }
+inline sc_core::sc_time ms(std::uint64_t value) { return ps(value * 1000000000); }
 /// sc_time to integer picoseconds (the kernel's resolution).
 inline std::uint64_t to_ps(const sc_core::sc_time& t) { return t.value(); }
 /// sc_time to microseconds as a double, for reports only.

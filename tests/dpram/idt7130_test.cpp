@@ -4,7 +4,7 @@
 // tBDD 45, tWH 20 ns; both ports 8 MHz (125 ns), 4-clock cycles, data phase ends at T3 (375 ns).
 // A loser starting at S after a winner that started at 0 waits
 //   ceil((500 + tBDA + (read ? tBDD : tWH) - (S + 375)) / 125) clocks, or none if that is <= 0.
-#include "tests/dpram/dpram_bench.h"
+#include "tests/dpram/dpram_between_cpus.h"
 #include "tests/support/sc_test.h"
 
 #include <string>
@@ -12,9 +12,9 @@
 using rcsim::BusResult;
 using rcsim::Idt7130;
 using rcsim::ns;
-using rcsim::test::DpramBench;
+using rcsim::test::DpramBetweenCpus;
 using rcsim::test::ScAllowWarnings;
-using Pin = DpramBench::PinEvent;
+using Pin = DpramBetweenCpus::PinEvent;
 using Pins = std::vector<Pin>;
 
 namespace {
@@ -27,7 +27,7 @@ bool contains(const std::string& s, const std::string& part) { return s.find(par
 // Mailboxes
 
 TEST(Idt7130Mailbox, RightWrite3FESetsIntLAndLeftReadClearsIt) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     std::uint8_t got = 0;
     tb.right_body = [&] { EXPECT_EQ(tb.write_at(tb.right, ns(0), 0x3FE, 0x12).wait_states, 0u); };
     tb.left_body = [&] { got = tb.read_at(tb.left, ns(1000), 0x3FE); };
@@ -39,7 +39,7 @@ TEST(Idt7130Mailbox, RightWrite3FESetsIntLAndLeftReadClearsIt) {
 }
 
 TEST(Idt7130Mailbox, LeftWrite3FFSetsIntRAndRightReadClearsIt) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     std::uint8_t got = 0;
     tb.left_body = [&] { tb.write_at(tb.left, ns(250), 0x3FF, 0x21); };
     tb.right_body = [&] {
@@ -53,7 +53,7 @@ TEST(Idt7130Mailbox, LeftWrite3FFSetsIntRAndRightReadClearsIt) {
 }
 
 TEST(Idt7130Mailbox, WritingOwnMailboxDoesNothing) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.left_body = [&] { tb.write_at(tb.left, ns(0), 0x3FE, 0x33); };
     tb.right_body = [&] { tb.write_at(tb.right, ns(1000), 0x3FF, 0x44); };
     sc_core::sc_start();
@@ -67,7 +67,7 @@ TEST(Idt7130Mailbox, WritingOwnMailboxDoesNothing) {
 // Only the mailbox owner's read clears; the other side reading it, or the owner writing it
 // (MAME's rule: clear on read only), leaves INT set.
 TEST(Idt7130Mailbox, OnlyTheOwnersReadClears) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.right_body = [&] {
         tb.write_at(tb.right, ns(0), 0x3FE, 0x01);     // INT_L set
         tb.read_at(tb.right, ns(1000), 0x3FE);         // right reading INT_L's mailbox
@@ -84,7 +84,7 @@ TEST(Idt7130Mailbox, OnlyTheOwnersReadClears) {
 }
 
 TEST(Idt7130Mailbox, OtherAddressesAreNoMailbox) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.right_body = [&] {
         for (unsigned a : {0x000u, 0x153u, 0x3FCu, 0x3FDu}) tb.write_at(tb.right, sc_core::sc_time_stamp(), a, 0xFF);
     };
@@ -96,7 +96,7 @@ TEST(Idt7130Mailbox, OtherAddressesAreNoMailbox) {
 }
 
 TEST(Idt7130Mailbox, WordWriteCoveringBothMailboxesSetsOnlyTheOthersInterrupt) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.right_body = [&] {
         std::uint8_t data[2] = {0x10, 0x20};
         tb.access_at(tb.right, ns(0), true, 0x3FE, data, 2);
@@ -109,7 +109,7 @@ TEST(Idt7130Mailbox, WordWriteCoveringBothMailboxesSetsOnlyTheOthersInterrupt) {
 }
 
 TEST(Idt7130Mailbox, ResetClearsBothInterruptsKeepsMemory) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.right_body = [&] { tb.write_at(tb.right, ns(0), 0x3FE, 0x55); };
     tb.left_body = [&] {
         tb.write_at(tb.left, ns(0) + ns(200), 0x3FF, 0x66);
@@ -129,7 +129,7 @@ TEST(Idt7130Mailbox, ResetClearsBothInterruptsKeepsMemory) {
 
 // A reset while a set is still on its way to the pin cancels it.
 TEST(Idt7130Mailbox, ResetCancelsPendingPinChange) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.right_body = [&] {
         tb.write_at(tb.right, ns(0), 0x3FE, 0x55);
         tb.ram.reset(); // at t=0, before the write's cycle ends at 500 ns
@@ -143,7 +143,7 @@ TEST(Idt7130Mailbox, ResetCancelsPendingPinChange) {
 // BUSY arbitration
 
 TEST(Idt7130Busy, WriteWriteLaterPortGetsBusyAndItsWriteLandsLast) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult l, r;
     tb.left_body = [&] { l = tb.write_at(tb.left, ns(0), 0x100, 0xAA); };
     tb.right_body = [&] { r = tb.write_at(tb.right, ns(100), 0x100, 0x55); };
@@ -166,7 +166,7 @@ TEST(Idt7130Busy, WriteWriteLaterPortGetsBusyAndItsWriteLandsLast) {
 }
 
 TEST(Idt7130Busy, ReadReadCollisionAlsoGetsBusy) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult l, r;
     std::uint8_t lv = 0, rv = 0;
     tb.ram.set_speed_grade(55);
@@ -186,7 +186,7 @@ TEST(Idt7130Busy, ReadReadCollisionAlsoGetsBusy) {
 
 // Same collision, the loser writing: tWH (20) instead of tBDD (45) after BUSY rises -> 1 clock.
 TEST(Idt7130Busy, LosingWriteNeedsTwhLosingReadNeedsTbdd) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult w, r;
     tb.left_body = [&] {
         tb.read_at(tb.left, ns(0), 0x200);
@@ -205,7 +205,7 @@ TEST(Idt7130Busy, LosingWriteNeedsTwhLosingReadNeedsTbdd) {
 
 // Winner reads, loser writes: the read sees the old value, the write lands afterwards.
 TEST(Idt7130Busy, WinnersReadSeesOldValueLosersReadSeesWinnersWrite) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     std::uint8_t left_read = 0, right_read = 0;
     tb.left_body = [&] {
         tb.write_at(tb.left, ns(0), 0x010, 0x11);
@@ -226,7 +226,7 @@ TEST(Idt7130Busy, WinnersReadSeesOldValueLosersReadSeesWinnersWrite) {
 // Both ports at the very same instant: exactly one gets BUSY (never both), and memory holds the
 // loser's byte because its write completes last.
 TEST(Idt7130Busy, HeadOnCollisionGivesBusyToExactlyOnePort) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult l, r;
     tb.left_body = [&] { l = tb.write_at(tb.left, ns(1000), 0x155, 0x4C); };
     tb.right_body = [&] { r = tb.write_at(tb.right, ns(1000), 0x155, 0x52); };
@@ -242,7 +242,7 @@ TEST(Idt7130Busy, HeadOnCollisionGivesBusyToExactlyOnePort) {
 
 // BUSY that is released before the loser's data phase ends costs nothing, but it happened.
 TEST(Idt7130Busy, LateOverlapIsBusyWithoutWaitStates) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult r;
     tb.left_body = [&] { tb.write_at(tb.left, ns(0), 0x300, 0x9C); };
     std::uint8_t v = 0;
@@ -255,7 +255,7 @@ TEST(Idt7130Busy, LateOverlapIsBusyWithoutWaitStates) {
 }
 
 TEST(Idt7130Busy, NoBusyWithoutAddressMatch) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     std::vector<unsigned> waits;
     tb.left_body = [&] {
         tb.write_at(tb.left, ns(0), 0x100, 1);
@@ -274,7 +274,7 @@ TEST(Idt7130Busy, NoBusyWithoutAddressMatch) {
 }
 
 TEST(Idt7130Busy, WordAccessCollidesOnEitherByte) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult r;
     tb.left_body = [&] {
         std::uint8_t data[2] = {0xA0, 0xA1};
@@ -288,7 +288,7 @@ TEST(Idt7130Busy, WordAccessCollidesOnEitherByte) {
 }
 
 TEST(Idt7130Busy, SpeedGradeChangesBusyTiming) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult slow, fast;
     tb.left_body = [&] {
         tb.read_at(tb.left, ns(0), 0x001);
@@ -321,7 +321,7 @@ TEST(Idt7130Busy, GradeTimingTable) {
 
 // Wait states are counted in the losing port's own clock and cycle length.
 TEST(Idt7130Busy, WaitStatesInTheLosersClock) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.ram.ports[Idt7130::right_port] = {ns(100), 3}; // a 10 MHz, 3-clock main CPU bus
     BusResult r;
     tb.left_body = [&] { tb.write_at(tb.left, ns(0), 0x123, 0x01); };
@@ -334,7 +334,7 @@ TEST(Idt7130Busy, WaitStatesInTheLosersClock) {
 
 // The loser's stretched cycle holds the location: the winner's next access can lose in turn.
 TEST(Idt7130Busy, StretchedLoserCycleBlocksTheNextAccess) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.ram.ports[Idt7130::right_port] = {ns(125), 8}; // a slow 8-clock right cycle
     BusResult r, l2;
     tb.left_body = [&] {
@@ -354,7 +354,7 @@ TEST(Idt7130Busy, StretchedLoserCycleBlocksTheNextAccess) {
 
 // The loser's wait states lengthen its window: [100, 725) instead of [100, 600).
 TEST(Idt7130Busy, LosersWaitStatesExtendItsWindow) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     BusResult r, l2;
     tb.left_body = [&] {
         tb.write_at(tb.left, ns(0), 0x0C0, 1);
@@ -371,7 +371,7 @@ TEST(Idt7130Busy, LosersWaitStatesExtendItsWindow) {
 }
 
 TEST(Idt7130Busy, StartsCloserThanTapsAreCounted) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.left_body = [&] {
         tb.read_at(tb.left, ns(0), 0x010);
         tb.read_at(tb.left, ns(5000), 0x010);
@@ -386,7 +386,7 @@ TEST(Idt7130Busy, StartsCloserThanTapsAreCounted) {
 }
 
 TEST(Idt7130Busy, MailboxCollisionDelaysTheClearingRead) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     std::uint8_t v = 0;
     BusResult l;
     tb.right_body = [&] { tb.write_at(tb.right, ns(0), 0x3FE, 0x13); };
@@ -402,7 +402,7 @@ TEST(Idt7130Busy, MailboxCollisionDelaysTheClearingRead) {
 // Debug access and bad input
 
 TEST(Idt7130Debug, TransportDbgHasNoSideEffects) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.left_body = [&] {
         tlm::tlm_generic_payload gp;
         std::uint8_t data[4] = {0x01, 0x02, 0x03, 0x04};
@@ -430,7 +430,7 @@ TEST(Idt7130Debug, TransportDbgHasNoSideEffects) {
 }
 
 TEST(Idt7130BadInput, AccessOutsideTheArrayIsAnAddressError) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     ScAllowWarnings allow;
     BusResult a, b;
     tb.left_body = [&] {
@@ -451,7 +451,7 @@ TEST(Idt7130BadInput, AccessOutsideTheArrayIsAnAddressError) {
 }
 
 TEST(Idt7130BadInput, OversizedAccessAndByteEnablesAreRefused) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     ScAllowWarnings allow;
     tb.left_body = [&] {
         std::uint8_t data[4] = {};
@@ -489,7 +489,7 @@ TEST(Idt7130BadInput, UnknownSpeedGradeIsAnError) {
 }
 
 TEST(Idt7130BadInput, ZeroPortClockIsAnError) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     tb.ram.ports[Idt7130::left_port].clock = sc_core::SC_ZERO_TIME;
     try {
         sc_core::sc_start();
@@ -504,7 +504,7 @@ TEST(Idt7130BadInput, ZeroPortClockIsAnError) {
 // mailbox; a read made ahead of its T1 then answers and arbitrates as the synced one does.
 
 TEST(Idt7130StableReads, EveryLocationButTheLeftMailboxIsDeclared) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     for (unsigned a = 0; a < Idt7130::kSize; ++a)
         EXPECT_EQ(tb.ram.read_is_stable(a, 1), a != Idt7130::kMailboxLeft) << "address 0x" << std::hex << a;
     EXPECT_FALSE(tb.ram.read_is_stable(0x3FD, 2)) << "a word read that takes in 0x3FE";
@@ -512,13 +512,13 @@ TEST(Idt7130StableReads, EveryLocationButTheLeftMailboxIsDeclared) {
     EXPECT_FALSE(tb.ram.read_is_stable(0x3FF, 2)) << "past the end";
 }
 
-// Two benches in one kernel (nothing couples them): the same cycles, the left read of 0x100
+// Two DpramBetweenCpus in one kernel (nothing couples them): the same cycles, the left read of 0x100
 // (T1 at 1000 ns) made at its T1 in one and at 200 ns in the other. A right write of the same
 // location at 1100 ns overlaps it: BUSY goes to the right port alike in both.
 TEST(Idt7130StableReads, AReadAheadOfItsT1AnswersAndArbitratesAsTheSyncedOne) {
-    DpramBench synced("synced"), ahead("ahead");
+    DpramBetweenCpus synced("synced"), ahead("ahead");
     std::uint8_t got_synced = 0, got_ahead = 0;
-    for (DpramBench* tb : {&synced, &ahead})
+    for (DpramBetweenCpus* tb : {&synced, &ahead})
         tb->right_body = [tb] {
             tb->write_at(tb->right, ns(0), 0x100, 0x55);
             tb->write_at(tb->right, ns(1100), 0x100, 0x66);
@@ -542,9 +542,9 @@ TEST(Idt7130StableReads, AReadAheadOfItsT1AnswersAndArbitratesAsTheSyncedOne) {
 // What the declaration does not cover, so the initiator must check it: a write of the other
 // port between the read's kernel time and its T1. Read ahead, the old value; synced, the new.
 TEST(Idt7130StableReads, AWriteOfTheOtherPortBeforeT1MakesAReadAheadWrong) {
-    DpramBench synced("synced"), ahead("ahead");
+    DpramBetweenCpus synced("synced"), ahead("ahead");
     std::uint8_t got_synced = 0, got_ahead = 0;
-    for (DpramBench* tb : {&synced, &ahead}) tb->right_body = [tb] { tb->write_at(tb->right, ns(500), 0x200, 0x77); };
+    for (DpramBetweenCpus* tb : {&synced, &ahead}) tb->right_body = [tb] { tb->write_at(tb->right, ns(500), 0x200, 0x77); };
     synced.left_body = [&] { got_synced = synced.read_at(synced.left, ns(1000), 0x200); };
     ahead.left_body = [&] { got_ahead = ahead.read_ahead(ahead.left, ns(1000), 0x200); };
     sc_core::sc_start();
@@ -555,7 +555,7 @@ TEST(Idt7130StableReads, AWriteOfTheOtherPortBeforeT1MakesAReadAheadWrong) {
 // Why the left mailbox is left out: its read clears INT_L's flag at once, so a read ahead of
 // T1 shows the change to every observer before T1 (int_l_pending(), the 8259A's view of it).
 TEST(Idt7130StableReads, TheLeftMailboxReadIsSeenBeforeItsT1) {
-    DpramBench tb("tb");
+    DpramBetweenCpus tb("tb");
     bool pending_after_read = true;
     tb.right_body = [&] { tb.write_at(tb.right, ns(0), Idt7130::kMailboxLeft, 0x12); };
     tb.left_body = [&] {

@@ -12,6 +12,8 @@
 // Usage: fuzz_inputs RCSIM. Environment: RCSIM_FUZZ_CASES (default 300), RCSIM_FUZZ_SEED
 // (default 1; the same seed gives the same cases), RCSIM_FUZZ_KEEP=DIR keeps failing cases,
 // RCSIM_FUZZ_VERBOSE=1 prints every case with its outcome.
+#include "tests/support/files.h"
+
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -227,10 +229,7 @@ Outcome run(const std::string& rcsim, const fs::path& dir) {
     o.exited = WIFEXITED(status);
     o.code = o.exited ? WEXITSTATUS(status) : -1;
     o.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
-    std::ifstream in(dir / "stderr.txt");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    o.err = ss.str();
+    o.err = rcsim::test::slurp(dir / "stderr.txt");
     return o;
 }
 
@@ -284,8 +283,10 @@ int main(int argc, char** argv) {
     const char* keep = std::getenv("RCSIM_FUZZ_KEEP");
     setenv("SC_COPYRIGHT_MESSAGE", "DISABLE", 1);
 
-    char tmpl[] = "/tmp/rcsim_fuzz.XXXXXX";
-    const char* made = mkdtemp(tmpl);
+    // In the working directory (CTest's is in the build tree), so that the build that fuzzes owns
+    // its cases; mkdtemp keeps two runs in one tree apart.
+    std::string tmpl = (fs::current_path() / "fuzz_work.XXXXXX").string();
+    const char* made = mkdtemp(tmpl.data());
     if (!made) {
         std::perror("mkdtemp");
         return 2;

@@ -1,8 +1,8 @@
 // Tests of the behavioural main CPU against a fake IDT7130 and a scripted comm CPU (comm_side.h):
 // frame reassembly and dispatch, responses, tokens, port resets, ACK timeouts, mailbox words,
 // configuration. The control cycle and the processor's timing are main_cpu_timing_test.cpp; the
-// bench both use is main_cpu_bench.h.
-#include "tests/main_cpu/main_cpu_bench.h"
+// set-up both use is main_cpu_on_fakes.h.
+#include "tests/main_cpu/main_cpu_on_fakes.h"
 
 #include <string>
 #include <vector>
@@ -14,7 +14,7 @@ using rcsim::test::CommSide;
 using sc_core::sc_time;
 
 TEST(MainCpu, SingleChunkFrameIsReassembledAndDispatched) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) { c.send_frame(1, cmd("EC", "hello")); };
     sc_core::sc_start(ms(5));
     ASSERT_EQ(b.cpu.received().size(), 1u);
@@ -40,7 +40,7 @@ TEST(MainCpu, SingleChunkFrameIsReassembledAndDispatched) {
 }
 
 TEST(MainCpu, EchoResponseComesBackThroughDpramWithPflagAndMailboxSequence) {
-    Bench b;
+    MainCpuOnFakes b;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& c) {
         c.send_frame(2, cmd("EC", "ping 42"));
@@ -75,7 +75,7 @@ TEST(MainCpu, EchoResponseComesBackThroughDpramWithPflagAndMailboxSequence) {
 TEST(MainCpu, ResponseIsNotInstantaneous) {
     MainCpuConfig c;
     c.command_time = us(300);
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.script = [&](CommSide& cs) {
         cs.send_frame(0, cmd("EC", "x"));
         cs.receive_frame(0);
@@ -87,7 +87,7 @@ TEST(MainCpu, ResponseIsNotInstantaneous) {
 }
 
 TEST(MainCpu, ThreeThousandByteFrameCrossesInNineChunksBothWays) {
-    Bench b;
+    MainCpuOnFakes b;
     std::string data;
     for (int i = 0; i < 2991; ++i) data += char(0x20 + (i * 7) % 95);
     const std::string wire = cmd("EC", data);
@@ -115,7 +115,7 @@ TEST(MainCpu, ThreeThousandByteFrameCrossesInNineChunksBothWays) {
 }
 
 TEST(MainCpu, MalformedFrameIsCountedAndNotDispatched) {
-    Bench b;
+    MainCpuOnFakes b;
     std::string bad = cmd("EC", "abc");
     bad[bad.size() - 2] = bad[bad.size() - 2] == '0' ? '1' : '0'; // break the checksum
     int extra_word = 0;
@@ -134,7 +134,7 @@ TEST(MainCpu, MalformedFrameIsCountedAndNotDispatched) {
 }
 
 TEST(MainCpu, UnknownTokenAnswersBch01) {
-    Bench b;
+    MainCpuOnFakes b;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& c) {
         c.send_frame(0, cmd("QQ", "1"));
@@ -147,7 +147,7 @@ TEST(MainCpu, UnknownTokenAnswersBch01) {
 }
 
 TEST(MainCpu, BadDataAnswersBch02) {
-    Bench b;
+    MainCpuOnFakes b;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& c) {
         c.send_frame(0, cmd("PW", "abc"));
@@ -158,7 +158,7 @@ TEST(MainCpu, BadDataAnswersBch02) {
 }
 
 TEST(MainCpu, MotionTokenWithoutMotionInterfaceAnswersBch04) {
-    Bench b;
+    MainCpuOnFakes b;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& c) {
         c.send_frame(1, cmd("SV", "1"));
@@ -171,7 +171,7 @@ TEST(MainCpu, MotionTokenWithoutMotionInterfaceAnswersBch04) {
 }
 
 TEST(MainCpu, MotionTokenReachesTheMotionInterfaceAndControlCycleRuns) {
-    Bench b;
+    MainCpuOnFakes b;
     FakeMotion m;
     b.cpu.set_motion(&m);
     test::ReceivedByComm got;
@@ -193,7 +193,7 @@ TEST(MainCpu, MotionTokenReachesTheMotionInterfaceAndControlCycleRuns) {
 }
 
 TEST(MainCpu, ProgramUploadAndDownloadSpanSeveralChunks) {
-    Bench b;
+    MainCpuOnFakes b;
     std::string text;
     for (int i = 0; i < 120; ++i) text += "MOVL P" + std::to_string(i) + ",V=100;";
     ASSERT_GT(text.size(), 2 * chunk_size);
@@ -212,7 +212,7 @@ TEST(MainCpu, ProgramUploadAndDownloadSpanSeveralChunks) {
 }
 
 TEST(MainCpu, ResetWordMidFrameDropsThePartialFrame) {
-    Bench b;
+    MainCpuOnFakes b;
     const std::string first = cmd("EC", std::string(600, 'a')); // two chunks
     const std::string second = cmd("EC", "fresh");
     b.comm.script = [&](CommSide& c) {
@@ -233,7 +233,7 @@ TEST(MainCpu, ResetWordMidFrameDropsThePartialFrame) {
 TEST(MainCpu, ResetWordAbortsTheResponseInFlight) {
     MainCpuConfig c;
     c.ack_timeout = ms(20);
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.script = [&](CommSide& cs) {
         cs.send_frame(0, cmd("EC", std::string(1000, 'z'))); // response needs 4 chunks
         ASSERT_TRUE(cs.expect_word(word(kind_chunk, 0), ms(2)));
@@ -250,7 +250,7 @@ TEST(MainCpu, ResetWordAbortsTheResponseInFlight) {
 }
 
 TEST(MainCpu, ResponseWaitsWhileTheCommCpuHoldsTheArea) {
-    Bench b;
+    MainCpuOnFakes b;
     sc_time freed;
     b.comm.script = [&](CommSide& c) {
         c.send_frame(0, cmd("EC", "later"));
@@ -280,7 +280,7 @@ TEST(MainCpu, ResponseWaitsWhileTheCommCpuHoldsTheArea) {
 TEST(MainCpu, AckTimeoutAbandonsTheFrameFreesTheAreaAndResetsThePort) {
     MainCpuConfig c;
     c.ack_timeout = ms(5);
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.script = [&](CommSide& cs) {
         cs.send_frame(1, cmd("EC", "never acked"));
         ASSERT_TRUE(cs.expect_word(word(kind_chunk, 1), ms(2)));
@@ -297,7 +297,7 @@ TEST(MainCpu, AckTimeoutAbandonsTheFrameFreesTheAreaAndResetsThePort) {
 }
 
 TEST(MainCpu, RequestedPortResetSendsTheResetWord) {
-    Bench b;
+    MainCpuOnFakes b;
     bool seen = false;
     b.comm.script = [&](CommSide& c) { seen = c.expect_word(word(kind_reset, 2), ms(1)); };
     b.cpu.request_port_reset(2);
@@ -307,7 +307,7 @@ TEST(MainCpu, RequestedPortResetSendsTheResetWord) {
 }
 
 TEST(MainCpu, ControllerInitiatedFrameIsSent) {
-    Bench b;
+    MainCpuOnFakes b;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& c) { got = c.receive_frame(1); };
     b.cpu.send(1, "ST", "ALARM,3");
@@ -316,7 +316,7 @@ TEST(MainCpu, ControllerInitiatedFrameIsSent) {
 }
 
 TEST(MainCpu, SendRejectsBadPortAndBadFrameNamingTheValue) {
-    Bench b;
+    MainCpuOnFakes b;
     try {
         b.cpu.send(3, "EC", "");
         FAIL() << "no exception";
@@ -328,7 +328,7 @@ TEST(MainCpu, SendRejectsBadPortAndBadFrameNamingTheValue) {
 }
 
 TEST(MainCpu, UnknownMailboxWordIsCountedAndIgnored) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) {
         c.post_word(0x47);
         c.post_word(0x13); // port 3 does not exist
@@ -340,7 +340,7 @@ TEST(MainCpu, UnknownMailboxWordIsCountedAndIgnored) {
 }
 
 TEST(MainCpu, ThreePortsInterleavedStayApart) {
-    Bench b;
+    MainCpuOnFakes b;
     const std::string a = cmd("EC", std::string(500, 'a'));
     const std::string c2 = cmd("EC", std::string(500, 'c'));
     std::vector<test::ReceivedByComm> got(3);
@@ -369,7 +369,7 @@ TEST(MainCpu, ThreePortsInterleavedStayApart) {
 TEST(MainCpu, MailboxGapSpacesInt2extWords) {
     MainCpuConfig c;
     c.mailbox_gap = us(400);
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.script = [&](CommSide& cs) {
         cs.put_chunk(0, cmd("EC", "a"));
         cs.put_chunk(1, cmd("EC", "b")); // its ACK word would follow the first ACK at once
@@ -393,7 +393,7 @@ TEST(MainCpu, WithoutHandshakeAnUnreadInt2extWordIsOverwritten) {
     MainCpuConfig c;
     c.ack_timeout = ms(5);
     c.mailbox_handshake = false;
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.handshake = false;
     b.comm.script = [&](CommSide& cs) {
         cs.put_chunk(0, cmd("EC", "a"));
@@ -411,7 +411,7 @@ TEST(MainCpu, WithoutHandshakeAnUnreadInt2extWordIsOverwritten) {
 TEST(MainCpu, WithoutHandshakeTheExchangeWorksWhileTheCommCpuKeepsUp) {
     MainCpuConfig c;
     c.mailbox_handshake = false;
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.comm.handshake = false;
     test::ReceivedByComm got;
     b.comm.script = [&](CommSide& cs) {
@@ -432,7 +432,7 @@ TEST(MainCpu, WithoutHandshakeTheExchangeWorksWhileTheCommCpuKeepsUp) {
 }
 
 TEST(MainCpu, MailboxHandshakeLosesNoWordWithASlowCommCpu) {
-    Bench b; // the handshake is the default on both sides
+    MainCpuOnFakes b; // the handshake is the default on both sides
     std::vector<test::ReceivedByComm> got(2);
     b.comm.script = [&](CommSide& cs) {
         cs.put_chunk(0, cmd("EC", "a"));
@@ -465,7 +465,7 @@ TEST(MainCpu, MailboxHandshakeGivesUpAfterTheTimeoutAndCountsIt) {
     MainCpuConfig c;
     c.mailbox_handshake = true;
     c.ack_timeout = ms(3);
-    Bench b(c);
+    MainCpuOnFakes b(c);
     b.ram.mem[int2ext] = 0x55; // a comm CPU that never clears its mailbox
     b.comm.script = [&](CommSide& cs) { cs.post_word(word(kind_chunk, 0)); };
     b.ram.mem[data_addr(0)] = proto::ETX; // a one-byte (malformed) frame, answered by an ACK
@@ -475,7 +475,7 @@ TEST(MainCpu, MailboxHandshakeGivesUpAfterTheTimeoutAndCountsIt) {
 }
 
 TEST(MainCpu, OverlongFrameIsDrainedAndCountedAsMalformed) {
-    Bench b;
+    MainCpuOnFakes b;
     // 8202 bytes without an ETX until the end: one over the limit.
     std::string huge = cmd("EC", std::string(proto::max_data, 'q'));
     huge.insert(6, "q");
@@ -488,7 +488,7 @@ TEST(MainCpu, OverlongFrameIsDrainedAndCountedAsMalformed) {
 }
 
 TEST(MainCpu, ReportHoldsJitterAndPortCounters) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) {
         c.send_frame(0, cmd("EC", "r"));
         c.receive_frame(0);

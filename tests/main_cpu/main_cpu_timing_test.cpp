@@ -1,8 +1,8 @@
 // Tests of the main CPU's one processor in time: the control cycle's jitter and overruns, the
 // INT_R handler's latency, BUSY wait states on each access, and a control cycle whose length
-// comes from the motion work. Frames and mailbox words are main_cpu_test.cpp; the bench both use
-// is main_cpu_bench.h.
-#include "tests/main_cpu/main_cpu_bench.h"
+// comes from the motion work. Frames and mailbox words are main_cpu_test.cpp; the set-up both use
+// is main_cpu_on_fakes.h.
+#include "tests/main_cpu/main_cpu_on_fakes.h"
 
 #include <vector>
 
@@ -13,7 +13,7 @@ using rcsim::test::CommSide;
 using sc_core::sc_time;
 
 TEST(MainCpu, ControlCycleJitterIsZeroWithoutTraffic) {
-    Bench b;
+    MainCpuOnFakes b;
     sc_core::sc_start(ms(10) - us(1));
     const Summary s = b.cpu.cycle_jitter_us().summary();
     EXPECT_EQ(s.count, 10u);
@@ -22,7 +22,7 @@ TEST(MainCpu, ControlCycleJitterIsZeroWithoutTraffic) {
 }
 
 TEST(MainCpu, DpramBurstOverlappingACycleStartDelaysItByTheRestOfTheBurst) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) {
         sc_core::wait(ms(1) - us(20)); // a full 339-byte chunk arrives just before the 1 ms cycle
         c.put_chunk(0, cmd("EC", std::string(400, 'b')).substr(0, chunk_size));
@@ -40,7 +40,7 @@ TEST(MainCpu, DpramBurstOverlappingACycleStartDelaysItByTheRestOfTheBurst) {
 }
 
 TEST(MainCpu, ControlCycleDelaysTheIntRHandler) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) {
         sc_core::wait(ms(1) + us(10)); // during the 1 ms cycle's 100 us of work
         c.put_chunk(0, cmd("EC", "x"));
@@ -53,7 +53,7 @@ TEST(MainCpu, ControlCycleDelaysTheIntRHandler) {
 }
 
 TEST(MainCpu, IntRLatencyOfAnIdleProcessorIsTheEntryTime) {
-    Bench b;
+    MainCpuOnFakes b;
     b.comm.script = [](CommSide& c) {
         sc_core::wait(us(500)); // between two control cycles
         c.put_chunk(0, cmd("EC", "x"));
@@ -65,7 +65,7 @@ TEST(MainCpu, IntRLatencyOfAnIdleProcessorIsTheEntryTime) {
 }
 
 TEST(MainCpu, ACycleStartedAfterItsSuccessorsIdealStartSkipsAPeriod) {
-    Bench b;
+    MainCpuOnFakes b;
     b.ram.busy_wait_states = 70; // 339 bytes x 78 clocks: the handler holds the CPU 1.65 ms
     b.comm.script = [](CommSide& c) {
         sc_core::wait(us(950));
@@ -82,7 +82,7 @@ TEST(MainCpu, ACycleStartedAfterItsSuccessorsIdealStartSkipsAPeriod) {
 }
 
 TEST(MainCpu, BusyWaitStatesFromTheTargetExtendEachAccess) {
-    Bench b;
+    MainCpuOnFakes b;
     b.ram.busy_wait_states = 3;
     b.comm.script = [](CommSide& c) { c.send_frame(0, cmd("EC", "abcdef")); };
     sc_core::sc_start(ms(1) - us(1));
@@ -112,7 +112,7 @@ public:
 // The cycle's duration is its motion work plus cycle_time (100 us), and the work holds the
 // processor: an INT_R that comes during it waits for its end.
 TEST(MainCpu, ControlCycleDurationComesFromTheMotionWork) {
-    Bench b;
+    MainCpuOnFakes b;
     WorkingMotion m;
     b.cpu.set_motion(&m);
     b.comm.script = [](CommSide& c) {
@@ -131,7 +131,7 @@ TEST(MainCpu, ControlCycleDurationComesFromTheMotionWork) {
 }
 
 TEST(MainCpu, ReportHasNoCycleDurationWithoutAMotionLayer) {
-    Bench b;
+    MainCpuOnFakes b;
     sc_core::sc_start(ms(2) - us(1));
     EXPECT_EQ(b.cpu.cycle_duration_us().summary().count, 2u);
     EXPECT_FALSE(b.cpu.report().contains("cycle_duration_us")); // reports of such runs stay as they were

@@ -17,8 +17,6 @@ using sc_core::sc_time;
 
 namespace {
 
-sc_time ms(std::uint64_t v) { return us(v * 1000); }
-
 /// The comm CPU's left-port bus cycles (8 MHz, 4 clocks + BUSY), with the firmware's mailbox
 /// handshake: it clears int2ext after reading and writes int2rbt only once it reads 0, polling
 /// back to back — which collides with the main CPU's own accesses to 0x3FF.

@@ -49,7 +49,7 @@ std::optional<double> per_byte_by_definition(const std::vector<Chunk>& chunks, c
     return time_us / static_cast<double>(gaps);
 }
 
-/// A random run of the comm CPU, fed to DpramByteTime as the bench does (in bus order) and kept
+/// A random run of the comm CPU, fed to DpramByteTime as a run (the World) does (in bus order) and kept
 /// whole for the definition: chunk writes of three ports interleaved in the main program and
 /// inside handlers, handlers with nested ones, mailbox words, and chunks left open at the end.
 struct RandomRun {

@@ -27,4 +27,12 @@ TEST(Clock, InexactPeriodIsRoundedToNearestPicosecond) {
     EXPECT_EQ(c.period_ps(), 54253u); // 54253.47 ps
 }
 
+// The integer helpers agree with SystemC's own units (which go through double).
+TEST(Clock, TimeHelpersAreTheirUnits) {
+    EXPECT_EQ(ns(7), sc_core::sc_time(7, sc_core::SC_NS));
+    EXPECT_EQ(us(7), sc_core::sc_time(7, sc_core::SC_US));
+    EXPECT_EQ(ms(7), sc_core::sc_time(7, sc_core::SC_MS));
+    EXPECT_EQ(ms(3'600'000), sc_core::sc_time(3600, sc_core::SC_SEC)); // an hour, far from overflow
+}
+
 TEST(Clock, RejectsZeroFrequency) { EXPECT_THROW(Clock(0), std::invalid_argument); }

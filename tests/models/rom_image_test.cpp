@@ -3,6 +3,7 @@
 // checksum of the Intel HEX specification), and even/odd EPROM pairs interleaved byte by byte.
 #include "models/plumbing/config_error.h"
 #include "models/rom_image.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +22,7 @@ constexpr std::uint32_t kBase = 0xF0000;
 constexpr std::size_t kWindow = 0x10000;
 
 std::string file_with(const std::string& name, const std::string& bytes) {
-    const fs::path p = fs::path(::testing::TempDir()) / ("rom_image_" + name);
+    const fs::path p = rcsim::test::scratch_dir() / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p.string();
 }
@@ -84,7 +85,7 @@ TEST(RomImage, OtherSizesTextElfAndExeAreRefusedSayingWhatTheyAre) {
     EXPECT_NE(error_of({file_with("a.elf", "\x7F" "ELF" + binary(100)), {}}).find("objcopy -O binary FILE rom.bin"),
               std::string::npos);
     EXPECT_NE(error_of({file_with("a.exe", "MZ" + binary(100)), {}}).find("a DOS .EXE"), std::string::npos);
-    EXPECT_NE(error_of({(fs::path(::testing::TempDir())).string(), {}}).find("is a directory"), std::string::npos);
+    EXPECT_NE(error_of({rcsim::test::scratch_dir().string(), {}}).find("is a directory"), std::string::npos);
 }
 
 // The specification's example data record (its checksum A7, computed by hand in the document).

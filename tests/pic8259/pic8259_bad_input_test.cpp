@@ -1,24 +1,24 @@
 // 8259A bad input: modes the model refuses (SC_REPORT_ERROR naming the ICW), sequencing
 // mistakes (SC_REPORT_WARNING, command ignored), and bus misuse (TLM error response + warning).
-#include "tests/pic8259/pic_bench.h"
+#include "tests/pic8259/pic_with_cpu.h"
 #include "tests/support/sc_test.h"
 
 #include <string>
 
 using rcsim::BusCycle;
 using rcsim::Pic8259;
-using rcsim::test::PicBench;
+using rcsim::test::PicWithCpu;
 using rcsim::test::ScAllowWarnings;
 
 namespace {
 
-void run(PicBench& tb, std::function<void()> body) {
+void run(PicWithCpu& tb, std::function<void()> body) {
     tb.body = std::move(body);
     sc_core::sc_start();
 }
 
 /// Runs `body` and returns the message of the SystemC error it raised ("" if none).
-std::string error_of(PicBench& tb, std::function<void()> body) {
+std::string error_of(PicWithCpu& tb, std::function<void()> body) {
     try {
         run(tb, std::move(body));
     } catch (const sc_core::sc_report& r) {
@@ -32,7 +32,7 @@ bool contains(const std::string& s, const std::string& part) { return s.find(par
 } // namespace
 
 TEST(Pic8259BadInput, Icw1WithoutIc4IsRefused) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     const std::string msg = error_of(tb, [&] { tb.out(false, 0x12); });
     EXPECT_TRUE(contains(msg, "ICW1 0x12")) << msg;
     EXPECT_TRUE(contains(msg, "IC4=0")) << msg;
@@ -40,14 +40,14 @@ TEST(Pic8259BadInput, Icw1WithoutIc4IsRefused) {
 }
 
 TEST(Pic8259BadInput, Icw1CascadeModeIsRefused) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     const std::string msg = error_of(tb, [&] { tb.out(false, 0x11); });
     EXPECT_TRUE(contains(msg, "ICW1 0x11")) << msg;
     EXPECT_TRUE(contains(msg, "SNGL=0")) << msg;
 }
 
 TEST(Pic8259BadInput, Icw4Mcs80ModeIsRefused) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     const std::string msg = error_of(tb, [&] {
         tb.out(false, 0x13);
         tb.out(true, 0x20);
@@ -58,7 +58,7 @@ TEST(Pic8259BadInput, Icw4Mcs80ModeIsRefused) {
 }
 
 TEST(Pic8259BadInput, OcwBeforeIcw1IsIgnoredWithWarning) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     ScAllowWarnings allow;
     run(tb, [&] {
         tb.out(true, 0x5A);
@@ -74,7 +74,7 @@ TEST(Pic8259BadInput, OcwBeforeIcw1IsIgnoredWithWarning) {
 }
 
 TEST(Pic8259BadInput, OcwInsideInitialisationSequenceIsIgnored) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     ScAllowWarnings allow;
     run(tb, [&] {
         tb.out(false, 0x13);
@@ -92,7 +92,7 @@ TEST(Pic8259BadInput, OcwInsideInitialisationSequenceIsIgnored) {
 }
 
 TEST(Pic8259BadInput, Icw1RestartsAnUnfinishedSequence) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.out(false, 0x13);
         tb.out(false, 0x1B); // a new ICW1 before ICW2: starts over, now level triggered
@@ -105,7 +105,7 @@ TEST(Pic8259BadInput, Icw1RestartsAnUnfinishedSequence) {
 }
 
 TEST(Pic8259BadInput, UnmappedOffsetAndWordAccess) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     ScAllowWarnings allow;
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0x3C);
@@ -121,7 +121,7 @@ TEST(Pic8259BadInput, UnmappedOffsetAndWordAccess) {
 }
 
 TEST(Pic8259BadInput, A0ShiftZeroMapsRegistersAtConsecutiveOffsets) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     tb.pic.a0_shift = 0;
     run(tb, [&] {
         tb.out_raw(0, 0x13);
@@ -133,7 +133,7 @@ TEST(Pic8259BadInput, A0ShiftZeroMapsRegistersAtConsecutiveOffsets) {
 }
 
 TEST(Pic8259BadInput, A0ShiftOutOfRangeIsAnError) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     tb.pic.a0_shift = 16;
     try {
         sc_core::sc_start();
@@ -144,7 +144,7 @@ TEST(Pic8259BadInput, A0ShiftOutOfRangeIsAnError) {
 }
 
 TEST(Pic8259BadInput, WrongCycleOnIntaSocket) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     ScAllowWarnings allow;
     run(tb, [&] {
         tb.init();
@@ -157,7 +157,7 @@ TEST(Pic8259BadInput, WrongCycleOnIntaSocket) {
 }
 
 TEST(Pic8259BadInput, IntaBeforeInitialisationFloatsTheBus) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     ScAllowWarnings allow;
     run(tb, [&] {
         EXPECT_EQ(tb.inta_cycle(), 0xFF);
@@ -169,7 +169,7 @@ TEST(Pic8259BadInput, IntaBeforeInitialisationFloatsTheBus) {
 
 // transport_dbg reads without side effects: a pending poll is not consumed.
 TEST(Pic8259BadInput, DebugReadHasNoSideEffects) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0x0F);
         tb.set_ir(5, true);

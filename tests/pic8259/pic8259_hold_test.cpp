@@ -1,16 +1,16 @@
 // 8259A: what holds a request (hold(), for the interrupt probe's latency causes) and the
-// on_update hook, through the bench's scripted CPU.
-#include "tests/pic8259/pic_bench.h"
+// on_update hook, through PicWithCpu's scripted CPU.
+#include "tests/pic8259/pic_with_cpu.h"
 #include "tests/support/sc_test.h"
 
 #include <vector>
 
 using rcsim::Pic8259;
-using rcsim::test::PicBench;
+using rcsim::test::PicWithCpu;
 
 namespace {
 
-void run(PicBench& tb, std::function<void()> body) {
+void run(PicWithCpu& tb, std::function<void()> body) {
     tb.body = std::move(body);
     sc_core::sc_start();
 }
@@ -21,7 +21,7 @@ void run(PicBench& tb, std::function<void()> body) {
 // masked, a higher level in service, a higher request presented first, its own level in service,
 // presented. A lower level in service does not hold it.
 TEST(Pic8259Hold, EveryReasonInTurn) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         using Kind = Pic8259::Hold::Kind;
         EXPECT_EQ(tb.pic.hold(3).kind, Kind::not_ready);
@@ -49,7 +49,7 @@ TEST(Pic8259Hold, EveryReasonInTurn) {
 // With rotated priorities (IR4 lowest after a rotate-on-EOI) IR5 is the highest: IR5 in service
 // holds IR3, and IR3 in service does not hold IR6.
 TEST(Pic8259Hold, FollowsTheRotation) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         using Kind = Pic8259::Hold::Kind;
         tb.init();
@@ -69,7 +69,7 @@ TEST(Pic8259Hold, FollowsTheRotation) {
 
 // Special mask mode: a masked level in service does not hold the others (as resolve()).
 TEST(Pic8259Hold, SpecialMaskModeLetsLowerLevelsThrough) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         using Kind = Pic8259::Hold::Kind;
         tb.init();
@@ -86,7 +86,7 @@ TEST(Pic8259Hold, SpecialMaskModeLetsLowerLevelsThrough) {
 // on_update follows every settled change: a rise, the INTA cycles, an EOI, a mask write; hold()
 // already answers with the new state when it is called.
 TEST(Pic8259Hold, OnUpdateAfterEveryChange) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     std::vector<Pic8259::Hold> seen;
     tb.pic.on_update = [&] { seen.push_back(tb.pic.hold(3)); };
     run(tb, [&] {

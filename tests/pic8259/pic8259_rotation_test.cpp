@@ -1,13 +1,13 @@
 // The paper's use of the 8259A: IR0..IR3 (82510 #0..#2 and the DP-RAM) under automatic rotation,
 // each handler ending with a rotate-on-non-specific EOI (OCW2 0xA0). The order in which the levels
 // are served is asserted exactly, over several rounds.
-#include "tests/pic8259/pic_bench.h"
+#include "tests/pic8259/pic_with_cpu.h"
 #include "tests/support/sc_test.h"
 
 #include <vector>
 
 using rcsim::Pic8259;
-using rcsim::test::PicBench;
+using rcsim::test::PicWithCpu;
 
 namespace {
 
@@ -18,7 +18,7 @@ constexpr std::uint8_t kPlainEoi = 0x20;
 /// two INTA cycles, read the device at handler entry (its request goes away), run the body,
 /// issue `eoi` (none when 0) and IRET. `during(level)` runs in the middle of each handler.
 /// Returns the levels in the order they were served; stops early if INT stays low for 1 ms.
-std::vector<unsigned> serve(PicBench& tb, unsigned count, std::uint8_t eoi,
+std::vector<unsigned> serve(PicWithCpu& tb, unsigned count, std::uint8_t eoi,
                             const std::function<void(unsigned)>& during = {}) {
     std::vector<unsigned> order;
     for (unsigned i = 0; i < count; ++i) {
@@ -37,14 +37,14 @@ std::vector<unsigned> serve(PicBench& tb, unsigned count, std::uint8_t eoi,
     return order;
 }
 
-void raise(PicBench& tb, std::initializer_list<unsigned> levels) {
+void raise(PicWithCpu& tb, std::initializer_list<unsigned> levels) {
     for (unsigned n : levels) tb.ir[n].write(true);
     tb.settle();
 }
 
-void run(PicBench& tb, std::function<void()> body) {
+void run(PicWithCpu& tb, std::function<void()> body) {
     tb.body = std::move(body);
-    sc_core::sc_start(); // the bench's body is a checked thread: a stuck one fails the test
+    sc_core::sc_start(); // PicWithCpu's body is a checked thread: a stuck one fails the test
 }
 
 using Order = std::vector<unsigned>;
@@ -54,7 +54,7 @@ using Order = std::vector<unsigned>;
 // Rounds of four simultaneous requests, nothing new arriving during a round. A previous IR1
 // service left IR1 lowest, so each round runs IR2, IR3, IR0, IR1 (fixed priority would give 0..3).
 TEST(Pic8259RoundRobin, AllPendingRoundsWithoutMidRoundRequests) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xF0);
         raise(tb, {1});
@@ -76,7 +76,7 @@ TEST(Pic8259RoundRobin, AllPendingRoundsWithoutMidRoundRequests) {
 // Continuous load: every device requests again while it is being served. Rotation still serves
 // all four in turn.
 TEST(Pic8259RoundRobin, EachLevelRequestsAgainDuringItsOwnService) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xF0);
         raise(tb, {0, 1, 2, 3});
@@ -89,7 +89,7 @@ TEST(Pic8259RoundRobin, EachLevelRequestsAgainDuringItsOwnService) {
 // Requests arriving at arbitrary points of a round: IR0 again while IR1 is served, IR2 again
 // while IR3 is served, IR1 again while IR0 (second time) is served.
 TEST(Pic8259RoundRobin, NewRequestsArrivingMidRound) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xF0);
         raise(tb, {0, 1, 2, 3});
@@ -111,7 +111,7 @@ TEST(Pic8259RoundRobin, NewRequestsArrivingMidRound) {
 // The same load without rotation: a plain EOI keeps IR0 highest and it starves the others.
 // (This is what the rotation tests above would see if 0xA0 did not rotate.)
 TEST(Pic8259RoundRobin, FixedPriorityStarvesUnderSameLoad) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xF0);
         raise(tb, {0, 1, 2, 3});
@@ -122,7 +122,7 @@ TEST(Pic8259RoundRobin, FixedPriorityStarvesUnderSameLoad) {
 
 // Rotate-in-AEOI mode gives the same round robin without any EOI command.
 TEST(Pic8259RoundRobin, RotateInAutoEoiModeServesRoundRobin) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03, 0xF0);
         tb.out(false, 0x80);

@@ -1,16 +1,16 @@
 // 8259A behaviour tests: the INTA sequence, triggering, every OCW2 command, OCW3, ICW1 side
 // effects, and the nine known-tricky behaviours of pic8259/README.md (marked "tricky n").
-#include "tests/pic8259/pic_bench.h"
+#include "tests/pic8259/pic_with_cpu.h"
 #include "tests/support/sc_test.h"
 
 using rcsim::Pic8259;
-using rcsim::test::PicBench;
+using rcsim::test::PicWithCpu;
 
 namespace {
 
-void run(PicBench& tb, std::function<void()> body) {
+void run(PicWithCpu& tb, std::function<void()> body) {
     tb.body = std::move(body);
-    sc_core::sc_start(); // the bench's body is a checked thread: a stuck one fails the test
+    sc_core::sc_start(); // PicWithCpu's body is a checked thread: a stuck one fails the test
 }
 
 } // namespace
@@ -20,7 +20,7 @@ void run(PicBench& tb, std::function<void()> body) {
 
 // Tricky 1: the IS bit is set (and IRR cleared) by the FIRST INTA, the vector comes on the second.
 TEST(Pic8259, FirstIntaSetsIsrSecondDrivesVector) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         EXPECT_FALSE(tb.intr.read());
@@ -48,7 +48,7 @@ TEST(Pic8259, FirstIntaSetsIsrSecondDrivesVector) {
 
 // The resolver's choice is frozen at the first INTA, not when INT rose.
 TEST(Pic8259, HigherRequestBeforeFirstIntaWins) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(5, true);
@@ -62,7 +62,7 @@ TEST(Pic8259, HigherRequestBeforeFirstIntaWins) {
 
 // Lines that change in the same instant are decided on once, after all have settled.
 TEST(Pic8259, SimultaneousRequestsSettleBeforeDecision) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.ir[6].write(true);
@@ -74,7 +74,7 @@ TEST(Pic8259, SimultaneousRequestsSettleBeforeDecision) {
 }
 
 TEST(Pic8259, AutoEoiClearsIsrAtEndOfSecondInta) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x48, 0x03); // AEOI, vector base 0x48
         tb.set_ir(4, true);
@@ -87,7 +87,7 @@ TEST(Pic8259, AutoEoiClearsIsrAtEndOfSecondInta) {
 }
 
 TEST(Pic8259, Icw2LowBitsIgnoredIn8086Mode) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x27);
         tb.set_ir(1, true);
@@ -97,7 +97,7 @@ TEST(Pic8259, Icw2LowBitsIgnoredIn8086Mode) {
 
 // Tricky 2: a request gone before the first INTA gives the IR7 vector without setting ISR7.
 TEST(Pic8259, SpuriousIr7WhenEdgeRequestDropsBeforeFirstInta) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(3, true);
@@ -122,7 +122,7 @@ TEST(Pic8259, SpuriousIr7WhenEdgeRequestDropsBeforeFirstInta) {
 }
 
 TEST(Pic8259, SpuriousIr7InLevelModeAndWithAutoEoi) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x1B, 0x20, 0x03); // level triggered, AEOI
         tb.set_ir(5, true);
@@ -141,7 +141,7 @@ TEST(Pic8259, SpuriousIr7InLevelModeAndWithAutoEoi) {
 
 // Masking a level while INT is up drops INT; an INTA that comes anyway is spurious (ao486 #122).
 TEST(Pic8259, MaskingWhileIntAssertedDropsIntAndGivesSpurious) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(4, true);
@@ -161,7 +161,7 @@ TEST(Pic8259, MaskingWhileIntAssertedDropsIntAndGivesSpurious) {
 
 // Tricky 3: edge lock-out; the line has to go low before it can request again.
 TEST(Pic8259, EdgeLockoutRearmsOnlyAfterLineGoesLow) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(1, true);
@@ -179,7 +179,7 @@ TEST(Pic8259, EdgeLockoutRearmsOnlyAfterLineGoesLow) {
 }
 
 TEST(Pic8259, EdgeWhileInServiceIsHeldUntilEoi) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(2, true);
@@ -196,7 +196,7 @@ TEST(Pic8259, EdgeWhileInServiceIsHeldUntilEoi) {
 }
 
 TEST(Pic8259, LevelModeRequestsAgainAfterEoiWhileHigh) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x1B);
         EXPECT_TRUE(tb.pic.level_triggered());
@@ -216,7 +216,7 @@ TEST(Pic8259, LevelModeRequestsAgainAfterEoiWhileHigh) {
 
 // A line already high when the edge-mode chip is initialised is no request (edge latch cleared).
 TEST(Pic8259, LineHighAtIcw1IsNoEdgeRequest) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.set_ir(5, true);
         tb.init();
@@ -229,7 +229,7 @@ TEST(Pic8259, LineHighAtIcw1IsNoEdgeRequest) {
 // Priority and OCW2
 
 TEST(Pic8259, FullyNestedHigherInterruptsLowerAndSameOrLowerWait) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(4, true);
@@ -252,7 +252,7 @@ TEST(Pic8259, FullyNestedHigherInterruptsLowerAndSameOrLowerWait) {
 }
 
 TEST(Pic8259, Ocw2NonSpecificEoiClearsHighestPriorityIsBit) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.out(false, 0xC2); // IR3 highest ... IR2 lowest
@@ -269,7 +269,7 @@ TEST(Pic8259, Ocw2NonSpecificEoiClearsHighestPriorityIsBit) {
 }
 
 TEST(Pic8259, Ocw2SpecificEoiClearsOnlyTheNamedLevel) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(5, true);
@@ -284,7 +284,7 @@ TEST(Pic8259, Ocw2SpecificEoiClearsOnlyTheNamedLevel) {
 }
 
 TEST(Pic8259, Ocw2RotateOnNonSpecificEoiMakesServedLevelLowest) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(4, true);
@@ -307,7 +307,7 @@ TEST(Pic8259, Ocw2RotateOnNonSpecificEoiMakesServedLevelLowest) {
 
 // Tricky 4 (AEOI rotation): with the flag set the rotation happens at the end of the second INTA.
 TEST(Pic8259, Ocw2RotateInAutoEoiSetRotatesAtSecondInta) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03);
         tb.out(false, 0x80);
@@ -330,7 +330,7 @@ TEST(Pic8259, Ocw2RotateInAutoEoiSetRotatesAtSecondInta) {
 // Tricky 4 (other half): rotate-on-EOI rotates at the EOI command, and AEOI mode without the flag
 // does not rotate at all.
 TEST(Pic8259, RotateOnEoiIsNotAutoEoiRotation) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03); // AEOI, rotate flag clear
         tb.set_ir(2, true);
@@ -344,7 +344,7 @@ TEST(Pic8259, RotateOnEoiIsNotAutoEoiRotation) {
 
 // Tricky 5: OCW2 0x00 only clears the rotate-in-AEOI flag; it must not reset the priority order.
 TEST(Pic8259, Ocw2RotateInAutoEoiClearKeepsPriority) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03);
         tb.out(false, 0x80);
@@ -362,7 +362,7 @@ TEST(Pic8259, Ocw2RotateInAutoEoiClearKeepsPriority) {
 }
 
 TEST(Pic8259, Ocw2RotateOnSpecificEoi) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(5, true);
@@ -381,7 +381,7 @@ TEST(Pic8259, Ocw2RotateOnSpecificEoi) {
 }
 
 TEST(Pic8259, Ocw2SetPriorityChangesOrderWithoutEoi) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(7, true);
@@ -399,7 +399,7 @@ TEST(Pic8259, Ocw2SetPriorityChangesOrderWithoutEoi) {
 }
 
 TEST(Pic8259, Ocw2NoOperationChangesNothing) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(3, true);
@@ -417,7 +417,7 @@ TEST(Pic8259, Ocw2NoOperationChangesNothing) {
 // Tricky 6: in SMM a masked in-service level no longer blocks lower levels, and a non-specific
 // EOI skips IS bits that are masked.
 TEST(Pic8259, SpecialMaskModeUnblocksLowerLevelsAndEoiException) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(1, true);
@@ -443,7 +443,7 @@ TEST(Pic8259, SpecialMaskModeUnblocksLowerLevelsAndEoiException) {
 }
 
 TEST(Pic8259, SpecialMaskModeUnmaskedInServiceStillBlocks) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.out(false, 0x68);
@@ -460,7 +460,7 @@ TEST(Pic8259, SpecialMaskModeUnmaskedInServiceStillBlocks) {
 // OCW3, poll, register reads
 
 TEST(Pic8259, RegisterReadsIrrIsrImr) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xA5);
         EXPECT_EQ(tb.in(true), 0xA5);
@@ -479,7 +479,7 @@ TEST(Pic8259, RegisterReadsIrrIsrImr) {
 
 // Tricky 8: RR=0 leaves the read selection alone, ESMM=0 leaves special mask mode alone.
 TEST(Pic8259, Ocw3NoChangeFields) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(3, true);
@@ -506,7 +506,7 @@ TEST(Pic8259, Ocw3NoChangeFields) {
 
 // Tricky 7: after OCW3 P=1 the next read is an acknowledge and returns I000 0Wwww.
 TEST(Pic8259, PollReadActsAsAcknowledge) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(6, true);
@@ -534,7 +534,7 @@ TEST(Pic8259, PollReadActsAsAcknowledge) {
 
 // P wins over RR/RIS given in the same OCW3; the register selection still takes effect after.
 TEST(Pic8259, PollOverridesRegisterReadInSameOcw3) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init();
         tb.set_ir(2, true);
@@ -545,7 +545,7 @@ TEST(Pic8259, PollOverridesRegisterReadInSameOcw3) {
 }
 
 TEST(Pic8259, PollWithAutoEoiLeavesIsrSet) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03);
         tb.set_ir(1, true);
@@ -561,7 +561,7 @@ TEST(Pic8259, PollWithAutoEoiLeavesIsrSet) {
 // Tricky 9: ICW1 clears IMR (all unmasked!), the edge latches, special mask mode, the read
 // selection and the rotation; OCW1 has to follow before interrupts are enabled.
 TEST(Pic8259, Icw1SideEffects) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x01, 0xFF);
         tb.out(false, 0xC2);
@@ -595,7 +595,7 @@ TEST(Pic8259, Icw1SideEffects) {
 }
 
 TEST(Pic8259, Icw1DoesNotTouchRotateInAutoEoiFlag) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.init(0x13, 0x20, 0x03);
         tb.out(false, 0x80);
@@ -608,7 +608,7 @@ TEST(Pic8259, Icw1DoesNotTouchRotateInAutoEoiFlag) {
 }
 
 TEST(Pic8259, NoIntBeforeInitialisation) {
-    PicBench tb("tb");
+    PicWithCpu tb("tb");
     run(tb, [&] {
         tb.set_ir(0, true);
         EXPECT_EQ(tb.pic.init_state(), Pic8259::InitState::power_on);

@@ -65,7 +65,7 @@ TEST(SanitizerChild, SignedOverflow) {
 }
 #endif
 
-// The bench's body never runs: the test checks elaboration only.
+// The body never runs: the test checks elaboration only.
 TEST(SpawnCheckedChild, NeverStartedSimulationPasses) {
     spawn_checked([] { ADD_FAILURE() << "unreachable: the simulation is never started"; }, "unstarted_body");
 }

@@ -1,9 +1,9 @@
 // System tests of the firmware's promises under hostile or unlucky hosts, with the real ROM on the
-// assembled boards (system_bench.h): a give-up drops one response and says so; T1 runs from the
+// assembled boards (controller_on_lines.h): a give-up drops one response and says so; T1 runs from the
 // moment our last character has left the line; an EOT'd frame reaches the main CPU whatever the
 // line does next; a flooded port cannot hold the others off.
 #include "scenarios/board/interrupt_probe.h"
-#include "tests/system/system_bench.h"
+#include "tests/system/controller_on_lines.h"
 #include "tests/support/sc_test.h"
 
 #include <algorithm>

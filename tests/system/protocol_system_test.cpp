@@ -2,7 +2,7 @@
 // communication board, the IDT7130, the behavioural main CPU and simulated external hosts
 // (scenarios/host): every assertion is about what is observable on the RS-232C line (a wire tap
 // on each SerialLine), what the hosts counted, and what the main CPU received or sent.
-#include "tests/system/system_bench.h"
+#include "tests/system/controller_on_lines.h"
 #include "tests/support/sc_test.h"
 
 using namespace rcsim;
@@ -401,8 +401,8 @@ TEST(SystemProtocol, ControllerRetriesAfterNakWithBackoff) {
     ASSERT_GE(w.size(), 5u);
     ASSERT_EQ(w[1].byte, proto::NAK);
     ASSERT_EQ(w[3].byte, proto::NAK);
-    const double wait1 = to_us(w[2].at - (w[1].at + k_char())) / 1000.0;
-    const double wait2 = to_us(w[4].at - (w[3].at + k_char())) / 1000.0;
+    const double wait1 = to_us(w[2].at - (w[1].at + test::char_time_9600_8e1())) / 1000.0;
+    const double wait2 = to_us(w[4].at - (w[3].at + test::char_time_9600_8e1())) / 1000.0;
     EXPECT_GE(wait1, 9.0) << b.transcript(0);
     EXPECT_LE(wait1, 12.0) << b.transcript(0);
     EXPECT_GE(wait2, 19.0) << b.transcript(0);

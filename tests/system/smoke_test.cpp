@@ -19,7 +19,7 @@ struct Wire : SerialEndpoint {
     void send(std::uint8_t b) { line.transmit(SerialLine::b, SerialWord::encode(b, fmt)); }
 };
 
-struct Bench {
+struct ControllerOnWire {
     Controller ctl{"ctl"};
     SerialLine line{"line0"};
     Wire host{line};
@@ -27,7 +27,7 @@ struct Bench {
                          {&ctl.comm.uart_int[0], &ctl.comm.uart_int[1], &ctl.comm.uart_int[2], &ctl.int_l},
                          ctl.comm.config.pic_io_base, ctl.comm.config.dpram_base, 1020};
     SerialLine idle1{"line1"}, idle2{"line2"};
-    Bench() {
+    ControllerOnWire() {
         ctl.comm.load_rom(RCSIM_COMM_FW_ROM);
         ctl.comm.uart[0].connect(line, SerialLine::a);
         ctl.comm.uart[1].connect(idle1, SerialLine::a);
@@ -37,7 +37,7 @@ struct Bench {
 } // namespace
 
 TEST(System, EnqIsAnsweredWithAckByTheRealFirmware) {
-    Bench b;
+    ControllerOnWire b;
     sc_core::sc_start(us(20000)); // firmware initialisation
     b.host.send(0x05);
     sc_core::sc_start(us(10000));

@@ -1,8 +1,8 @@
 // Tests of the Intel 82510 model on the serial side: character timing, formats, FIFOs and their
 // thresholds, receive errors, BREAK (sent and received), flushes, loopback, and two 82510s
-// talking over a line. The registers and interrupts are uart82510_test.cpp; the bench both use
-// is uart82510_bench.h.
-#include "tests/uart82510/uart82510_bench.h"
+// talking over a line. The registers and interrupts are uart82510_test.cpp; the set-up both use
+// is uart_on_line.h.
+#include "tests/uart82510/uart_on_line.h"
 
 #include <string>
 #include <vector>
@@ -15,7 +15,7 @@ using sc_core::sc_time;
 // ---- transmit, receive, timing -----------------------------------------------------------
 
 TEST(Uart82510Serial, CharacterTimeIsExactToTheNanosecond) {
-    Bench b;
+    UartOnLine b;
     sc_time written;
     run([&] {
         b.cpu.setup_9600_8e1();
@@ -39,7 +39,7 @@ TEST(Uart82510Serial, CharacterTimeIsExactToTheNanosecond) {
 TEST(Uart82510Serial, ClockFrequencyIsAProperty) {
     Uart82510::Config cfg;
     cfg.clock_hz = 3'686'400; // PC-card style: divisor 12 for 9600
-    Bench b(cfg);
+    UartOnLine b(cfg);
     run([&] {
         b.cpu.wr(LCR, LCR_DLAB);
         b.cpu.wr(BAL, 12);
@@ -52,7 +52,7 @@ TEST(Uart82510Serial, ClockFrequencyIsAProperty) {
 }
 
 TEST(Uart82510Serial, FormatFollowsLcrAndTmd) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         EXPECT_EQ(b.uart.tx_format().describe(), "9600,8E1");
@@ -73,7 +73,7 @@ TEST(Uart82510Serial, FormatFollowsLcrAndTmd) {
 }
 
 TEST(Uart82510Serial, ReceivesIntoTheFifoWithLevels) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -99,7 +99,7 @@ TEST(Uart82510Serial, ReceivesIntoTheFifoWithLevels) {
 TEST(Uart82510Serial, PeekOfAnyBankHasNoSideEffect) {
     // The debugger's register dump (peek(bank, offset)): bank 0's LCR and RXD read from bank 1
     // without switching banks, and RXD without taking the character out of the FIFO.
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -118,7 +118,7 @@ TEST(Uart82510Serial, PeekOfAnyBankHasNoSideEffect) {
 }
 
 TEST(Uart82510Serial, TxFifoFillsWhileTheShifterWorks) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(1);
@@ -135,7 +135,7 @@ TEST(Uart82510Serial, TxFifoFillsWhileTheShifterWorks) {
 }
 
 TEST(Uart82510Serial, FifoThresholds) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -159,7 +159,7 @@ TEST(Uart82510Serial, FifoThresholds) {
 }
 
 TEST(Uart82510Serial, OverrunOnTheFifthCharacter) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -180,7 +180,7 @@ TEST(Uart82510Serial, OverrunOnTheFifthCharacter) {
 }
 
 TEST(Uart82510Serial, OneByteFifoAfterResetOverrunsOnTheSecond) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.host.send("12");
@@ -190,7 +190,7 @@ TEST(Uart82510Serial, OneByteFifoAfterResetOverrunsOnTheSecond) {
 }
 
 TEST(Uart82510Serial, ParityFramingAndBreakDetection) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -224,7 +224,7 @@ TEST(Uart82510Serial, ParityFramingAndBreakDetection) {
 }
 
 TEST(Uart82510Serial, SetBreakHoldsTheLine) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.wr(LCR, 0x1B | LCR_SBK);
@@ -241,7 +241,7 @@ TEST(Uart82510Serial, SetBreakHoldsTheLine) {
 }
 
 TEST(Uart82510Serial, FlushAndDisableCommands) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -271,7 +271,7 @@ TEST(Uart82510Serial, FlushAndDisableCommands) {
 }
 
 TEST(Uart82510Serial, LocalLoopback) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.wr(MCR, MCR_LOOP | 0x01); // loop, DTR -> DSR
@@ -285,7 +285,7 @@ TEST(Uart82510Serial, LocalLoopback) {
 }
 
 TEST(Uart82510Serial, ProbeReportsStopAndReadTimes) {
-    Bench b;
+    UartOnLine b;
     std::vector<Uart82510::CharTiming> seen;
     b.uart.on_char_read = [&](const Uart82510::CharTiming& t) { seen.push_back(t); };
     run([&] {
@@ -391,7 +391,7 @@ TEST(Uart82510Pair, MismatchedBaudGivesWrongDataAndErrors) {
 // ---- less common paths -------------------------------------------------------------------
 
 TEST(Uart82510Serial, FlushRxMachineDropsTheCharacterInProgress) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(1);
@@ -405,7 +405,7 @@ TEST(Uart82510Serial, FlushRxMachineDropsTheCharacterInProgress) {
 }
 
 TEST(Uart82510Serial, NineBitCharactersAndSoftwareParity) {
-    Bench b;
+    UartOnLine b;
     b.host.fmt.data_bits = 9;
     b.host.fmt.parity = Parity::none;
     run([&] {
@@ -441,7 +441,7 @@ TEST(Uart82510Serial, NineBitCharactersAndSoftwareParity) {
 }
 
 TEST(Uart82510Serial, FlushTxMachineFreesTheShifter) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(1);
@@ -468,8 +468,8 @@ TEST(Uart82510Serial, FlushTxMachineFreesTheShifter) {
 namespace {
 const BitTime k_bit = BitTime::baud(9600);
 
-/// A Bench with a 4-character RX FIFO and the host's characters and BREAKs at given times.
-struct BreakBench : Bench {
+/// A UartOnLine with a 4-character RX FIFO and the host's characters and BREAKs at given times.
+struct UartUnderBreak : UartOnLine {
     struct Entry {
         std::uint8_t rxf, data;
     };
@@ -508,7 +508,7 @@ struct BreakBench : Bench {
 
 TEST(Uart82510Break, BreakEndingBeforeTheStartBitLeavesTheCharacterIntact) {
     // BREAK [0, 2 frames): detected at one frame, ended at two. 'A' sent 1 bit after the end.
-    BreakBench b;
+    UartUnderBreak b;
     run([&] {
         b.program();
         b.host_breaks_at(sc_core::SC_ZERO_TIME, k_char * 2.0);
@@ -527,7 +527,7 @@ TEST(Uart82510Break, BreakStartingMidCharacterIsAFramingError) {
     // 0xFF, BREAK from 4 bits (the start of data bit 3's cell) for 5 frames. Samples from 4.5
     // bits on read SPACE: data bits 3..7, parity, STOP. RXD = 0x07; even parity of three ones
     // is 1, read 0: RXF.RPE; STOP 0: RXF.RFE. Then the break detect one frame after the fall.
-    BreakBench b;
+    UartUnderBreak b;
     const sc_time fall = k_bit.span(8);
     run([&] {
         b.program();
@@ -548,7 +548,7 @@ TEST(Uart82510Break, BreakStartingMidCharacterIsAFramingError) {
 TEST(Uart82510Break, BreakStartingAfterTheStopSampleLeavesTheCharacterIntact) {
     // 0xFF, BREAK falling 1 ps after the STOP sample (10.5 bits): the character is intact, the
     // fall is a new START edge, detected as a break one frame later.
-    BreakBench b;
+    UartUnderBreak b;
     const sc_time fall = k_bit.span(21) + ps(1);
     run([&] {
         b.program();
@@ -567,7 +567,7 @@ TEST(Uart82510Break, BreakStartingAfterTheStopSampleLeavesTheCharacterIntact) {
 TEST(Uart82510Break, BreakCoveringACharacterIsOneBreakCharacter) {
     // BREAK [0, 5 frames); 'Z' sent at 1 frame + 1 bit, inside it: its START is no edge. The FIFO
     // gets the one 0x00 with RXF.BKF | RXF.RFE of the break detect, and nothing of the 'Z'.
-    BreakBench b;
+    UartUnderBreak b;
     run([&] {
         b.program();
         b.host_breaks_at(sc_core::SC_ZERO_TIME, k_char * 5.0);
@@ -587,7 +587,7 @@ TEST(Uart82510Break, SetBreakMidCharacterCutsTheCharacterOnTheWire) {
     // in the shifter. 0xFF written at 0, SBK set at 4 bits: the host samples data bits 3..7,
     // parity and STOP as SPACE: 0x07 with parity and framing errors at one frame, the break one
     // frame after the fall, its end when SBK is cleared.
-    Bench b;
+    UartOnLine b;
     const sc_time fall = k_bit.span(8);
     run([&] {
         b.cpu.setup_9600_8e1();

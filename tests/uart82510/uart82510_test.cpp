@@ -1,8 +1,8 @@
 // Tests of the Intel 82510 model as the CPU sees it: registers of every bank, bank switching,
 // software reset, bus lanes and configuration; the interrupt sources, their priority in GIR,
 // the INT pin in automatic and manual acknowledge modes, the timers. The serial side is
-// uart82510_serial_test.cpp; the bench both use is uart82510_bench.h.
-#include "tests/uart82510/uart82510_bench.h"
+// uart82510_serial_test.cpp; the set-up both use is uart_on_line.h.
+#include "tests/uart82510/uart_on_line.h"
 
 #include <set>
 #include <string>
@@ -17,7 +17,7 @@ using sc_core::sc_time;
 // ---- registers ---------------------------------------------------------------------------
 
 TEST(Uart82510Registers, ResetValuesOfEveryBank) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         Cpu& c = b.cpu;
         // bank 0
@@ -68,7 +68,7 @@ TEST(Uart82510Registers, ResetValuesOfEveryBank) {
 }
 
 TEST(Uart82510Registers, EveryReadWriteRegisterHoldsItsBits) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         Cpu& c = b.cpu;
         struct Reg {
@@ -112,7 +112,7 @@ TEST(Uart82510Registers, EveryReadWriteRegisterHoldsItsBits) {
 }
 
 TEST(Uart82510Registers, BankSwitchingAndGirInEveryBank) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         Cpu& c = b.cpu;
         c.wr(GER, 1u << tx_fifo); // the empty TX FIFO is a pending source
@@ -131,7 +131,7 @@ TEST(Uart82510Registers, BankSwitchingAndGirInEveryBank) {
 }
 
 TEST(Uart82510Registers, SoftwareResetRestoresRegistersAndBank) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         Cpu& c = b.cpu;
         c.wr(GER, 0x3F);
@@ -149,7 +149,7 @@ TEST(Uart82510Registers, SoftwareResetRestoresRegistersAndBank) {
 }
 
 TEST(Uart82510Registers, BusRejectsOtherLanesAndInta) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         std::uint8_t d = 0;
         EXPECT_EQ(bus_access(b.cpu.sock, BusCycle::io_read, 3, &d, 1, sc_core::sc_time_stamp()).status,
@@ -168,7 +168,7 @@ TEST(Uart82510Registers, BusRejectsOtherLanesAndInta) {
 TEST(Uart82510Registers, AddressShiftIsAProperty) {
     Uart82510::Config cfg;
     cfg.addr_shift = 2; // e.g. the QT960 board: A0..A2 on CPU A2..A4
-    Bench b(cfg);
+    UartOnLine b(cfg);
     run([&] {
         std::uint8_t d = 0;
         EXPECT_TRUE(bus_access(b.cpu.sock, BusCycle::io_read, 4 * LSR, &d, 1, sc_core::sc_time_stamp()).ok());
@@ -204,7 +204,7 @@ TEST(Uart82510Registers, BadConfigurationIsNamed) {
 // ---- interrupts --------------------------------------------------------------------------
 
 TEST(Uart82510Interrupts, GirPriorityWithSeveralSourcesPending) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         Cpu& c = b.cpu;
         c.setup_9600_8e1();
@@ -241,7 +241,7 @@ TEST(Uart82510Interrupts, GirPriorityWithSeveralSourcesPending) {
 }
 
 TEST(Uart82510Interrupts, RieGatesRxMachineEvents) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.setup_9600_8e1();
         b.cpu.bank(2);
@@ -262,7 +262,7 @@ TEST(Uart82510Interrupts, RieGatesRxMachineEvents) {
 }
 
 TEST(Uart82510Interrupts, IntFollowsSourcesInAutomaticMode) {
-    Bench b;
+    UartOnLine b;
     std::vector<std::pair<sc_time, bool>> edges;
     test::spawn_forever(
         [&] {
@@ -285,7 +285,7 @@ TEST(Uart82510Interrupts, IntFollowsSourcesInAutomaticMode) {
 }
 
 TEST(Uart82510Interrupts, ManualAcknowledgeModeNeedsIcmInta) {
-    Bench b;
+    UartOnLine b;
     std::vector<std::pair<sc_time, bool>> edges;
     test::spawn_forever(
         [&] {
@@ -326,7 +326,7 @@ TEST(Uart82510Interrupts, ManualAcknowledgeModeNeedsIcmInta) {
 }
 
 TEST(Uart82510Interrupts, TimerInterruptPeriod) {
-    Bench b;
+    UartOnLine b;
     std::vector<sc_time> ticks;
     run(
         [&] {
@@ -365,7 +365,7 @@ TEST(Uart82510Interrupts, TimerInterruptPeriod) {
 }
 
 TEST(Uart82510Interrupts, TimerModeOnlyWhenTheBrgIsNotABaudGenerator) {
-    Bench b;
+    UartOnLine b;
     run(
         [&] {
             b.cpu.wr(LCR, LCR_DLAB);
@@ -389,7 +389,7 @@ TEST(Uart82510Interrupts, TimerModeOnlyWhenTheBrgIsNotABaudGenerator) {
 // ---- modem status changes ----------------------------------------------------------------
 
 TEST(Uart82510Interrupts, ModemDeltasAndMieGating) {
-    Bench b;
+    UartOnLine b;
     run([&] {
         b.cpu.wr(GER, 1u << modem);
         b.cpu.bank(3);
@@ -417,7 +417,7 @@ TEST(Uart82510Interrupts, ModemDeltasAndMieGating) {
 // or pops something (the data sheet's reads with an effect: RXD, LSR, MSR in bank 0; RXD, TMST,
 // RST and MSR in bank 1), so made early it would move INT before its T1.
 TEST(Uart82510StableReads, DeclaredReadsChangeNothingTheOthersClearSomething) {
-    Bench b;
+    UartOnLine b;
     std::set<std::pair<unsigned, unsigned>> with_effect;
     run([&] {
         Cpu& c = b.cpu;

@@ -1,5 +1,5 @@
 // The firmware ROM on the plain 8086 core: reset, start-up, 8259A/82510 set-up, main loop.
-#include "fw_bench.h"
+#include "fake_board.h"
 #include "tests/support/sc_test.h"
 
 #include <utility>
@@ -7,7 +7,7 @@
 
 namespace {
 
-using namespace fwbench;
+using namespace fakeboard;
 
 using Writes = std::vector<std::pair<unsigned, unsigned>>; // (byte offset, value)
 
@@ -28,7 +28,7 @@ Writes expected_uart_setup(bool tick) {
 }
 
 TEST(FirmwareBoot, ProgramsThe8259AFirst) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     ASSERT_GE(b.io_writes.size(), 4u);
     const std::pair<unsigned, unsigned> icw[] = {{0xC0, 0x13}, {0xC2, 0x20}, {0xC2, 0x01}, {0xC2, 0xF0}};
@@ -42,7 +42,7 @@ TEST(FirmwareBoot, ProgramsThe8259AFirst) {
 }
 
 TEST(FirmwareBoot, SetsUpEach82510InOrder) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     for (unsigned p = 0; p < 3; ++p) {
         const unsigned base = 0x80 + 0x10 * p;
@@ -63,7 +63,7 @@ TEST(FirmwareBoot, SetsUpEach82510InOrder) {
 }
 
 TEST(FirmwareBoot, LineSetUpComesFromThePatchableTable) {
-    Bench b;
+    FakeBoard b;
     // port 1: 19200 bps 8N1 (divisor 30, LCR 0x03); a 9.216 MHz-based tick of 2 ms on #0
     b.rom[fw::rom_offset_of(fw::data::port_div) + 2] = 30;
     b.rom[fw::rom_offset_of(fw::data::port_lcr) + 1] = 0x03;
@@ -83,7 +83,7 @@ TEST(FirmwareBoot, LineSetUpComesFromThePatchableTable) {
 }
 
 TEST(FirmwareBoot, InstallsVectors20To23InRam) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     const std::uint32_t isr[] = {fw::code::isr_port0, fw::code::isr_port1, fw::code::isr_port2,
                                  fw::code::isr_dpram};
@@ -100,7 +100,7 @@ TEST(FirmwareBoot, InstallsVectors20To23InRam) {
 }
 
 TEST(FirmwareBoot, ReachesTheMainLoopWithInterruptsEnabled) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     std::uint32_t loop_end = 0xFFFFF;
     for (const auto& s : fw::symbols)
@@ -119,7 +119,7 @@ TEST(FirmwareBoot, ReachesTheMainLoopWithInterruptsEnabled) {
 }
 
 TEST(FirmwareBoot, TimerTicksEveryMillisecond) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     const unsigned t0 = b.var16(fw::data::ticks);
     b.run_ms(50);
@@ -144,7 +144,7 @@ TEST(FirmwareBoot, TimerTicksEveryMillisecond) {
 }
 
 TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {
-    Bench b;
+    FakeBoard b;
     b.run_ms(5);
     ASSERT_FALSE(b.irqs.empty());
     for (const auto& r : b.irqs) {
@@ -159,7 +159,7 @@ TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {
     EXPECT_EQ(b.irqs[irqs].bank_at_eoi, 0x40);
     std::vector<unsigned> banks;
     for (std::size_t i = writes; i < b.io_writes.size(); ++i)
-        if (b.io_writes[i].port == 0x84) banks.push_back(b.io_writes[i].value);
+        if (b.io_writes[i].port == kUartIoBase + 2 * u::BANK) banks.push_back(b.io_writes[i].value); // #0's BANK
     ASSERT_GE(banks.size(), 2u);
     EXPECT_EQ(banks[0], 0x20u);
     EXPECT_EQ(banks[1], 0x40u);
@@ -167,14 +167,14 @@ TEST(FirmwareBoot, IsrRestoresTheBankItInterrupted) {
 }
 
 TEST(FirmwareBoot, ClearsDpramFlagsAndTheStaleMailbox) {
-    Bench b;
-    for (unsigned p = 0; p < 3; ++p) b.dp[p * 340 + 339] = 0x5A;
-    b.dp[0x3FE] = 0x77;
+    FakeBoard b;
+    for (unsigned p = 0; p < 3; ++p) b.dp[dl::pflag_addr(p)] = 0x5A;
+    b.dp[dl::int2ext] = 0x77;
     b.int_l = true; // left over from before the reset
     b.run_ms(5);
     for (unsigned p = 0; p < 3; ++p) EXPECT_EQ(b.pflag(p), 0) << p;
     EXPECT_FALSE(b.int_l);
-    EXPECT_EQ(b.dp[0x3FE], 0);
+    EXPECT_EQ(b.dp[dl::int2ext], 0);
     EXPECT_TRUE(b.posted.empty()) << "no word to the main CPU at start-up";
 }
 

@@ -1,6 +1,6 @@
-// The firmware's protocol on the plain 8086 core with the bench's fakes: the test plays the host
+// The firmware's protocol on the plain 8086 core with the fake board: the test plays the host
 // (bytes into 82510 #p, bytes out of TXD) and the main CPU (DP-RAM and the mailbox words).
-#include "fw_bench.h"
+#include "fake_board.h"
 #include "models/plumbing/hex.h"
 #include "tests/support/sc_test.h"
 
@@ -8,7 +8,7 @@
 
 namespace {
 
-using namespace fwbench;
+using namespace fakeboard;
 
 const char SOH = 0x01, STX = 0x02, ETX = 0x03, EOT = 0x04, ENQ = 0x05, ACK = 0x06, NAK = 0x15;
 
@@ -23,12 +23,12 @@ std::string frame(const std::string& token, const std::string& data, unsigned bc
     return std::string(1, SOH) + body + hex2(sum + sum_delta) + ETX;
 }
 
-// A booted bench.
-struct Booted : Bench {
+// A booted fake board.
+struct Booted : FakeBoard {
     Booted() { run_ms(5); }
 
     /// Host: ENQ, expect ACK; then the frame (without waiting for anything).
-    void host_frame(unsigned p, const std::string& f, double char_us = 1146.0) {
+    void host_frame(unsigned p, const std::string& f, double char_us = kCharUs9600) {
         host_send(p, std::string(1, ENQ), char_us);
         run_until([&] { return !uart[p].tx.empty(); }, 5);
         ASSERT_EQ(host_take(p), std::string(1, ACK)) << "port " << p;
@@ -48,7 +48,7 @@ struct Booted : Bench {
             const std::string c = main_read_chunk(p);
             got += c;
             const bool last = c.back() == ETX;
-            if (last) dp[p * area + chunk] = 0; // the reader frees pflag
+            if (last) dp[dl::pflag_addr(p)] = dl::pflag_free; // the reader frees pflag
             else EXPECT_EQ(c.size(), chunk) << "a chunk without ETX is full";
             main_word(std::uint8_t(0x20 | p));
             if (last) return got;
@@ -89,7 +89,7 @@ TEST(FirmwareProtocol, ParityErrorGetsNak) {
     ASSERT_EQ(b.host_take(2), std::string(1, ACK));
     for (std::size_t i = 0; i < f.size(); ++i) {
         b.host_byte(2, std::uint8_t(f[i]), i == 4 ? 0x04 : 0); // parity error on B1
-        b.run_us(1146);
+        b.run_us(kCharUs9600);
     }
     b.run_ms(2);
     EXPECT_EQ(b.host_take(2), std::string(1, NAK));
@@ -130,7 +130,7 @@ TEST(FirmwareProtocol, LostAckOfTheLastChunkIsRecoveredThroughPflag) {
     std::uint8_t w = 0;
     b.main_take_word(w);
     EXPECT_EQ(b.main_read_chunk(2), f);
-    b.dp[2 * 340 + 339] = 0; // the main CPU frees pflag ... and its 0x22 word is overwritten
+    b.dp[dl::pflag_addr(2)] = dl::pflag_free; // the main CPU frees pflag ... and its 0x22 word is overwritten
     b.main_word(0x21);       // by a word for another port (here: an unexpected ACK, ignored)
     ASSERT_TRUE(b.run_until([&] { return b.step(2) == 0; }, 20));
     EXPECT_TRUE(b.posted.empty()) << "no reset, nothing lost";
@@ -179,13 +179,13 @@ TEST(FirmwareProtocol, T2GapDropsThePartialFrame) {
 
 TEST(FirmwareProtocol, EnqWhileTheAreaIsBusyGetsNak) {
     Booted b;
-    b.dp[1 * 340 + 339] = 2; // the main CPU is writing port 1's area
+    b.dp[dl::pflag_addr(1)] = dl::pflag_rbt_use; // the main CPU is writing port 1's area
     b.host_send(1, std::string(1, ENQ));
     b.run_ms(1);
     EXPECT_EQ(b.host_take(1), std::string(1, NAK));
     EXPECT_EQ(b.step(1), 0);
     EXPECT_EQ(b.var16(fw::data::n_busy, 1), 1u);
-    b.dp[1 * 340 + 339] = 0;
+    b.dp[dl::pflag_addr(1)] = dl::pflag_free;
     b.host_send(1, std::string(1, ENQ));
     b.run_ms(1);
     EXPECT_EQ(b.host_take(1), std::string(1, ACK));
@@ -212,7 +212,7 @@ TEST(FirmwareProtocol, LongFrameCrossesDpramInChunksIntact) {
             ASSERT_EQ(w, 0x10);
             const std::string c = b.main_read_chunk(0);
             got += c;
-            if (c.back() == ETX) b.dp[339] = 0;
+            if (c.back() == ETX) b.dp[dl::pflag_addr(0)] = dl::pflag_free;
             b.main_word(0x20);
         }
         ASSERT_LT(b.now(), 3 * clk_hz) << "stuck";
@@ -266,7 +266,7 @@ TEST(FirmwareProtocol, ResponseFrameReachesTheHost) {
     ASSERT_TRUE(b.main_take_word(w));
     EXPECT_EQ(w, 0x22) << "chunk consumed";
     EXPECT_EQ(b.pflag(2), 0) << "the reader frees pflag with the last chunk";
-    EXPECT_EQ(b.dp[0x3FE], 0) << "int2ext emptied after reading";
+    EXPECT_EQ(b.dp[dl::int2ext], 0) << "int2ext emptied after reading";
     ASSERT_TRUE(b.run_until([&] { return !b.uart[2].tx.empty(); }, 10));
     EXPECT_EQ(b.host_take(2), std::string(1, ENQ));
     b.run_ms(0.2);
@@ -282,7 +282,7 @@ TEST(FirmwareProtocol, ResponseFrameReachesTheHost) {
 
 TEST(FirmwareProtocol, ResponseLeavesWithoutGapsWhileAChunkIsCopied) {
     Booted b;
-    const cycles_t char_cycles = 1146 * cycles_per_us;
+    const cycles_t char_cycles = cycles_t(kCharUs9600) * cycles_per_us;
     b.uart[0].tx_char_cycles = char_cycles; // a real 9600 bps transmitter with its 4-byte FIFO
     const std::string f = frame("PD", std::string(300, 'r'));
     b.main_write_chunk(0, f, true);
@@ -293,7 +293,7 @@ TEST(FirmwareProtocol, ResponseLeavesWithoutGapsWhileAChunkIsCopied) {
     // while the frame goes out, the main CPU hands over a full chunk for port 1 (a ~20 ms copy
     // in the DP-RAM ISR) and port 2 receives a frame
     b.run_ms(5);
-    b.main_write_chunk(1, std::string(339, 'x'), true);
+    b.main_write_chunk(1, std::string(FakeBoard::chunk, 'x'), true);
     b.host_frame(2, frame("EC", std::string(40, 'e')));
     ASSERT_TRUE(b.run_until([&] { return b.step(0) == 13; }, 1000));
     b.run_ms(10);
@@ -310,8 +310,8 @@ TEST(FirmwareProtocol, MultiChunkResponseAndQueuedFramesGoOutInOrder) {
     const std::string big = frame("PD", std::string(700, 'p'));
     const std::string small = frame("EC", "2");
     // three chunks of `big`, then `small`, each after the ACK of the previous chunk
-    for (std::size_t off = 0; off < big.size(); off += 339) {
-        b.main_write_chunk(0, big.substr(off, 339), off == 0);
+    for (std::size_t off = 0; off < big.size(); off += FakeBoard::chunk) {
+        b.main_write_chunk(0, big.substr(off, FakeBoard::chunk), off == 0);
         std::uint8_t w = 0;
         ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 60)); // ~70 us per byte
         b.main_take_word(w);
@@ -351,7 +351,7 @@ TEST(FirmwareProtocol, NakAndTimeoutAreRetriedWithBackoffThenReported) {
     EXPECT_GE(gap1, 9.0);
     EXPECT_LE(gap1, 12.5);
     ASSERT_EQ(b.host_take(1), std::string(1, ENQ));
-    // attempt 2: no answer -> T1 then 20 ms back-off. The bench's transmitter is instantaneous,
+    // attempt 2: no answer -> T1 then 20 ms back-off. The fake board's transmitter is instantaneous,
     // so the ENQ has left at once; T1 (50 ms) ends at the START bit of the answer, which the
     // receiver has one 9600-bps character (1.146 ms) later: the firmware waits more than 50 +
     // 1.146 ms, and at most 50 + 2 (the character in whole ticks) + 1 (tick phase) ms, plus the
@@ -444,7 +444,7 @@ TEST(FirmwareProtocol, CollisionWhileTheAreaIsBusyKeepsOurAttempt) {
     b.main_write_chunk(0, mine, true);
     ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 10));
     ASSERT_EQ(b.host_take(0), std::string(1, ENQ));
-    b.dp[339] = 2; // the main CPU has started writing the next frame for port 0
+    b.dp[dl::pflag_addr(0)] = dl::pflag_rbt_use; // the main CPU has started writing the next frame for port 0
     b.host_send(0, std::string(1, ENQ));
     EXPECT_EQ(b.host_take(0), std::string(1, NAK));
     EXPECT_EQ(b.step(0), 11) << "our ENQ still stands";
@@ -496,7 +496,7 @@ TEST(FirmwareProtocol, FullTransmitQueueHoldsTheChunkUnacknowledged) {
 TEST(FirmwareProtocol, AbandonedMainCpuClaimIsFreedAfterASecond) {
     Booted b;
     // the main CPU writes the first chunk of a two-chunk frame and then gives it up
-    b.main_write_chunk(2, std::string(339, 'a'), true);
+    b.main_write_chunk(2, std::string(FakeBoard::chunk, 'a'), true);
     ASSERT_TRUE(b.run_until([&] { return !b.posted.empty(); }, 60));
     b.posted.clear();
     EXPECT_EQ(b.pflag(2), 2);
@@ -543,7 +543,7 @@ TEST(FirmwareProtocol, PortResetDuringAChunkWriteLeavesTheAreaFree) {
     b.host_byte(0, ENQ);
     ASSERT_TRUE(b.run_until([&] { return !b.uart[0].tx.empty(); }, 5));
     b.host_take(0);
-    for (std::size_t i = 0; i < 340; ++i) {
+    for (std::size_t i = 0; i < FakeBoard::chunk + 1; ++i) {
         b.host_byte(0, std::uint8_t(f[i]));
         b.run_us(600);
     }
@@ -587,14 +587,14 @@ TEST(FirmwareProtocol, PortResetByBreak) {
 
 TEST(FirmwareProtocol, MailboxWordIsTakenPromptlyEvenDuringAChunkCopy) {
     Booted b;
-    b.main_write_chunk(0, std::string(339, 'z'), true); // a full chunk: a long copy
+    b.main_write_chunk(0, std::string(FakeBoard::chunk, 'z'), true); // a full chunk: a long copy
     b.run_ms(3);
-    EXPECT_EQ(b.dp[0x3FE], 0);
+    EXPECT_EQ(b.dp[dl::int2ext], 0);
     EXPECT_TRUE(b.posted.empty()) << "still copying";
     // a second word while the copy runs: read (and emptied) within a millisecond
     const cycles_t t = b.now();
     b.main_word(0x31);
-    ASSERT_TRUE(b.run_until([&] { return b.dp[0x3FE] == 0; }, 5));
+    ASSERT_TRUE(b.run_until([&] { return b.dp[dl::int2ext] == 0; }, 5));
     EXPECT_LT(b.int2ext_read_at - t, 1000 * cycles_per_us);
     b.run_ms(1);
     EXPECT_EQ(b.uart[1].resets, 2u) << "port 1 reset while port 0's chunk is copied";
@@ -617,7 +617,7 @@ TEST(FirmwareProtocol, NextWordWaitsUntilTheMainCpuEmptiedInt2rbt) {
         b.run_ms(1.2);
         for (std::size_t i = 0; i < f.size(); ++i) {
             for (unsigned p = 0; p < 3; ++p) b.host_byte(p, std::uint8_t(f[i]));
-            b.run_us(1146);
+            b.run_us(kCharUs9600);
         }
         ASSERT_TRUE(b.run_until([&] {
             std::uint8_t w;
@@ -636,7 +636,7 @@ TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
     const std::string f[3] = {frame("EC", std::string(400, 'a')), frame("EC", std::string(400, 'b')),
                               frame("EC", std::string(400, 'c'))};
     for (unsigned p = 0; p < 3; ++p) b.host_byte(p, ENQ);
-    // Three ENQs at once: each ACK is written within ~0.3 ms of its interrupt, and the bench's
+    // Three ENQs at once: each ACK is written within ~0.3 ms of its interrupt, and the fake board's
     // instantaneous transmitter makes each transmitter-idle interrupt (T1 starts) follow at
     // once: all three ACKs within two character times (far inside T1).
     ASSERT_TRUE(b.run_until([&] { return b.uart[0].tx.size() && b.uart[1].tx.size() && b.uart[2].tx.size(); },
@@ -645,14 +645,14 @@ TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
     std::string got[3];
     for (std::size_t i = 0; i < f[0].size(); ++i) {
         for (unsigned p = 0; p < 3; ++p) b.host_byte(p, std::uint8_t(f[p][i]));
-        b.run_us(1146);
+        b.run_us(kCharUs9600);
         std::uint8_t w;
         while (b.main_take_word(w)) {
             const unsigned p = w & 0x0F;
             ASSERT_EQ(w & 0xF0, 0x10);
             const std::string c = b.main_read_chunk(p);
             got[p] += c;
-            if (c.back() == ETX) b.dp[p * 340 + 339] = 0;
+            if (c.back() == ETX) b.dp[dl::pflag_addr(p)] = dl::pflag_free;
             b.main_word(std::uint8_t(0x20 | p));
             b.run_us(50);
         }
@@ -668,7 +668,7 @@ TEST(FirmwareProtocol, ThreePortsAtOnceKeepEveryByte) {
             const unsigned p = w & 0x0F;
             const std::string c = b.main_read_chunk(p);
             got[p] += c;
-            if (c.back() == ETX) b.dp[p * 340 + 339] = 0;
+            if (c.back() == ETX) b.dp[dl::pflag_addr(p)] = dl::pflag_free;
             b.main_word(std::uint8_t(0x20 | p));
         }
         return done();

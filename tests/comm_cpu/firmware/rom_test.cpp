@@ -2,6 +2,7 @@
 #include "comm_fw_symbols.h"
 #include "models/dpram_layout.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -17,10 +18,7 @@ namespace {
 
 namespace fw = rcsim::comm_fw;
 
-std::vector<std::uint8_t> rom() {
-    std::ifstream in(RCSIM_COMM_FW_ROM, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+std::vector<std::uint8_t> rom() { return rcsim::test::slurp_bytes(RCSIM_COMM_FW_ROM); }
 
 std::uint16_t word(const std::vector<std::uint8_t>& r, std::uint32_t off) {
     return std::uint16_t(r.at(off) | (r.at(off + 1) << 8));

@@ -2,6 +2,7 @@
 // file (when the shared folder is present) runs at level 1.
 #include "comm_cpu/i8086/sst.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <zlib.h>
 
@@ -14,7 +15,7 @@ using namespace rcsim::i8086::sst;
 namespace {
 
 std::string write_file(const std::string& name, const std::string& text) {
-    const auto p = std::filesystem::temp_directory_path() / name;
+    const auto p = rcsim::test::scratch_dir() / name;
     std::ofstream(p) << text;
     return p.string();
 }
@@ -69,7 +70,7 @@ TEST(SstInput, MissingRegisterAndBadValue) {
 }
 
 TEST(SstInput, TruncatedGzipNamesTheFile) {
-    const auto p = (std::filesystem::temp_directory_path() / "rcsim_sst_trunc.json.gz").string();
+    const auto p = (rcsim::test::scratch_dir() / "sst_trunc.json.gz").string();
     gzFile f = gzopen(p.c_str(), "wb");
     ASSERT_TRUE(f);
     std::string big;
@@ -94,7 +95,7 @@ TEST(SstInput, MissingFileIsNamed) {
 // /0 is defined): with a status asked for, only the tests whose reg field has it run, found
 // past any prefixes, and the stem says which reg values they are.
 TEST(SstInput, StatusPerRegValueSelectsTheTests) {
-    const std::string dir = (std::filesystem::temp_directory_path() / "rcsim_sst_by_reg").string();
+    const std::string dir = (rcsim::test::scratch_dir() / "sst_by_reg").string();
     std::filesystem::create_directories(dir);
     std::ofstream(dir + "/metadata.json")
         << R"({"opcodes":{"8F":{"reg":{"0":{"status":"normal"},"1":{"status":"undefined"},"2":{"status":"undefined"},

@@ -1,5 +1,5 @@
 // The motion controller's token interface (the scenario runner is tested in tests/scenarios).
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -7,7 +7,7 @@ using namespace rcsim::motion::test;
 namespace {
 
 TEST(MotionController, TokensMoveAndReportWithBchCodes) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         EXPECT_EQ(b.mc.command("XX", "").bch, 0x01);
         EXPECT_EQ(b.mc.command("SV", "2").bch, 0x02);
         EXPECT_EQ(b.mc.command("MA", "0,100,1000,1000,1000").bch, 0x04); // not powered
@@ -36,7 +36,7 @@ TEST(MotionController, TokensMoveAndReportWithBchCodes) {
 }
 
 TEST(MotionController, ConsecutiveTokensOnOneBlockEachMove) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         for (int target : {4000, -2000, 1000}) {
             ASSERT_EQ(b.mc.command("MA", "0," + std::to_string(target) + ",30000,200000,200000").bch, 0x00);
@@ -56,7 +56,7 @@ constexpr std::int64_t range = (std::int64_t{1} << 30) - 1; // the chip's +-(2^3
 constexpr std::int64_t above_float = (std::int64_t{1} << 24) + 1; // the first integer a float rounds
 
 TEST(MotionController, PositionsStayIntegersFromTokenToChip) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         // 2^24 + 1 has no float: through a float the move would end at 2^24.
         ASSERT_EQ(b.mc.command("MA", "0," + std::to_string(above_float) + ",10000000,100000000,100000000").bch, 0x00);
@@ -103,7 +103,7 @@ TEST(MotionController, PositionsStayIntegersFromTokenToChip) {
 }
 
 TEST(MotionController, LineAndCircleTokensCarryIntegersAbove2To24) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         const std::string r = std::to_string(above_float);
         ASSERT_EQ(b.mc.command("ML", r + ",-" + r + ",10000000,100000000,100000000").bch, 0x00);
@@ -129,7 +129,7 @@ TEST(MotionController, LineAndCircleTokensCarryIntegersAbove2To24) {
 namespace {
 
 TEST(MotionController, LmTokenMovesTwoToFourAxesOnOneLine) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         // Three axes: the long axis 0 pulses every step, the others stay within half a pulse of
         // the line (the DDA's round-half-up, camc_qi/README.md).

@@ -3,7 +3,7 @@
 // reaches them, and MC_Home / HM run the CAMC-QI library's search, back-off, approach (and Z)
 // steps. Every expected position is derived from the profile equations in the comments:
 //   a ramp STD -> v at rate a covers (v^2 - STD^2) / (2a) pulses; the chip counts floor(s).
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 #include <cmath>
 
@@ -30,7 +30,7 @@ TEST_P(Homing, McHomeStopsOnTheSwitchEdgeToThePulse) {
     cfg.switches[0].nelm = -40000;
     // The search reaches its velocity before the switch (a cruise at the edge).
     ASSERT_LT(ramp(c.velocity), static_cast<double>(-c.home));
-    run_bench([c](Bench& b) {
+    run_motion([c](MotionLoop& b) {
         b.power_on();
         MC_Home& h = b.mc.blocks(0).home;
         h.Velocity = c.velocity, h.Position = 500;
@@ -72,7 +72,7 @@ TEST(HomingToken, HmAtTheDefault10KppsAndAt30KppsEndsOnTheSwitch) {
     cfg.switches[1].home = -2500;
     cfg.switches[1].nelm = -4000; // 1500 behind the switch: more than the search overshoot
     cfg.switches[2].home = -20000;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         // 10 kpps: the search overshoot is floor(ramp(10000)) = 1249 pulses, NELM 1500 behind.
         ASSERT_EQ(b.mc.command("HM", "2").bch, 0x00);
@@ -93,7 +93,7 @@ TEST(HomingToken, ZPhaseAfterTheApproachStopsOnTheNextZPulse) {
     MotionConfig cfg;
     cfg.switches[0].home = -2500;
     cfg.zphase[0] = {1000, 137}; // Z at ..., -2863, -1863, ... (137 mod 1000)
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_Home& h = b.mc.blocks(0).home;
         h.ZPhase = true, h.ZVelocity = 1000, h.Position = -7;
@@ -110,7 +110,7 @@ TEST(Limits, NelmStopsAtItsPositionWithoutAHomeSwitchAndPelmDuringAMove) {
     MotionConfig cfg;
     cfg.switches[0].nelm = -5000; // no home switch: the search runs into NELM
     cfg.switches[1].pelm = 12345;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         ASSERT_EQ(b.mc.command("HM", "1").bch, 0x00);
         b.until([&] { return b.mc.state() == "ERRORSTOP"; });

@@ -1,7 +1,7 @@
 // The main-CPU cost model of the motion layer (docs/motion.md "Main-CPU cost"), the first-pulse
 // watch behind the command latency, the snapshot, and the cyclic-position (CSP) path.
 #include "main_cpu/motion/motion_controller.h"
-#include "motion_bench.h"
+#include "motion_loop.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <vector>
 
 using namespace rcsim::motion;
-using rcsim::motion::test::Bench;
-using rcsim::motion::test::run_bench;
+using rcsim::motion::test::MotionLoop;
+using rcsim::motion::test::run_motion;
 using sc_core::sc_time;
 using sc_core::SC_US;
 
@@ -19,8 +19,8 @@ namespace {
 
 sc_time us_(double v) { return sc_time(v, SC_US); }
 
-/// The simulated time one control cycle takes (it is called from the bench's thread).
-sc_time cycle_cost(Bench& b) {
+/// The simulated time one control cycle takes (it is called from MotionLoop's thread).
+sc_time cycle_cost(MotionLoop& b) {
     const sc_time t0 = sc_core::sc_time_stamp();
     b.mc.control_cycle(t0);
     return sc_core::sc_time_stamp() - t0;
@@ -38,8 +38,8 @@ MotionConfig with_cost(double bus_hz, unsigned access_cycles, double fb_us) {
 std::pair<sc_time, std::uint64_t> one_cycle(const MotionConfig& cfg) {
     sc_time cost;
     std::uint64_t accesses = 0;
-    run_bench(
-        [&](Bench& b) {
+    run_motion(
+        [&](MotionLoop& b) {
             b.power_on();
             const std::uint64_t a0 = b.mc.chip_accesses();
             cost = cycle_cost(b);
@@ -120,8 +120,8 @@ TEST(MotionCost, ChipAccessesCostBusCyclesWithWaitStates) {
 
 TEST(MotionCost, CommandCostsItsBlockCallsToo) {
     sc_time cost;
-    run_bench(
-        [&](Bench& b) {
+    run_motion(
+        [&](MotionLoop& b) {
             b.power_on();
             const sc_time t0 = sc_core::sc_time_stamp();
             EXPECT_EQ(b.mc.command("MA", "0,1000,10000,100000,100000").bch, 0);
@@ -164,8 +164,8 @@ TEST(MotionCost, CostOutsideAThreadIsSpentAtTheNextControlCycle) {
 TEST(MotionCost, FirstPulseOfAMoveIsWatched) {
     MotionConfig cfg;
     cfg.first_pulse_poll = us_(1);
-    run_bench(
-        [&](Bench& b) {
+    run_motion(
+        [&](MotionLoop& b) {
             b.power_on();
             ASSERT_EQ(b.mc.command("MA", "0,1000,10000,100000,100000").bch, 0);
             EXPECT_EQ(b.mc.command("MA", "9,1,1,1,1").bch, 2); // refused: no record
@@ -181,7 +181,7 @@ TEST(MotionCost, FirstPulseOfAMoveIsWatched) {
 }
 
 TEST(MotionCost, SnapshotHasPositionsAndStates) {
-    run_bench([&](Bench& b) {
+    run_motion([&](MotionLoop& b) {
         b.power_on();
         ASSERT_EQ(b.mc.command("MR", "1,500,10000,100000,100000").bch, 0);
         b.cycles(300);

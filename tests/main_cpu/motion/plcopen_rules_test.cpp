@@ -3,7 +3,7 @@
 // of Stopping and of a buffered command on Done AND NOT Execute (Note 6, Table 4), and the AXL
 // ErrorIDs 4114 (accel/decel time 0, AXT_RT_MOTION_INVALID_ACCELTIME) and 4253 (velocity above
 // the maximum, AXT_RT_MOTION_VELOCITY_OUTOFBOUND).
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -11,7 +11,7 @@ using namespace rcsim::motion::test;
 namespace {
 
 TEST(PLCopenRules, ResetWithThePowerOffLeadsToDisabled) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         b.mc.drive(0).inject_fault(0x7500);
         b.mc.drive(0).clear_fault_cause();
@@ -32,7 +32,7 @@ TEST(PLCopenRules, ResetWithThePowerOffLeadsToDisabled) {
 TEST(PLCopenRules, ErrorAndCommandAbortedShowForOneCallAfterAnEarlyFallingEdgeThenReset) {
     MotionConfig cfg;
     cfg.switches[0].pelm = 3000;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         // Error, with Execute already low when it appears: a move into PELM (at 3000).
         MC_MoveRelative& r = b.mc.blocks(0).move_rel;
@@ -69,7 +69,7 @@ TEST(PLCopenRules, ErrorAndCommandAbortedShowForOneCallAfterAnEarlyFallingEdgeTh
 }
 
 TEST(PLCopenRules, StopFromStandstillAndFromHoming) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_Stop& s = b.mc.blocks(1).stop;
         s.Execute = true;
@@ -99,7 +99,7 @@ TEST(PLCopenRules, StopFromStandstillAndFromHoming) {
 }
 
 TEST(PLCopenRules, HaltIsAbortedByAnotherMove) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(2).move_abs;
         m.Position = 100000, m.Velocity = 20000, m.Acceleration = 100000, m.Deceleration = 100000;
@@ -122,7 +122,7 @@ TEST(PLCopenRules, HaltIsAbortedByAnotherMove) {
 }
 
 TEST(PLCopenRules, StoppingEndsOnDoneAndNotExecuteAndReleasesABufferedMove) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(3).move_abs;
         m.Position = 100000, m.Velocity = 20000, m.Acceleration = 100000, m.Deceleration = 100000;
@@ -171,7 +171,7 @@ TEST(PLCopenRules, StoppingEndsOnDoneAndNotExecuteAndReleasesABufferedMove) {
 }
 
 TEST(PLCopenRules, ErrorIds4114And4253FromBlocksAndTokens) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
         auto edge = [&](double v, double a, double d) {

@@ -1,6 +1,6 @@
 // PLCopen function blocks over the CAMC-QI and CiA402 drives: interface rules, state diagram,
 // aborting and buffered moves, Stopping, ErrorStop and bad parameters.
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -10,7 +10,7 @@ namespace {
 int outputs_set(const McExecuteFb& f) { return f.Done + f.Busy + f.CommandAborted + f.Error; }
 
 TEST(PLCopen, PowerDrivesTheIndy7SequenceDisabledToStandstill) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.cycles(3);
         EXPECT_EQ(b.mc.axis(0).state(), AxisState::disabled);
         MC_Power& p = b.mc.power(0);
@@ -32,7 +32,7 @@ TEST(PLCopen, PowerDrivesTheIndy7SequenceDisabledToStandstill) {
 }
 
 TEST(PLCopen, MoveAbsoluteOutputsFollowTheInterfaceRules) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
         m.Position = 3000, m.Velocity = 20000, m.Acceleration = 200000, m.Deceleration = 200000;
@@ -72,7 +72,7 @@ TEST(PLCopen, MoveAbsoluteOutputsFollowTheInterfaceRules) {
 }
 
 TEST(PLCopen, AbortingMoveAbortsTheRunningOneBufferedWaits) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveRelative& a = b.mc.blocks(0).move_rel;
         MC_MoveAbsolute& c = b.mc.blocks(0).move_abs;
@@ -124,7 +124,7 @@ TEST(PLCopen, AbortingMoveAbortsTheRunningOneBufferedWaits) {
 }
 
 TEST(PLCopen, StopHoldsStoppingAndRejectsMotionWhileExecute) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(1).move_abs;
         m.Position = 100000, m.Velocity = 20000, m.Acceleration = 100000, m.Deceleration = 100000;
@@ -160,7 +160,7 @@ TEST(PLCopen, StopHoldsStoppingAndRejectsMotionWhileExecute) {
 }
 
 TEST(PLCopen, HaltStopsToStandstillAndCanBeAborted) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveAbsolute& m = b.mc.blocks(2).move_abs;
         m.Position = 100000, m.Velocity = 20000, m.Acceleration = 100000, m.Deceleration = 100000;
@@ -180,7 +180,7 @@ TEST(PLCopen, HaltStopsToStandstillAndCanBeAborted) {
 TEST(PLCopen, LimitSwitchDriveFaultAndBadParametersGiveErrors) {
     MotionConfig cfg;
     cfg.switches[0].pelm = 20000; // the plotter's + limit at 20000 pulses
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         // Bad parameters: FB Error with ErrorID, the axis stays in Standstill.
         MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
@@ -244,7 +244,7 @@ TEST(PLCopen, LimitSwitchDriveFaultAndBadParametersGiveErrors) {
 }
 
 TEST(PLCopen, ErrorStopAbortsBufferedCommandsWithError) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveRelative& a = b.mc.blocks(3).move_rel;
         a.Distance = 80000, a.Velocity = 20000, a.Acceleration = 100000, a.Deceleration = 100000;
@@ -266,7 +266,7 @@ TEST(PLCopen, ErrorStopAbortsBufferedCommandsWithError) {
 }
 
 TEST(PLCopen, LineMove2AndCircleCenterMoveUseBothAxes) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_LineMove2& l = b.mc.line_move();
         l.X = 8000, l.Y = -4800, l.Velocity = 20000, l.Acceleration = 200000, l.Deceleration = 200000;
@@ -302,7 +302,7 @@ TEST(PLCopen, LineMove2AndCircleCenterMoveUseBothAxes) {
 namespace {
 
 TEST(PLCopen, MoveVelocityRunsInContinuousMotionWithInVelocityAndNoDone) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveVelocity& v = b.mc.blocks(0).move_vel;
         v.Velocity = 20000, v.Acceleration = 100000, v.Deceleration = 100000;
@@ -342,7 +342,7 @@ TEST(PLCopen, MoveVelocityRunsInContinuousMotionWithInVelocityAndNoDone) {
 }
 
 TEST(PLCopen, MoveVelocityDirectionsAndBufferedSuccessorAtInVelocity) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveVelocity& v = b.mc.blocks(1).move_vel;
         v.Velocity = 5000, v.Acceleration = 50000, v.Deceleration = 50000;
@@ -394,7 +394,7 @@ TEST(PLCopen, MoveVelocityDirectionsAndBufferedSuccessorAtInVelocity) {
 }
 
 TEST(PLCopen, MoveVelocityParameterErrorsAndTheMvToken) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveVelocity& v = b.mc.blocks(3).move_vel;
         auto edge = [&](double vel, double acc, double dec) {
@@ -431,7 +431,7 @@ namespace {
 // is p = 2a^2 / (J dv + a^2); the chip holds p in whole percent (SW1/SW2), its first jerk
 // section lasts tj = p T / 2 with T = dv / (a (1 - p/2)), and in it v = STD + (a / tj) t^2 / 2.
 TEST(PLCopen, JerkInputGivesTheChipsSCurve) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         using namespace rcsim::camc;
         MC_MoveAbsolute& m = b.mc.blocks(0).move_abs;
@@ -484,7 +484,7 @@ TEST(PLCopen, JerkInputGivesTheChipsSCurve) {
 }
 
 TEST(QiApi, ProfileModesOfAxl) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         using namespace rcsim::camc;
         QiMotionApi& api = b.mc.api();

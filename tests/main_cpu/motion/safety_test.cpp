@@ -1,7 +1,7 @@
 // Emergency stop (docs/motion.md "Safety"): the ES token and MC_Stop with Emergency latch ErrorStop
 // on every axis, moving or not, whatever state it was in, and motion stays refused (BCH 05,
 // ErrorID 0x7002) until RS resets the axis.
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -12,7 +12,7 @@ const std::string error_stop_reply = std::to_string(err::axis_error_stop); // 0x
 
 /// ES, then: every axis in ErrorStop, the chip idle, motion refused on every axis, still so a
 /// while later; RS on all axes brings each back to `after_reset`.
-void expect_latched_until_reset(Bench& b, AxisState after_reset, const char* what) {
+void expect_latched_until_reset(MotionLoop& b, AxisState after_reset, const char* what) {
     SCOPED_TRACE(what);
     EXPECT_EQ(b.mc.command("ES", "").bch, 0x00);
     for (unsigned a = 0; a < 4; ++a) {
@@ -43,7 +43,7 @@ void expect_latched_until_reset(Bench& b, AxisState after_reset, const char* wha
 }
 
 TEST(Safety, EsLatchesErrorStopOnEveryAxisFromEveryState) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         // Disabled: ErrorStop too (Note 1); the reset leads back to Disabled (Note 3).
         b.cycles(2);
         expect_latched_until_reset(b, AxisState::disabled, "disabled");
@@ -103,7 +103,7 @@ TEST(Safety, EsLatchesErrorStopOnEveryAxisFromEveryState) {
 }
 
 TEST(Safety, StopWithEmergencyStopsEveryAxisAtOnceAndLatchesErrorStop) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         ASSERT_EQ(b.mc.command("MA", "0,80000,20000,100000,100000").bch, 0x00);
         b.cycles(100);

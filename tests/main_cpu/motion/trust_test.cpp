@@ -1,7 +1,7 @@
 // Issue 29 "motion a machine builder can trust": aborted and stopped group moves, servo-on,
 // MC_Reset, homing counters, and the blocks' shared state rules. Expected values come from
 // PLCopen Part 1, the CiA402 profile and geometry (stop distance v^2 / 2a), not from the code.
-#include "tests/main_cpu/motion/motion_bench.h"
+#include "tests/main_cpu/motion/motion_loop.h"
 
 #include <cmath>
 #include <vector>
@@ -14,7 +14,7 @@ namespace {
 // A line in cruise aborted through its Y axis ramps down at the line's own Deceleration: the path
 // covers at most v^2 / (2 Deceleration) after the abort, and both axes reach StandStill.
 TEST(Trust, AbortedLineStopsWithinItsDecelerationDistanceAndBothAxesStandStill) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_LineMove2& l = b.mc.line_move();
         const double v = 20000, dec = 200000;
@@ -47,7 +47,7 @@ TEST(Trust, AbortedLineStopsWithinItsDecelerationDistanceAndBothAxesStandStill) 
 // MC_Stop through one axis of a circle: the partner leaves SynchronizedMotion when the chip's
 // ramp ends, and a program waiting for StandStill on it goes on.
 TEST(Trust, StoppedCircleLeavesThePartnerInStandStill) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_CircleCenterMove& c = b.mc.circle_move();
         c.CenterX = 5000, c.CenterY = 0, c.EndX = 10000, c.EndY = 0, c.Direction = dir_ccw;
@@ -72,7 +72,7 @@ TEST(Trust, StoppedCircleLeavesThePartnerInStandStill) {
 // switching it on again moves nothing (a pulse-train servo; a safety matter), and the command
 // counter starts at the motor's position, so the next move ends where it is commanded.
 TEST(Trust, ServoOnAfterServoOffWhileMovingDoesNotMoveTheMotor) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveRelative& m = b.mc.blocks(0).move_rel;
         m.Distance = 50000, m.Velocity = 20000, m.Acceleration = m.Deceleration = 200000;
@@ -101,7 +101,7 @@ TEST(Trust, ServoOnAfterServoOffWhileMovingDoesNotMoveTheMotor) {
 // A drive fault while moving (fault reaction, CiA402 transition 13), cleared and reset: enabling
 // again moves nothing either.
 TEST(Trust, ServoOnAfterADriveFaultAndResetDoesNotMoveTheMotor) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_MoveRelative& m = b.mc.blocks(1).move_rel;
         m.Distance = -50000, m.Velocity = 20000, m.Acceleration = m.Deceleration = 200000;
@@ -130,7 +130,7 @@ TEST(Trust, ServoOnAfterADriveFaultAndResetDoesNotMoveTheMotor) {
 TEST(Trust, ResetWithoutADriveFaultKeepsThePowerStageOn) {
     MotionConfig cfg;
     cfg.switches[0].pelm = 3000;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_Reset& r = b.mc.blocks(0).reset;
         auto reset_keeps_power = [&] {
@@ -161,7 +161,7 @@ TEST(Trust, ResetWithoutADriveFaultKeepsThePowerStageOn) {
 TEST(Trust, HomingLeavesActualEqualToCommandAtRest) {
     MotionConfig cfg;
     cfg.switches[0].home = -2500;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_Home& h = b.mc.blocks(0).home;
         h.Position = 0, h.Direction = -1;
@@ -188,7 +188,7 @@ TEST(Trust, ArcWithAnEndOffTheTrackEndsExactlyOnIt) {
         }
     }
     ASSERT_NE(rcsim::camc::circle_walked_end(s, e, rcsim::camc::ArcDirection::ccw), e);
-    run_bench([s, e](Bench& b) {
+    run_motion([s, e](MotionLoop& b) {
         b.power_on();
         MC_CircleCenterMove& c = b.mc.circle_move();
         // Twice the same arc, the second from where the first ended: no drift.
@@ -212,7 +212,7 @@ TEST(Trust, ArcWithAnEndOffTheTrackEndsExactlyOnIt) {
 // vector speed mode the speed along a circle stays within 1 % of it in cruise, near the axes
 // (one-axis steps) as at 45 degrees (two-axis steps), and the circle still closes exactly.
 TEST(Trust, CirclePathSpeedStaysWithinOnePercentOfVelocityInCruise) {
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_CircleCenterMove& c = b.mc.circle_move();
         const double v = 20000, acc = 200000, R = 5000;
@@ -246,7 +246,7 @@ TEST(Trust, CirclePathSpeedStaysWithinOnePercentOfVelocityInCruise) {
 TEST(Trust, ReadBlocksAndSetPositionFollowPartOne) {
     MotionConfig cfg;
     cfg.switches[1].pelm = 2000;
-    run_bench([](Bench& b) {
+    run_motion([](MotionLoop& b) {
         b.power_on();
         MC_ReadStatus st;
         MC_ReadActualPosition pos;

@@ -16,11 +16,11 @@ using rcsim::st::StProgram;
 
 namespace {
 
-struct StBench : sc_core::sc_module {
+struct StMotionLoop : sc_core::sc_module {
     MotionController mc{"mc"};
     std::unique_ptr<StProgram> program;
-    std::function<void(StBench&)> body;
-    StBench(sc_core::sc_module_name n, const std::string& text) : sc_module(n) {
+    std::function<void(StMotionLoop&)> body;
+    StMotionLoop(sc_core::sc_module_name n, const std::string& text) : sc_module(n) {
         std::vector<McAxis*> axes;
         std::vector<MC_Power*> power;
         for (unsigned a = 0; a < MotionController::axes; ++a) {
@@ -42,8 +42,8 @@ struct StBench : sc_core::sc_module {
     std::int64_t var(const char* v) const { return program->value(v).i; }
 };
 
-void run(const std::string& text, const std::function<void(StBench&)>& body) {
-    StBench b("bench", text);
+void run(const std::string& text, const std::function<void(StMotionLoop&)>& body) {
+    StMotionLoop b("loop", text);
     b.body = body;
     sc_core::sc_start();
 }
@@ -59,7 +59,7 @@ IF crash THEN x := x / zero; END_IF;
 END_PROGRAM)";
 
 TEST(StMotion, McPowerAndMcMoveAbsoluteMoveTheAxis) {
-    run(mover, [](StBench& b) {
+    run(mover, [](StMotionLoop& b) {
         b.cycles(10);
         EXPECT_EQ(b.var("power.Status"), 1); // the drive reached Operation enabled
         EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
@@ -77,7 +77,7 @@ TEST(StMotion, McPowerAndMcMoveAbsoluteMoveTheAxis) {
 }
 
 TEST(StMotion, ARuntimeErrorPutsEveryAxisInErrorStop) {
-    run(mover, [](StBench& b) {
+    run(mover, [](StMotionLoop& b) {
         b.cycles(10);
         b.program->set_value("go", st::Value{1, 0});
         b.cycles(20); // moving
@@ -96,7 +96,7 @@ TEST(StMotion, ARuntimeErrorPutsEveryAxisInErrorStop) {
 }
 
 TEST(StMotion, StopDeceleratesTheMovingAxesAndTheProgramNoLongerRuns) {
-    run(mover, [](StBench& b) {
+    run(mover, [](StMotionLoop& b) {
         b.cycles(10);
         b.program->set_value("go", st::Value{1, 0});
         b.cycles(60); // in the middle of the move
@@ -114,7 +114,7 @@ TEST(StMotion, AnUnboundAxisRefIsInvalidAxis) {
     run("PROGRAM M VAR ax : AXIS_REF; m : MC_MoveRelative; END_VAR\n"
         "m(Axis := ax, Execute := TRUE, Distance := 100, Velocity := 1000, Acceleration := 1000, Deceleration := 1000);\n"
         "END_PROGRAM",
-        [](StBench& b) {
+        [](StMotionLoop& b) {
             b.cycles(2);
             EXPECT_EQ(b.var("m.Error"), 1);
             EXPECT_EQ(b.var("m.ErrorID"), err::invalid_axis);
@@ -137,7 +137,7 @@ IF line.Done THEN done_seen := TRUE; END_IF;
 END_PROGRAM)";
 
 TEST(StMotion, McLineMoveOfThreeAxesReachesItsEndPointWithTheAxesTogether) {
-    run(line3, [](StBench& b) {
+    run(line3, [](StMotionLoop& b) {
         b.cycles(10);
         ASSERT_EQ(b.var("p2.Status"), 1);
         b.program->set_value("go", st::Value{1, 0});
@@ -175,7 +175,7 @@ TEST(StMotion, McLineMoveWithoutAxisYIsInvalidAxis) {
     run("PROGRAM M VAR p0 : MC_Power; l : MC_LineMove; END_VAR\np0(Axis := Axis0, Enable := TRUE);\n"
         "l(AxisX := Axis0, AxisZ := Axis2, Execute := p0.Status, X := 100, Z := 100, Velocity := 1000,\n"
         "  Acceleration := 1000, Deceleration := 1000);\nEND_PROGRAM",
-        [](StBench& b) {
+        [](StMotionLoop& b) {
             b.cycles(12);
             ASSERT_EQ(b.var("p0.Status"), 1);
             EXPECT_EQ(b.var("l.Error"), 1);
@@ -201,7 +201,7 @@ stop(Axis := Axis0, Execute := halt, Deceleration := 200000);
 move(Axis := Axis0, Execute := stop.Done, Position := 0, Velocity := 20000, Acceleration := 200000,
      Deceleration := 200000);
 END_PROGRAM)";
-    run(text, [](StBench& b) {
+    run(text, [](StMotionLoop& b) {
         b.mc.command("SV", "1");
         b.cycles(10);
         b.program->set_value("go", st::Value{1, 0});
@@ -253,7 +253,7 @@ rs(Axis := Axis0, Enable := TRUE);
 par(Axis := Axis0, Enable := TRUE, ParameterNumber := 8);
 bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
 END_PROGRAM)";
-    run(text, [](StBench& b) {
+    run(text, [](StMotionLoop& b) {
         b.cycles(10);
         EXPECT_EQ(b.var("rs.Standstill"), 1);
         EXPECT_EQ(b.var("rs.Valid"), 1);

@@ -5,6 +5,7 @@
 #include "scenarios/world/world.h"
 #include "scenarios/run/runner.h"
 #include "scenarios/config/scenario.h"
+#include "tests/support/scenario_error.h"
 
 #include <gtest/gtest.h>
 
@@ -20,14 +21,7 @@ namespace {
 
 const std::string cases = std::string(RCSIM_SOURCE_DIR) + "/tests/main_cpu/st/cases/";
 
-std::string load_error(const std::string& file) {
-    try {
-        load_scenario(cases + file);
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+std::string load_error(const std::string& file) { return rcsim::test::scenario_error(cases + file); }
 
 /// The fields of an ST reply: robot state, program state, program name, four positions.
 std::vector<std::string> fields(const std::string& data) {
@@ -46,7 +40,7 @@ TEST(StSerial, RnStartsTheLoadedProgramStReportsItSpStopsIt) {
     opt.reproducible = true;
     opt.on_world = [&sent](World& b) {
         ASSERT_TRUE(b.program);
-        auto observer = b.ctl.main.on_sent; // the bench's exactly-once observer: keep it
+        auto observer = b.ctl.main.on_sent; // the run's exactly-once observer: keep it
         b.ctl.main.on_sent = [observer, &sent](const FrameRecord& f) {
             if (observer) observer(f);
             sent.push_back(f);
@@ -102,18 +96,12 @@ TEST(StSerial, AMissingProgramFileIsBadInputNamingTheScenarioLine) {
                   "no_such_file.st' (no such regular file)");
 }
 
-/// The error of a scenario with this text (written to a temporary file named `name`).
+/// The error of a scenario with this text (written to a scratch file named `name`), without the
+/// scratch folder's path.
 std::string text_error(const std::string& name, const std::string& text) {
-    const auto dir = std::filesystem::temp_directory_path() / "rcsim_st_serial_test";
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / name).string();
-    std::ofstream(path) << text;
-    try {
-        load_scenario(path);
-    } catch (const ConfigError& e) {
-        return std::string(e.what()).substr(dir.string().size() + 1);
-    }
-    return "(no error)";
+    const std::string e = rcsim::test::scenario_error_of(name, text);
+    const std::string dir = rcsim::test::scratch_dir().string() + "/";
+    return e.rfind(dir, 0) == 0 ? e.substr(dir.size()) : e;
 }
 
 TEST(StSerial, ProgramKeysOutOfPlaceOrRangeAreBadInput) {

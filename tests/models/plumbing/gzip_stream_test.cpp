@@ -3,6 +3,7 @@
 // a plain file reads as it is; a missing file reads as empty; and the compressed rows are a small
 // fraction of the plain ones (the point of interrupts.csv.gz).
 #include "models/plumbing/gzip_stream.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -35,7 +36,7 @@ std::string gzip_of(const std::string& text) {
 }
 
 fs::path temp_file(const std::string& name, const std::string& bytes) {
-    const fs::path p = fs::path(testing::TempDir()) / name;
+    const fs::path p = rcsim::test::scratch_dir() / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p;
 }
@@ -100,7 +101,7 @@ TEST(GzipStream, APlainFileReadsAsItIs) {
 }
 
 TEST(GzipStream, AMissingFileReadsAsEmpty) {
-    rcsim::GzipReader in(fs::path(testing::TempDir()) / "no-such-file.gz");
+    rcsim::GzipReader in(rcsim::test::scratch_dir() / "no-such-file.gz");
     std::string line;
     EXPECT_FALSE(std::getline(in, line));
 }

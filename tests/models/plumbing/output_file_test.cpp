@@ -1,6 +1,7 @@
 // models/plumbing/output_file.h: a file is written whole or the error names it, with the system's reason.
 #include "models/plumbing/config_error.h"
 #include "models/plumbing/output_file.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -17,13 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using rcsim::ConfigError;
 
-std::string read_back(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 std::string error_of(const std::function<void()>& f) {
     try {
         f();
@@ -34,19 +28,19 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 TEST(OutputFile, WritesTheTextWholeAndUntranslated) {
-    const fs::path p = fs::temp_directory_path() / "rcsim_output_file_test.txt";
+    const fs::path p = rcsim::test::scratch_dir() / "output_file_test.txt";
     const std::string text = std::string("a\r\nb\0c\n", 7);
     rcsim::write_file(p, text);
-    EXPECT_EQ(read_back(p), text);
+    EXPECT_EQ(rcsim::test::slurp(p), text);
     rcsim::OutputFile f(p); // truncates
     f.stream() << "x";
     f.close();
-    EXPECT_EQ(read_back(p), "x");
+    EXPECT_EQ(rcsim::test::slurp(p), "x");
     fs::remove(p);
 }
 
 TEST(OutputFile, AFileThatCannotBeCreatedIsNamedWithTheReason) {
-    const fs::path p = fs::temp_directory_path() / "rcsim_no_such_dir" / "report.json";
+    const fs::path p = rcsim::test::scratch_dir() / "no_such_dir" / "report.json";
     EXPECT_EQ(error_of([&] { rcsim::write_file(p, "{}", "the report"); }),
               p.string() + ": cannot write the report: " + std::strerror(ENOENT));
 }

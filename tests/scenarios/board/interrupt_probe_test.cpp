@@ -14,7 +14,7 @@
 using namespace rcsim;
 
 namespace {
-struct Bench {
+struct ProbedController {
     Controller ctl{"ctl"};
     sc_core::sc_vector<SerialLine> lines{"line", 3};
     ProtocolHost host;
@@ -30,7 +30,7 @@ struct Bench {
         c.traffic.data_size = 20;
         return c;
     }
-    Bench() : host("host", host_config()) {
+    ProbedController() : host("host", host_config()) {
         ctl.comm.load_rom(RCSIM_COMM_FW_ROM);
         for (unsigned p = 0; p < 3; ++p) ctl.comm.uart[p].connect(lines[p], SerialLine::a);
         host.connect(lines[1], SerialLine::b);
@@ -39,7 +39,7 @@ struct Bench {
 } // namespace
 
 TEST(InterruptProbe, RecordsFollowTheAcknowledgeSequenceAndNameTheRealHandlers) {
-    Bench b;
+    ProbedController b;
     sc_core::sc_start(us(400000));
     ASSERT_EQ(b.host.counters().frames_delivered, 3u);
     const std::uint32_t handler[4] = {comm_fw::code::isr_port0, comm_fw::code::isr_port1,
@@ -88,7 +88,7 @@ TEST(InterruptProbe, RecordsFollowTheAcknowledgeSequenceAndNameTheRealHandlers) 
 }
 
 TEST(InterruptProbe, HandsEveryRecordOverOnceInEntryOrderAndNoneStartsBeforeTheHorizon) {
-    Bench b;
+    ProbedController b;
     std::vector<InterruptRecord> handed;
     std::vector<std::pair<std::size_t, sc_core::sc_time>> settled; // records handed so far, horizon
     b.probe.on_record = [&](const InterruptRecord& r) { handed.push_back(r); };
@@ -135,7 +135,7 @@ TEST(InterruptProbe, HandsEveryRecordOverOnceInEntryOrderAndNoneStartsBeforeTheH
 }
 
 TEST(InterruptProbe, KeepsNoRecordWhenToldNot) {
-    Bench b;
+    ProbedController b;
     b.probe.keep_records(false);
     std::uint64_t handed = 0;
     b.probe.on_record = [&](const InterruptRecord&) { ++handed; };

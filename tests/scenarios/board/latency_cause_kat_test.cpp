@@ -1,5 +1,5 @@
 // Latency causes (scenarios/board/latency_cause.h) known-answer tests: nasm ROMs (tests/scenarios/board/kat/)
-// on an 8086 + 8259A (+ IDT7130) bench with the communication board's map and wait states, the
+// on an 8086 + 8259A (+ IDT7130) board with the communication board's map and wait states, the
 // 8259A watched by the probe, IR lines raised at known times. Each phase of a latency and each
 // cause's figure is derived below in clocks, not taken from the probe:
 //   [TAB]  8086 clock tables (instruction already in the queue, boundary to boundary): NOP 3,
@@ -31,6 +31,7 @@
 #include "scenarios/run/cause_symbols.h"
 #include "scenarios/verdict/latency_causes.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 #include <tlm_utils/simple_target_socket.h>
@@ -58,11 +59,6 @@ constexpr unsigned kTailOutRead = 10, kTailEoi = 20, kTailIretRead = 23; // (T)
 
 std::string kat(const std::string& file) { return std::string(RCSIM_LATENCY_KAT) + "/" + file; }
 
-std::vector<std::uint8_t> read_rom(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 struct IrStep {
     sc_time at;
     unsigned level;
@@ -72,7 +68,7 @@ struct IrStep {
 // Cpu8086 + 8259A + IDT7130 (left port at D0000) with the board's map and wait states; the ROM
 // and its symbols from nasm; vector 20h + n -> the ROM's isrN. A right-port read of the DP-RAM's
 // byte 010h at `right_at` (if set) holds it for `right_clocks` clocks.
-struct Bench : sc_module {
+struct CpuPicDpram : sc_module {
     CommBoardConfig cfg;
     std::vector<std::uint8_t> ram = std::vector<std::uint8_t>(cfg.ram_size, 0);
     std::vector<std::uint8_t> rom;
@@ -82,7 +78,7 @@ struct Bench : sc_module {
     Router mem{"mem"};
     Pic8259 pic{"pic"};
     Idt7130 dpram{"dpram"};
-    tlm_utils::simple_initiator_socket<Bench> right{"right"};
+    tlm_utils::simple_initiator_socket<CpuPicDpram> right{"right"};
     IrqLine intr{"intr"}, nmi{"nmi"}, int_l{"int_l"}, int_r{"int_r"};
     sc_vector<IrqLine> ir{"ir", 8};
     std::vector<IrStep> script;
@@ -92,9 +88,9 @@ struct Bench : sc_module {
     std::vector<Idt7130::BusyEvent> busy;
     std::vector<i8086::BusRecord> dpram_cycles; // the CPU's DP-RAM cycles
 
-    SC_HAS_PROCESS(Bench);
-    Bench(sc_module_name name, const std::string& rom_name, std::vector<IrStep> steps)
-        : sc_module(name), rom(read_rom(kat(rom_name + ".bin"))),
+    SC_HAS_PROCESS(CpuPicDpram);
+    CpuPicDpram(sc_module_name name, const std::string& rom_name, std::vector<IrStep> steps)
+        : sc_module(name), rom(test::slurp_bytes(kat(rom_name + ".bin"))),
           symbols(debug::SymbolTable::load_nasm_map(kat(rom_name + ".map"))), script(std::move(steps)),
           probe("probe", cpu, lines(), cfg.pic_io_base, cfg.dpram_base, Idt7130::kSize) {
         EXPECT_EQ(rom.size(), cfg.rom_size) << rom_name;
@@ -119,7 +115,7 @@ struct Bench : sc_module {
         probe.watch_pic(pic);
         cpu.set_debug_bus_observer(
             [](void* self, const i8086::BusRecord& r) {
-                auto* b = static_cast<Bench*>(self);
+                auto* b = static_cast<CpuPicDpram*>(self);
                 if (r.address - b->cfg.dpram_base < Idt7130::kSize && r.kind != i8086::Bus::io_read &&
                     r.kind != i8086::Bus::io_write && r.kind != i8086::Bus::int_ack)
                     b->dpram_cycles.push_back(r);
@@ -191,7 +187,7 @@ void expect_phases(const InterruptRecord& r, const std::vector<Want>& want) {
 
 // The first level-3 record is the wake-up of main from HLT at boundary b (the CPU was halted:
 // its INTA1 is (E)'s).
-void expect_wake(const Bench& b, std::uint64_t wake) {
+void expect_wake(const CpuPicDpram& b, std::uint64_t wake) {
     const InterruptRecord& w = b.record_of(3);
     EXPECT_EQ(w.inta1, at_clock(wake + kToInta1));
     EXPECT_EQ(w.iret_done, at_clock(wake + kWakeToReturn));
@@ -211,7 +207,7 @@ SymbolOf symbols_of(const std::string& rom) { return cause_symbols(kat(rom + ".m
 // 490.5 clocks, interrupts disabled since the CLI's boundary, until STI's end.
 TEST(LatencyCauseKat, InterruptsDisabledFromCliToSti) {
     constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, until = r + 310, boundary = until + 144;
-    Bench b("bench", "kat_cli", {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 20), 3, true}});
+    CpuPicDpram b("board", "kat_cli", {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 20), 3, true}});
     sc_start(us(250));
     ASSERT_EQ(b.probe.records().size(), 2u);
     expect_wake(b, wake);
@@ -250,7 +246,7 @@ TEST(LatencyCauseKat, InterruptsDisabledFromCliToSti) {
 // the boundary r0+24 = 614 after the IRET's opcode read at r0+23, where IR3 is taken.
 // IR1 in service 80 + 53 = 133 clocks, IR0 72: the cause is rs232_1 in service.
 TEST(LatencyCauseKat, HigherPriorityHandlerInService) {
-    Bench b("bench", "kat_in_service",
+    CpuPicDpram b("board", "kat_in_service",
             {{mid_clock(320), 1, true}, {mid_clock(360), 1, false}, {mid_clock(400), 3, true}, {mid_clock(480), 0, true},
              {mid_clock(520), 0, false}});
     sc_start(us(150));
@@ -287,7 +283,7 @@ TEST(LatencyCauseKat, HigherPriorityHandlerInService) {
 // the DIV, then (E).
 TEST(LatencyCauseKat, LongDivInProgress) {
     constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, div_start = r + 6, boundary = div_start + 144;
-    Bench b("bench", "kat_div",
+    CpuPicDpram b("board", "kat_div",
             {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 56), 0, true}, {mid_clock(900), 0, false}});
     sc_start(us(150));
     ASSERT_EQ(b.probe.records().size(), 2u);
@@ -324,7 +320,7 @@ TEST(LatencyCauseKat, LongDivInProgress) {
 // the rest of the MOV, then the entry.
 TEST(LatencyCauseKat, DpramBusyHoldsTheBus) {
     constexpr std::uint64_t wake = 601, r = wake + kWakeToReturn, busy_end = r + 5 + 100 + 1;
-    Bench b("bench", "kat_busy",
+    CpuPicDpram b("board", "kat_busy",
             {{mid_clock(600), 3, true}, {mid_clock(640), 3, false}, {mid_clock(r + 40), 0, true}, {mid_clock(1000), 0, false}});
     b.right_at = at_clock(r + 5);
     b.right_clocks = 100;

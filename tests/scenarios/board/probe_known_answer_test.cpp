@@ -1,4 +1,4 @@
-// InterruptProbe known-answer tests: a hand-assembled program on a minimal 8086 + 8259A bench
+// InterruptProbe known-answer tests: a hand-assembled program on a minimal 8086 + 8259A board
 // with the communication board's memory map and wait states, interrupts raised at known times,
 // handlers of known instructions. Every expected time below is derived in clocks from the 8086's
 // documented interrupt sequence and bus rules, not from the probe:
@@ -148,7 +148,7 @@ Rom program(std::uint8_t imr) {
     return rom;
 }
 
-// ---- The bench ---------------------------------------------------------------------------
+// ---- The board ----------------------------------------------------------------------------
 
 struct IrStep {
     sc_time at;
@@ -157,21 +157,21 @@ struct IrStep {
 };
 
 // Cpu8086 + 8259A with the board's map and wait states; memory outside RAM/ROM is open bus.
-struct Bench : sc_module {
+struct CpuPic : sc_module {
     CommBoardConfig cfg;
     std::vector<std::uint8_t> ram = std::vector<std::uint8_t>(cfg.ram_size, 0);
     std::vector<std::uint8_t> rom;
     Cpu8086 cpu{"cpu"};
     Router io{"io", true};
     Pic8259 pic{"pic"};
-    tlm_utils::simple_target_socket<Bench> open_bus{"open_bus"};
+    tlm_utils::simple_target_socket<CpuPic> open_bus{"open_bus"};
     IrqLine intr{"intr"}, nmi{"nmi"};
     sc_vector<IrqLine> ir{"ir", 8};
     std::vector<IrStep> script;
     InterruptProbe probe;
 
-    SC_HAS_PROCESS(Bench);
-    Bench(sc_module_name name, const Rom& image, std::vector<IrStep> steps)
+    SC_HAS_PROCESS(CpuPic);
+    CpuPic(sc_module_name name, const Rom& image, std::vector<IrStep> steps)
         : sc_module(name), rom(image.bytes), script(std::move(steps)),
           probe("probe", cpu, lines(), cfg.pic_io_base, cfg.dpram_base, 0) {
         cpu.map_memory({"ram", cfg.ram_base, cfg.ram_size, ram.data(), cfg.ram_wait, true});
@@ -185,7 +185,7 @@ struct Bench : sc_module {
         io.out.bind(pic.bus);
         io.map(cfg.pic_io_base, 4, 0, "pic", cfg.io_wait);
         for (unsigned n = 0; n < 8; ++n) pic.ir[n](ir[n]);
-        open_bus.register_b_transport(this, &Bench::unmapped);
+        open_bus.register_b_transport(this, &CpuPic::unmapped);
         // Vector table: type 20h+n -> F000:isr_offset(n).
         for (unsigned n = 0; n < 8; ++n) {
             std::uint8_t* v = &ram[4 * (kVectorBase + n)];
@@ -257,7 +257,7 @@ Rom main_halt_then(std::initializer_list<std::uint8_t> code, std::uint8_t imr = 
 // rise (docs/cpu8086.md "HLT"), then (E) and (H).
 TEST(ProbeKnownAnswer, InterruptIntoHlt) {
     ASSERT_EQ(wake_boundary(t1()), kB1);
-    Bench b("bench", main_halt_then({0x90}), {{t1(), 3, true}, {t1_fall(), 3, false}});
+    CpuPic b("board", main_halt_then({0x90}), {{t1(), 3, true}, {t1_fall(), 3, false}});
     sc_start(us(100));
     ASSERT_EQ(b.probe.records().size(), 1u);
     const InterruptRecord& r = b.record(0);
@@ -276,7 +276,7 @@ TEST(ProbeKnownAnswer, InterruptIntoNopRun) {
     const std::uint16_t main = rom.pc;
     rom.sti().hlt().nop(60).jmp_short(std::uint16_t(main + 1));
     const sc_time t2 = mid_clock(kResume + kNopIdleBoundary - 2);
-    Bench b("bench", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t2, 3, true}});
+    CpuPic b("board", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t2, 3, true}});
     sc_start(us(100));
     ASSERT_EQ(b.probe.records().size(), 2u);
     expect_plain_entry(b.record(0), 3, 0, kB1, t1());
@@ -297,7 +297,7 @@ TEST(ProbeKnownAnswer, RiseWhileInterruptsDisabledCountsFromTheRise) {
     rom.sti().hlt().cli().nop(2).sti().nop(40).jmp_short(std::uint16_t(main + 1));
     // Rise 10.5 clocks after the return fetch: after CLI's boundary (resume+8), during the NOPs.
     const sc_time t2 = mid_clock(kResume + 10);
-    Bench b("bench", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t2, 3, true}});
+    CpuPic b("board", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t2, 3, true}});
     sc_start(us(100));
     ASSERT_EQ(b.probe.records().size(), 2u);
     const std::uint64_t boundary = kResume + kAfterStiBoundary;
@@ -318,7 +318,7 @@ TEST(ProbeKnownAnswer, NestedHigherPriorityInterrupt) {
     // OCW3 0Bh at 02C0; HLT at 02C5: IR0 returns to 02C6 (even, as (T) assumes).
     rom.org(isr_offset(3)).mov_al(0x0B).out_al(0xC0).sti().hlt().eoi_iret().org(pc);
     const sc_time t0 = mid_clock(480), t0_fall = mid_clock(520);
-    Bench b("bench", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t0, 0, true}, {t0_fall, 0, false}});
+    CpuPic b("board", rom, {{t1(), 3, true}, {t1_fall(), 3, false}, {t0, 0, true}, {t0_fall, 0, false}});
     sc_start(us(100));
     ASSERT_EQ(b.probe.records().size(), 2u);
     // Records are stored as they complete: the inner one first.

@@ -17,12 +17,8 @@ import sys
 import tempfile
 import time
 
-SOH, STX, ETX, EOT, ENQ, ACK = b"\x01", b"\x02", b"\x03", b"\x04", b"\x05", b"\x06"
-
-
-def frame(token, data, bch=b"00"):
-    body = token + STX + bch + data
-    return SOH + body + b"%02X" % (sum(body) & 0xFF) + ETX
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import ACK, ENQ, EOT, SOH, protocol_frame, wait_for  # noqa: E402
 
 
 def recv_exactly(s, n):
@@ -49,10 +45,8 @@ def main():
                                    stdout=log, stderr=subprocess.STDOUT, env=env)
             try:
                 port_file = os.path.join(out, "port.txt")  # a relative output lands under --out
-                for _ in range(600):
-                    if os.path.exists(port_file) and open(port_file).read().strip():
-                        break
-                    time.sleep(0.05)
+                wait_for(lambda: os.path.exists(port_file) and open(port_file).read().strip(), run, timeout=30,
+                         poll=0.05)
                 port = int(open(port_file).read())
                 s = socket.create_connection(("127.0.0.1", port), timeout=20)
                 s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
@@ -60,7 +54,7 @@ def main():
                 s.sendall(ENQ)
                 if recv_exactly(s, 1) != ACK:
                     problems.append("no ACK to the ENQ")
-                s.sendall(frame(b"EC", b"x" * 200))
+                s.sendall(protocol_frame(b"EC", b"x" * 200))
                 if recv_exactly(s, 1) != EOT:
                     problems.append("no EOT for the frame")
                 if recv_exactly(s, 1) != ENQ:

@@ -1,4 +1,5 @@
 #include "scenarios/config/yaml_map.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -58,10 +59,10 @@ TEST(YamlMap, RangeCheckNamesValue) {
 }
 
 TEST(YamlMap, SyntaxErrorNamesLine) {
-    const auto path = std::filesystem::temp_directory_path() / "rcsim_yaml_map_bad.yaml";
+    const auto path = rcsim::test::scratch_dir() / "yaml_map_bad.yaml";
     std::ofstream(path) << "a: 1\nb: [1, 2\n";
     const std::string msg = message_of([&] { load_yaml_file(path.string()); });
-    EXPECT_NE(msg.find("rcsim_yaml_map_bad.yaml:"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("yaml_map_bad.yaml:"), std::string::npos) << msg;
     EXPECT_NE(msg.find("syntax"), std::string::npos) << msg;
     EXPECT_NE(message_of([] { load_yaml_file("/nonexistent/x.yaml"); }).find("cannot open"), std::string::npos);
 }
@@ -127,11 +128,7 @@ TEST(YamlMap, MapsNameEachElementByIndex) {
 namespace {
 /// load_yaml_file() on `text`; the message it throws, "" when none.
 std::string load_error(const std::string& text) {
-    // One directory per test: CTest runs the tests of this file in parallel processes.
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("rcsim_yaml_map_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::create_directories(dir);
-    const auto path = dir / "strict.yaml";
+    const auto path = rcsim::test::scratch_dir() / "strict.yaml";
     std::ofstream(path) << text;
     return message_of([&] { load_yaml_file(path.string()); });
 }
@@ -165,7 +162,7 @@ TEST(YamlMap, SecondDocumentIsAnError) {
 TEST(YamlMap, InputMustBeARegularFileOfBoundedSize) {
     EXPECT_NE(message_of([] { load_yaml_file("/dev/zero"); }).find("/dev/zero: is not a regular file"),
               std::string::npos);
-    const auto big = std::filesystem::temp_directory_path() / "rcsim_yaml_map_big.yaml";
+    const auto big = rcsim::test::scratch_dir() / "yaml_map_big.yaml";
     std::ofstream(big) << "a: 1\n";
     std::filesystem::resize_file(big, kMaxYamlFileBytes + 1);
     EXPECT_NE(message_of([&] { load_yaml_file(big.string()); }).find("a scenario file is at most 4194304 bytes"),

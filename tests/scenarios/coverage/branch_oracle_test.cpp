@@ -5,6 +5,7 @@
 // flags it tests, no interrupts), and the two must agree at every jump.
 #include "scenarios/coverage/counters.h"
 #include "tests/comm_cpu/i8086/cpu_board.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -17,8 +18,7 @@ using i8086::test::Board;
 
 TEST(BranchOracle, TakenIsTheNextInstructionBeingTheTarget) {
     constexpr std::uint32_t kLoad = 0x10000; // 1000:0000, where Board runs code
-    std::ifstream in(RCSIM_COVERAGE_ORACLE_BIN, std::ios::binary);
-    const std::vector<std::uint8_t> code((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> code = test::slurp_bytes(RCSIM_COVERAGE_ORACLE_BIN);
     ASSERT_FALSE(code.empty());
     Board b;
     b.load(code, kLoad);

@@ -34,7 +34,8 @@ import sys
 import threading
 import time
 
-from gdb_garbage import connect, frame, read_for  # the RSP framing and socket helpers
+from gdb_garbage import GDB_LISTENING, connect, frame, read_for  # the RSP framing and socket helpers
+from rcsim_test import Rcsim, rss_kib, status_kib  # tests/support, on the path since gdb_garbage's import
 
 MARGIN_S = 4.0      # a paced run may end this much later than duration + held time
 MEMORY_MB = 64      # VmHWM may exceed the attached VmRSS by this much
@@ -42,48 +43,27 @@ CTRL_C_S = 1.0      # Ctrl-C while running is answered within this
 SIGTERM_S = 1.0     # SIGTERM ends the run within this
 
 
-def status_kb(pid, key):
-    try:
-        with open("/proc/%d/status" % pid) as f:
-            for line in f:
-                if line.startswith(key + ":"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return None
-
-
-class Run:
+class Run(Rcsim):
     """rcsim run SCENARIO --gdb 127.0.0.1:0 --gdb-wait, its port, its stderr and its peak memory."""
 
     def __init__(self, rcsim, scenario, out):
         self.out = out
-        self.err = open(out + ".err", "w+")
-        self.proc = subprocess.Popen([rcsim, "run", scenario, "--out", out, "--reproducible",
-                                      "--gdb", "127.0.0.1:0", "--gdb-wait"],
-                                     stdout=subprocess.PIPE, stderr=self.err)
-        self.port = None
-        for line in self.proc.stdout:
-            m = re.match(rb"gdb: listening on 127\.0\.0\.1:(\d+)", line)
-            if m:
-                self.port = int(m.group(1))
-                break
-        if self.port is None:
-            self.kill()
-            raise SystemExit("FAIL: no listening line")
+        super().__init__(rcsim, ["run", scenario, "--out", out, "--reproducible", "--gdb", "127.0.0.1:0", "--gdb-wait"],
+                         {"gdb": GDB_LISTENING}, stderr=open(out + ".err", "w+"))
+        self.port = int(self.found["gdb"].group(1))
         threading.Thread(target=self.proc.stdout.read, daemon=True).start()
         self.hwm_kb = 0
         threading.Thread(target=self._sample, daemon=True).start()
 
     def _sample(self):
         while self.proc.poll() is None:
-            v = status_kb(self.proc.pid, "VmHWM")
+            v = status_kib(self.proc.pid, "VmHWM")
             if v:
                 self.hwm_kb = max(self.hwm_kb, v)
             time.sleep(0.02)
 
     def rss_kb(self):
-        return status_kb(self.proc.pid, "VmRSS") or 0
+        return rss_kib(self.proc.pid)
 
     def log(self):
         self.err.seek(0)

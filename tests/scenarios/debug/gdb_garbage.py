@@ -25,6 +25,12 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import Rcsim  # noqa: E402
+
+# The line `rcsim run --gdb` prints once its stub listens.
+GDB_LISTENING = r"gdb: listening on 127\.0\.0\.1:(\d+)"
+
 
 def frame(payload: bytes) -> bytes:
     return b"$" + payload + b"#" + b"%02x" % (sum(payload) & 0xFF)
@@ -72,16 +78,9 @@ def main():
                    stdout=subprocess.DEVNULL)
 
     err = open(work + "/dbg.err", "w+")
-    proc = subprocess.Popen([rcsim, "run", scenario, "--out", work + "/dbg", "--reproducible",
-                             "--gdb", "127.0.0.1:0", "--gdb-wait"], stdout=subprocess.PIPE, stderr=err)
-    port = None
-    for line in proc.stdout:
-        m = re.match(rb"gdb: listening on 127\.0\.0\.1:(\d+)", line)
-        if m:
-            port = int(m.group(1))
-            break
-    if port is None:
-        raise SystemExit("FAIL: no listening line")
+    run = Rcsim(rcsim, ["run", scenario, "--out", work + "/dbg", "--reproducible", "--gdb", "127.0.0.1:0", "--gdb-wait"],
+                {"gdb": GDB_LISTENING}, stderr=err)
+    proc, port = run.proc, int(run.found["gdb"].group(1))
 
     # 1: noise, a bad checksum, then good packets; disconnect while stopped.
     s = connect(port)

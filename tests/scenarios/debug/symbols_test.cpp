@@ -6,6 +6,7 @@
 #include "models/plumbing/hex.h"
 
 #include "comm_fw_symbols.h" // generated from the same map by comm_fw_mkrom
+#include "tests/support/files.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -27,8 +28,7 @@ using Kind = Symbol::Kind;
 
 // One file per test (CTest runs the tests of this file in parallel processes).
 std::string write(const std::string& text) {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    const std::string path = testing::TempDir() + "rcsim_sym_" + info->name() + "_" + std::to_string(getpid());
+    const std::string path = (rcsim::test::scratch_dir() / "symbols.txt").string();
     std::ofstream(path) << text;
     return path;
 }
@@ -80,8 +80,7 @@ TEST(Symbols, Ld86MapOfTheBuiltFirmwareMatchesTheGeneratedHeader) {
 // global before them (mb_post) no longer runs over them.
 TEST(Symbols, Ld86MapOfTheBuiltFirmwareNamesItsStaticFunctions) {
     const auto table = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
-    std::ifstream in(RCSIM_COMM_FW_ROM, std::ios::binary);
-    const std::vector<std::uint8_t> rom((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> rom = test::slurp_bytes(RCSIM_COMM_FW_ROM);
     ASSERT_EQ(rom.size(), 0x10000u);
     // bcc -0's function entry: push bp; mov bp,sp; push di; push si.
     const std::vector<std::uint8_t> prologue{0x55, 0x89, 0xE5, 0x57, 0x56};

@@ -13,6 +13,7 @@
 
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 
@@ -35,13 +36,13 @@ struct Unused : sc_core::sc_module {
 };
 
 /// An 82510 at 9600 8E1 on side a of a line, a raw host on side b.
-struct Bench {
+struct UartAndRawHost {
     SerialLine line{"line"};
     Uart82510 uart{"uart"};
     Unused cpu{"cpu"};
     IrqLine irq{"irq"};
     RawHost host;
-    explicit Bench(const RawHostConfig& cfg = {}) : host("host", cfg) {
+    explicit UartAndRawHost(const RawHostConfig& cfg = {}) : host("host", cfg) {
         cpu.sock.bind(uart.bus);
         uart.int_out.bind(irq);
         uart.connect(line, SerialLine::a);
@@ -62,9 +63,9 @@ struct Bench {
 
 TEST(HostBreakOverlap, BreakEndingBeforeTheStartBitLeavesTheCharacterIntact) {
     // BREAK [0, 2 frames) from the controller's side; 'A' written 1 bit after its end.
-    Bench b;
-    Bench::at(sc_core::SC_ZERO_TIME, [&] { b.line.insert_break(SerialLine::a, k_char * 2.0); });
-    Bench::at(k_char * 2.0 + k_bit.span(2), [&] { b.uart.write(TXD, 'A'); });
+    UartAndRawHost b;
+    UartAndRawHost::at(sc_core::SC_ZERO_TIME, [&] { b.line.insert_break(SerialLine::a, k_char * 2.0); });
+    UartAndRawHost::at(k_char * 2.0 + k_bit.span(2), [&] { b.uart.write(TXD, 'A'); });
     sc_core::sc_start();
     ASSERT_EQ(b.host.breaks().size(), 2u);
     EXPECT_EQ(b.host.breaks()[0], std::make_pair(k_char, true));
@@ -81,14 +82,14 @@ TEST(HostBreakOverlap, BreakStartingMidCharacterCutsItAndSwallowsTheNext) {
     // its even parity bit would be 1, read 0: parity error; STOP 0: framing error. 'B' starts at
     // one frame, inside the BREAK: no edge, nothing of it arrives. The log shows "01 PF".
     RawHostConfig cfg;
-    cfg.log_path = testing::TempDir() + "host_break_mid.log";
-    Bench b(cfg);
+    cfg.log_path = (test::scratch_dir() / "host_break_mid.log").string();
+    UartAndRawHost b(cfg);
     const sc_time fall = k_bit.span(11);
-    Bench::at(sc_core::SC_ZERO_TIME, [&] {
+    UartAndRawHost::at(sc_core::SC_ZERO_TIME, [&] {
         b.uart.write(TXD, 'A');
         b.uart.write(TXD, 'B');
     });
-    Bench::at(fall, [&] { b.line.insert_break(SerialLine::a, k_char * 3.0); });
+    UartAndRawHost::at(fall, [&] { b.line.insert_break(SerialLine::a, k_char * 3.0); });
     sc_core::sc_start();
     ASSERT_EQ(b.host.received().size(), 1u);
     EXPECT_EQ(b.host.received()[0].byte, 0x01);
@@ -109,11 +110,11 @@ TEST(HostBreakOverlap, BreakStartingMidCharacterCutsItAndSwallowsTheNext) {
 TEST(HostBreakOverlap, SetBreakAfterTheStopSampleLeavesTheCharacterIntact) {
     // 0xFF written at 0; LCR.SBK set 1 ps after the STOP sample (10.5 bits), cleared 3 frames
     // later: the character arrives intact, then the break (detected one frame after the fall).
-    Bench b;
+    UartAndRawHost b;
     const sc_time fall = k_bit.span(21) + ps(1);
-    Bench::at(sc_core::SC_ZERO_TIME, [&] { b.uart.write(TXD, 0xFF); });
-    Bench::at(fall, [&] { b.uart.write(LCR, 0x1B | LCR_SBK); });
-    Bench::at(fall + k_char * 3.0, [&] { b.uart.write(LCR, 0x1B); });
+    UartAndRawHost::at(sc_core::SC_ZERO_TIME, [&] { b.uart.write(TXD, 0xFF); });
+    UartAndRawHost::at(fall, [&] { b.uart.write(LCR, 0x1B | LCR_SBK); });
+    UartAndRawHost::at(fall + k_char * 3.0, [&] { b.uart.write(LCR, 0x1B); });
     sc_core::sc_start();
     ASSERT_EQ(b.host.received().size(), 1u);
     EXPECT_EQ(b.host.received()[0].byte, 0xFF);
@@ -127,9 +128,9 @@ TEST(HostBreakOverlap, BreakCoveringCharactersDeliversOnlyTheBreak) {
     // BREAK [0, 5 frames); "OK" written at one frame: both STARTs (1 and 2 frames) fall inside
     // it. The host receives no byte, only the break detect (the all-zero character with its STOP
     // at SPACE) at one frame and its end at five.
-    Bench b;
-    Bench::at(sc_core::SC_ZERO_TIME, [&] { b.line.insert_break(SerialLine::a, k_char * 5.0); });
-    Bench::at(k_char, [&] {
+    UartAndRawHost b;
+    UartAndRawHost::at(sc_core::SC_ZERO_TIME, [&] { b.line.insert_break(SerialLine::a, k_char * 5.0); });
+    UartAndRawHost::at(k_char, [&] {
         b.uart.write(TXD, 'O');
         b.uart.write(TXD, 'K');
     });
@@ -180,7 +181,7 @@ TEST(HostBreakOverlap, ControllerSideBreakOverTheAckMakesTheProtocolHostRetry) {
             }
         }
     }, "controller");
-    Bench::at(us(2000), [&] { line.insert_break(SerialLine::a, us(10000)); });
+    UartAndRawHost::at(us(2000), [&] { line.insert_break(SerialLine::a, us(10000)); });
     sc_core::sc_start(sc_core::sc_time(1, sc_core::SC_SEC));
     const auto& c = host.counters();
     EXPECT_EQ(c.timeouts, 1u);

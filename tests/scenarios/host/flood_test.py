@@ -21,24 +21,8 @@ import sys
 import tempfile
 import time
 
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
-
-
-def rss_kib(pid):
-    try:
-        with open("/proc/%d/status" % pid) as f:
-            for line in f:
-                if line.startswith("VmRSS:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return 0
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures, rss_kib, wait_for  # noqa: E402
 
 
 def start(rcsim, tmp, name, duration):
@@ -50,9 +34,7 @@ def start(rcsim, tmp, name, duration):
     err = tempfile.TemporaryFile(mode="w+")
     proc = subprocess.Popen([rcsim, "run", scenario, "--out", out], stdout=subprocess.PIPE, stderr=err, text=True)
     port_file = os.path.join(out, "port")
-    end = time.monotonic() + 20
-    while not os.path.exists(port_file) and time.monotonic() < end and proc.poll() is None:
-        time.sleep(0.02)
+    wait_for(lambda: os.path.exists(port_file), proc, timeout=20)
     with open(port_file) as f:
         return proc, out, int(f.read()), err
 

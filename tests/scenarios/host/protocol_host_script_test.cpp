@@ -15,8 +15,6 @@ using sc_core::sc_time;
 
 namespace {
 
-sc_time ms(std::uint64_t v) { return us(1000 * v); }
-
 /// Answers ENQ with ACK and a command frame with EOT, then 2 ms later sends ENQ and, 5 ms after
 /// that (the host's ACK takes one character, 1.15 ms), the response `respond(command)`.
 struct Responder : sc_core::sc_module, SerialEndpoint {
@@ -76,11 +74,11 @@ struct Responder : sc_core::sc_module, SerialEndpoint {
     void rx_break(bool) override {}
 };
 
-struct Bench {
+struct HostAndResponder {
     SerialLine line{"line"};
     ProtocolHost host;
     Responder fake{"fake", line};
-    explicit Bench(const ProtocolHostConfig& cfg) : host("host", cfg) { host.connect(line, SerialLine::a); }
+    explicit HostAndResponder(const ProtocolHostConfig& cfg) : host("host", cfg) { host.connect(line, SerialLine::a); }
 };
 
 ScriptStep command(const std::string& token, const std::string& data, int expect_bch = -1, int line = 0) {
@@ -104,7 +102,7 @@ ProtocolHostConfig scripted(std::vector<ScriptStep> steps) {
 } // namespace
 
 TEST(ProtocolHostScript, StepsRunInOrderEachAfterItsResponse) {
-    Bench b(scripted({command("EC", "one", 0), command("PW", "1,2", 0), command("EC", "three", 0)}));
+    HostAndResponder b(scripted({command("EC", "one", 0), command("PW", "1,2", 0), command("EC", "three", 0)}));
     sc_core::sc_start(ms(500));
     const ScriptResult& r = b.host.script_result();
     EXPECT_TRUE(r.done()) << r.failure;
@@ -124,7 +122,7 @@ TEST(ProtocolHostScript, StepsRunInOrderEachAfterItsResponse) {
 }
 
 TEST(ProtocolHostScript, WrongBchFailsTheStepAndStopsTheScript) {
-    Bench b(scripted({command("EC", "a", 0, 11), command("XX", "", 0, 12), command("EC", "never", -1, 13)}));
+    HostAndResponder b(scripted({command("EC", "a", 0, 11), command("XX", "", 0, 12), command("EC", "never", -1, 13)}));
     b.fake.respond = [](const Frame& c) { return Frame{c.token, c.token == "XX" ? std::uint8_t{1} : std::uint8_t{0}, ""}; };
     sc_core::sc_start(ms(500));
     const ScriptResult& r = b.host.script_result();
@@ -138,7 +136,7 @@ TEST(ProtocolHostScript, WrongBchFailsTheStepAndStopsTheScript) {
 }
 
 TEST(ProtocolHostScript, WaitStatePollsStUntilTheState) {
-    Bench b(scripted({wait_state("STANDSTILL", ms(1000)), command("EC", "after", 0)}));
+    HostAndResponder b(scripted({wait_state("STANDSTILL", ms(1000)), command("EC", "after", 0)}));
     int polls = 0;
     b.fake.respond = [&polls](const Frame& c) {
         if (c.token != "ST") return Frame{c.token, 0, c.data};
@@ -153,7 +151,7 @@ TEST(ProtocolHostScript, WaitStatePollsStUntilTheState) {
 }
 
 TEST(ProtocolHostScript, WaitStateTimesOut) {
-    Bench b(scripted({wait_state("STANDSTILL", ms(200), 7)}));
+    HostAndResponder b(scripted({wait_state("STANDSTILL", ms(200), 7)}));
     b.fake.respond = [](const Frame&) { return Frame{"ST", 0, "DISABLED,IDLE,"}; };
     sc_core::sc_start(ms(1000));
     const ScriptResult& r = b.host.script_result();
@@ -172,7 +170,7 @@ TEST(ProtocolHostScript, AtAndDelayHoldTheNextStep) {
     pause.duration = ms(100);
     ScriptStep late = command("EC", "late");
     late.at = ms(300);
-    Bench b(scripted({command("EC", "now"), pause, command("EC", "then"), late}));
+    HostAndResponder b(scripted({command("EC", "now"), pause, command("EC", "then"), late}));
     sc_core::sc_start(ms(800));
     ASSERT_TRUE(b.host.script_result().done()) << b.host.script_result().failure;
     ASSERT_EQ(b.fake.etx_at.size(), 3u);
@@ -185,7 +183,7 @@ TEST(ProtocolHostScript, AtAndDelayHoldTheNextStep) {
 TEST(ProtocolHostScript, WaitNoneGoesOnAtTheEot) {
     ScriptStep a = command("EC", "a");
     a.wait_response = false;
-    Bench b(scripted({a, command("EC", "b")}));
+    HostAndResponder b(scripted({a, command("EC", "b")}));
     b.fake.respond = [](const Frame& c) { return Frame{c.token, 0, c.data}; };
     sc_core::sc_start(ms(500));
     EXPECT_TRUE(b.host.script_result().done());

@@ -5,6 +5,7 @@
 
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/serial_times.h"
 
 #include <deque>
 #include <map>
@@ -15,8 +16,7 @@ using sc_core::sc_time;
 
 namespace {
 
-const sc_time k_char = ps(1'145'833'333); // 9600 8E1
-sc_time ms(std::uint64_t v) { return us(1000 * v); }
+const sc_time k_char = test::char_time_9600_8e1();
 
 /// A scripted controller: answers trigger bytes from per-trigger reply lists (default: ENQ ->
 /// ACK, ETX -> EOT, "" = stay silent) after `delay`, and sends scheduled byte strings.
@@ -91,11 +91,11 @@ struct FakeController : sc_core::sc_module, SerialEndpoint {
     }
 };
 
-struct Bench {
+struct HostAndFake {
     SerialLine line{"line"};
     ProtocolHost host;
     FakeController fake{"fake", line};
-    explicit Bench(ProtocolHostConfig cfg = {}) : host("host", cfg) { host.connect(line, SerialLine::a); }
+    explicit HostAndFake(ProtocolHostConfig cfg = {}) : host("host", cfg) { host.connect(line, SerialLine::a); }
 };
 
 ProtocolHostConfig no_wait() {
@@ -109,7 +109,7 @@ const Frame k_cmd{"EC", 0, "hello"};
 } // namespace
 
 TEST(ProtocolHost, CommandAckedAndDelivered) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.host.send(k_cmd);
     sc_core::sc_start(ms(200));
     EXPECT_EQ(b.fake.bytes(), "\x05" + encode(k_cmd));
@@ -133,7 +133,7 @@ TEST(ProtocolHost, CommandAckedAndDelivered) {
 }
 
 TEST(ProtocolHost, NakOnEnqThenRetryAfterBackoff) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.replies[ENQ] = {"\x15"}; // first ENQ refused, then the default ACK
     b.host.send(k_cmd);
     sc_core::sc_start(ms(300));
@@ -148,7 +148,7 @@ TEST(ProtocolHost, NakOnEnqThenRetryAfterBackoff) {
 }
 
 TEST(ProtocolHost, NakOnFrameRetriesWithEnqThenTheWholeFrame) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.replies[ETX] = {"\x15"};
     b.host.send(k_cmd);
     sc_core::sc_start(ms(300));
@@ -163,7 +163,7 @@ TEST(ProtocolHost, NakOnFrameRetriesWithEnqThenTheWholeFrame) {
 }
 
 TEST(ProtocolHost, TimeoutThenRetry) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.replies[ENQ] = {""}; // silent once
     b.host.send(k_cmd);
     sc_core::sc_start(ms(300));
@@ -180,7 +180,7 @@ TEST(ProtocolHost, TimeoutThenRetry) {
 // START bit of the answer. The fake answers `delay` after the end of the trigger, so its START
 // comes exactly then: 49.9 ms is within T1 for both the ACK and the EOT ...
 TEST(ProtocolHost, AnswersStartingWithinT1AreTaken) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.delay = us(49'900);
     b.host.send(k_cmd);
     sc_core::sc_start(ms(400));
@@ -191,7 +191,7 @@ TEST(ProtocolHost, AnswersStartingWithinT1AreTaken) {
 
 // ... 50.1 ms is not: for the ACK ...
 TEST(ProtocolHost, AckStartingAfterT1IsATimeout) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.delay = us(50'100);
     b.host.send(k_cmd);
     sc_core::sc_start(ms(120));
@@ -201,7 +201,7 @@ TEST(ProtocolHost, AckStartingAfterT1IsATimeout) {
 
 // ... nor for the EOT (the ACK comes after the default 1 ms).
 TEST(ProtocolHost, EotStartingAfterT1IsATimeout) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.host.send(k_cmd);
     sc_core::sc_start(ms(5)); // ENQ, ACK; the frame is going out
     b.fake.delay = us(50'100);
@@ -214,7 +214,7 @@ TEST(ProtocolHost, EotStartingAfterT1IsATimeout) {
 }
 
 TEST(ProtocolHost, FrameTimeoutStartsOverWithEnq) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.replies[ETX] = {""};
     b.host.send(k_cmd);
     sc_core::sc_start(ms(400));
@@ -223,7 +223,7 @@ TEST(ProtocolHost, FrameTimeoutStartsOverWithEnq) {
 }
 
 TEST(ProtocolHost, GivesUpAfterThreeRetries) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     b.fake.replies[ENQ] = {"", "", "", "", ""};
     b.host.send(k_cmd);
     sc_core::sc_start(ms(1000));
@@ -239,7 +239,7 @@ TEST(ProtocolHost, GivesUpAfterThreeRetries) {
 }
 
 TEST(ProtocolHost, AcceptsAControllerFrameWithEot) {
-    Bench b;
+    HostAndFake b;
     const Frame resp{"ST", 0, "1,2,3"};
     b.fake.send_at(ms(1), "\x05");
     b.fake.replies[ACK] = {encode(resp)};
@@ -254,7 +254,7 @@ TEST(ProtocolHost, AcceptsAControllerFrameWithEot) {
 TEST(ProtocolHost, ReplyDelayIsTheHostsTurnaround) {
     ProtocolHostConfig cfg;
     cfg.timing.reply_delay = ms(3);
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.fake.send_at(ms(1), "\x05");
     b.fake.replies[ACK] = {encode(Frame{"ST", 0, ""})};
     sc_core::sc_start(ms(200));
@@ -268,7 +268,7 @@ TEST(ProtocolHost, ReplyDelayIsTheHostsTurnaround) {
 }
 
 TEST(ProtocolHost, BadChecksumIsAnsweredWithNak) {
-    Bench b;
+    HostAndFake b;
     std::string bad = encode(Frame{"ST", 0, "42"});
     bad[bad.size() - 2] ^= 1; // a wrong but well-formed checksum digit
     b.fake.send_at(ms(1), "\x05");
@@ -280,7 +280,7 @@ TEST(ProtocolHost, BadChecksumIsAnsweredWithNak) {
 }
 
 TEST(ProtocolHost, ParityErrorInAFrameIsAnsweredWithNak) {
-    Bench b;
+    HostAndFake b;
     b.fake.send_at(ms(1), "\x05");
     b.fake.replies[ACK] = {encode(Frame{"ST", 0, "42"})};
     b.line.inject(SerialLine::b, 3, FaultKind::flip_data_bit, 7); // the STX: ENQ, SOH, S, T, STX
@@ -290,7 +290,7 @@ TEST(ProtocolHost, ParityErrorInAFrameIsAnsweredWithNak) {
 }
 
 TEST(ProtocolHost, T2GapDropsThePartialFrame) {
-    Bench b;
+    HostAndFake b;
     const std::string f = encode(Frame{"ST", 0, "12345"});
     b.fake.send_at(ms(1), "\x05");
     // After the ACK: half the frame, a 20 ms silence, the rest. T2 runs from one received
@@ -308,7 +308,7 @@ TEST(ProtocolHost, T2GapDropsThePartialFrame) {
 }
 
 TEST(ProtocolHost, GapShorterThanT2IsFine) {
-    Bench b;
+    HostAndFake b;
     const std::string f = encode(Frame{"ST", 0, "12345"});
     b.fake.send_at(ms(1), "\x05");
     b.fake.replies[ACK] = {f.substr(0, 6)};
@@ -322,7 +322,7 @@ TEST(ProtocolHost, GapShorterThanT2IsFine) {
 TEST(ProtocolHost, RefusesControllerEnqWhenConfigured) {
     ProtocolHostConfig cfg;
     cfg.nak_enqs = 1;
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.fake.send_at(ms(1), "\x05");
     b.fake.send_at(ms(20), "\x05");
     b.fake.replies[ACK] = {encode(Frame{"ST", 0, ""})};
@@ -333,7 +333,7 @@ TEST(ProtocolHost, RefusesControllerEnqWhenConfigured) {
 }
 
 TEST(ProtocolHost, EnqCollisionTheExternalSystemWins) {
-    Bench b(no_wait());
+    HostAndFake b(no_wait());
     // Both sides send ENQ at t = 0. The controller yields: it ACKs ours (after seeing it), and
     // retries its own ENQ when our transaction is over.
     b.host.send(k_cmd);
@@ -353,7 +353,7 @@ TEST(ProtocolHost, EnqCollisionTheExternalSystemWins) {
 }
 
 TEST(ProtocolHost, WaitsForTheResponseBeforeTheNextCommand) {
-    Bench b; // wait_response on
+    HostAndFake b; // wait_response on
     b.host.send(k_cmd);
     b.host.send(Frame{"ST", 0, ""});
     // The controller answers the first command 30 ms after the EOT.
@@ -373,7 +373,7 @@ TEST(ProtocolHost, WaitsForTheResponseBeforeTheNextCommand) {
 TEST(ProtocolHost, ResponseTimeoutReleasesTheNextCommand) {
     ProtocolHostConfig cfg;
     cfg.traffic.response_timeout = ms(100);
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.host.send(k_cmd);
     b.host.send(k_cmd);
     sc_core::sc_start(ms(400));
@@ -392,7 +392,7 @@ TEST(HostTraffic, FixedRate) {
     cfg.traffic.rate = 20; // every 50 ms
     cfg.traffic.count = 4;
     cfg.traffic.start = ms(5);
-    Bench b(cfg);
+    HostAndFake b(cfg);
     sc_core::sc_start(ms(400));
     const auto enqs = b.fake.times_of(ENQ);
     ASSERT_EQ(enqs.size(), 4u);
@@ -406,7 +406,7 @@ TEST(HostTraffic, SaturateSendsAsFastAsTheLineAllows) {
     cfg.traffic.count = 3;
     cfg.traffic.data_size = 5;
     cfg.traffic.start = ms(7);
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.fake.delay = sc_core::SC_ZERO_TIME;
     sc_core::sc_start(ms(400));
     const auto enqs = b.fake.times_of(ENQ);
@@ -425,7 +425,7 @@ TEST(HostTraffic, PoissonIsSeededAndNearTheRate) {
     cfg.traffic.rate = 2; // mean 500 ms; a command takes ~22 ms
     cfg.traffic.data_size = 0;
     cfg.traffic.seed = 99;
-    Bench b(cfg);
+    HostAndFake b(cfg);
     sc_core::sc_start(sc_time(200, sc_core::SC_SEC));
     const double n = static_cast<double>(b.host.counters().frames_sent);
     EXPECT_GT(n, 400 * 0.85);
@@ -440,7 +440,7 @@ TEST(HostTraffic, BurstsQueueSeveralCommandsAtOnce) {
     cfg.traffic.burst_period = ms(500);
     cfg.traffic.count = 6;
     cfg.traffic.data_size = 5;
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.fake.delay = sc_core::SC_ZERO_TIME;
     sc_core::sc_start(ms(1000));
     const auto enqs = b.fake.times_of(ENQ);
@@ -458,7 +458,7 @@ TEST(HostTraffic, RandomSizesAndTokenMix) {
     cfg.traffic.random_size = true;
     cfg.traffic.data_size = 300;
     cfg.traffic.tokens = {{"EC", 3.0}, {"ST", 1.0}};
-    Bench b(cfg);
+    HostAndFake b(cfg);
     b.fake.fmt = cfg.format;
     b.fake.delay = sc_core::SC_ZERO_TIME;
     sc_core::sc_start(sc_time(10, sc_core::SC_SEC));

@@ -6,6 +6,7 @@
 #include "scenarios/host/pty_host.h"
 #include "scenarios/host/tcp_host.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 #include "tests/scenarios/host/tcp_test_util.h"
 
 #include <fcntl.h>
@@ -28,9 +29,7 @@ using sc_core::sc_time;
 
 namespace {
 
-std::string temp_path(const std::string& name) {
-    return (std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()))).string();
-}
+std::string temp_path(const std::string& name) { return (scratch_dir() / name).string(); }
 
 /// A program on the slave side, as pyserial would be: open, tcsetattr, write, read.
 class TermClient {

@@ -24,13 +24,8 @@ except ImportError:
     print("SKIP: pyserial (Debian package python3-serial) is not installed")
     sys.exit(77)
 
-SOH, STX, ETX, EOT, ENQ, ACK, NAK = b"\x01", b"\x02", b"\x03", b"\x04", b"\x05", b"\x06", b"\x15"
-
-
-def frame(token, data, bch=b"00"):
-    """docs/system.md §5.3: SOH T1 T2 STX B1 B2 data C1 C2 ETX, checksum = 8-bit sum of T1..data."""
-    body = token + STX + bch + data
-    return SOH + body + b"%02X" % (sum(body) & 0xFF) + ETX
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import ACK, ENQ, EOT, ETX, protocol_frame, wait_for  # noqa: E402
 
 
 def fail(msg):
@@ -47,12 +42,9 @@ def start(rcsim, work, name):
     out = os.path.join(work, name + ".out")
     proc = subprocess.Popen([rcsim, "run", scenario, "--out", out], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
-    deadline = time.monotonic() + 10
-    while not os.path.islink(link):
-        if proc.poll() is not None or time.monotonic() > deadline:
-            proc.kill()
-            fail("no pty link %s; rcsim said:\n%s" % (link, proc.communicate()[0]))
-        time.sleep(0.02)
+    if not wait_for(lambda: os.path.islink(link), proc, timeout=10):
+        proc.kill()
+        fail("no pty link %s; rcsim said:\n%s" % (link, proc.communicate()[0]))
     return proc, link, out
 
 
@@ -93,7 +85,7 @@ def case_protocol(rcsim, work):
     with serial.Serial(link, 9600, parity=serial.PARITY_EVEN, timeout=3) as s:
         time.sleep(0.3)
         enq_ack(s)
-        command = frame(b"EC", b"HELLO")
+        command = protocol_frame(b"EC", b"HELLO")
         s.write(command)
         if read_exact(s, 1, "answer to the frame") != EOT:
             fail("the controller did not take the frame with EOT")

@@ -4,6 +4,8 @@
 #include "models/clock.h"
 #include "models/plumbing/config_error.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/serial_times.h"
+#include "tests/support/files.h"
 
 #include <cstdio>
 #include <fstream>
@@ -13,8 +15,9 @@ using namespace rcsim;
 using sc_core::sc_time;
 
 TEST(RawHost, SendsAtTheGivenTimesAndRecordsBothWays) {
-    const std::string rec_a = testing::TempDir() + "raw_a.bin", rec_b = testing::TempDir() + "raw_b.bin";
-    const std::string log_b = testing::TempDir() + "raw_b.log";
+    const std::string rec_a = (test::scratch_dir() / "raw_a.bin").string();
+    const std::string rec_b = (test::scratch_dir() / "raw_b.bin").string();
+    const std::string log_b = (test::scratch_dir() / "raw_b.log").string();
     RawHostConfig ca, cb;
     ca.add(us(2000), "\\x05hi\\ACK");
     ca.add(us(100), "A");
@@ -27,7 +30,7 @@ TEST(RawHost, SendsAtTheGivenTimesAndRecordsBothWays) {
     a.connect(line, SerialLine::a);
     b.connect(line, SerialLine::b);
     sc_core::sc_start();
-    const sc_time k_char = ps(1'145'833'333);
+    const sc_time k_char = test::char_time_9600_8e1();
     ASSERT_EQ(b.received().size(), 5u);
     EXPECT_EQ(b.text(), "A\x05hi\x06");
     EXPECT_EQ(b.received()[0].at, us(100) + k_char);
@@ -35,12 +38,8 @@ TEST(RawHost, SendsAtTheGivenTimesAndRecordsBothWays) {
     EXPECT_EQ(b.received()[4].at, us(2000) + k_char * 4.0);
     EXPECT_EQ(a.text(), "ok\r\n");
     EXPECT_EQ(a.bytes_sent(), 5u);
-    std::ifstream fb(rec_b, std::ios::binary), fa(rec_a, std::ios::binary);
-    std::stringstream sb, sa;
-    sb << fb.rdbuf();
-    sa << fa.rdbuf();
-    EXPECT_EQ(sb.str(), "A\x05hi\x06");
-    EXPECT_EQ(sa.str(), "ok\r\n");
+    EXPECT_EQ(test::slurp(rec_b), "A\x05hi\x06");
+    EXPECT_EQ(test::slurp(rec_a), "ok\r\n");
     std::ifstream fl(log_b);
     std::string first;
     std::getline(fl, first);
@@ -48,7 +47,7 @@ TEST(RawHost, SendsAtTheGivenTimesAndRecordsBothWays) {
 }
 
 TEST(RawHost, RecordsLineErrorsAndBreaks) {
-    const std::string log_b = testing::TempDir() + "raw_err.log";
+    const std::string log_b = (test::scratch_dir() / "raw_err.log").string();
     RawHostConfig ca, cb;
     ca.add(us(0), "xy");
     cb.log_path = log_b;

@@ -5,6 +5,7 @@
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 #include "tests/scenarios/host/tcp_test_util.h"
 
 #include <cstdio>
@@ -19,9 +20,7 @@ namespace {
 
 double wall_since(WallClock::time_point t0) { return std::chrono::duration<double>(WallClock::now() - t0).count(); }
 
-std::string temp_path(const std::string& name) {
-    return (std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()))).string();
-}
+std::string temp_path(const std::string& name) { return (scratch_dir() / name).string(); }
 
 } // namespace
 

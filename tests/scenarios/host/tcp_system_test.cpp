@@ -11,6 +11,7 @@
 #include "scenarios/run/runner.h"
 #include "scenarios/config/scenario.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/files.h"
 #include "tests/scenarios/host/tcp_test_util.h"
 
 #include <sys/wait.h>
@@ -148,9 +149,7 @@ int in_child(const std::function<int()>& fn, milliseconds limit) {
 // and draws the same answers at the same simulated times, ending at the same time. The run's
 // outputs (port file, session logs) land in its --out folder; the replay reads the live one's.
 TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
-    const fs::path dir = fs::temp_directory_path() / ("rcsim_tcp_replay." + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const fs::path dir = test::scratch_dir();
     write_file(dir / "live.yaml", "name: live\nduration_s: 0\nrealtime: 1.0\nports:\n"
                                   "  - {host: tcp, listen: \"127.0.0.1:0\", format: \"9600,8E1\", "
                                   "port_file: port.txt, record: session.log}\n");
@@ -203,8 +202,7 @@ TEST(TcpSystem, ARecordedSessionReplaysToTheSameBytesAtTheSameTimes) {
 }
 
 TEST(TcpSystem, DurationZeroNeedsATcpOrReplayHost) {
-    const fs::path dir = fs::temp_directory_path() / ("rcsim_tcp_cfg." + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = test::scratch_dir();
     write_file(dir / "bad.yaml", "duration_s: 0\nports:\n  - {host: raw}\n");
     EXPECT_THROW(load_scenario((dir / "bad.yaml").string()), ConfigError);
     write_file(dir / "bad2.yaml", "ports:\n  - {host: tcp, listen: \"127.0.0.1:99999\"}\n");

@@ -5,18 +5,14 @@ bad --modbus values are refused with exit 2 naming the value.
 usage: cli_test.py RCSIM DOCS_MONITOR_MD BOARD_SCENARIO MOTION_SCENARIO"""
 import csv
 import io
+import os
 import signal
 import subprocess
 import sys
 import tempfile
 
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import Rcsim, check, failures  # noqa: E402
 
 
 def doc_table(md):
@@ -74,15 +70,11 @@ def main(rcsim, md, board, motion_scenario):
               "--modbus on a motion-side-only scenario: exit 2 (%d: %s)" % (p.returncode, p.stderr.strip()[:160]))
         # "HOST:" (and --modbus alone) take port 1502; another process may hold it: then the
         # refusal names it.
-        proc = subprocess.Popen([rcsim, "run", board, "--modbus", "127.0.0.1:", "--out", out],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        line = ""
-        for _ in range(5):
-            line = proc.stdout.readline()
-            if line.startswith("modbus:") or not line:
-                break
-        proc.send_signal(signal.SIGTERM)
-        _, err = proc.communicate(timeout=30)
+        run = Rcsim(rcsim, ["run", board, "--modbus", "127.0.0.1:", "--out", out], {"modbus": r"modbus:"},
+                    required=False)
+        line = run.found["modbus"].string if "modbus" in run.found else ""
+        run.proc.send_signal(signal.SIGTERM)
+        _, _, err = run.finish(timeout=30)
         check(line.startswith("modbus: 127.0.0.1:1502 ") or "--modbus '127.0.0.1:1502': cannot listen" in err,
               "--modbus 127.0.0.1: listens on the default port 1502 (%s%s)" % (line.strip(), err.strip()[:100]))
     return 1 if failures else 0

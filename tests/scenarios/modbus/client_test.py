@@ -17,18 +17,12 @@ import time
 
 from pymodbus.client import ModbusTcpClient
 
-from mbrun import Rcsim, adu, raw, sim_time_ms
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures  # noqa: E402
+from mbrun import Rcsim, adu, raw, sim_time_ms  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "monitor"))
 from wsclient import http_get  # noqa: E402
-
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
 
 
 class Map:

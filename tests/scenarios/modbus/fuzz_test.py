@@ -14,15 +14,9 @@ import time
 
 from pymodbus.client import ModbusTcpClient
 
-from mbrun import Rcsim, adu, raw, recv_adu, sim_time_ms
-
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures, rss_kib  # noqa: E402
+from mbrun import Rcsim, adu, raw, recv_adu, sim_time_ms  # noqa: E402
 
 
 def closed(port, payload):
@@ -42,11 +36,6 @@ def served(port, what):
         check(False, "after %s: a pymodbus client is served (%r)" % (what, e))
     finally:
         c.close()
-
-
-def rss_kib(pid):
-    with open("/proc/%d/status" % pid) as f:
-        return next(int(l.split()[1]) for l in f if l.startswith("VmRSS:"))
 
 
 def main(rcsim, scenario):

@@ -1,63 +1,28 @@
 """Starts `rcsim run SCENARIO --modbus 127.0.0.1:0 [extra...]` and finds the port it printed;
 raw Modbus TCP helpers for the tests that send what a well-behaved client would not."""
 import os
-import re
-import select
 import socket
 import struct
-import subprocess
+import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+import rcsim_test  # noqa: E402
 
 
-class Rcsim:
+class Rcsim(rcsim_test.Rcsim):
+    """The run, its --out folder a temporary one; port (and http_port with --monitor) from the lines
+    it prints, waited for up to `timeout` seconds."""
+
     def __init__(self, rcsim, scenario, *extra, timeout=20.0):
-        self.err = tempfile.TemporaryFile(mode="w+")  # a file: a pipe nobody reads could fill up
         self.out = tempfile.TemporaryDirectory(prefix="rcsim-modbus-")
-        # Unbuffered: select() sees what Python has not read yet, lines are split here.
-        self.proc = subprocess.Popen([rcsim, "run", scenario, "--out", self.out.name, "--modbus", "127.0.0.1:0", *extra],
-                                     stdout=subprocess.PIPE, stderr=self.err, bufsize=0)
-        self.lines = []
-        self.port = self.http_port = None
-        pending = b""
-        end = time.monotonic() + timeout
-        while time.monotonic() < end and (self.port is None or ("--monitor" in extra and self.http_port is None)):
-            r, _, _ = select.select([self.proc.stdout], [], [], 0.2)
-            if r:
-                chunk = os.read(self.proc.stdout.fileno(), 4096)
-                if not chunk:
-                    break
-                pending += chunk
-            while b"\n" in pending:
-                raw_line, pending = pending.split(b"\n", 1)
-                line = raw_line.decode() + "\n"
-                self.lines.append(line)
-                m = re.match(r"modbus: 127\.0\.0\.1:(\d+) ", line)
-                if m:
-                    self.port = int(m.group(1))
-                m = re.match(r"monitor: http://127\.0\.0\.1:(\d+)/", line)
-                if m:
-                    self.http_port = int(m.group(1))
-            if self.proc.poll() is not None:
-                break
-        self.pending = pending  # the start of a line not yet complete
-        if self.port is None:
-            self.proc.kill()
-            raise RuntimeError("rcsim printed no modbus port: " + "".join(self.lines) + self.stderr())
-
-    def stderr(self):
-        self.err.flush()
-        self.err.seek(0)
-        return self.err.read()
-
-    def finish(self, timeout=30.0):
-        out, _ = self.proc.communicate(timeout=timeout)
-        return self.proc.returncode, "".join(self.lines) + (self.pending + out).decode(errors="replace"), self.stderr()
-
-    def kill(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.communicate()
+        patterns = {"modbus": r"modbus: 127\.0\.0\.1:(\d+) "}
+        if "--monitor" in extra:
+            patterns["monitor"] = r"monitor: http://127\.0\.0\.1:(\d+)/"
+        super().__init__(rcsim, ["run", scenario, "--out", self.out.name, "--modbus", "127.0.0.1:0", *extra],
+                         patterns, timeout=timeout)
+        self.port = int(self.found["modbus"].group(1))
+        self.http_port = int(self.found["monitor"].group(1)) if "monitor" in self.found else None
 
 
 def adu(tid, unit, pdu, protocol=0, length=None):

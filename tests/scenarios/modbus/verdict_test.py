@@ -3,22 +3,18 @@ the worst-case margin is negative (tests/scenarios/modbus/tight.yaml's 50 us bud
 receive service alone); tests/scenarios/modbus/client_test.py reads 1 on a run within its budget.
 
 usage: verdict_test.py RCSIM SCENARIO"""
+import os
 import signal
 import sys
 import time
 
 from pymodbus.client import ModbusTcpClient
 
-from mbrun import Rcsim, sim_time_ms
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures  # noqa: E402
+from mbrun import Rcsim, sim_time_ms  # noqa: E402
 
 VERDICT, WORST_MARGIN = 4, 16  # input registers (rcsim modbus-map; modbus.cli checks the map)
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
 
 
 def main(rcsim, scenario):

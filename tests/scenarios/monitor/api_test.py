@@ -4,19 +4,14 @@ a line fault, several clients, and the clients the server must drop (garbage, a 
 disconnect) while the run goes on.
 
 usage: api_test.py RCSIM SCENARIO"""
+import os
 import signal
 import sys
 import time
 
-from wsclient import Rcsim, http_get
-
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures  # noqa: E402
+from wsclient import Rcsim, http_get  # noqa: E402
 
 
 def updates(ws, n, timeout=5.0):

@@ -18,15 +18,9 @@ import tempfile
 import threading
 import time
 
-from wsclient import Rcsim, WebSocket, ws_frame
-
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures, rss_kib, status_kib  # noqa: E402
+from wsclient import Rcsim, WebSocket, ws_frame  # noqa: E402
 
 
 class RssWatch(threading.Thread):
@@ -38,13 +32,10 @@ class RssWatch(threading.Thread):
 
     def run(self):
         while not self.stop:
-            try:
-                with open("/proc/%d/status" % self.pid) as f:
-                    for line in f:
-                        if line.startswith("VmRSS:"):
-                            self.peak = max(self.peak, int(line.split()[1]))
-            except OSError:
+            rss = status_kib(self.pid, "VmRSS")
+            if rss is None:  # the process is gone
                 return
+            self.peak = max(self.peak, rss)
             time.sleep(0.02)
 
 
@@ -182,9 +173,7 @@ def main(rcsim, scenario):
         witness = run.ws()
         witness.recv()
         time.sleep(0.3)
-        before_kib = 0
-        with open("/proc/%d/status" % run.proc.pid) as f:
-            before_kib = next(int(l.split()[1]) for l in f if l.startswith("VmRSS:"))
+        before_kib = rss_kib(run.proc.pid)
         watch.start()
         t0 = witness.request({"op": "snapshot"})["data"]["sim_time_s"]
         http_abuse(run.port, rng)

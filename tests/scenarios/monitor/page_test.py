@@ -20,7 +20,10 @@ import sys
 import tempfile
 import time
 
-from wsclient import Rcsim, WebSocket, http_get
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures  # noqa: E402
+from wsclient import Rcsim, WebSocket, http_get  # noqa: E402
+
 
 # The circle of tests/scenarios/monitor/plot.yaml: centre (-5000, 0), radius 5000 pulses.
 CX, CY, R = -5000, 0, 5000
@@ -204,13 +207,6 @@ def main(rcsim, scenario, screenshot, kind="motion"):
     if not exe:
         print("SKIP: no Chromium on this machine (scripts/install-deps.sh installs Debian's chromium)")
         return 77
-    failures = []
-
-    def check(cond, what):
-        print(("ok    " if cond else "FAIL  ") + what)
-        if not cond:
-            failures.append(what)
-
     t0 = time.monotonic()
     run = Rcsim(rcsim, scenario)
     profile = tempfile.mkdtemp(prefix="rcsim-chromium-")

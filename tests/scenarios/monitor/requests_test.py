@@ -12,15 +12,9 @@ import sys
 import tempfile
 import time
 
-from wsclient import Rcsim
-
-failures = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        failures.append(what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from rcsim_test import check, failures  # noqa: E402
+from wsclient import Rcsim  # noqa: E402
 
 
 # (request, text the refusal must contain): the field and the value it names.

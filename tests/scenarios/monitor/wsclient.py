@@ -5,12 +5,13 @@ import base64
 import json
 import os
 import re
-import select
 import socket
 import struct
-import subprocess
-import tempfile
+import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+import rcsim_test  # noqa: E402
 
 
 def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
@@ -128,46 +129,15 @@ def http_get(host, port, path, timeout=5.0):
     return int(head.split()[1]), body
 
 
-class Rcsim:
-    """rcsim run SCENARIO --monitor 127.0.0.1:0; url/port from the line it prints."""
+class Rcsim(rcsim_test.Rcsim):
+    """rcsim run SCENARIO --monitor 127.0.0.1:0; url/port from the line it prints, waited for up to
+    `timeout` seconds."""
 
     def __init__(self, rcsim, scenario, *extra, timeout=20.0):
-        self.err = tempfile.TemporaryFile(mode="w+")  # a file: a pipe nobody reads could fill up
-        self.proc = subprocess.Popen([rcsim, "run", scenario, "--monitor", "127.0.0.1:0", *extra],
-                                     stdout=subprocess.PIPE, stderr=self.err, text=True)
-        self.stdout_lines = []
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            r, _, _ = select.select([self.proc.stdout], [], [], 0.2)
-            if r:
-                line = self.proc.stdout.readline()
-                if not line:
-                    break
-                self.stdout_lines.append(line)
-                m = re.match(r"monitor: (http://127\.0\.0\.1:(\d+)/)", line)
-                if m:
-                    self.url, self.port = m.group(1), int(m.group(2))
-                    return
-            if self.proc.poll() is not None:
-                break
-        self.proc.kill()
-        raise RuntimeError("rcsim printed no monitor URL: " + "".join(self.stdout_lines) + self.stderr())
+        super().__init__(rcsim, ["run", scenario, "--monitor", "127.0.0.1:0", *extra],
+                         {"monitor": r"monitor: (http://127\.0\.0\.1:(\d+)/)"}, timeout=timeout)
+        m = self.found["monitor"]
+        self.url, self.port = m.group(1), int(m.group(2))
 
     def ws(self):
         return WebSocket("127.0.0.1", self.port, "/api/v1/ws")
-
-    def stderr(self):
-        """What rcsim wrote on stderr so far (the monitor's log lines)."""
-        self.err.flush()
-        self.err.seek(0)
-        return self.err.read()
-
-    def finish(self, timeout=30.0):
-        """Waits for the run to end; (exit code, stdout, stderr)."""
-        out, _ = self.proc.communicate(timeout=timeout)
-        return self.proc.returncode, "".join(self.stdout_lines) + out, self.stderr()
-
-    def kill(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.communicate()

@@ -29,7 +29,7 @@ motion::TrajectoryRecorder l_path() {
 }
 
 TEST(TrajectoryReport, CsvHasOneRowPerAxisPerSample) {
-    const auto file = std::filesystem::temp_directory_path() / "rcsim_trajectory_test.csv";
+    const auto file = rcsim::test::scratch_dir() / "trajectory.csv";
     write_trajectory_csv(l_path(), file);
     EXPECT_EQ(slurp(file), "t_s,axis,cmd_pulses,act_pulses\n"
                            "0.000000,0,0,0\n0.000000,1,0,0\n0.000000,2,7,7\n"
@@ -81,14 +81,14 @@ TEST(TrajectoryReport, SvgOfOtherAxesUsesThem) {
 TEST(TrajectoryReport, CsvEveryNthSampleAndTheLast) {
     motion::TrajectoryRecorder r;
     for (int i = 0; i < 10; ++i) r.add(i * 0.001, {i}, {i});
-    const auto file = std::filesystem::temp_directory_path() / "rcsim_trajectory_every.csv";
+    const auto file = rcsim::test::scratch_dir() / "trajectory_every.csv";
     write_trajectory_csv(r, file, 4);
     EXPECT_EQ(slurp(file), "t_s,axis,cmd_pulses,act_pulses\n0.000000,0,0,0\n0.004000,0,4,4\n0.008000,0,8,8\n"
                            "0.009000,0,9,9\n");
 }
 
 TEST(TrajectoryReport, PulseCsvHasExactTimes) {
-    const auto file = std::filesystem::temp_directory_path() / "rcsim_trajectory_pulses.csv";
+    const auto file = rcsim::test::scratch_dir() / "trajectory_pulses.csv";
     write_pulse_csv({{sc_core::sc_time(1234567, sc_core::SC_PS), 1, -1}, {sc_core::sc_time(2, sc_core::SC_MS), 0, 1}},
                     file);
     EXPECT_EQ(slurp(file), "t_s,axis,dir\n0.000001234567,1,-1\n0.002000000000,0,1\n");
@@ -110,7 +110,7 @@ TEST(TrajectoryReport, TimePlotHasItsPanels) {
 }
 
 TEST(TrajectoryReport, UnwritableFileIsNamed) {
-    const auto dir = std::filesystem::temp_directory_path() / "rcsim_no_such_dir" / "x";
+    const auto dir = rcsim::test::scratch_dir() / "no_such_dir" / "x";
     try {
         write_trajectory_svg(l_path(), dir / "trajectory.svg", 0, 1, "t");
         FAIL() << "no error";

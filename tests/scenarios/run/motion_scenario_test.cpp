@@ -2,6 +2,7 @@
 // and bad `motion:` sections, each error naming file, line and the full key path (the same
 // cases through the rcsim executable are in tests/scenarios/cli/bad_input.sh).
 #include "scenarios/run/motion_run.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <sstream>
 
 using rcsim::run_motion_scenario;
+namespace test = rcsim::test;
 
 namespace {
 
@@ -26,7 +28,7 @@ nlohmann::json check_named(const nlohmann::json& report, const std::string& name
 TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     const std::string file = std::string(RCSIM_SOURCE_DIR) + "/scenarios/xy_plotter_circle.yaml";
     const YAML::Node root = YAML::LoadFile(file);
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_circle_test";
+    const auto out = test::scratch_dir() / "motion_circle_test";
     std::filesystem::remove_all(out);
     nlohmann::json report;
     ASSERT_EQ(run_motion_scenario(root, file, out, 1, report), 0) << report.dump(2);
@@ -65,24 +67,22 @@ TEST(MotionScenario, XyPlotterCircleWritesCsvAndSvgAndCloses) {
     std::size_t rows = 0;
     for (std::string line; std::getline(csv, line);) ++rows;
     EXPECT_EQ(rows, 4 * m["samples"].get<std::size_t>());
-    std::ifstream svg(out / "trajectory.svg");
-    std::stringstream ss;
-    ss << svg.rdbuf();
-    EXPECT_NE(ss.str().find("<polyline"), std::string::npos);
-    EXPECT_NE(ss.str().find("axis 0 position"), std::string::npos);
-    EXPECT_NE(ss.str().find("commanded"), std::string::npos);
+    const std::string svg = test::slurp(out / "trajectory.svg");
+    EXPECT_NE(svg.find("<polyline"), std::string::npos);
+    EXPECT_NE(svg.find("axis 0 position"), std::string::npos);
+    EXPECT_NE(svg.find("commanded"), std::string::npos);
 }
 
 TEST(MotionScenario, BadInputNamesFileAndLine) {
     const YAML::Node root = YAML::Load("motion:\n  duration_s: 1\n  commands:\n    - {at_ms: 5, fb: MC_Fly}\n");
     nlohmann::json report;
-    EXPECT_EQ(run_motion_scenario(root, "bad.yaml", std::filesystem::temp_directory_path(), 0, report), 2);
+    EXPECT_EQ(run_motion_scenario(root, "bad.yaml", test::scratch_dir(), 0, report), 2);
     const std::string e = report["motion"]["error"];
     EXPECT_NE(e.find("bad.yaml:4"), std::string::npos) << e;
     EXPECT_NE(e.find("MC_Fly"), std::string::npos) << e;
     nlohmann::json r2;
     EXPECT_EQ(run_motion_scenario(YAML::Load("motion:\n  duration_s: 1\n  control_cycle_ms: -3\n"), "b2.yaml",
-                                  std::filesystem::temp_directory_path(), 0, r2),
+                                  test::scratch_dir(), 0, r2),
               2);
     EXPECT_NE(r2["motion"]["error"].get<std::string>().find("-3"), std::string::npos);
 }
@@ -93,7 +93,7 @@ TEST(MotionScenario, FailingCheckReturnsOne) {
         "    - {at_ms: 10, token: MA, data: '0,1000,20000,200000,200000'}\n"
         "  checks:\n    final_positions: [999]\n");
     nlohmann::json report;
-    EXPECT_EQ(run_motion_scenario(root, "c.yaml", std::filesystem::temp_directory_path() / "rcsim_fail", 0, report), 1);
+    EXPECT_EQ(run_motion_scenario(root, "c.yaml", test::scratch_dir() / "fail", 0, report), 1);
     EXPECT_EQ(report["motion"]["final_cmd_pulses"][0], 1000);
 }
 
@@ -102,7 +102,7 @@ TEST(MotionScenario, ExpectedErrorWithItsErrorIdPasses) {
     // hex as in docs/motion.md. Expected, so the run passes; expecting another ErrorID fails it.
     const std::string move = "motion:\n  duration_s: 0.02\n  commands:\n    - {at_ms: 0, fb: MC_MoveAbsolute, axis: 0,"
                              " position: 1, velocity: 1, acceleration: 1, deceleration: 1, expect: error, error_id: ";
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_expect";
+    const auto out = test::scratch_dir() / "motion_expect";
     nlohmann::json report;
     ASSERT_EQ(run_motion_scenario(YAML::Load(move + "0x7001}\n"), "e.yaml", out, 0, report), 0) << report.dump(2);
     EXPECT_EQ(report["motion"]["commands"][0]["outcome"], "error");
@@ -115,7 +115,7 @@ TEST(MotionScenario, UnexpectedErrorIdFails) {
                              " position: 1, velocity: 1, acceleration: 1, deceleration: 1, expect: error, error_id: ";
     nlohmann::json report;
     EXPECT_EQ(run_motion_scenario(YAML::Load(move + "0x7002}\n"), "e.yaml",
-                                  std::filesystem::temp_directory_path() / "rcsim_motion_expect2", 0, report),
+                                  test::scratch_dir() / "motion_expect2", 0, report),
               1);
     EXPECT_FALSE(check_named(report, "fb_outcomes_as_expected")["passed"].get<bool>());
 }
@@ -124,7 +124,7 @@ TEST(MotionScenario, UnexpectedErrorIdFails) {
 /// "(exit N)" when it did not return 2.
 std::string error_of(const std::string& yaml) {
     nlohmann::json report;
-    const int rc = run_motion_scenario(YAML::Load(yaml), "m.yaml", std::filesystem::temp_directory_path(), 0, report);
+    const int rc = run_motion_scenario(YAML::Load(yaml), "m.yaml", test::scratch_dir(), 0, report);
     if (rc != 2) return "(exit " + std::to_string(rc) + ")";
     return report["motion"]["error"].get<std::string>();
 }
@@ -211,7 +211,7 @@ const char* const kHomeScenario = "motion:\n  duration_s: 5\n  axes: [{home: -25
                                   "    - {at_ms: 10, fb: MC_Home, axis: 0, position: -7, ";
 
 TEST(MotionScenario, HomeWithZPhaseStopsOnTheEncoderZPulseOfTheAxisKeys) {
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_home_z";
+    const auto out = test::scratch_dir() / "home_z";
     nlohmann::json report;
     ASSERT_EQ(run_motion_scenario(YAML::Load(std::string(kHomeScenario) + "z_phase: true, z_velocity: 1000}\n"),
                                   "z.yaml", out, 0, report), 0) << report.dump(2);
@@ -222,7 +222,7 @@ TEST(MotionScenario, HomeWithZPhaseStopsOnTheEncoderZPulseOfTheAxisKeys) {
 }
 
 TEST(MotionScenario, HomeWithoutZPhaseStopsOnTheSwitchEdge) {
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_home_noz";
+    const auto out = test::scratch_dir() / "home_noz";
     nlohmann::json report;
     ASSERT_EQ(run_motion_scenario(YAML::Load(std::string(kHomeScenario) + "z_phase: false}\n"), "z.yaml", out, 0,
                                   report), 0) << report.dump(2);
@@ -240,7 +240,7 @@ TEST(MotionScenario, LineMoveOverThreeAxesEndsAtItsDistances) {
         " acceleration: 200000, deceleration: 200000}\n"
         "  checks:\n    final_positions: [3000, -4000, 0, 12000]\n");
     nlohmann::json report;
-    ASSERT_EQ(run_motion_scenario(root, "l.yaml", std::filesystem::temp_directory_path() / "rcsim_line_n", 0, report),
+    ASSERT_EQ(run_motion_scenario(root, "l.yaml", test::scratch_dir() / "line_n", 0, report),
               0) << report.dump(2);
     EXPECT_EQ(report["motion"]["commands"][3]["fb"], "MC_LineMove");
     EXPECT_EQ(report["motion"]["commands"][3]["outcome"], "done");
@@ -252,7 +252,7 @@ TEST(MotionScenario, BadLineMoveNamesTheKey) {
     auto error_of = [&](const std::string& args) {
         nlohmann::json report;
         EXPECT_EQ(run_motion_scenario(YAML::Load(head + args + tail), "lm.yaml",
-                                      std::filesystem::temp_directory_path(), 0, report), 2);
+                                      test::scratch_dir(), 0, report), 2);
         return report["motion"]["error"].get<std::string>();
     };
     EXPECT_NE(error_of("axes: [0], distances: [1]").find("lm.yaml:4: 'motion.commands[0].axes' must list 2 to 4 axes"),
@@ -273,17 +273,14 @@ namespace {
 // (`clear_after: yes`), the move refused in ErrorStop (0x7002), MC_Reset back to Standstill and a
 // move to 100 afterwards; every check passes.
 TEST(MotionScenario, TheDocsExampleWithATransientFaultAndMcResetPasses) {
-    std::ifstream in(std::string(RCSIM_SOURCE_DIR) + "/docs/motion.md");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string doc = ss.str();
+    const std::string doc = test::slurp(std::string(RCSIM_SOURCE_DIR) + "/docs/motion.md");
     const std::size_t from = doc.find("```yaml\nmotion:\n");
     ASSERT_NE(from, std::string::npos);
     const std::size_t begin = from + 8, end = doc.find("```", begin);
     const std::string yaml = doc.substr(begin, end - begin);
     ASSERT_NE(yaml.find("clear_after: yes"), std::string::npos);
     nlohmann::json report;
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_docs_example";
+    const auto out = test::scratch_dir() / "motion_docs_example";
     ASSERT_EQ(run_motion_scenario(YAML::Load(yaml), "motion.md", out, 0, report), 0) << report.dump(2);
     const nlohmann::json& cmds = report["motion"]["commands"];
     int resets = 0;
@@ -306,7 +303,7 @@ TEST(MotionScenario, LastingFaultKeepsMcResetFailing) {
         "    - {at_ms: 50, fb: MC_Reset, axis: 0, expect: error, error_id: 0x7103}\n"
         "  checks:\n    final_state: ERRORSTOP\n";
     nlohmann::json report;
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_lasting_fault";
+    const auto out = test::scratch_dir() / "motion_lasting_fault";
     EXPECT_EQ(run_motion_scenario(YAML::Load(yaml), "f.yaml", out, 0, report), 0) << report.dump(2);
 }
 
@@ -327,7 +324,7 @@ TEST(MotionScenario, MoveVelocitySetPositionAndReadsFromFb) {
         "    - {at_ms: 410, fb: MC_ReadParameter, axis: 0, parameter: 2, expect: error, error_id: 0x7006}\n"
         "  checks:\n    final_state: STANDSTILL\n    final_positions: [0]\n";
     nlohmann::json report;
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_fb_reads";
+    const auto out = test::scratch_dir() / "motion_fb_reads";
     ASSERT_EQ(run_motion_scenario(YAML::Load(yaml), "v.yaml", out, 0, report), 0) << report.dump(2);
     const nlohmann::json& c = report["motion"]["commands"];
     // MC_MoveVelocity: "done" at InVelocity, after its ramp from STD 100 (the scenario default)

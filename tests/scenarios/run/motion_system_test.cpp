@@ -5,6 +5,8 @@
 #include "scenarios/run/motion_run.h"
 #include "scenarios/verdict/motion_figures.h"
 #include "scenarios/config/scenario.h"
+#include "tests/support/files.h"
+#include "tests/support/scenario_error.h"
 
 #include <gtest/gtest.h>
 
@@ -17,20 +19,7 @@ using sc_core::sc_time;
 
 namespace {
 
-sc_time ms(double v) { return sc_time(v, sc_core::SC_MS); }
-
-std::string error_of(const std::string& name, const std::string& text) {
-    const auto d = std::filesystem::temp_directory_path() / "rcsim_motion_system_test";
-    std::filesystem::create_directories(d);
-    const auto path = (d / name).string();
-    std::ofstream(path) << text;
-    try {
-        load_scenario(path);
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::scenario_error_of;
 
 } // namespace
 
@@ -41,7 +30,7 @@ TEST(MotionSystem, LatencyPairsAcceptedMovesInOrder) {
     ScriptResult host;
     host.commands = {{"SV", ms(1), 0}, {"MA", ms(10), 0}, {"MA", ms(20), 5}, {"EC", ms(25), 0},
                      {"MC", ms(30), 0}, {"MR", ms(40), -1}, {"MR", ms(50), 0}};
-    std::vector<motion::MoveRecord> moves = {{"MA", ms(12), ms(14.5)}, {"MC", ms(31), ms(33)}, {"MR", ms(52), std::nullopt}};
+    std::vector<motion::MoveRecord> moves = {{"MA", ms(12), us(14'500)}, {"MC", ms(31), ms(33)}, {"MR", ms(52), std::nullopt}};
     const std::vector<double> lat = command_latencies_us(host, moves);
     ASSERT_EQ(lat.size(), 2u);
     EXPECT_DOUBLE_EQ(lat[0], 4500.0);
@@ -57,7 +46,7 @@ TEST(MotionSystem, ScriptJsonSaysWhereItFailed) {
     EXPECT_EQ(j["failure"]["line"], 14);
     EXPECT_EQ(j["failure"]["reason"], "MC answered BCH 04");
     EXPECT_TRUE(j["finished_ms"].is_null());
-    r.failed = false, r.completed = 3, r.finished_at = ms(1234.5);
+    r.failed = false, r.completed = 3, r.finished_at = us(1'234'500);
     EXPECT_EQ(script_json(r)["finished_ms"], 1234.5);
 }
 
@@ -79,20 +68,20 @@ TEST(MotionSystem, ShippedOverSerialScenarioLoads) {
 }
 
 TEST(MotionSystem, ScriptStepsAreReadWithTheirLines) {
-    const std::string e = error_of("two.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
+    const std::string e = scenario_error_of("two.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
                                                "      - {token: EC}\n      - {delay_ms: 5, token: EC}\n");
     EXPECT_NE(e.find("two.yaml:6: a script step has exactly one of"), std::string::npos) << e;
-    const std::string d = error_of("data.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
+    const std::string d = scenario_error_of("data.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
                                                 "      - {token: EC, data: \"\\x01\"}\n");
     EXPECT_NE(d.find("data.yaml:5: this command cannot be sent"), std::string::npos) << d;
-    const std::string n = error_of("none.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
+    const std::string n = scenario_error_of("none.yaml", "ports:\n  - host: protocol\n    traffic: script\n    script:\n"
                                                 "      - {token: EC, wait: none, expect_bch: 0}\n");
     EXPECT_NE(n.find("none.yaml:5: 'ports[0].script[0].expect_bch' needs 'wait: response'"), std::string::npos) << n;
-    const std::string c = error_of("csp.yaml", "main_cpu: {csp: {radius: 10}}\n");
+    const std::string c = scenario_error_of("csp.yaml", "main_cpu: {csp: {radius: 10}}\n");
     EXPECT_NE(c.find("csp.yaml:1: 'main_cpu.csp' is a path of the motion layer"), std::string::npos) << c;
-    const std::string o = error_of("sync.yaml", "main_cpu: {motion: true, cycle_period_us: 1000, csp: {sync_offset_us: 1000}}\n");
+    const std::string o = scenario_error_of("sync.yaml", "main_cpu: {motion: true, cycle_period_us: 1000, csp: {sync_offset_us: 1000}}\n");
     EXPECT_NE(o.find("sync.yaml:1: 'main_cpu.csp.sync_offset_us' must be shorter"), std::string::npos) << o;
-    EXPECT_EQ(error_of("ok.yaml", "main_cpu: {motion: true, csp: {radius: 10}}\nports:\n  - host: protocol\n"
+    EXPECT_EQ(scenario_error_of("ok.yaml", "main_cpu: {motion: true, csp: {radius: 10}}\nports:\n  - host: protocol\n"
                                   "    traffic: script\n    script:\n      - {wait_state: STANDSTILL}\n"),
               "(no error)");
 }
@@ -109,8 +98,7 @@ TEST(MotionSystem, TrajectoryOptionsShapeTheFiles) {
         "    - {at_ms: 0, fb: MC_Power, axis: 0}\n"
         "    - {at_ms: 10, fb: MC_MoveRelative, axis: 0, distance: 300, velocity: 10000, acceleration: 100000,\n"
         "       deceleration: 100000}\n");
-    const auto out = std::filesystem::temp_directory_path() / "rcsim_motion_opts_test";
-    std::filesystem::remove_all(out);
+    const auto out = test::scratch_dir();
     nlohmann::json report;
     std::size_t snapshots = 0;
     motion::MotionSnapshot last;
@@ -135,15 +123,12 @@ TEST(MotionSystem, TrajectoryOptionsShapeTheFiles) {
     EXPECT_EQ(lines(out / "trajectory.csv"), 1 + 4 * kept);
     EXPECT_EQ(lines(out / "trajectory_pulses.csv"), 1u + 300u);
     EXPECT_TRUE(std::filesystem::exists(out / "trajectory_time.svg"));
-    std::ifstream svg(out / "trajectory.svg");
-    std::stringstream ss;
-    ss << svg.rdbuf();
-    EXPECT_NE(ss.str().find(">opts</text>"), std::string::npos) << "titled with the scenario's name";
+    EXPECT_NE(test::slurp(out / "trajectory.svg").find(">opts</text>"), std::string::npos) << "titled with the scenario's name";
 }
 
 TEST(MotionSystem, TrajectoryOptionsAreChecked) {
-    const std::string z = error_of("every.yaml", "main_cpu: {motion: true, trajectory: {csv_every: 0}}\n");
+    const std::string z = scenario_error_of("every.yaml", "main_cpu: {motion: true, trajectory: {csv_every: 0}}\n");
     EXPECT_NE(z.find("every.yaml:1: 'main_cpu.trajectory.csv_every' = 0"), std::string::npos) << z;
-    const std::string m = error_of("nomotion.yaml", "main_cpu: {trajectory: {pulse_trace: true}}\n");
+    const std::string m = scenario_error_of("nomotion.yaml", "main_cpu: {trajectory: {pulse_trace: true}}\n");
     EXPECT_NE(m.find("nomotion.yaml:1: 'main_cpu.trajectory' needs 'main_cpu.motion: true'"), std::string::npos) << m;
 }

@@ -1,6 +1,7 @@
 // compare: verdicts per figure and check under the tolerances, run matching, the outputs.
 #include "models/plumbing/config_error.h"
 #include "scenarios/sweep/compare.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -317,8 +318,7 @@ TEST(Compare, HtmlLeadsWithTheRankedReportAndCollapsesTheOtherFiguresPerFamily) 
 }
 
 TEST(Tolerances, FileRulesComeFirstAndBadFilesNameTheLine) {
-    const fs::path d = fs::path(::testing::TempDir()) / "tolerances_test";
-    fs::create_directories(d);
+    const fs::path d = rcsim::test::scratch_dir();
     std::ofstream(d / "t.yaml") << "tolerances:\n  - {figure: 'table3.*', abs: 0.5, better: lower}\n";
     const auto rules = load_tolerances((d / "t.yaml").string());
     ASSERT_EQ(rules.size(), 1 + default_tolerances().size());

@@ -72,8 +72,7 @@ TEST(Expectation, NotMeasuredAndNoReport) {
 }
 
 TEST(Expectation, SummaryKeepsTheRunsStatusBesideTheOutcome) {
-    const fs::path d = fs::path(::testing::TempDir()) / "expectation_summary";
-    fs::remove_all(d);
+    const fs::path d = rcsim::test::scratch_dir();
     for (const char* id : {"faults", "plain"}) {
         fs::create_directories(d / id);
         json meta = {{"id", id}, {"entry", id}, {"parameters", json::object()}};

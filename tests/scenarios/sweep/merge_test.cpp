@@ -18,14 +18,6 @@ namespace {
 
 using rcsim::test::slurp;
 
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("merge_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
 /// A run directory as rcsim sweep leaves it: run.json and report.json.
 void make_run(const fs::path& dir, const std::string& id, double margin, bool passed, long rom) {
     fs::create_directories(dir / id);
@@ -76,7 +68,7 @@ TEST(Flatten, LatencyCausesAreNotFigures) {
 }
 
 TEST(Merge, SummaryRowsParametersFiguresChecks) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     make_run(d / "runs", "g-rom=0", 50.25, true, 0);
     make_run(d / "runs", "g-rom=1", -3, false, 1);
     fs::create_directories(d / "runs/g-rom=2"); // started, never finished
@@ -113,7 +105,7 @@ TEST(Merge, SummaryRowsParametersFiguresChecks) {
 // An interrupted sweep marks the runs it did not complete (kNotRunMarker): "not run", counted,
 // and the page says so; a run without the marker and without a report stays "no report".
 TEST(Merge, NotRunRunsOfAnInterruptedSweep) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     make_run(d / "runs", "g-rom=0", 50.25, true, 0);
     fs::create_directories(d / "runs/g-rom=1");
     std::ofstream(d / "runs/g-rom=1/run.json") << json{{"id", "g-rom=1"}, {"entry", "g"}, {"parameters", {{"board.wait_states.rom", 1}}}};
@@ -128,7 +120,7 @@ TEST(Merge, NotRunRunsOfAnInterruptedSweep) {
 }
 
 TEST(Merge, SameRunsInAnyOrderOrSplitGiveTheSameBytes) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     for (int i = 0; i < 6; ++i) make_run(d / "all", "g-rom=" + std::to_string(i), 10.0 / (i + 1), i != 3, i);
     // The same runs split over two directories, the second listed first.
     for (int i = 0; i < 6; ++i) {
@@ -147,7 +139,7 @@ TEST(Merge, SameRunsInAnyOrderOrSplitGiveTheSameBytes) {
 }
 
 TEST(Merge, TheSameRunTwiceIsAnError) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     make_run(d / "a", "r", 1, true, 0);
     make_run(d / "b", "r", 1, true, 0);
     try {
@@ -160,7 +152,7 @@ TEST(Merge, TheSameRunTwiceIsAnError) {
 }
 
 TEST(ReadJson, SyntaxErrorNamesTheLine) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     std::ofstream(d / "r.json") << "{\n  \"a\": 1,\n  \"b\": ]\n}\n";
     try {
         read_json_file(d / "r.json");

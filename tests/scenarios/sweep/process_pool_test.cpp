@@ -1,5 +1,6 @@
 // The process pool behind `rcsim sweep --jobs`: parallelism, exit codes, logs.
 #include "scenarios/sweep/process_pool.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -14,14 +15,6 @@ using namespace rcsim::regress;
 
 namespace {
 
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("pool_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
 Job shell(const std::string& script, const fs::path& log) { return {{"/bin/sh", "-c", script}, log.string()}; }
 
 double seconds_for(const std::vector<Job>& jobs, unsigned parallel) {
@@ -35,7 +28,7 @@ double seconds_for(const std::vector<Job>& jobs, unsigned parallel) {
 TEST(ProcessPool, RunsNAtATime) {
     // Four jobs that each sleep 0.4 s (no CPU, so a loaded host does not matter): one at a time
     // they take 1.6 s, two at a time 0.8 s, four at a time 0.4 s.
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     std::vector<Job> jobs;
     for (int i = 0; i < 4; ++i) jobs.push_back(shell("sleep 0.4", d / ("j" + std::to_string(i))));
     const double one = seconds_for(jobs, 1), two = seconds_for(jobs, 2), four = seconds_for(jobs, 4);
@@ -47,7 +40,7 @@ TEST(ProcessPool, RunsNAtATime) {
 }
 
 TEST(ProcessPool, ExitCodesSignalsAndLogs) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     const std::vector<Job> jobs{shell("echo out; echo err >&2; exit 0", d / "a.log"), shell("exit 3", d / "b.log"),
                                 shell("kill -9 $$", d / "c.log"), {{(d / "no-such-program").string()}, (d / "d.log").string()}};
     std::vector<std::size_t> order;
@@ -61,15 +54,12 @@ TEST(ProcessPool, ExitCodesSignalsAndLogs) {
     EXPECT_EQ(r[2].exit_code, 128 + 9);
     EXPECT_EQ(r[3].exit_code, 127);
     EXPECT_EQ(order.size(), 4u);
-    std::ifstream log(d / "a.log");
-    std::stringstream text;
-    text << log.rdbuf();
-    EXPECT_EQ(text.str(), "out\nerr\n"); // stdout and stderr both in the log
+    EXPECT_EQ(rcsim::test::slurp(d / "a.log"), "out\nerr\n"); // stdout and stderr both in the log
 }
 
 // A stop request (a sweep's SIGINT): no job starts any more, the running one gets the signal once.
 TEST(ProcessPool, StopStartsNoMoreJobsAndPassesTheSignalOn) {
-    const fs::path d = scratch();
+    const fs::path d = rcsim::test::scratch_dir();
     // The job reports the signal it got and exits 130 as `rcsim run` does; unsignalled it sleeps.
     const std::string job = "trap 'echo got INT; kill $!; exit 130' INT; touch " + (d / "started").string() +
                             "; sleep 30 & wait";
@@ -83,8 +73,5 @@ TEST(ProcessPool, StopStartsNoMoreJobsAndPassesTheSignalOn) {
     EXPECT_EQ(r[0].exit_code, 130);
     EXPECT_FALSE(r[1].started);
     EXPECT_EQ(ended, 1u);
-    std::ifstream log(d / "a.log");
-    std::stringstream text;
-    text << log.rdbuf();
-    EXPECT_EQ(text.str(), "got INT\n");
+    EXPECT_EQ(rcsim::test::slurp(d / "a.log"), "got INT\n");
 }

@@ -19,6 +19,8 @@
 // LOOP runs LOOPS-1 times taken (17 clocks each) and once not (5); CX is saved around it (or
 // scratch by then) and LOOP leaves the flags alone: the firmware does the same work, only later.
 // A ROM whose bytes are neither is refused (exit 2).
+#include "tests/support/files.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -78,8 +80,7 @@ std::size_t offset_of(const nlohmann::json& sym, const std::string& name) {
 
 int main(int argc, char** argv) {
     if (argc != 5) return fail("usage: slow_isr_rom IN.rom SYMBOLS.json OUT.rom LOOPS");
-    std::ifstream in(argv[1], std::ios::binary);
-    Rom rom((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    Rom rom = rcsim::test::slurp_bytes(argv[1]);
     if (rom.size() != 0x10000) return fail(std::string(argv[1]) + ": not a 64 KB ROM image");
     nlohmann::json sym;
     try {

@@ -1,6 +1,7 @@
 // The sweep file: axes, zip groups, ranges, base lists, ids, key paths, shards.
 #include "models/plumbing/config_error.h"
 #include "scenarios/sweep/sweep.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -20,10 +21,7 @@ class SweepTest : public ::testing::Test {
 protected:
     fs::path dir;
     void SetUp() override {
-        dir = fs::path(::testing::TempDir()) /
-              ("sweep_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir);
-        fs::create_directories(dir);
+        dir = rcsim::test::scratch_dir();
         write("base.yaml", "name: base\nduration_s: 0.1\nports:\n  - {host: protocol, data_size: 8}\n"
                            "  - {host: protocol, data_size: 8}\n");
     }

@@ -18,6 +18,7 @@
 #include "scenarios/trace/flame_graph.h"
 #include "scenarios/trace/profiler.h"
 #include "tests/comm_cpu/i8086/cpu_board.h"
+#include "tests/support/files.h"
 
 #include <gtest/gtest.h>
 
@@ -48,9 +49,7 @@ struct Kat {
     std::vector<i8086::cycles_t> inta_t1;                              // T1 of every INTA cycle
 
     Kat() {
-        std::ifstream in(RCSIM_TRACE_KAT "/profile_kat.bin", std::ios::binary);
-        const std::vector<std::uint8_t> code((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        b.load(code, kLoad);
+        b.load(test::slurp_bytes(RCSIM_TRACE_KAT "/profile_kat.bin"), kLoad);
         b.set_vector(0x20, offset_of("isr0"), 0x1000);
         b.set_vector(0x21, offset_of("isr1"), 0x1000);
         b.cpu.set_bus_hook(

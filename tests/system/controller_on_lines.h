@@ -1,4 +1,4 @@
-// rcsim — whole-controller test bench: the real firmware ROM (RCSIM_COMM_FW_ROM) on the assembled
+// rcsim — the whole controller on its lines: the real firmware ROM (RCSIM_COMM_FW_ROM) on the assembled
 // communication board, the IDT7130 and the behavioural main CPU (rcsim::Controller), one RS-232C
 // line per port with the controller's 82510 on side a and a simulated host on side b.
 #pragma once
@@ -9,6 +9,7 @@
 #include "models/frame_codec.h"
 #include "scenarios/host/protocol_host.h"
 #include "scenarios/host/raw_host.h"
+#include "tests/support/serial_times.h"
 
 #include <systemc>
 #include <tlm>
@@ -25,9 +26,6 @@ namespace rcsim::systest {
 
 using sc_core::sc_time;
 
-inline sc_time ms(std::uint64_t v) { return us(1000 * v); }
-/// One 9600-bps 8E1 character (11 bits).
-inline sc_time k_char() { return ps(1'145'833'333); }
 /// The firmware has programmed its 82510s well before this (it is in the main loop after ~3 ms).
 inline sc_time k_boot() { return ms(30); }
 

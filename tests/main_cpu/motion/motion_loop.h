@@ -1,4 +1,4 @@
-// Test bench: a MotionController and a checked thread that runs the test body with 1 ms control
+// A motion loop: a MotionController and a checked thread that runs the test body with 1 ms control
 // cycles.
 #pragma once
 
@@ -9,10 +9,10 @@
 
 namespace rcsim::motion::test {
 
-struct Bench : sc_core::sc_module {
+struct MotionLoop : sc_core::sc_module {
     MotionController mc;
-    std::function<void(Bench&)> body;
-    Bench(sc_core::sc_module_name n, const MotionConfig& cfg) : sc_module(n), mc("mc", cfg) {
+    std::function<void(MotionLoop&)> body;
+    MotionLoop(sc_core::sc_module_name n, const MotionConfig& cfg) : sc_module(n), mc("mc", cfg) {
         rcsim::test::spawn_checked([this] { run(); }, "run");
     }
     void run() {
@@ -40,9 +40,9 @@ struct Bench : sc_core::sc_module {
     }
 };
 
-inline void run_bench(const std::function<void(Bench&)>& body, MotionConfig cfg = {}) {
+inline void run_motion(const std::function<void(MotionLoop&)>& body, MotionConfig cfg = {}) {
     cfg.drive.following_lag_s = cfg.drive.following_lag_s;
-    Bench b("bench", cfg);
+    MotionLoop b("loop", cfg);
     b.body = body;
     sc_core::sc_start();
 }

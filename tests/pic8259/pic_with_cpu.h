@@ -1,4 +1,4 @@
-// Test bench for the 8259A: a scripted CPU (one checked thread running a test-supplied body) with the
+// The 8259A with a CPU: a scripted CPU (one checked thread running a test-supplied body) with the
 // 8086's I/O and INTA initiator sockets, and eight IR lines the body drives directly.
 #pragma once
 
@@ -17,11 +17,11 @@
 
 namespace rcsim::test {
 
-class PicBench : public sc_core::sc_module {
+class PicWithCpu : public sc_core::sc_module {
 public:
     Pic8259 pic{"pic"};
-    tlm_utils::simple_initiator_socket<PicBench> io{"io"};
-    tlm_utils::simple_initiator_socket<PicBench> inta_socket{"inta_socket"};
+    tlm_utils::simple_initiator_socket<PicWithCpu> io{"io"};
+    tlm_utils::simple_initiator_socket<PicWithCpu> inta_socket{"inta_socket"};
     sc_core::sc_vector<IrqLine> ir{"ir_line", 8};
     IrqLine intr{"intr_line"};
     Clock clock{8'000'000};
@@ -32,7 +32,7 @@ public:
     static constexpr unsigned kPortA0 = 0; // local offsets with the board's a0_shift = 1
     static constexpr unsigned kPortA1 = 2;
 
-    explicit PicBench(sc_core::sc_module_name name) : sc_module(name) {
+    explicit PicWithCpu(sc_core::sc_module_name name) : sc_module(name) {
         io.bind(pic.bus);
         inta_socket.bind(pic.inta);
         for (unsigned n = 0; n < 8; ++n) pic.ir[n].bind(ir[n]);

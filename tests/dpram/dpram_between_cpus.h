@@ -1,4 +1,4 @@
-// Test bench for the IDT7130: one scripted initiator per port (each a checked thread running a
+// The IDT7130 between two CPUs: one scripted initiator per port (each a checked thread running a
 // test-supplied body) and a log of every INT pin change with its time.
 #pragma once
 
@@ -18,7 +18,7 @@
 
 namespace rcsim::test {
 
-class DpramBench : public sc_core::sc_module {
+class DpramBetweenCpus : public sc_core::sc_module {
 public:
     struct PinEvent {
         sc_core::sc_time time;
@@ -28,8 +28,8 @@ public:
     };
 
     Idt7130 ram{"ram"};
-    tlm_utils::simple_initiator_socket<DpramBench> left{"left_cpu"};
-    tlm_utils::simple_initiator_socket<DpramBench> right{"right_cpu"};
+    tlm_utils::simple_initiator_socket<DpramBetweenCpus> left{"left_cpu"};
+    tlm_utils::simple_initiator_socket<DpramBetweenCpus> right{"right_cpu"};
     IrqLine int_l{"int_l_line"};
     IrqLine int_r{"int_r_line"};
 
@@ -37,13 +37,13 @@ public:
     std::vector<PinEvent> pins;
     std::vector<Idt7130::BusyEvent> busy;
 
-    explicit DpramBench(sc_core::sc_module_name name) : sc_module(name) {
+    explicit DpramBetweenCpus(sc_core::sc_module_name name) : sc_module(name) {
         left.bind(ram.left);
         right.bind(ram.right);
         ram.int_l.bind(int_l);
         ram.int_r.bind(int_r);
         ram.on_busy = [this](const Idt7130::BusyEvent& e) { busy.push_back(e); };
-        SC_HAS_PROCESS(DpramBench);
+        SC_HAS_PROCESS(DpramBetweenCpus);
         spawn_checked([this] { run_left(); }, "run_left");
         spawn_checked([this] { run_right(); }, "run_right");
         SC_METHOD(log_pins);
@@ -94,7 +94,7 @@ private:
     }
 };
 
-inline std::ostream& operator<<(std::ostream& os, const DpramBench::PinEvent& e) {
+inline std::ostream& operator<<(std::ostream& os, const DpramBetweenCpus::PinEvent& e) {
     return os << e.pin << "=" << e.value << "@" << e.time;
 }
 

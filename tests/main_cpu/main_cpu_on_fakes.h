@@ -1,4 +1,4 @@
-// The bench of the main CPU tests (main_cpu_test.cpp: frames, tokens, ports, mailbox words;
+// The set-up of the main CPU tests (main_cpu_test.cpp: frames, tokens, ports, mailbox words;
 // main_cpu_timing_test.cpp: the control cycle and the one processor's timing): a main CPU wired
 // to a fake IDT7130 and a scripted comm CPU (comm_side.h), a motion layer that records, and
 // frame helpers.
@@ -20,8 +20,6 @@ namespace rcsim::test::main_cpu {
 using namespace rcsim::dpram_layout;
 using sc_core::sc_time;
 
-inline sc_time ms(std::uint64_t v) { return us(v * 1000); }
-
 /// Records motion commands and control cycles.
 class FakeMotion : public MotionInterface {
 public:
@@ -37,12 +35,12 @@ public:
 };
 
 /// One main CPU wired to a fake DP-RAM and a scripted comm CPU.
-struct Bench {
+struct MainCpuOnFakes {
     FakeDpram ram{"ram"};
     MainCpu cpu;
     CommSide comm{"comm", ram};
 
-    explicit Bench(const MainCpuConfig& c = MainCpuConfig()) : cpu("cpu", c) {
+    explicit MainCpuOnFakes(const MainCpuConfig& c = MainCpuConfig()) : cpu("cpu", c) {
         cpu.dpram.bind(ram.right);
         cpu.int_r(ram.int_r);
     }

@@ -1,4 +1,4 @@
-// The bench of the Intel 82510 tests (uart82510_test.cpp: registers and interrupts;
+// The set-up of the Intel 82510 tests (uart82510_test.cpp: registers and interrupts;
 // uart82510_serial_test.cpp: transmit, receive, timing, two 82510s, BREAK): the CPU's register
 // access over the bus, the host at the far end of the line, and one 82510 wired to both.
 #pragma once
@@ -8,6 +8,7 @@
 #include "models/bus.h"
 #include "models/clock.h"
 #include "tests/support/sc_test.h"
+#include "tests/support/serial_times.h"
 
 #include <tlm_utils/simple_initiator_socket.h>
 
@@ -84,13 +85,13 @@ struct Host : SerialEndpoint {
     }
 };
 
-struct Bench {
+struct UartOnLine {
     Uart82510 uart;
     Cpu cpu{"cpu"};
     IrqLine irq{"irq"};
     SerialLine line{"line"};
     Host host{line};
-    explicit Bench(Uart82510::Config cfg = {}) : uart("uart", cfg) {
+    explicit UartOnLine(Uart82510::Config cfg = {}) : uart("uart", cfg) {
         cpu.sock.bind(uart.bus);
         uart.int_out.bind(irq);
         uart.connect(line, SerialLine::a);
@@ -104,7 +105,7 @@ inline void run(std::function<void()> body, const sc_time& limit = sc_core::SC_Z
     else sc_core::sc_start(limit);
 }
 
-inline const sc_time k_char = ps(1'145'833'333); // 11 bits at 18.432 MHz / (32 x 60)
+inline const sc_time k_char = test::char_time_9600_8e1();
 
 /// Lets INT follow a register access: the pin is driven one delta after the change.
 inline void settle() {

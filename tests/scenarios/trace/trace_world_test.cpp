@@ -23,7 +23,7 @@ std::vector<std::pair<double, std::int64_t>> counter(const json& d, const std::s
     return v;
 }
 
-TEST(TraceBench, EachBusyEpisodeIsAStepOnItsPortsCounter) {
+TEST(TraceWorld, EachBusyEpisodeIsAStepOnItsPortsCounter) {
     const rcsim::Scenario s = rcsim::load_scenario(RCSIM_TRACE_DATA "/short_trace.yaml");
     rcsim::World world("world", s);
     std::filesystem::create_directories(RCSIM_TRACE_WORK);
