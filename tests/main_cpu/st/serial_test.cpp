@@ -18,7 +18,7 @@ using namespace rcsim;
 
 namespace {
 
-const std::string cases = std::string(RCSIM_SOURCE_DIR) + "/tests/st/cases/";
+const std::string cases = std::string(RCSIM_SOURCE_DIR) + "/tests/main_cpu/st/cases/";
 
 std::string load_error(const std::string& file) {
     try {
