@@ -11,7 +11,7 @@
 #include <ostream>
 #include <set>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -410,4 +410,4 @@ void print_comparison(const Comparison& c, std::ostream& os, std::size_t limit) 
     os << "\n" << (c.regression() ? "REGRESSION" : "no regression") << "\n";
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

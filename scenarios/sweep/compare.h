@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 /// One rule of a tolerances file; the first rule whose patterns match a figure applies.
 struct Tolerance {
@@ -102,4 +102,4 @@ std::string junit_xml(const Comparison& c);
 /// side by side.
 std::string compare_html(const Comparison& c);
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

@@ -9,7 +9,7 @@
 #include <map>
 #include <sstream>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 using json = nlohmann::json;
 using svg::esc;
@@ -275,4 +275,4 @@ std::string compare_html(const Comparison& c) {
     return o.str();
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

@@ -10,7 +10,7 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 
 namespace {
 
