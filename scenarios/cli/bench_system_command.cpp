@@ -82,8 +82,8 @@ Sample run_child(const Scenario& s, const std::string& out_dir, bool coverage) {
         RunOptions opt;
         opt.out_dir = out_dir;
         opt.coverage = coverage;
-        opt.on_finished = [&out](World& b) {
-            Cpu8086& cpu = b.ctl.comm.cpu;
+        opt.on_finished = [&out](World& w) {
+            Cpu8086& cpu = w.ctl.comm.cpu;
             out.kernel_waits = double(cpu.kernel_waits());
             out.access_waits = double(cpu.access_waits());
             out.executed = double(cpu.instructions() - cpu.core().forwarded_instructions());

@@ -24,7 +24,7 @@
 namespace rcsim {
 
 namespace fs = std::filesystem;
-using namespace regress;
+using namespace sweep;
 
 namespace {
 
@@ -266,7 +266,7 @@ void add_compare(CLI::App& app) {
 
 } // namespace
 
-void add_regress_commands(CLI::App& app) {
+void add_sweep_commands(CLI::App& app) {
     add_sweep(app);
     add_merge(app);
     add_compare(app);

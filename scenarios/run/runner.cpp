@@ -152,8 +152,8 @@ std::string why_no_traffic(const Scenario& s) {
 /// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
 /// and its worst case with the longest RS-232 receive service. A figure with no samples is null
 /// and named in "not_measured" with the reason.
-nlohmann::json table3_json(const World& b, const Scenario& s, const InterruptFigures& c, CheckFigures& f) {
-    const double budget = budget_us(b, s);
+nlohmann::json table3_json(const World& w, const Scenario& s, const InterruptFigures& c, CheckFigures& f) {
+    const double budget = budget_us(w, s);
     nlohmann::json j = {{"rs232_isr_us", nullptr},      {"rs232_isr_max_us", nullptr},
                         {"dpram_byte_us", nullptr},     {"dpram_bytes_measured", c.dpram_bytes},
                         {"paper_rs232_isr_us", kPaperRs232IsrUs}, {"paper_dpram_byte_us", kPaperDpramByteUs},

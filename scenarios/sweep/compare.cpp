@@ -11,7 +11,7 @@
 #include <ostream>
 #include <set>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -95,14 +95,14 @@ Rank rank_of(const std::string& key) {
     return Rank::other;
 }
 
-const char* verdict_name(Verdict v) {
+const char* change_name(Change v) {
     switch (v) {
-    case Verdict::same: return "same";
-    case Verdict::within: return "changed (within tolerance)";
-    case Verdict::ignored: return "ignored";
-    case Verdict::improvement: return "improvement";
-    case Verdict::regression: return "regression";
-    case Verdict::added: return "new";
+    case Change::same: return "same";
+    case Change::within: return "changed (within tolerance)";
+    case Change::ignored: return "ignored";
+    case Change::improvement: return "improvement";
+    case Change::regression: return "regression";
+    case Change::added: return "new";
     }
     return "?";
 }
@@ -147,24 +147,24 @@ const Tolerance& rule_for(const std::vector<Tolerance>& rules, const std::string
 
 void judge(FigureDiff& f, const Tolerance& t) {
     f.rule = t.origin;
-    if (t.ignore) f.verdict = Verdict::ignored;
-    else if (!f.has_current) f.verdict = Verdict::regression; // a figure the report no longer has
-    else if (!f.has_baseline) f.verdict = Verdict::added;
+    if (t.ignore) f.change = Change::ignored;
+    else if (!f.has_current) f.change = Change::regression; // a figure the report no longer has
+    else if (!f.has_baseline) f.change = Change::added;
     if (t.ignore || !f.has_current || !f.has_baseline) return;
     if (f.baseline == f.current) return; // same (numbers compare by value: 5 == 5.0)
     if (!f.baseline.is_number() || !f.current.is_number() || f.baseline.is_boolean() || f.current.is_boolean()) {
-        f.verdict = Verdict::regression; // null <-> number (measured or not), true <-> false
+        f.change = Change::regression; // null <-> number (measured or not), true <-> false
         return;
     }
     const double b = f.baseline.get<double>(), c = f.current.get<double>(), d = c - b;
     f.delta = d;
     if (b != 0) f.rel = d / std::fabs(b);
     if (std::fabs(d) <= t.abs || (f.rel && std::fabs(*f.rel) <= t.rel)) {
-        f.verdict = Verdict::within;
+        f.change = Change::within;
         return;
     }
     const bool good = (t.better == Tolerance::Better::lower && d < 0) || (t.better == Tolerance::Better::higher && d > 0);
-    f.verdict = good ? Verdict::improvement : Verdict::regression;
+    f.change = good ? Change::improvement : Change::regression;
 }
 
 void compare_figures(const json& base, const json& cur, const std::string& id, const std::vector<Tolerance>& rules,
@@ -208,10 +208,10 @@ void compare_checks(const json& base, const json& cur, RunDiff& r) {
         c.name = k;
         if (bm.count(k)) c.baseline = bm[k];
         if (cm.count(k)) c.current = cm[k];
-        if (!c.current) c.verdict = Verdict::regression; // the check is gone
-        else if (!*c.current && (!c.baseline || *c.baseline)) c.verdict = Verdict::regression;
-        else if (*c.current && c.baseline && !*c.baseline) c.verdict = Verdict::improvement;
-        else if (!c.baseline) c.verdict = Verdict::added;
+        if (!c.current) c.change = Change::regression; // the check is gone
+        else if (!*c.current && (!c.baseline || *c.baseline)) c.change = Change::regression;
+        else if (*c.current && c.baseline && !*c.baseline) c.change = Change::improvement;
+        else if (!c.baseline) c.change = Change::added;
         r.checks.push_back(c);
     }
 }
@@ -244,8 +244,8 @@ Comparison compare_runs(const std::map<std::string, RunRecord>& baseline, const 
         } else {
             compare_figures(*b->second.report, *cu->second.report, id, rules, r);
             compare_checks(*b->second.report, *cu->second.report, r);
-            for (const auto& f : r.figures) ++c.figure_counts[f.verdict], r.regression |= f.verdict == Verdict::regression;
-            for (const auto& k : r.checks) ++c.check_counts[k.verdict], r.regression |= k.verdict == Verdict::regression;
+            for (const auto& f : r.figures) ++c.figure_counts[f.change], r.regression |= f.change == Change::regression;
+            for (const auto& k : r.checks) ++c.check_counts[k.change], r.regression |= k.change == Change::regression;
         }
         c.runs.push_back(std::move(r));
     }
@@ -281,9 +281,9 @@ struct Row {
     double order = 0; // |rel| of the worst run, infinite for a change from 0 or null
 };
 
-/// The rows of one verdict, one per figure or check (grouped over the runs), ranked, the largest
-/// change first within a rank.
-std::vector<Row> rows_of(const Comparison& c, Verdict want) {
+/// The rows of one kind of change, one per figure or check (grouped over the runs), ranked, the
+/// largest change first within a rank.
+std::vector<Row> rows_of(const Comparison& c, Change want) {
     std::vector<Row> rows;
     std::map<std::string, std::size_t> at; // figure or check -> its row
     auto add = [&](Row row) {
@@ -299,18 +299,18 @@ std::vector<Row> rows_of(const Comparison& c, Verdict want) {
         old.runs = n;
     };
     for (const RunDiff& r : c.runs) {
-        if (want == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
+        if (want == Change::regression && r.state != RunDiff::State::matched && r.regression) {
             const char* what = r.state == RunDiff::State::missing ? "run missing from current"
                                : r.state == RunDiff::State::extra ? "run not in the baseline"
                                                                   : "run has no report.json";
             rows.push_back({what, r.id, "", "", "", "", 1, Rank::run, INFINITY});
         }
         for (const auto& k : r.checks)
-            if (k.verdict == want)
+            if (k.change == want)
                 add({"check " + k.name, r.id, k.baseline ? (*k.baseline ? "PASS" : "FAIL") : "(absent)",
                      k.current ? (*k.current ? "PASS" : "FAIL") : "(absent)", "", "", 1, Rank::check, INFINITY});
         for (const auto& f : r.figures)
-            if (f.verdict == want)
+            if (f.change == want)
                 add({f.key, r.id, value_text(f.baseline, f.has_baseline), value_text(f.current, f.has_current),
                      signed_text(f.delta, false), signed_text(f.rel, true), 1, rank_of(f.key),
                      f.rel ? std::fabs(*f.rel) : INFINITY});
@@ -384,7 +384,7 @@ void print_rows(const std::vector<Row>& rows, const char* title, std::size_t ite
     print_families(others, rows.end(), os);
 }
 
-std::size_t count(const std::map<Verdict, std::size_t>& m, Verdict v) {
+std::size_t count(const std::map<Change, std::size_t>& m, Change v) {
     const auto it = m.find(v);
     return it == m.end() ? 0 : it->second;
 }
@@ -396,18 +396,18 @@ void print_comparison(const Comparison& c, std::ostream& os, std::size_t limit) 
     const auto& f = c.figure_counts;
     os << "compare: " << matched << " runs matched, " << c.missing << " missing, " << c.extra << " extra, "
        << c.no_report << " without a report" << (c.allow_missing && (c.missing || c.extra) ? " (--allow-missing)" : "")
-       << "\nfigures: " << count(f, Verdict::regression) << " regressions, " << count(f, Verdict::improvement)
-       << " improvements, " << count(f, Verdict::within) << " changed within tolerance, " << count(f, Verdict::same)
-       << " identical, " << count(f, Verdict::ignored) << " ignored, " << count(f, Verdict::added) << " new\n"
-       << "checks:  " << count(c.check_counts, Verdict::regression) << " regressions, "
-       << count(c.check_counts, Verdict::improvement) << " improvements, " << count(c.check_counts, Verdict::same)
-       << " unchanged, " << count(c.check_counts, Verdict::added) << " new\n";
-    const std::size_t regressions = count(f, Verdict::regression) + count(c.check_counts, Verdict::regression) +
+       << "\nfigures: " << count(f, Change::regression) << " regressions, " << count(f, Change::improvement)
+       << " improvements, " << count(f, Change::within) << " changed within tolerance, " << count(f, Change::same)
+       << " identical, " << count(f, Change::ignored) << " ignored, " << count(f, Change::added) << " new\n"
+       << "checks:  " << count(c.check_counts, Change::regression) << " regressions, "
+       << count(c.check_counts, Change::improvement) << " improvements, " << count(c.check_counts, Change::same)
+       << " unchanged, " << count(c.check_counts, Change::added) << " new\n";
+    const std::size_t regressions = count(f, Change::regression) + count(c.check_counts, Change::regression) +
                                     (c.allow_missing ? 0 : c.missing + c.extra) + c.no_report;
-    print_rows(rows_of(c, Verdict::regression), "regressions", regressions, os, limit);
-    print_rows(rows_of(c, Verdict::improvement), "improvements",
-               count(f, Verdict::improvement) + count(c.check_counts, Verdict::improvement), os, limit);
+    print_rows(rows_of(c, Change::regression), "regressions", regressions, os, limit);
+    print_rows(rows_of(c, Change::improvement), "improvements",
+               count(f, Change::improvement) + count(c.check_counts, Change::improvement), os, limit);
     os << "\n" << (c.regression() ? "REGRESSION" : "no regression") << "\n";
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

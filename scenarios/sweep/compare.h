@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 /// One rule of a tolerances file; the first rule whose patterns match a figure applies.
 struct Tolerance {
@@ -39,22 +39,24 @@ std::vector<Tolerance> default_tolerances();
 /// `*` matches any run of characters (dots and brackets too), `?` one; everything else itself.
 bool glob_match(const std::string& pattern, const std::string& text);
 
-enum class Verdict { same, within, ignored, improvement, regression, added };
-const char* verdict_name(Verdict v);
+/// How a figure or a check changed against the baseline; not the run's own Verdict
+/// (scenarios/verdict/checks.h). change_name() is what the reports print for it.
+enum class Change { same, within, ignored, improvement, regression, added };
+const char* change_name(Change v);
 
 struct FigureDiff {
     std::string key;
     nlohmann::json baseline, current; // absent side: discarded json (see has_*)
     bool has_baseline = true, has_current = true;
     std::optional<double> delta, rel; // numbers on both sides; rel when baseline != 0
-    Verdict verdict = Verdict::same;
+    Change change = Change::same;
     std::string rule; // where the tolerance came from
 };
 
 struct CheckDiff {
     std::string name;
     std::optional<bool> baseline, current; // passed; absent when the report has no such check
-    Verdict verdict = Verdict::same;
+    Change change = Change::same;
 };
 
 struct RunDiff {
@@ -68,7 +70,7 @@ struct RunDiff {
 struct Comparison {
     std::vector<RunDiff> runs;
     bool allow_missing = false;
-    std::map<Verdict, std::size_t> figure_counts, check_counts;
+    std::map<Change, std::size_t> figure_counts, check_counts;
     std::size_t missing = 0, extra = 0, no_report = 0;
     bool regression() const;
 };
@@ -102,4 +104,4 @@ std::string junit_xml(const Comparison& c);
 /// side by side.
 std::string compare_html(const Comparison& c);
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

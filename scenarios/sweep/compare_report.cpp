@@ -9,7 +9,7 @@
 #include <map>
 #include <sstream>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 using json = nlohmann::json;
 using svg::esc;
@@ -73,7 +73,7 @@ std::string family_failure(const std::vector<const FigureDiff*>& figures) {
     constexpr std::size_t kListed = 5;
     std::vector<const FigureDiff*> regressed;
     for (const FigureDiff* f : figures)
-        if (f->verdict == Verdict::regression) regressed.push_back(f);
+        if (f->change == Change::regression) regressed.push_back(f);
     if (regressed.empty()) return "";
     std::string m = std::to_string(regressed.size()) + (regressed.size() == 1 ? " figure regressed: " : " figures regressed: ");
     for (std::size_t i = 0; i < regressed.size() && i < kListed; ++i) {
@@ -88,7 +88,7 @@ std::string family_failure(const std::vector<const FigureDiff*>& figures) {
 /// Skipped when every figure of the family is ignored by a rule.
 std::string family_skipped(const std::vector<const FigureDiff*>& figures) {
     for (const FigureDiff* f : figures)
-        if (f->verdict != Verdict::ignored) return "";
+        if (f->change != Change::ignored) return "";
     return "ignored: " + figures.front()->rule;
 }
 
@@ -113,7 +113,7 @@ std::string junit_xml(const Comparison& c) {
         }
         for (const CheckDiff& k : r.checks)
             add("check " + k.name,
-                k.verdict == Verdict::regression ? pass_text(k.baseline) + " -> " + pass_text(k.current) : "", "");
+                k.change == Change::regression ? pass_text(k.baseline) + " -> " + pass_text(k.current) : "", "");
         for (const auto& [family, figures] : families_of(r))
             add("figures " + family, family_failure(figures), family_skipped(figures));
         suites << "  <testsuite name=\"" << esc(r.id) << "\" tests=\"" << t << "\" failures=\"" << f
@@ -130,52 +130,52 @@ std::string junit_xml(const Comparison& c) {
 
 namespace {
 
-const char* row_class(Verdict v) {
+const char* row_class(Change v) {
     switch (v) {
-    case Verdict::regression: return " class=\"reg\"";
-    case Verdict::improvement: return " class=\"imp\"";
-    case Verdict::within: return " class=\"within\"";
-    case Verdict::ignored: return " class=\"ign\"";
+    case Change::regression: return " class=\"reg\"";
+    case Change::improvement: return " class=\"imp\"";
+    case Change::within: return " class=\"within\"";
+    case Change::ignored: return " class=\"ign\"";
     default: return "";
     }
 }
 
 void figure_row(std::ostringstream& o, const std::string& run, const FigureDiff& f) {
     const char* sign = !f.delta ? "" : *f.delta > 0 ? " class=\"pos\"" : " class=\"neg\"";
-    o << "<tr" << row_class(f.verdict) << ">";
+    o << "<tr" << row_class(f.change) << ">";
     if (!run.empty()) o << "<td class=\"k\">" << esc(run) << "</td>";
     o << "<td class=\"k\">" << esc(f.key) << "</td><td>" << esc(text_of(f.baseline, f.has_baseline)) << "</td><td>"
       << esc(text_of(f.current, f.has_current)) << "</td><td" << sign << ">" << (f.delta ? html::cell(*f.delta) : "")
-      << "</td><td" << sign << ">" << esc(percent(f.rel)) << "</td><td class=\"k\">" << verdict_name(f.verdict)
+      << "</td><td" << sign << ">" << esc(percent(f.rel)) << "</td><td class=\"k\">" << change_name(f.change)
       << "</td></tr>\n";
 }
 
 void check_row(std::ostringstream& o, const std::string& run, const CheckDiff& k) {
-    o << "<tr" << row_class(k.verdict) << ">";
+    o << "<tr" << row_class(k.change) << ">";
     if (!run.empty()) o << "<td class=\"k\">" << esc(run) << "</td>";
     o << "<td class=\"k\">check " << esc(k.name) << "</td><td>" << pass_text(k.baseline) << "</td><td>"
-      << pass_text(k.current) << "</td><td></td><td></td><td class=\"k\">" << verdict_name(k.verdict) << "</td></tr>\n";
+      << pass_text(k.current) << "</td><td></td><td></td><td class=\"k\">" << change_name(k.change) << "</td></tr>\n";
 }
 
 const char* kHead = "<th class=\"k\">figure</th><th>baseline</th><th>current</th><th>delta</th><th>rel</th>"
                     "<th class=\"k\">verdict</th></tr>\n";
 
-/// Every change of verdict `v`, ranked as the console ranks them (Rank): runs, checks, then the
+/// Every change of kind `v`, ranked as the console ranks them (Rank): runs, checks, then the
 /// figures above Rank::other in a table; the other figures in one collapsed table per family.
-void verdict_table(std::ostringstream& o, const Comparison& c, Verdict v, const char* title) {
+void change_table(std::ostringstream& o, const Comparison& c, Change v, const char* title) {
     std::map<Rank, std::ostringstream> ranked;
     std::map<std::string, std::pair<std::size_t, std::ostringstream>> families; // rows per family
     std::size_t n = 0;
     for (const RunDiff& r : c.runs) {
-        if (v == Verdict::regression && r.state != RunDiff::State::matched && r.regression) {
+        if (v == Change::regression && r.state != RunDiff::State::matched && r.regression) {
             ranked[Rank::run] << "<tr class=\"reg\"><td class=\"k\">" << esc(r.id) << "</td><td class=\"k\" colspan=\"6\">"
                               << run_problem(r) << "</td></tr>\n";
             ++n;
         }
         for (const CheckDiff& k : r.checks)
-            if (k.verdict == v) check_row(ranked[Rank::check], r.id, k), ++n;
+            if (k.change == v) check_row(ranked[Rank::check], r.id, k), ++n;
         for (const FigureDiff& f : r.figures) {
-            if (f.verdict != v) continue;
+            if (f.change != v) continue;
             ++n;
             const Rank rank = rank_of(f.key);
             if (rank != Rank::other) {
@@ -205,8 +205,8 @@ std::vector<std::string> worst_changed(const Comparison& c, std::size_t n) {
     std::map<std::string, std::pair<int, double>> worst; // (has a relative change, its size)
     for (const RunDiff& r : c.runs)
         for (const FigureDiff& f : r.figures)
-            if (f.delta && (f.verdict == Verdict::regression || f.verdict == Verdict::improvement ||
-                            f.verdict == Verdict::within)) {
+            if (f.delta && (f.change == Change::regression || f.change == Change::improvement ||
+                            f.change == Change::within)) {
                 const std::pair<int, double> w{f.rel ? 1 : 0, f.rel ? std::fabs(*f.rel) : std::fabs(*f.delta)};
                 worst[f.key] = std::max(worst[f.key], w);
             }
@@ -248,17 +248,17 @@ std::string compare_html(const Comparison& c) {
     print_comparison(c, console);
     o << "<div class=\"banner " << (bad ? "fail" : "pass") << "\">" << (bad ? "REGRESSION" : "no regression")
       << "</div>\n<pre>" << esc(console.str()) << "</pre>\n";
-    verdict_table(o, c, Verdict::regression, "Regressions");
-    verdict_table(o, c, Verdict::improvement, "Improvements");
+    change_table(o, c, Change::regression, "Regressions");
+    change_table(o, c, Change::improvement, "Improvements");
     histograms(o, c);
     o << "<h2>Runs side by side</h2>\n";
     for (const RunDiff& r : c.runs) {
         std::size_t reg = 0, imp = 0, changed = 0;
         for (const auto& f : r.figures) {
-            reg += f.verdict == Verdict::regression, imp += f.verdict == Verdict::improvement;
-            changed += f.verdict != Verdict::same && f.verdict != Verdict::ignored;
+            reg += f.change == Change::regression, imp += f.change == Change::improvement;
+            changed += f.change != Change::same && f.change != Change::ignored;
         }
-        for (const auto& k : r.checks) reg += k.verdict == Verdict::regression, imp += k.verdict == Verdict::improvement;
+        for (const auto& k : r.checks) reg += k.change == Change::regression, imp += k.change == Change::improvement;
         o << "<details" << (r.regression ? " open" : "") << "><summary>" << esc(r.id) << ": ";
         if (r.state != RunDiff::State::matched) o << run_problem(r);
         else o << reg << " regressions, " << imp << " improvements, " << changed << " figures changed of " << r.figures.size();
@@ -275,4 +275,4 @@ std::string compare_html(const Comparison& c) {
     return o.str();
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

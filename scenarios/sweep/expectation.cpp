@@ -2,7 +2,7 @@
 
 #include <set>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace {
 
@@ -54,4 +54,4 @@ std::vector<std::string> expected_failures(const RunRecord& run) {
 
 Expectation judge_run(const RunRecord& run) { return judge_expectation(run.report, expected_failures(run)); }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

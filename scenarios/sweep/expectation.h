@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 struct Expectation {
     /// "passed": exactly the expected checks failed; "failed": not so (`why` says which check and
@@ -33,4 +33,4 @@ std::vector<std::string> expected_failures(const RunRecord& run);
 /// judge_expectation() of a run directory read back.
 Expectation judge_run(const RunRecord& run);
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

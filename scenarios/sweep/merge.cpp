@@ -11,7 +11,7 @@
 #include <set>
 #include <sstream>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -238,4 +238,4 @@ std::size_t merge_runs(const std::vector<std::string>& dirs, const fs::path& out
     return runs.size();
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

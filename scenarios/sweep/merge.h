@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 /// One run directory: its id, run.json (absent for a plain `rcsim run --out` directory) and
 /// report.json (absent when the run did not finish).
@@ -70,4 +70,4 @@ std::size_t merge_runs(const std::vector<std::string>& dirs, const std::filesyst
 /// A number as the summaries print it: the shortest text that reads back as the same double.
 std::string number_text(const nlohmann::json& v);
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

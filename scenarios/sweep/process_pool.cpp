@@ -16,7 +16,7 @@
 
 extern char** environ;
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace {
 
@@ -136,4 +136,4 @@ void Progress::interrupted(const char* signal_name, std::size_t completed, std::
                  signal_name, completed, total_, interrupted, not_run, failed, elapsed_s);
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 struct Job {
     std::vector<std::string> argv; // argv[0] is the executable's path
@@ -58,4 +58,4 @@ private:
     ProgressLine line_;
 };
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

@@ -11,7 +11,7 @@
 #include <set>
 #include <sstream>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 using json = nlohmann::json;
 using svg::esc;
@@ -305,4 +305,4 @@ std::string summary_html(const nlohmann::json& summary) {
     return o.str();
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

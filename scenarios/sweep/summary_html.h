@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace rcsim::regress::html {
+namespace rcsim::sweep::html {
 
 /// The style sheet both pages embed (each page is one self-contained file).
 extern const char* const kCss;
@@ -32,4 +32,4 @@ std::string overlaid_histogram(const std::string& title, const std::vector<doubl
 /// A number for a table cell: up to 6 significant digits, "-" for null.
 std::string cell(double v);
 
-} // namespace rcsim::regress::html
+} // namespace rcsim::sweep::html

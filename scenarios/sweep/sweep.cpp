@@ -14,7 +14,7 @@
 #include <set>
 #include <stdexcept>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 namespace fs = std::filesystem;
 
@@ -551,4 +551,4 @@ std::vector<std::string> run_argv(const std::string& exe, const fs::path& dir, c
     return argv;
 }
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

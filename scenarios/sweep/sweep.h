@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace rcsim::regress {
+namespace rcsim::sweep {
 
 /// One run of a sweep.
 struct SweepRun {
@@ -92,4 +92,4 @@ std::string shell_quote(const std::string& word);
 std::vector<std::string> run_argv(const std::string& exe, const std::filesystem::path& dir, const SweepRun& run,
                                   const std::string& rom);
 
-} // namespace rcsim::regress
+} // namespace rcsim::sweep

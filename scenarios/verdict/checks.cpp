@@ -41,10 +41,10 @@ std::string joined(const std::vector<std::string>& parts) {
 }
 
 /// overruns: per port, how many characters were lost and when the first was.
-std::string why_overruns(const World& b) {
+std::string why_overruns(const World& w) {
     std::vector<std::string> v;
     for (unsigned p = 0; p < World::kPorts; ++p) {
-        const auto& u = b.ctl.comm.uart[p];
+        const auto& u = w.ctl.comm.uart[p];
         if (u.stats().overruns == 0) continue;
         v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(u.stats().overruns) +
                     " character(s) lost, the first arriving at " + at_us(*u.first_overrun()) +
@@ -54,10 +54,10 @@ std::string why_overruns(const World& b) {
 }
 
 /// frames_failed: per port, the commands the host gave up after its retries.
-std::string why_frames_failed(const World& b) {
+std::string why_frames_failed(const World& w) {
     std::vector<std::string> v;
     for (unsigned p = 0; p < World::kPorts; ++p) {
-        const auto& h = b.protocol[p];
+        const auto& h = w.protocol[p];
         if (!h || !h->first_failure()) continue;
         v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(h->counters().frames_failed) +
                     " command(s) given up after their retries, the first (" + h->first_failure()->token + ") at " +
@@ -67,27 +67,27 @@ std::string why_frames_failed(const World& b) {
 }
 
 /// frames_delivered: what each port whose host generates commands delivered.
-std::string why_frames_delivered(const World& b, const Scenario& s) {
+std::string why_frames_delivered(const World& w, const Scenario& s) {
     std::vector<std::string> v;
     for (unsigned p = 0; p < World::kPorts; ++p)
-        if (b.protocol[p] && s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::none)
+        if (w.protocol[p] && s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::none)
             v.push_back("port " + std::to_string(p) + " (host to controller): " +
-                        std::to_string(b.protocol[p]->counters().frames_delivered) + " of " +
-                        std::to_string(b.protocol[p]->counters().frames_sent) + " commands delivered");
+                        std::to_string(w.protocol[p]->counters().frames_delivered) + " of " +
+                        std::to_string(w.protocol[p]->counters().frames_sent) + " commands delivered");
     return joined(v);
 }
 
 /// portN_char_latency_max_us: the character that waited longest.
-std::string why_char_latency(const World& b, unsigned p) {
-    const World::CharWait& w = b.char_latency_worst[p];
-    return "port " + std::to_string(p) + " (host to controller): a character waited " + us(w.wait_us) +
-           " in the RX FIFO, from its stop bit at " + at_us(w.stop) + " to its RXD read at " + at_us(w.read);
+std::string why_char_latency(const World& w, unsigned p) {
+    const World::CharWait& worst = w.char_latency_worst[p];
+    return "port " + std::to_string(p) + " (host to controller): a character waited " + us(worst.wait_us) +
+           " in the RX FIFO, from its stop bit at " + at_us(worst.stop) + " to its RXD read at " + at_us(worst.read);
 }
 
 /// table3_worst_margin_us: the longest RS-232 receive interrupt and its place in the sum.
-std::string why_worst_margin(const World& b, const CheckFigures& f, double budget) {
-    if (b.rs232_rx_service_us().count() == 0) return "";
-    const InterruptRecord& r = b.rs232_rx_longest();
+std::string why_worst_margin(const World& w, const CheckFigures& f, double budget) {
+    if (w.rs232_rx_service_us().count() == 0) return "";
+    const InterruptRecord& r = w.rs232_rx_longest();
     const double sum = budget - *f.table3_worst_margin_us.value; // longest + DP-RAM per byte
     return "the longest RS-232 receive interrupt, " + source_name(r.level) + " entered at " + at_us(r.first_isr) +
            ", took " + us(r.service_us()) + "; with the DP-RAM time per byte that is " + us(sum) + " against the " +
@@ -101,10 +101,10 @@ std::string why_margin(const CheckFigures& f, double budget) {
 }
 
 /// bus_errors: the first cycle nothing answered.
-std::string why_bus_errors(const World& b) {
-    const auto& first = b.ctl.comm.cpu.bus_errors().first();
+std::string why_bus_errors(const World& w) {
+    const auto& first = w.ctl.comm.cpu.bus_errors().first();
     if (first.empty()) return "";
-    const nlohmann::json e = to_json(b.ctl.comm.cpu.bus_errors())["first"][0];
+    const nlohmann::json e = to_json(w.ctl.comm.cpu.bus_errors())["first"][0];
     return "the first: " + e.value("kind", std::string("?")) + " " + e.value("cycle", std::string("?")) + " at " +
            e.value("address", std::string("?")) + ", at " + us(e.value("time_us", 0.0));
 }
@@ -124,19 +124,19 @@ std::optional<sc_core::sc_time> first_unexplained(const nlohmann::json& detail) 
 }
 
 /// The earliest first overrun over the ports.
-std::optional<sc_core::sc_time> first_overrun(const World& b) {
+std::optional<sc_core::sc_time> first_overrun(const World& w) {
     std::optional<sc_core::sc_time> t;
     for (unsigned p = 0; p < World::kPorts; ++p)
-        if (const auto& f = b.ctl.comm.uart[p].first_overrun(); f && (!t || *f < *t)) t = f;
+        if (const auto& f = w.ctl.comm.uart[p].first_overrun(); f && (!t || *f < *t)) t = f;
     return t;
 }
 
 /// The earliest command given up over the ports.
-std::optional<sc_core::sc_time> first_failure(const World& b) {
+std::optional<sc_core::sc_time> first_failure(const World& w) {
     std::optional<sc_core::sc_time> t;
     for (unsigned p = 0; p < World::kPorts; ++p)
-        if (b.protocol[p] && b.protocol[p]->first_failure() && (!t || b.protocol[p]->first_failure()->at < *t))
-            t = b.protocol[p]->first_failure()->at;
+        if (w.protocol[p] && w.protocol[p]->first_failure() && (!t || w.protocol[p]->first_failure()->at < *t))
+            t = w.protocol[p]->first_failure()->at;
     return t;
 }
 
@@ -144,13 +144,13 @@ std::optional<sc_core::sc_time> first_failure(const World& b) {
 /// count against it, earliest first, with port, direction and simulated time; how many drops the
 /// scenario caused and how many frames were in flight at an interrupted stop. Null (no detail)
 /// when all three are nothing, so a clean run's report is unchanged.
-nlohmann::json exactly_once_detail(const World& b, bool commands) {
+nlohmann::json exactly_once_detail(const World& w, bool commands) {
     constexpr std::size_t kShown = 5;
     const unsigned dir = commands ? LineObserver::host_to_controller : LineObserver::controller_to_host;
     std::vector<std::pair<unsigned, const FrameEvent*>> events;
     std::uint64_t expected = 0, in_flight = 0, counted = 0;
     for (unsigned p = 0; p < World::kPorts; ++p) {
-        const SequenceMatcher& m = commands ? b.observers[p].command_books() : b.observers[p].response_books();
+        const SequenceMatcher& m = commands ? w.observers[p].command_books() : w.observers[p].response_books();
         for (const FrameEvent& e : m.unexplained()) events.emplace_back(p, &e);
         expected += m.counts().expected;
         in_flight += m.counts().in_flight;
@@ -254,27 +254,27 @@ void put_verdict(nlohmann::json& report, const RunVerdict& v) {
     report["passed"] = v.verdict == Verdict::passed;
 }
 
-double char_latency_limit_us(const World& b, const Scenario& s, unsigned p) {
+double char_latency_limit_us(const World& w, const Scenario& s, unsigned p) {
     if (s.checks.max_char_latency_us >= 0) return s.checks.max_char_latency_us;
-    return b.ctl.comm.uart[p].config().fifo_depth * controller_char_us(b, p);
+    return w.ctl.comm.uart[p].config().fifo_depth * controller_char_us(w, p);
 }
 
-std::vector<Check> communication_checks(const World& b, const Scenario& s, const CheckFigures& f) {
+std::vector<Check> communication_checks(const World& w, const Scenario& s, const CheckFigures& f) {
     const CheckLimits& L = s.checks;
     auto count = [](std::uint64_t v) { return Figure::of(double(v)); };
     // With no explicit limit, every port whose host generates commands must deliver at least one.
     const double min_delivered = L.min_frames_delivered ? double(*L.min_frames_delivered) : double(f.traffic_ports);
     std::vector<Check> checks;
     checks.push_back(Check::at_most("overruns", count(f.overruns), double(L.max_overruns)));
-    explain(checks.back(), [&] { return why_overruns(b); }, first_overrun(b));
+    explain(checks.back(), [&] { return why_overruns(w); }, first_overrun(w));
     checks.push_back(Check::at_most("frames_failed", count(f.frames_failed), double(L.max_frames_failed)));
-    explain(checks.back(), [&] { return why_frames_failed(b); }, first_failure(b));
+    explain(checks.back(), [&] { return why_frames_failed(w); }, first_failure(w));
     // Both directions, from the line observers; one limit for both (`max_frame_mismatches`).
     for (const bool commands : {true, false}) {
         Check c = Check::at_most(commands ? "commands_delivered_exactly_once" : "responses_delivered_exactly_once",
                                  count(commands ? f.command_mismatches : f.response_mismatches),
                                  double(L.max_frame_mismatches));
-        c.detail = exactly_once_detail(b, commands);
+        c.detail = exactly_once_detail(w, commands);
         explain(c, [&] {
             const nlohmann::json& first = c.detail["unexplained"];
             if (first.empty()) return std::string();
@@ -290,7 +290,7 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     }
     Check malformed = Check::at_most("main_cpu_malformed_frames", count(f.malformed), 0);
     // Which frame and why: the first few the main CPU dropped (the log has them all).
-    const auto& dropped = b.ctl.main.malformed();
+    const auto& dropped = w.ctl.main.malformed();
     if (!dropped.empty()) {
         malformed.detail = nlohmann::json::array();
         for (std::size_t i = 0; i < dropped.size() && i < 3; ++i)
@@ -305,25 +305,25 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
         }, dropped[0].time);
     checks.push_back(std::move(malformed));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
-    explain(checks.back(), [&] { return why_frames_delivered(b, s); });
+    explain(checks.back(), [&] { return why_frames_delivered(w, s); });
     if (!L.off.count("char_latency_max_us"))
         for (unsigned p = 0; p < World::kPorts; ++p)
             if (s.ports[p].host != PortScenario::Host::none)
             {
                 checks.push_back(Check::at_most("port" + std::to_string(p) + "_char_latency_max_us",
-                                                f.char_latency_max_us[p], char_latency_limit_us(b, s, p)));
-                explain(checks.back(), [&] { return why_char_latency(b, p); }, b.char_latency_worst[p].stop);
+                                                f.char_latency_max_us[p], char_latency_limit_us(w, s, p)));
+                explain(checks.back(), [&] { return why_char_latency(w, p); }, w.char_latency_worst[p].stop);
             }
-    const double budget = budget_us(b, s);
+    const double budget = budget_us(w, s);
     checks.push_back(Check::at_least("table3_margin_us", f.table3_margin_us, L.min_margin_us));
     explain(checks.back(), [&] { return why_margin(f, budget); });
     // The paper's rule (section 4-2): the longest interrupt processing must be shorter than the
     // mean request period. Judged by default; a scenario relaxes it by name or a limit.
     checks.push_back(Check::at_least("table3_worst_margin_us", f.table3_worst_margin_us, L.min_worst_margin_us));
-    explain(checks.back(), [&] { return why_worst_margin(b, f, budget); },
-            b.rs232_rx_service_us().count() ? std::optional(b.rs232_rx_longest().first_isr) : std::nullopt);
+    explain(checks.back(), [&] { return why_worst_margin(w, f, budget); },
+            w.rs232_rx_service_us().count() ? std::optional(w.rs232_rx_longest().first_isr) : std::nullopt);
     for (unsigned p = 0; p < World::kPorts; ++p)
-        if (const auto& h = b.replay[p]) {
+        if (const auto& h = w.replay[p]) {
             // The replayed session must draw the recorded answers: same bytes at the same times.
             const std::uint64_t bad = h->counters().out_mismatched + h->out_missing();
             checks.push_back(Check::at_most("replay_port" + std::to_string(p) + "_matches_record", count(bad), 0));
@@ -331,9 +331,9 @@ std::vector<Check> communication_checks(const World& b, const Scenario& s, const
     // A cycle nothing answered reads as an open bus or is dropped: firmware that makes one runs on,
     // wrongly and silently (report.json "bus_errors" says which).
     checks.push_back(Check::at_most("bus_errors", count(f.bus_errors), double(L.max_bus_errors)));
-    explain(checks.back(), [&] { return why_bus_errors(b); },
-            b.ctl.comm.cpu.bus_errors().first().empty() ? std::nullopt
-                                                         : std::optional(b.ctl.comm.cpu.bus_errors().first()[0].time));
+    explain(checks.back(), [&] { return why_bus_errors(w); },
+            w.ctl.comm.cpu.bus_errors().first().empty() ? std::nullopt
+                                                         : std::optional(w.ctl.comm.cpu.bus_errors().first()[0].time));
     checks.erase(std::remove_if(checks.begin(), checks.end(),
                                 [&L](const Check& c) { return L.off.count(c.name) != 0; }),
                  checks.end());

@@ -97,9 +97,9 @@ struct CheckFigures {
 /// Port p's character-latency limit: a character may wait in the RX FIFO; it is lost only when
 /// its read comes later than the FIFO can hold the characters behind it (fifo_depth of the
 /// port's own character times, as its 82510 is programmed), unless the scenario sets one.
-double char_latency_limit_us(const World& b, const Scenario& s, unsigned p);
+double char_latency_limit_us(const World& w, const Scenario& s, unsigned p);
 
 /// Every communication check that is not switched off, in report order.
-std::vector<Check> communication_checks(const World& b, const Scenario& s, const CheckFigures& f);
+std::vector<Check> communication_checks(const World& w, const Scenario& s, const CheckFigures& f);
 
 } // namespace rcsim

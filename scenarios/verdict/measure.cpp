@@ -22,26 +22,26 @@ nlohmann::json samples_json(const Samples& s) {
 // ---------------------------------------------------------------------------------------------
 // figures of the finished world
 
-InterruptFigures measure_interrupts(const World& b) {
+InterruptFigures measure_interrupts(const World& w) {
     InterruptFigures c;
     static const char* names[] = {"rs232_0", "rs232_1", "rs232_2", "dpram"};
     for (unsigned level = 0; level < 4; ++level) {
         nlohmann::json j;
-        j["count"] = b.probe.count(level);
-        j["latency_us"] = samples_json(b.probe.latency_us(level));
-        j["service_us"] = samples_json(b.probe.service_us(level));
+        j["count"] = w.probe.count(level);
+        j["latency_us"] = samples_json(w.probe.latency_us(level));
+        j["service_us"] = samples_json(w.probe.service_us(level));
         c.interrupts[names[level]] = j;
     }
     // RS-232 interrupts that took at least one character out of the RX FIFO (the paper's
     // "RS-232 interrupt"; the others are the firmware's timer tick and transmit interrupts).
-    c.rs232_rx_service = b.rs232_rx_service_us();
-    c.rs232_rx_latency = b.rs232_rx_latency_us();
+    c.rs232_rx_service = w.rs232_rx_service_us();
+    c.rs232_rx_latency = w.rs232_rx_latency_us();
     c.interrupts["rs232_rx"] = {{"count", c.rs232_rx_service.count()},
                                 {"latency_us", samples_json(c.rs232_rx_latency)},
                                 {"service_us", samples_json(c.rs232_rx_service)}};
-    c.dpram_byte_us = b.dpram_time().per_byte_us();
-    c.dpram_bytes = b.dpram_time().bytes();
-    c.interrupts["startup"] = startup_json(b.probe);
+    c.dpram_byte_us = w.dpram_time().per_byte_us();
+    c.dpram_bytes = w.dpram_time().bytes();
+    c.interrupts["startup"] = startup_json(w.probe);
     return c;
 }
 
@@ -58,28 +58,28 @@ nlohmann::json startup_json(const InterruptProbe& probe) {
             {"records", records}};
 }
 
-double controller_char_us(const World& b, unsigned p) {
-    return to_us(b.ctl.comm.uart[p].rx_format().frame_time());
+double controller_char_us(const World& w, unsigned p) {
+    return to_us(w.ctl.comm.uart[p].rx_format().frame_time());
 }
 
-double budget_us(const World& b, const Scenario& s) {
+double budget_us(const World& w, const Scenario& s) {
     if (s.budget_us > 0) return s.budget_us;
     bool any_active = false;
     for (const auto& p : s.ports) any_active = any_active || p.host != PortScenario::Host::none;
     double rate = 0; // characters per us, all active ports together
     for (unsigned p = 0; p < kPorts; ++p)
-        if (!any_active || s.ports[p].host != PortScenario::Host::none) rate += 1.0 / controller_char_us(b, p);
+        if (!any_active || s.ports[p].host != PortScenario::Host::none) rate += 1.0 / controller_char_us(w, p);
     return 1.0 / rate;
 }
-nlohmann::json port_json(const World& b, unsigned p) {
-    const auto& u = b.ctl.comm.uart[p].stats();
+nlohmann::json port_json(const World& w, unsigned p) {
+    const auto& u = w.ctl.comm.uart[p].stats();
     nlohmann::json j;
-    j["host"] = b.host_kind(p);
-    j["controller_format"] = b.ctl.comm.uart[p].rx_format().describe();
-    if (b.scenario().ports[p].host != PortScenario::Host::none)
-        j["host_format"] = b.scenario().ports[p].format().describe();
+    j["host"] = w.host_kind(p);
+    j["controller_format"] = w.ctl.comm.uart[p].rx_format().describe();
+    if (w.scenario().ports[p].host != PortScenario::Host::none)
+        j["host_format"] = w.scenario().ports[p].format().describe();
     std::uint64_t sent = 0, delivered = 0, failed = 0, naks = 0, retries = 0;
-    if (const auto& h = b.protocol[p]) {
+    if (const auto& h = w.protocol[p]) {
         const auto& c = h->counters();
         sent = c.frames_sent, delivered = c.frames_delivered, failed = c.frames_failed;
         naks = c.naks, retries = c.retries;
@@ -90,19 +90,19 @@ nlohmann::json port_json(const World& b, unsigned p) {
         j["delivery_us"] = samples_json(h->delivery_us());
         j["response_us"] = samples_json(h->response_us());
     }
-    if (const auto& h = b.raw[p]) {
+    if (const auto& h = w.raw[p]) {
         j["bytes_sent"] = h->bytes_sent();
         j["bytes_received"] = h->received().size();
     }
-    if (const auto& h = b.tcp[p]) {
+    if (const auto& h = w.tcp[p]) {
         const auto c = h->counters();
         j["tcp"] = {{"listen", h->endpoint()},   {"connections", c.connections}, {"bytes_in", c.bytes_in},
                     {"bytes_sent", c.bytes_sent}, {"bytes_received", c.bytes_received}, {"bytes_out", c.bytes_out},
                     {"bytes_buffered", c.bytes_buffered}, {"bytes_dropped", c.bytes_dropped},
                     {"bytes_unsent", h->bytes_unsent()},  {"input_stalls", c.input_stalls}};
-        if (b.scenario().ports[p].tcp.telnet) j["tcp"]["breaks_sent"] = c.breaks_sent;
+        if (w.scenario().ports[p].tcp.telnet) j["tcp"]["breaks_sent"] = c.breaks_sent;
     }
-    if (const auto& h = b.pty[p]) {
+    if (const auto& h = w.pty[p]) {
         const auto c = h->counters();
         j["pty"] = {{"path", h->path()},
                     {"client_format", h->client_format().describe()},
@@ -116,7 +116,7 @@ nlohmann::json port_json(const World& b, unsigned p) {
                     {"connections", c.connections},
                     {"disconnects", c.disconnects}};
     }
-    if (const auto& h = b.replay[p]) {
+    if (const auto& h = w.replay[p]) {
         const auto& c = h->counters();
         j["replay"] = {{"bytes_sent", c.bytes_sent},         {"bytes_late", c.bytes_late},
                        {"bytes_received", c.bytes_received}, {"out_expected", c.out_expected},
@@ -135,12 +135,12 @@ nlohmann::json port_json(const World& b, unsigned p) {
     j["rx_fifo_high_water"] = u.rx_fifo_high_water;
     j["chars_received"] = u.chars_received;
     j["chars_sent"] = u.chars_sent;
-    j["char_latency_us"] = samples_json(b.char_latency_us[p]);
-    j["main_cpu_frames_received"] = b.ctl.main.port_stats(p).frames_received;
-    j["main_cpu_frames_sent"] = b.ctl.main.port_stats(p).frames_sent;
-    j["responses_dropped"] = b.ctl.main.port_stats(p).responses_dropped;
-    j["responses_dropped_sent"] = b.ctl.main.port_stats(p).responses_dropped_sent;
-    j.update(observer_json(b.observers[p]));
+    j["char_latency_us"] = samples_json(w.char_latency_us[p]);
+    j["main_cpu_frames_received"] = w.ctl.main.port_stats(p).frames_received;
+    j["main_cpu_frames_sent"] = w.ctl.main.port_stats(p).frames_sent;
+    j["responses_dropped"] = w.ctl.main.port_stats(p).responses_dropped;
+    j["responses_dropped_sent"] = w.ctl.main.port_stats(p).responses_dropped_sent;
+    j.update(observer_json(w.observers[p]));
     return j;
 }
 

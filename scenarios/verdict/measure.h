@@ -43,7 +43,7 @@ struct InterruptFigures {
 
 /// Of the finished world (World::finish()). The per-source figures and the rs232_rx set leave
 /// the start-up interrupts out; "startup" lists them (startup_json).
-InterruptFigures measure_interrupts(const World& b);
+InterruptFigures measure_interrupts(const World& w);
 
 /// report.json interrupts.startup: when the CPU could first take an interrupt
 /// ("interrupts_enabled_us", null if never) and the interrupts requested before it, each with
@@ -51,17 +51,17 @@ InterruptFigures measure_interrupts(const World& b);
 nlohmann::json startup_json(const InterruptProbe& probe);
 
 /// One character time (START through STOP) of port p as its 82510 is programmed.
-double controller_char_us(const World& b, unsigned p);
+double controller_char_us(const World& w, unsigned p);
 
 /// The Table 3 budget: the scenario's `budget_us`, else the mean character arrival period of all
 /// active ports together, 1 / sum(1 / t_char_p) (= t_char / 3 for three equal ports), each t_char
 /// from the format the port's 82510 is programmed with (docs/system.md §9). A port is active when
 /// a host is attached; with none, all three count.
-double budget_us(const World& b, const Scenario& s);
+double budget_us(const World& w, const Scenario& s);
 
 /// report.json "ports[p]": the host's counters, the 82510's, the main CPU's, and the line
 /// observer's (call World::finish_observers() first).
-nlohmann::json port_json(const World& b, unsigned p);
+nlohmann::json port_json(const World& w, unsigned p);
 
 /// report.json "ports[p].line", ".commands", ".responses": what the observer of port p counted.
 nlohmann::json observer_json(const LineObserver& o);

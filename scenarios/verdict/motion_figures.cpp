@@ -18,11 +18,11 @@ double ms(const sc_core::sc_time& t) { return to_us(t) / 1000.0; }
 const char* const kNoLatency = "no scripted move command reached its first pulse";
 
 /// Host ETX to first pulse, over the scripted hosts' moves (one host may script moves).
-Samples command_latency(const World& b) {
+Samples command_latency(const World& w) {
     Samples lat(0.001);
     for (unsigned p = 0; p < World::kPorts; ++p)
-        if (b.protocol[p])
-            for (double v : command_latencies_us(b.protocol[p]->script_result(), b.motion->moves())) lat.add(v);
+        if (w.protocol[p])
+            for (double v : command_latencies_us(w.protocol[p]->script_result(), w.motion->moves())) lat.add(v);
     return lat;
 }
 
@@ -47,15 +47,15 @@ std::vector<double> command_latencies_us(const ScriptResult& host, const std::ve
     return out;
 }
 
-nlohmann::json motion_system_json(const World& b) {
-    motion::MotionController& mc = *b.motion;
+nlohmann::json motion_system_json(const World& w) {
+    motion::MotionController& mc = *w.motion;
     const motion::MotionSnapshot snap = mc.snapshot();
     nlohmann::json j = {{"state", snap.state},
                         {"positions", mc.positions()},
                         {"final_cmd_pulses", snap.cmd},
                         {"final_act_pulses", snap.act},
                         {"samples", mc.recorder().samples().size()}};
-    const MainCpu& cpu = b.ctl.main;
+    const MainCpu& cpu = w.ctl.main;
     j["control_cycle"] = {{"period_us", to_us(cpu.config().cycle_period)},
                           {"duration_us", to_json(cpu.cycle_duration_us().summary())},
                           {"start_jitter_us", to_json(cpu.cycle_jitter_us().summary())},
@@ -64,10 +64,10 @@ nlohmann::json motion_system_json(const World& b) {
                  {"chip_bus_us", to_us(mc.bus_time())},
                  {"fb_calls_us", to_us(mc.fb_time())},
                  {"fb_call_us", to_us(cpu.config().fb_call)}};
-    const Samples lat = command_latency(b);
+    const Samples lat = command_latency(w);
     j["command_latency_us"] = to_json(lat.summary());
     if (lat.empty()) j["command_latency_not_measured"] = kNoLatency;
-    if (b.scenario().csp) {
+    if (w.scenario().csp) {
         const motion::CspStats& c = mc.csp_stats();
         j["csp"] = {{"setpoints", c.setpoints},
                     {"missed_sync", c.missed},
@@ -85,27 +85,27 @@ nlohmann::json motion_system_json(const World& b) {
     return j;
 }
 
-std::optional<CircleOverlay> circle_overlay(const World& b, const Scenario& s) {
-    if (!b.motion || !s.checks.circle || !b.motion->last_circle()) return std::nullopt;
-    const motion::CircleRecord& c = *b.motion->last_circle();
+std::optional<CircleOverlay> circle_overlay(const World& w, const Scenario& s) {
+    if (!w.motion || !s.checks.circle || !w.motion->last_circle()) return std::nullopt;
+    const motion::CircleRecord& c = *w.motion->last_circle();
     const double end = c.outcome_at ? c.outcome_at->to_seconds() : sc_core::sc_time_stamp().to_seconds();
     return CircleOverlay{s.checks.circle->center_x, s.checks.circle->center_y, s.checks.circle->radius,
                          c.at.to_seconds(), end};
 }
 
-std::vector<Check> system_motion_checks(const World& b, const Scenario& s) {
+std::vector<Check> system_motion_checks(const World& w, const Scenario& s) {
     std::vector<Check> out;
     for (unsigned p = 0; p < World::kPorts; ++p) {
-        if (!b.protocol[p] || s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::script) continue;
-        const ScriptResult& r = b.protocol[p]->script_result();
+        if (!w.protocol[p] || s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::script) continue;
+        const ScriptResult& r = w.protocol[p]->script_result();
         Check c = Check::at_most("port" + std::to_string(p) + "_script_completed",
                                  Figure::of(double(r.steps - r.completed)), 0);
         c.detail = script_json(r);
         out.push_back(std::move(c));
     }
-    if (b.program) out.push_back(program_check(*b.program));
-    if (!b.motion) return out;
-    motion::MotionController& mc = *b.motion;
+    if (w.program) out.push_back(program_check(*w.program));
+    if (!w.motion) return out;
+    motion::MotionController& mc = *w.motion;
     const CheckLimits& L = s.checks;
     if (L.circle) {
         CircleLimits lim{L.circle->center_x, L.circle->center_y, L.circle->radius, L.circle->max_radial_error,
@@ -121,13 +121,13 @@ std::vector<Check> system_motion_checks(const World& b, const Scenario& s) {
     }
     if (!L.motion_final_state.empty()) out.push_back(final_state_check(L.motion_final_state, mc.state()));
     if (L.max_cycle_jitter_us) {
-        const Samples& j = b.ctl.main.cycle_jitter_us();
+        const Samples& j = w.ctl.main.cycle_jitter_us();
         out.push_back(Check::at_most("control_cycle_jitter_max_us",
                                      j.empty() ? Figure::none("no control cycle ran") : Figure::of(j.summary().max),
                                      *L.max_cycle_jitter_us));
     }
     if (L.max_command_latency_us) {
-        const Samples lat = command_latency(b);
+        const Samples lat = command_latency(w);
         out.push_back(Check::at_most("command_latency_max_us",
                                      lat.empty() ? Figure::none(kNoLatency) : Figure::of(lat.summary().max),
                                      *L.max_command_latency_us));

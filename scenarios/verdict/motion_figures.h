@@ -26,16 +26,16 @@ nlohmann::json script_json(const ScriptResult& r);
 /// report.json "motion" of a run with main_cpu.motion: the snapshot (state, positions), the
 /// control cycle's duration and start jitter, the command latency (host ETX to first pulse),
 /// the cost model's totals.
-nlohmann::json motion_system_json(const World& b);
+nlohmann::json motion_system_json(const World& w);
 
 /// port<n>_script_completed for every scripted port, st_program_error_free with main_cpu.program,
 /// and with main_cpu.motion the motion checks the scenario asks for (circle, final_state,
 /// max_cycle_jitter_us), in report order.
-std::vector<Check> system_motion_checks(const World& b, const Scenario& s);
+std::vector<Check> system_motion_checks(const World& w, const Scenario& s);
 
 /// The radial-error plot's circle: the scenario's `checks.circle` over the window of the last
 /// accepted MC (none without both).
-std::optional<CircleOverlay> circle_overlay(const World& b, const Scenario& s);
+std::optional<CircleOverlay> circle_overlay(const World& w, const Scenario& s);
 
 /// Command latency in microseconds: the scripted moves of one host (its commands answered BCH 00
 /// with a move token) paired in order with the moves the motion layer accepted.

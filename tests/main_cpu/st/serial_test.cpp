@@ -38,10 +38,10 @@ TEST(StSerial, RnStartsTheLoadedProgramStReportsItSpStopsIt) {
     std::vector<FrameRecord> sent; // the main CPU's responses, as handed to the DP-RAM
     RunOptions opt;
     opt.reproducible = true;
-    opt.on_world = [&sent](World& b) {
-        ASSERT_TRUE(b.program);
-        auto observer = b.ctl.main.on_sent; // the run's exactly-once observer: keep it
-        b.ctl.main.on_sent = [observer, &sent](const FrameRecord& f) {
+    opt.on_world = [&sent](World& w) {
+        ASSERT_TRUE(w.program);
+        auto observer = w.ctl.main.on_sent; // the world's exactly-once observer: keep it
+        w.ctl.main.on_sent = [observer, &sent](const FrameRecord& f) {
             if (observer) observer(f);
             sent.push_back(f);
         };

@@ -18,7 +18,7 @@
 set -u
 RCSIM=$(realpath "${1:?usage: cli_test.sh RCSIM SOURCE_DIR}")
 SRC=$(realpath "${2:?usage: cli_test.sh RCSIM SOURCE_DIR}")
-W=$(mktemp -d "${TMPDIR:-/tmp}/rcsim_regress_cli.XXXXXX")
+W=$(mktemp -d "${TMPDIR:-/tmp}/rcsim_sweep_cli.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 cd "$W" || exit 1
 unset CI SLURM_ARRAY_TASK_ID SLURM_ARRAY_TASK_COUNT SLURM_ARRAY_TASK_MIN JOB_COMPLETION_INDEX
@@ -231,5 +231,5 @@ printf '{"scenario": 5, "checks": 3, "passed": []}\n' > odd.json
 printf 'tolerances:\n  - {figure: x, better: sideways}\n' > tol.yaml
 expect2 "tol.yaml:2: 'tolerances[0].better' must be" compare A P --tolerances tol.yaml
 
-if [ "$failures" -eq 0 ]; then echo "regress cli: ok"; else echo "regress cli: $failures failures"; fi
+if [ "$failures" -eq 0 ]; then echo "sweep cli: ok"; else echo "sweep cli: $failures failures"; fi
 [ "$failures" -eq 0 ]

@@ -1,4 +1,4 @@
-// compare: verdicts per figure and check under the tolerances, run matching, the outputs.
+// compare: the change of each figure and check under the tolerances, run matching, the outputs.
 #include "models/plumbing/config_error.h"
 #include "scenarios/sweep/compare.h"
 #include "tests/support/files.h"
@@ -12,7 +12,7 @@
 
 namespace fs = std::filesystem;
 using namespace rcsim;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 using json = nlohmann::json;
 
 namespace {
@@ -78,12 +78,12 @@ TEST(Glob, StarQuestionMarkAndLiteralBrackets) {
 
 TEST(Compare, DefaultRuleIsExactAndIgnoresHostFigures) {
     const RunDiff r = one(report(82, 100, true, 0.5), report(82.001, 100, true, 9.0));
-    EXPECT_EQ(figure(r, "table3.rs232_isr_us").verdict, Verdict::regression);
+    EXPECT_EQ(figure(r, "table3.rs232_isr_us").change, Change::regression);
     EXPECT_NEAR(*figure(r, "table3.rs232_isr_us").delta, 0.001, 1e-9);
     EXPECT_NEAR(*figure(r, "table3.rs232_isr_us").rel, 0.001 / 82, 1e-12);
-    EXPECT_EQ(figure(r, "table3.margin_us").verdict, Verdict::same);
-    EXPECT_EQ(figure(r, "wall_time_s").verdict, Verdict::ignored);
-    EXPECT_EQ(figure(r, "rtf").verdict, Verdict::ignored);
+    EXPECT_EQ(figure(r, "table3.margin_us").change, Change::same);
+    EXPECT_EQ(figure(r, "wall_time_s").change, Change::ignored);
+    EXPECT_EQ(figure(r, "rtf").change, Change::ignored);
     EXPECT_TRUE(r.regression);
     EXPECT_FALSE(one(report(82, 100, true, 0.5), report(82, 100, true, 9.0)).regression);
 }
@@ -91,30 +91,30 @@ TEST(Compare, DefaultRuleIsExactAndIgnoresHostFigures) {
 TEST(Compare, AbsoluteOrRelativeToleranceAndDirection) {
     // abs 0.5: a change of 0.4 is within; rel 1 %: 82 -> 82.8 (0.98 %) is within, 83 (1.2 %) is not.
     auto rules = with_defaults({rule("table3.rs232_isr_us", 0.5, 0.01)});
-    EXPECT_EQ(figure(one(report(82, 1, true), report(82.4, 1, true), rules), "table3.rs232_isr_us").verdict, Verdict::within);
-    EXPECT_EQ(figure(one(report(82, 1, true), report(82.8, 1, true), rules), "table3.rs232_isr_us").verdict, Verdict::within);
-    EXPECT_EQ(figure(one(report(82, 1, true), report(83, 1, true), rules), "table3.rs232_isr_us").verdict,
-              Verdict::regression);
+    EXPECT_EQ(figure(one(report(82, 1, true), report(82.4, 1, true), rules), "table3.rs232_isr_us").change, Change::within);
+    EXPECT_EQ(figure(one(report(82, 1, true), report(82.8, 1, true), rules), "table3.rs232_isr_us").change, Change::within);
+    EXPECT_EQ(figure(one(report(82, 1, true), report(83, 1, true), rules), "table3.rs232_isr_us").change,
+              Change::regression);
     rules = with_defaults({rule("table3.*", 0, 0, Tolerance::Better::lower)});
-    EXPECT_EQ(figure(one(report(82, 1, true), report(70, 1, true), rules), "table3.rs232_isr_us").verdict,
-              Verdict::improvement);
-    EXPECT_EQ(figure(one(report(82, 1, true), report(90, 1, true), rules), "table3.rs232_isr_us").verdict,
-              Verdict::regression);
+    EXPECT_EQ(figure(one(report(82, 1, true), report(70, 1, true), rules), "table3.rs232_isr_us").change,
+              Change::improvement);
+    EXPECT_EQ(figure(one(report(82, 1, true), report(90, 1, true), rules), "table3.rs232_isr_us").change,
+              Change::regression);
     EXPECT_FALSE(one(report(82, 1, true), report(70, 1, true), rules).regression);
     // A rule that names a host figure replaces its default.
     rules = with_defaults({rule("wall_time_s", 0, 0.5)});
-    EXPECT_EQ(figure(one(report(82, 1, true, 1.0), report(82, 1, true, 2.0), rules), "wall_time_s").verdict,
-              Verdict::regression);
+    EXPECT_EQ(figure(one(report(82, 1, true, 1.0), report(82, 1, true, 2.0), rules), "wall_time_s").change,
+              Change::regression);
 }
 
 TEST(Compare, NullVersusNumberIsAChange) {
     auto rules = with_defaults({rule("table3.*", 1e9, 1e9)}); // any number change within tolerance
-    EXPECT_EQ(figure(one(report(82, 100, true), report(82, nullptr, true), rules), "table3.margin_us").verdict,
-              Verdict::regression);
-    EXPECT_EQ(figure(one(report(82, nullptr, true), report(82, 100, true), rules), "table3.margin_us").verdict,
-              Verdict::regression);
-    EXPECT_EQ(figure(one(report(82, nullptr, true), report(82, nullptr, true), rules), "table3.margin_us").verdict,
-              Verdict::same);
+    EXPECT_EQ(figure(one(report(82, 100, true), report(82, nullptr, true), rules), "table3.margin_us").change,
+              Change::regression);
+    EXPECT_EQ(figure(one(report(82, nullptr, true), report(82, 100, true), rules), "table3.margin_us").change,
+              Change::regression);
+    EXPECT_EQ(figure(one(report(82, nullptr, true), report(82, nullptr, true), rules), "table3.margin_us").change,
+              Change::same);
 }
 
 TEST(Compare, RemovedFigureRegressesNewFigureDoesNot) {
@@ -122,9 +122,9 @@ TEST(Compare, RemovedFigureRegressesNewFigureDoesNot) {
     cur["table3"].erase("margin_us");
     cur["table3"]["new_us"] = 3;
     const RunDiff r = one(report(82, 1, true), cur);
-    EXPECT_EQ(figure(r, "table3.margin_us").verdict, Verdict::regression);
+    EXPECT_EQ(figure(r, "table3.margin_us").change, Change::regression);
     EXPECT_FALSE(figure(r, "table3.margin_us").has_current);
-    EXPECT_EQ(figure(r, "table3.new_us").verdict, Verdict::added);
+    EXPECT_EQ(figure(r, "table3.new_us").change, Change::added);
     json only_new = report(82, 1, true);
     only_new["table3"]["new_us"] = 3;
     EXPECT_FALSE(one(report(82, 1, true), only_new).regression);
@@ -136,10 +136,10 @@ TEST(Compare, CheckThatStopsPassingRegressesWhateverTheTolerances) {
     all.ignore = true;
     const RunDiff r = one(report(82, 1, true), report(82, 1, false), {all});
     ASSERT_EQ(r.checks.size(), 1u);
-    EXPECT_EQ(r.checks[0].verdict, Verdict::regression);
+    EXPECT_EQ(r.checks[0].change, Change::regression);
     EXPECT_TRUE(r.regression);
-    EXPECT_EQ(one(report(82, 1, false), report(82, 1, true), {all}).checks[0].verdict, Verdict::improvement);
-    EXPECT_EQ(one(report(82, 1, false), report(82, 1, false), {all}).checks[0].verdict, Verdict::same);
+    EXPECT_EQ(one(report(82, 1, false), report(82, 1, true), {all}).checks[0].change, Change::improvement);
+    EXPECT_EQ(one(report(82, 1, false), report(82, 1, false), {all}).checks[0].change, Change::same);
     // A new check that fails regresses, a check that is gone does too.
     json more = report(82, 1, true);
     more["checks"].push_back({{"name", "extra"}, {"passed", false}});

@@ -9,7 +9,7 @@
 #include <fstream>
 
 namespace fs = std::filesystem;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 using json = nlohmann::json;
 
 namespace {

@@ -11,7 +11,7 @@
 
 namespace fs = std::filesystem;
 using namespace rcsim;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 using json = nlohmann::json;
 
 namespace {

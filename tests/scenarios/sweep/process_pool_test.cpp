@@ -11,7 +11,7 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 
 namespace {
 

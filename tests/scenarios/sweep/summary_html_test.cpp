@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 using json = nlohmann::json;
 
 namespace {

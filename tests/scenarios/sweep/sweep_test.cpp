@@ -12,7 +12,7 @@
 
 namespace fs = std::filesystem;
 using namespace rcsim;
-using namespace rcsim::regress;
+using namespace rcsim::sweep;
 
 namespace {
 
