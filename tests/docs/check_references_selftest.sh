@@ -5,21 +5,10 @@
 # Usage: check_references_selftest.sh CHECKER
 set -u
 CHECK=$(realpath "${1:?usage: check_references_selftest.sh CHECKER}")
-W=$(mktemp -d "${TMPDIR:-/tmp}/rcsim_refcheck.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-failures=0
-
-# expect RC [SUBSTRING]: runs the checker on the tree in $T, checks its exit code and output.
-expect() {
-    local want_rc=$1 want=${2:-}
-    bash "$CHECK" "$T" > "$W/out.txt" 2>&1
-    local rc=$?
-    if [ "$rc" -ne "$want_rc" ]; then
-        echo "FAIL ($case_name): exit $rc, want $want_rc"; sed 's/^/    /' "$W/out.txt"; failures=$((failures + 1))
-    elif [ -n "$want" ] && ! grep -qF -- "$want" "$W/out.txt"; then
-        echo "FAIL ($case_name): output lacks '$want'"; sed 's/^/    /' "$W/out.txt"; failures=$((failures + 1))
-    fi
-}
+CHECK_COMMAND=(bash "$CHECK")
+TAG=refcheck
+# shellcheck source=selftest_lib.sh
+source "$(dirname "$0")/selftest_lib.sh"
 
 # A clean tree: a spec with §1 and §1.2, code citing them, the SST data location.
 clean_tree() {
@@ -31,12 +20,6 @@ clean_tree() {
 
 for mode in find git; do
     if [ "$mode" = git ] && ! command -v git > /dev/null; then echo "git not installed: git mode skipped"; break; fi
-    setup() {
-        clean_tree
-        if [ "$mode" = git ]; then (cd "$T" && git init -q . && git add -A); fi
-    }
-    track() { if [ "$mode" = git ]; then (cd "$T" && git add -A); fi; }
-
     case_name="$mode: clean tree"; setup; expect 0
 
     case_name="$mode: old specification"; setup
@@ -78,5 +61,4 @@ fi
 case_name="no spec"; clean_tree; rm "$T/docs/system.md"; expect 1 "docs/system.md: missing"
 case_name="bad usage"; T=$W/nonexistent; expect 2 "usage"
 
-if [ "$failures" -ne 0 ]; then echo "$failures case(s) failed"; exit 1; fi
-echo "all cases passed"
+finish
