@@ -201,8 +201,6 @@ public:
     std::uint32_t drive_status(unsigned axis) const;
     void trace_pulses(unsigned axis, bool on);
     const std::vector<PulseEvent>& pulse_trace() const { return trace_; }
-    /// Fires at every drive start and end (any axis).
-    const sc_core::sc_event& drive_event() const { return drive_ev_; }
 
     /// Register access by code, as through the bus (for the driver's unit tests).
     std::uint32_t read_register(unsigned axis, std::uint8_t code);
@@ -235,7 +233,6 @@ private:
     bool estop_pin_ = false;
     unsigned wait_states_;
     sc_core::sc_event wake_;      // drive end times and register changes
-    sc_core::sc_event drive_ev_;
     std::vector<PulseEvent> trace_;
 
     Axis& ax(unsigned a);

@@ -195,7 +195,6 @@ void CamcQi::start(unsigned axis) {
             a.end_status = 0;
             a.iflag |= intf::drive_start;
         }
-    drive_ev_.notify(sc_core::SC_ZERO_TIME);
     if (distance == 0 && d->limit != unlimited) {
         finish(d, d->start);
     } else {
@@ -240,7 +239,6 @@ void CamcQi::finish(std::shared_ptr<Drive> d, sc_core::sc_time at) {
     bool traced = false;
     for (unsigned i = 0; i < axes; ++i) traced |= (d->members & (1u << i)) && ax_[i].trace;
     if (traced) record_trace(*d);
-    drive_ev_.notify(sc_core::SC_ZERO_TIME);
     wake_.notify(sc_core::SC_ZERO_TIME);
 }
 
