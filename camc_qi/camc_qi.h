@@ -245,7 +245,7 @@ private:
     void write_register(unsigned axis, std::uint8_t code, std::uint32_t value);
     ProfileParams params(const Axis& a, bool origin) const;
     void start(unsigned axis);
-    bool start_check(unsigned axis, int dir_hint, bool limits);
+    bool start_check(unsigned axis, int dir_hint, std::optional<Pin> searched);
     void stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause);
     /// The stop at a sensor edge, at the edge's exact time `t` (drive time) after `k` steps.
     void stop_at(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause, double t, std::uint64_t k);
