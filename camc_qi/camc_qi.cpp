@@ -13,8 +13,7 @@
 namespace rcsim::camc {
 
 CamcQi::CamcQi(sc_core::sc_module_name name, unsigned wait_states)
-    : sc_module(name), socket("socket"), irq("irq"), wait_states_(wait_states), wake_("wake"),
-      drive_ev_("drive_ev") {
+    : sc_module(name), socket("socket"), irq("irq"), wait_states_(wait_states), wake_("wake") {
     socket.register_b_transport(this, &CamcQi::b_transport);
     SC_HAS_PROCESS(CamcQi);
     SC_METHOD(settle);

@@ -201,8 +201,6 @@ public:
     std::uint32_t drive_status(unsigned axis) const;
     void trace_pulses(unsigned axis, bool on);
     const std::vector<PulseEvent>& pulse_trace() const { return trace_; }
-    /// Fires at every drive start and end (any axis).
-    const sc_core::sc_event& drive_event() const { return drive_ev_; }
 
     /// Register access by code, as through the bus (for the driver's unit tests).
     std::uint32_t read_register(unsigned axis, std::uint8_t code);
@@ -235,7 +233,6 @@ private:
     bool estop_pin_ = false;
     unsigned wait_states_;
     sc_core::sc_event wake_;      // drive end times and register changes
-    sc_core::sc_event drive_ev_;
     std::vector<PulseEvent> trace_;
 
     Axis& ax(unsigned a);
@@ -248,7 +245,7 @@ private:
     void write_register(unsigned axis, std::uint8_t code, std::uint32_t value);
     ProfileParams params(const Axis& a, bool origin) const;
     void start(unsigned axis);
-    bool start_check(unsigned axis, int dir_hint, bool limits);
+    bool start_check(unsigned axis, int dir_hint, std::optional<Pin> searched);
     void stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause);
     /// The stop at a sensor edge, at the edge's exact time `t` (drive time) after `k` steps.
     void stop_at(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause, double t, std::uint64_t k);

@@ -54,14 +54,15 @@ bool CamcQi::active_at(unsigned axis, Pin p, std::int64_t pos) const {
 }
 
 /// The conditions that refuse a start (AXL 4169 MOVE_SENSOR_CHECK): alarm, ESTOP, or a limit
-/// switch active in the direction of motion. Sets the end status of the axis that refuses.
-bool CamcQi::start_check(unsigned axis, int dir, bool limits) {
+/// switch active in the direction of motion, except the one a signal search looks for
+/// (`searched`). Sets the end status of the axis that refuses.
+bool CamcQi::start_check(unsigned axis, int dir, std::optional<Pin> searched) {
     Axis& a = ax_[axis];
     std::uint32_t why = 0;
     if (limit_active(a, Pin::alarm)) why |= endst::alarm;
     if (estop_pin_) why |= endst::estop_signal;
-    if (limits && dir >= 0 && limit_active(a, Pin::pelm)) why |= endst::pelm;
-    if (limits && dir <= 0 && limit_active(a, Pin::nelm)) why |= endst::nelm;
+    if (searched != Pin::pelm && dir >= 0 && limit_active(a, Pin::pelm)) why |= endst::pelm;
+    if (searched != Pin::nelm && dir <= 0 && limit_active(a, Pin::nelm)) why |= endst::nelm;
     if (!why) return true;
     a.end_status = why;
     a.iflag |= intf::error_stop;
@@ -152,22 +153,26 @@ void CamcQi::start(unsigned axis) {
         return;
     }
 
-    for (unsigned i = 0; i < axes; ++i)
-        if (members & (1u << i)) {
-            const int dir = (mode == dcfg::circle_cw || mode == dcfg::circle_ccw) ? 0 : d->direction(i, 0);
-            // A search for a limit switch may start into that switch's side: it stops at it.
-            const bool searched = origin && (d->search_pin == Pin::pelm || d->search_pin == Pin::nelm);
-            if (!start_check(i, dir, !searched)) {
-                refuse(ax_[i].end_status);
-                return;
-            }
-        }
     if (origin) {
         static constexpr Pin signals[] = {Pin::org, Pin::zphase, Pin::pelm, Pin::nelm};
         d->search = true;
         d->search_pin = signals[(m.dcfg & dcfg::signal_mask) >> dcfg::signal_shift];
         d->search_inactive = m.dcfg & dcfg::search_inactive;
         d->search_immediate = m.dcfg & dcfg::search_immediate;
+    }
+    // A search for a limit switch may start into that switch's side: it stops at it, or ends at
+    // once below when it starts on it. The other limit still refuses a start towards it.
+    std::optional<Pin> searched;
+    if (origin && (d->search_pin == Pin::pelm || d->search_pin == Pin::nelm)) searched = d->search_pin;
+    for (unsigned i = 0; i < axes; ++i)
+        if (members & (1u << i)) {
+            const int dir = (mode == dcfg::circle_cw || mode == dcfg::circle_ccw) ? 0 : d->direction(i, 0);
+            if (!start_check(i, dir, searched)) {
+                refuse(ax_[i].end_status);
+                return;
+            }
+        }
+    if (origin) {
         if (limit_active(m, d->search_pin) != d->search_inactive) { // the edge is behind: found at once
             m.end_status = d->search_pin == Pin::org ? endst::home_ok : endst::signal_ok;
             m.iflag |= intf::drive_end;
@@ -195,7 +200,6 @@ void CamcQi::start(unsigned axis) {
             a.end_status = 0;
             a.iflag |= intf::drive_start;
         }
-    drive_ev_.notify(sc_core::SC_ZERO_TIME);
     if (distance == 0 && d->limit != unlimited) {
         finish(d, d->start);
     } else {
@@ -240,7 +244,6 @@ void CamcQi::finish(std::shared_ptr<Drive> d, sc_core::sc_time at) {
     bool traced = false;
     for (unsigned i = 0; i < axes; ++i) traced |= (d->members & (1u << i)) && ax_[i].trace;
     if (traced) record_trace(*d);
-    drive_ev_.notify(sc_core::SC_ZERO_TIME);
     wake_.notify(sc_core::SC_ZERO_TIME);
 }
 

@@ -54,10 +54,8 @@ public:
 
     /// RUNNING while a started program runs; a loaded program stopped by a runtime error: ERROR.
     ProgramState program_state() const;
-    const std::string& current_program() const { return current_program_; }
     const std::map<long, std::int64_t>& parameters() const { return parameters_; }
     const std::map<std::string, std::string>& programs() const { return programs_; }
-    const std::map<std::string, TeachPoint>& teach_points() const { return points_; }
 
     /// Longest program or teach point name.
     static constexpr std::size_t max_name = 16;

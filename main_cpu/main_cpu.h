@@ -160,8 +160,6 @@ public:
     std::uint64_t dpram_accesses() const { return dpram_accesses_; }
     /// Time added to DP-RAM accesses by BUSY wait states.
     sc_core::sc_time busy_wait() const { return busy_wait_; }
-    /// Time the processor was busy (any activity).
-    sc_core::sc_time cpu_busy() const { return cpu_.busy_time(); }
 
     /// Everything above for a report: main_cpu.{cycle_jitter_us, irq_latency_us, ports[], ...}.
     nlohmann::json report() const;

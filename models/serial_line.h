@@ -169,7 +169,6 @@ public:
     std::uint64_t transmit(Side from, SerialWord w);
     /// Holds the line at SPACE (true) or releases it (false), as a transmitter's set-break bit.
     void set_break(Side from, bool active);
-    bool break_active(Side from) const { return dir_[from].break_level > 0; }
 
     // ---- fault injection ----
     /// Applies `kind` to character number `index` sent from `from` (index as returned by

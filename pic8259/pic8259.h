@@ -193,7 +193,6 @@ private:
     void acknowledge(unsigned level);
 
     // Priority resolver.
-    unsigned priority_of(unsigned level) const { return (level - lowest_ - 1) & 7; }
     unsigned level_at(unsigned priority) const { return (lowest_ + 1 + priority) & 7; }
     std::uint8_t blocking_isr() const { return smm_ ? (isr_ & ~imr_) : isr_; }
     int resolve() const;

@@ -73,8 +73,6 @@ public:
     void load_state(const Registers& regs, const std::uint8_t* queue, unsigned queue_len);
     Registers& regs() { return r_; }
     const Registers& regs() const { return r_; }
-    unsigned queue_size() const { return q_len_; }
-    std::uint8_t queue_byte(unsigned i) const { return q_[(q_head_ + i) % 6]; }
 
     // --- inputs (levels) ---
     void set_intr(bool level) {
@@ -266,8 +264,6 @@ private:
     void record_cycle();
     void bus_start(Bus kind, SegStatus seg, std::uint32_t addr, std::uint16_t data, std::uint8_t width, bool fetch,
                    cycles_t t1);
-    void bus_transfer();
-    bool queue_room() const { return q_len_ + (cur_.fetch && t_ != TState::Ti ? 2 : 0) <= 4; }
     [[gnu::always_inline]] inline void start_fetch();
     [[gnu::noinline]] void observe_fetch(const MemRegion* r, const std::uint8_t* p, std::uint16_t d);
     [[gnu::noinline]] void fetch_from_handler(std::uint32_t addr, std::uint8_t width);
@@ -352,8 +348,6 @@ private:
     void exec_misc(std::uint8_t op);
     void decode_modrm();
     void calc_ea();
-    /// A memory operand addressed by registers alone (mod 0, not [disp16]).
-    bool ea_nodisp() const { return mod_ == 0 && rm_ != 6; }
     std::uint8_t rm_read8();
     std::uint16_t rm_read16();
     void rm_write8(std::uint8_t v, bool last = true);

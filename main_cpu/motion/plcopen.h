@@ -95,7 +95,6 @@ public:
     /// once, and every axis of the group, moving or not, latches ErrorStop (ErrorID 0x7104; an axis
     /// already in ErrorStop keeps its ErrorID) until MC_Reset.
     void emergency_stop_all();
-    bool stop_pending() const { return stop_held_; }
     /// MC_Power.Enable as last seen (MC_Reset decides between Notes 3 and 4 with it).
     void set_power_enable(bool e) { power_enable_ = e; }
     bool power_enable() const { return power_enable_; }

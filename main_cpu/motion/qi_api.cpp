@@ -73,7 +73,7 @@ int QiMotionApi::speeds(int a, double vel, double acc, double dec, std::uint32_t
     const double std_speed = std::min(start_speed_[a], vel);
     static constexpr std::uint32_t chip_profile[] = {0, 1, 2, 2, 3}; // AXL mode -> DCFG 1:0
     std::uint32_t prof = chip_profile[profile_[a]];
-    double pa = accel_jerk_[a] / 100, pd = decel_jerk_[a] / 100;
+    double pa = accel_jerk_[a] / 100, pd = 0; // no AxmMotSetDecelJerk: SW2 only from a Jerk
     if (const double jerk = std::exchange(jerk_[a], 0.0); jerk > 0) { // for this move only
         prof = 3; // asymmetric S: its own share per ramp
         pa = jerk_share(acc, vel - std_speed, jerk);
@@ -111,13 +111,6 @@ int QiMotionApi::SetAccelJerk(int a, double percent) {
     return axl::success;
 }
 
-int QiMotionApi::SetDecelJerk(int a, double percent) {
-    if (!axis_ok(a)) return axl::invalid_axis;
-    if (!(percent >= 0 && percent <= 100)) return axl::profile_invalid;
-    decel_jerk_[a] = percent;
-    return axl::success;
-}
-
 int QiMotionApi::SetJerk(int a, double jerk) {
     if (!axis_ok(a)) return axl::invalid_axis;
     if (!(jerk >= 0) || !std::isfinite(jerk)) return axl::profile_invalid;
@@ -144,16 +137,6 @@ int QiMotionApi::MoveVel(int a, double vel, double acc, double dec) {
     if (int r = speeds(a, std::abs(vel), acc, dec, m)) return r;
     bus_.write(a, qi::STRN, 0);
     return (EndStatus(a) & ~endst::slowdown_cmd) ? axl::sensor_check : axl::success;
-}
-
-int QiMotionApi::HomeSearch(int a, int dir, double vel, double acc) {
-    if (!axis_ok(a)) return axl::invalid_axis;
-    if (InMotion(a)) return axl::in_motion;
-    const std::uint32_t m = (dir < 0 ? dcfg::origin_neg : dcfg::origin_pos) << dcfg::mode_shift;
-    if (int r = speeds(a, vel, acc, acc, m)) return r;
-    bus_.write(a, qi::write | qi::OBJORG, reg(vel));
-    bus_.write(a, qi::STRN, 0);
-    return axl::success;
 }
 
 int QiMotionApi::HomeSetMethod(int a, const HomeMethod& m) {

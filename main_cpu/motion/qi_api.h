@@ -79,7 +79,6 @@ public:
                          double Vel, double Accel, double Decel, int Dir);
     /// Continuous drive (AxmMoveVel): Vel signed.
     int MoveVel(int AxisNo, double Vel, double Accel, double Decel);
-    int HomeSearch(int AxisNo, int Dir, double Vel, double Accel);
     /// The library's homing sequence (AXL runs it in a thread; here HomeGetResult advances it,
     /// polled once per control cycle). Each step is one chip signal search that stops at the
     /// exact time of its edge; a step starts when the previous one has ended.
@@ -96,9 +95,9 @@ public:
     /// AxmMotSetProfileMode: 0 symmetric trapezoid, 1 asymmetric trapezoid (the default here), 3
     /// symmetric S, 4 asymmetric S; 2 (quasi-S) is not modelled (4252).
     int SetProfileMode(int AxisNo, unsigned Mode);
-    /// AxmMotSetAccelJerk / AxmMotSetDecelJerk: the share of a ramp spent in jerk sections, 0..100 %.
+    /// AxmMotSetAccelJerk: the share of a ramp spent in jerk sections, 0..100 % (SW1; a symmetric
+    /// S uses it for both ramps). An asymmetric S decelerates with SW2 = 0 unless a Jerk is set.
     int SetAccelJerk(int AxisNo, double Percent);
-    int SetDecelJerk(int AxisNo, double Percent);
     /// A jerk limit in pulses/s^3 for the next move only (the PLCopen blocks' Jerk input): an
     /// asymmetric S whose shares give that jerk on a ramp STD -> Vel, to the chip's whole percent
     /// (below rate^2/dv the rate is lowered so that a pure S has that jerk); 0 = the profile
@@ -108,7 +107,6 @@ public:
 
     int SetCoord(int Coord, std::uint32_t axis_mask);
     void SetStartSpeed(int AxisNo, double Vel) { start_speed_[AxisNo & 3] = Vel; }
-    double StartSpeed(int AxisNo) const { return start_speed_[AxisNo & 3]; }
     bool InMotion(int AxisNo);
     std::uint32_t DriveStatus(int AxisNo); // STAT2 (AxmStatusReadMotion)
     std::uint32_t EndStatus(int AxisNo);
@@ -140,7 +138,7 @@ private:
     };
     std::array<Homing, 4> homing_{};
     std::array<unsigned, 4> profile_{1, 1, 1, 1};
-    std::array<double, 4> accel_jerk_{}, decel_jerk_{}, jerk_{};
+    std::array<double, 4> accel_jerk_{}, jerk_{};
     // The axis holding the rates of the drive an axis was last started in (itself, or the master
     // of its interpolation), and that drive's chip steps per pulse of path (for SlowStop's Decel).
     std::array<int, 4> master_{0, 1, 2, 3};

@@ -58,7 +58,6 @@ private:
     sc_core::sc_event wake_;
     sc_core::sc_time clock_; // the 8086's clock period
 
-    unsigned add_wire(const std::string& name, bool initial);
     void schedule(const sc_core::sc_time& at, unsigned wire, Input input, bool value);
     void trace_line(SerialLine& line, unsigned txd, unsigned rxd);
     void apply();

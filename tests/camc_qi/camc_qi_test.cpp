@@ -549,4 +549,60 @@ TEST(CamcQiSensors, SignalSearchesStopOnTheChosenEdge) {
     });
 }
 
+// A search for a limit switch is not stopped by that switch (camc_qi/README.md "Sensors and
+// homing"): it drives into it and stops on its first active position with the signal-search bit,
+// not the limit's error bit. PELM is on at and above 3000, NELM at and below -3000.
+TEST(CamcQiSensors, ALimitSearchDrivesIntoItsSwitch) {
+    run([](Host& h) {
+        Sensors s;
+        s.pelm = 3000, s.nelm = -3000;
+        h.chip.set_sensors(0, s);
+        auto search = [&](std::uint32_t m, std::uint32_t sig) {
+            h.setup(0, 100, 20000, 500000, 500000, mode(m) | (sig << dcfg::signal_shift) | dcfg::search_immediate);
+            h.cmd(0, qi::write | qi::OBJORG, 20000);
+            h.cmd(0, qi::STRN);
+            EXPECT_TRUE(h.busy(0));
+            h.wait_idle(0);
+        };
+        search(dcfg::origin_pos, dcfg::sig_pelm);
+        EXPECT_EQ(h.cnt1(0), 3000);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::signal_ok);
+        EXPECT_TRUE(h.read(0, qi::STAT3) & mech::pelm);
+        // From the active PELM the other way: PELM does not refuse a start away from it.
+        search(dcfg::origin_neg, dcfg::sig_nelm);
+        EXPECT_EQ(h.cnt1(0), -3000);
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::signal_ok);
+        EXPECT_TRUE(h.read(0, qi::STAT3) & mech::nelm);
+    });
+}
+
+// A limit search started on its active switch has its edge behind: it ends at once with the
+// signal-search bit and no motion (the start check must not refuse it as a start into an active
+// limit). The other limit still refuses a start towards it.
+TEST(CamcQiSensors, ALimitSearchStartedOnItsActiveSwitchEndsAtOnce) {
+    run([](Host& h) {
+        auto search = [&](unsigned axis, std::uint32_t m, std::uint32_t sig) {
+            h.setup(axis, 100, 20000, 500000, 500000, mode(m) | (sig << dcfg::signal_shift) | dcfg::search_immediate);
+            h.cmd(axis, qi::write | qi::OBJORG, 20000);
+            h.cmd(axis, qi::STRN);
+        };
+        h.chip.set_pin(0, Pin::pelm, true);
+        search(0, dcfg::origin_pos, dcfg::sig_pelm);
+        EXPECT_FALSE(h.busy(0));
+        EXPECT_EQ(h.read(0, qi::STAT1), endst::signal_ok);
+        EXPECT_EQ(h.cnt1(0), 0);
+
+        h.chip.set_pin(1, Pin::nelm, true);
+        search(1, dcfg::origin_neg, dcfg::sig_nelm);
+        EXPECT_FALSE(h.busy(1));
+        EXPECT_EQ(h.read(1, qi::STAT1), endst::signal_ok);
+        EXPECT_EQ(h.cnt1(1), 0);
+        // A PELM search towards the active NELM is a start into a limit: refused.
+        search(1, dcfg::origin_neg, dcfg::sig_pelm);
+        EXPECT_FALSE(h.busy(1));
+        EXPECT_EQ(h.read(1, qi::STAT1), endst::nelm);
+        EXPECT_EQ(h.cnt1(1), 0);
+    });
+}
+
 } // namespace

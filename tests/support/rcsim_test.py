@@ -13,6 +13,10 @@ import subprocess
 import tempfile
 import time
 
+# The bound of a wait for something that comes on any host, however loaded: only a hang outlasts
+# it. The tests wait for the event itself, never a fixed time in its place.
+HANG_S = 60.0
+
 # ---- checks ------------------------------------------------------------------------------------
 
 failures = []  # what failed, in order; a test exits 1 when it is not empty
@@ -61,11 +65,12 @@ class Rcsim:
     """`RCSIM ARGS...` started with its stdout read here until a line has matched each of
     `patterns` ({name: regex}; the matches in `found`), bounded by `timeout` seconds: the lines
     that say where the run listens ("monitor: http://127.0.0.1:PORT/", "modbus: 127.0.0.1:PORT ",
-    "gdb: listening on 127.0.0.1:PORT"). Missing one then is an error (RuntimeError), unless
+    "gdb: listening on 127.0.0.1:PORT"). `timeout` bounds a hang, not a start-up: a loaded host
+    may take long to start rcsim. Missing a line then is an error (RuntimeError), unless
     `required` is false. stderr goes to `stderr` (a file; a temporary one by default: a pipe
     nobody reads could fill up and stop the run)."""
 
-    def __init__(self, rcsim, args, patterns, timeout=20.0, stderr=None, env=None, required=True):
+    def __init__(self, rcsim, args, patterns, timeout=HANG_S, stderr=None, env=None, required=True):
         self.err = stderr if stderr is not None else tempfile.TemporaryFile(mode="w+")
         # Unbuffered: select() sees what Python has not read yet, lines are split here.
         self.proc = subprocess.Popen([rcsim, *args], stdout=subprocess.PIPE, stderr=self.err, bufsize=0, env=env)

@@ -15,10 +15,12 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -79,6 +81,10 @@ class ControllerEnd : public sc_core::sc_module, public SerialEndpoint {
 public:
     SerialFormat fmt = SerialFormat::rs232(9600);
     std::vector<std::pair<sc_time, std::string>> script;
+    /// If set, script entry i is also held until ready(i) holds (polled every simulated
+    /// millisecond, a wall millisecond under the pacer): a client thread's step that must come
+    /// first, which a loaded host may delay past any fixed time.
+    std::function<bool(std::size_t)> ready;
     std::vector<SerialRx> got;
     std::vector<std::pair<sc_time, bool>> breaks;
 
@@ -93,8 +99,10 @@ public:
 private:
     SerialLine& line_;
     void run() {
-        for (const auto& s : script) {
+        for (std::size_t i = 0; i < script.size(); ++i) {
+            const auto& s = script[i];
             if (s.first > sc_core::sc_time_stamp()) wait(s.first - sc_core::sc_time_stamp());
+            while (ready && !ready(i)) wait(sc_time(1, sc_core::SC_MS));
             for (unsigned char b : s.second) {
                 line_.transmit(SerialLine::a, SerialWord::encode(b, fmt));
                 wait(fmt.frame_time());
@@ -109,6 +117,28 @@ void run_with(const std::function<void()>& client, const sc_time& sim) {
     Watchdog wd("wd", milliseconds(10000));
     std::thread t(client);
     sc_core::sc_start(sim);
+    t.join();
+    EXPECT_FALSE(wd.fired);
+}
+
+/// One paced run that lasts until `client`, on its own thread, has returned (the watchdog ends
+/// a run that hangs): for a client the controller waits for, which a fixed simulated length
+/// would race on a loaded host.
+void run_until_client_done(const std::function<void()>& client) {
+    RealtimePacer pacer("pacer", 1.0);
+    Watchdog wd("wd", milliseconds(10000));
+    std::atomic<bool> done{false};
+    spawn_checked(
+        [&] {
+            while (!done) wait(sc_time(1, sc_core::SC_MS));
+            sc_core::sc_pause();
+        },
+        "until_client_done");
+    std::thread t([&] {
+        client();
+        done = true;
+    });
+    sc_core::sc_start();
     t.join();
     EXPECT_FALSE(wd.fired);
 }
@@ -214,25 +244,32 @@ TEST(PtyHost, ClientBytesGoOnTheLineAtTheClientsBaudRate) {
 // 9600 cells 1, 3, 5, ...: START = cell 1 (data bit 0 = 0), data = cells 3, 5, 7 (bits 2, 4, 6:
 // 1, 1, 1), cell 9 (parity: 3 ones, even -> 1), cell 11 (STOP), then idle MARK: 0xFF, whose
 // even parity bit should be 0 but reads 1 (the MARK of the idle line): a parity error.
+// Each 'T' waits for the client's rate to be set (the host takes the rate at the START edge).
 TEST(PtyHost, ControllerBytesAreSampledAtTheClientsBaudRate) {
     SerialLine line("line");
     PtyHost host("pty", PtyHostConfig{});
     host.connect(line, SerialLine::b);
     ControllerEnd ctl("ctl", line);
     ctl.script = {{us(100000), "T"}, {us(200000), "T"}};
+    std::atomic<std::size_t> rates_set{0};
+    ctl.ready = [&](std::size_t i) { return rates_set > i; };
     std::string slow, fast;
-    run_with(
-        [&] {
-            TermClient c(host.slave_path());
-            c.set_speed(B4800);
-            slow = c.read(1);
-            c.set_speed(B9600);
-            fast = c.read(1);
-        },
-        us(400000));
+    run_until_client_done([&] {
+        TermClient c(host.slave_path());
+        c.set_speed(B4800);
+        ++rates_set;
+        slow = c.read(1, milliseconds(10000));
+        c.set_speed(B9600);
+        ++rates_set;
+        fast = c.read(1, milliseconds(10000));
+    });
     EXPECT_EQ(slow, "\xFF");
     EXPECT_EQ(fast, "T");
     EXPECT_EQ(host.counters().line_errors, 1u);
+    // The io thread counts a write when it completes, which may be just after the client read
+    // the byte: wait for the count to come (a count above 2 still fails below).
+    const auto end = WallClock::now() + milliseconds(10000);
+    while (host.counters().bytes_out < 2 && WallClock::now() < end) std::this_thread::sleep_for(milliseconds(1));
     EXPECT_EQ(host.counters().bytes_out, 2u);
 }
 

@@ -4,8 +4,8 @@
 Usage: pty_session_test.py CASE RCSIM WORKDIR, CASE one of
   protocol  the transfer of docs/system.md §5.2 through the pty: ENQ -> ACK, an EC frame -> EOT,
             the controller's ENQ -> ACK, its echo response -> EOT; report.json agrees
-  mismatch  a client at 4800 baud on the 9600,8E1 port: each character is a framing error at
-            the 82510, counted in report.json
+  mismatch  a client at 4800 baud on the 9600,8E1 port (once an ENQ at 9600 got its ACK):
+            each character is a framing error at the 82510, counted in report.json
   break     a NUL at 300 baud is a BREAK to the 82510 (report.json break_detects), after which
             the port answers ENQ with ACK again
 
@@ -125,13 +125,18 @@ def case_mismatch(rcsim, work):
     # A 9600 receiver samples its cell k at (k + 1/2) of its bits = cell k // 2 of a 4800
     # character: its stop sample (k = 10) reads 4800 cell 5, data bit 4, which is 0 in ENQ
     # (0x05): every ENQ is a framing error (and no glitch: its START sample, cell 0, is SPACE).
+    # The ENQs go once the firmware has programmed its 82510, which an ACK at 9600 shows: before
+    # that the 82510 samples at its reset settings, and a fixed wait for it races a loaded host.
+    # One character per START edge (docs/serial.md, the sampling rule): the ENQs may follow each
+    # other closely on the line, and whatever the firmware does with the first (a NAK in its
+    # receiving step) the 82510 still counts each.
     n = 3
     proc, link, out = start(rcsim, work, "pty_mismatch")
-    with serial.Serial(link, 4800, parity=serial.PARITY_EVEN, timeout=1) as s:
-        time.sleep(0.3)
+    with serial.Serial(link, 9600, parity=serial.PARITY_EVEN, timeout=10) as s:
+        enq_ack(s)
+        s.baudrate = 4800
         for _ in range(n):
             s.write(ENQ)
-            time.sleep(0.1)
     r = finish(proc, out, link)
     p = r["ports"][0]
     if p["pty"]["client_format"] != "4800,8E1":

@@ -13,6 +13,9 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 import rcsim_test  # noqa: E402
 
+# The bound of a wait for something that comes on any host, however loaded (rcsim_test.HANG_S).
+HANG_S = rcsim_test.HANG_S
+
 
 def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
     """One masked client frame (RFC 6455 5.2); `length` claims another payload length than the
@@ -30,7 +33,7 @@ def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
 class WebSocket:
     """One client connection; text messages only (what the monitor and DevTools speak)."""
 
-    def __init__(self, host, port, path, timeout=5.0):
+    def __init__(self, host, port, path, timeout=HANG_S):
         self.sock = socket.create_connection((host, port), timeout=timeout)
         key = base64.b64encode(os.urandom(16)).decode()
         self.sock.sendall((f"GET {path} HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
@@ -84,7 +87,7 @@ class WebSocket:
                 if b0 & 0x80:  # FIN: the last fragment
                     return json.loads(message)
 
-    def recv_until(self, pred, timeout=5.0):
+    def recv_until(self, pred, timeout=HANG_S):
         """Messages until one satisfies pred (returned); the others are dropped."""
         end = time.monotonic() + timeout
         while time.monotonic() < end:
@@ -94,7 +97,7 @@ class WebSocket:
                 return m
         raise TimeoutError("no matching message within %.1f s" % timeout)
 
-    def request(self, obj, timeout=5.0):
+    def request(self, obj, timeout=HANG_S):
         """Sends a request with a fresh id; returns its reply (ok or error)."""
         WebSocket._next_id = getattr(WebSocket, "_next_id", 0) + 1
         obj = dict(obj, id=WebSocket._next_id)
@@ -108,7 +111,7 @@ class WebSocket:
             pass
 
 
-def http_get(host, port, path, timeout=5.0):
+def http_get(host, port, path, timeout=HANG_S):
     """(status, body) of a GET."""
     s = socket.create_connection((host, port), timeout=timeout)
     s.sendall(f"GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
@@ -130,10 +133,10 @@ def http_get(host, port, path, timeout=5.0):
 
 
 class Rcsim(rcsim_test.Rcsim):
-    """rcsim run SCENARIO --monitor 127.0.0.1:0; url/port from the line it prints, waited for up to
-    `timeout` seconds."""
+    """rcsim run SCENARIO --monitor 127.0.0.1:0; url/port from the line it prints, waited for however
+    long a loaded host takes to start it (`timeout` only ends a run that hangs before it)."""
 
-    def __init__(self, rcsim, scenario, *extra, timeout=20.0):
+    def __init__(self, rcsim, scenario, *extra, timeout=HANG_S):
         super().__init__(rcsim, ["run", scenario, "--monitor", "127.0.0.1:0", *extra],
                          {"monitor": r"monitor: (http://127\.0\.0\.1:(\d+)/)"}, timeout=timeout)
         m = self.found["monitor"]

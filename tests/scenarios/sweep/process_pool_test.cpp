@@ -61,8 +61,11 @@ TEST(ProcessPool, ExitCodesSignalsAndLogs) {
 TEST(ProcessPool, StopStartsNoMoreJobsAndPassesTheSignalOn) {
     const fs::path d = rcsim::test::scratch_dir();
     // The job reports the signal it got and exits 130 as `rcsim run` does; unsignalled it sleeps.
-    const std::string job = "trap 'echo got INT; kill $!; exit 130' INT; touch " + (d / "started").string() +
-                            "; sleep 30 & wait";
+    // `started` is made once the sleep runs, so the trap always has its $! to kill: a signal
+    // that came between the file and the sleep would leave kill without a pid (a usage error
+    // in the log) on a loaded host.
+    const std::string job = "trap 'echo got INT; kill $!; exit 130' INT; sleep 30 & touch " +
+                            (d / "started").string() + "; wait";
     const std::vector<Job> jobs{shell(job, d / "a.log"), shell(job, d / "b.log")};
     std::size_t ended = 0;
     const auto r = run_jobs(
