@@ -5,12 +5,16 @@ import base64
 import json
 import os
 import re
-import select
 import socket
 import struct
 import subprocess
 import tempfile
+import threading
 import time
+
+# The bound of a wait for something that comes on any host, however loaded: only a hang outlasts
+# it. The tests wait for the event itself, never a fixed time in its place.
+HANG_S = 60.0
 
 
 def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
@@ -29,7 +33,7 @@ def ws_frame(payload, opcode=1, length=None, mask=b"\x01\x02\x03\x04"):
 class WebSocket:
     """One client connection; text messages only (what the monitor and DevTools speak)."""
 
-    def __init__(self, host, port, path, timeout=5.0):
+    def __init__(self, host, port, path, timeout=HANG_S):
         self.sock = socket.create_connection((host, port), timeout=timeout)
         key = base64.b64encode(os.urandom(16)).decode()
         self.sock.sendall((f"GET {path} HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
@@ -83,7 +87,7 @@ class WebSocket:
                 if b0 & 0x80:  # FIN: the last fragment
                     return json.loads(message)
 
-    def recv_until(self, pred, timeout=5.0):
+    def recv_until(self, pred, timeout=HANG_S):
         """Messages until one satisfies pred (returned); the others are dropped."""
         end = time.monotonic() + timeout
         while time.monotonic() < end:
@@ -93,7 +97,7 @@ class WebSocket:
                 return m
         raise TimeoutError("no matching message within %.1f s" % timeout)
 
-    def request(self, obj, timeout=5.0):
+    def request(self, obj, timeout=HANG_S):
         """Sends a request with a fresh id; returns its reply (ok or error)."""
         WebSocket._next_id = getattr(WebSocket, "_next_id", 0) + 1
         obj = dict(obj, id=WebSocket._next_id)
@@ -107,7 +111,7 @@ class WebSocket:
             pass
 
 
-def http_get(host, port, path, timeout=5.0):
+def http_get(host, port, path, timeout=HANG_S):
     """(status, body) of a GET."""
     s = socket.create_connection((host, port), timeout=timeout)
     s.sendall(f"GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
@@ -131,26 +135,28 @@ def http_get(host, port, path, timeout=5.0):
 class Rcsim:
     """rcsim run SCENARIO --monitor 127.0.0.1:0; url/port from the line it prints."""
 
-    def __init__(self, rcsim, scenario, *extra, timeout=20.0):
+    def __init__(self, rcsim, scenario, *extra, hang_s=HANG_S):
         self.err = tempfile.TemporaryFile(mode="w+")  # a file: a pipe nobody reads could fill up
         self.proc = subprocess.Popen([rcsim, "run", scenario, "--monitor", "127.0.0.1:0", *extra],
                                      stdout=subprocess.PIPE, stderr=self.err, text=True)
         self.stdout_lines = []
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            r, _, _ = select.select([self.proc.stdout], [], [], 0.2)
-            if r:
-                line = self.proc.stdout.readline()
-                if not line:
-                    break
+        # Lines until the monitor's, or the end of rcsim's output: a loaded host may take long to
+        # start it, so there is no start-up deadline; the guard only ends a run that hangs before
+        # the line (killed, its output ends). Blocking reads: select() on the pipe would not see a
+        # line already in the reader's buffer.
+        guard = threading.Timer(hang_s, self.proc.kill)
+        guard.start()
+        try:
+            for line in self.proc.stdout:
                 self.stdout_lines.append(line)
                 m = re.match(r"monitor: (http://127\.0\.0\.1:(\d+)/)", line)
                 if m:
                     self.url, self.port = m.group(1), int(m.group(2))
                     return
-            if self.proc.poll() is not None:
-                break
+        finally:
+            guard.cancel()
         self.proc.kill()
+        self.proc.wait()
         raise RuntimeError("rcsim printed no monitor URL: " + "".join(self.stdout_lines) + self.stderr())
 
     def ws(self):
