@@ -20,7 +20,7 @@ import sys
 import tempfile
 import time
 
-from wsclient import Rcsim, WebSocket, http_get
+from wsclient import HANG_S, Rcsim, WebSocket, http_get
 
 # The circle of tests/monitor/plot.yaml: centre (-5000, 0), radius 5000 pulses.
 CX, CY, R = -5000, 0, 5000
@@ -40,6 +40,7 @@ DOM_STATE = """JSON.stringify({
 
 # The page's layout and what it shows besides the plot.
 DOM_LAYOUT = """JSON.stringify({
+  status: document.getElementById("status").textContent,
   motion_shown: getComputedStyle(document.getElementById("motion-panels")).display !== "none",
   motion_height: document.getElementById("motion-panels").getBoundingClientRect().height,
   client_width: document.documentElement.clientWidth,
@@ -69,8 +70,16 @@ def find_chromium():
 
 class DevTools:
     def __init__(self, port):
-        status, body = http_get("127.0.0.1", port, "/json/list")
-        page = next(t for t in json.loads(body) if t["type"] == "page")
+        # Chromium announces its DevTools port before its first page exists: ask until it does.
+        end = time.monotonic() + HANG_S
+        while True:
+            status, body = http_get("127.0.0.1", port, "/json/list")
+            page = next((t for t in json.loads(body) if t["type"] == "page"), None) if status == 200 else None
+            if page or time.monotonic() > end:
+                break
+            time.sleep(0.05)
+        if not page:
+            raise RuntimeError("Chromium has no page target: " + body.decode(errors="replace"))
         path = re.sub(r"^ws://[^/]+", "", page["webSocketDebuggerUrl"])
         self.ws = WebSocket("127.0.0.1", port, path)
         self.next = 0
@@ -78,7 +87,7 @@ class DevTools:
     def call(self, method, **params):
         self.next += 1
         self.ws.send({"id": self.next, "method": method, "params": params})
-        m = self.ws.recv_until(lambda m: m.get("id") == self.next, timeout=10)
+        m = self.ws.recv_until(lambda m: m.get("id") == self.next)
         if "error" in m:
             raise RuntimeError(method + ": " + json.dumps(m["error"]))
         return m["result"]
@@ -96,7 +105,7 @@ def start_chromium(exe, profile):
                              "--disable-extensions", "--remote-debugging-port=0", "--user-data-dir=" + profile,
                              "--window-size=1280,1100", "about:blank"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    end = time.monotonic() + 8
+    end = time.monotonic() + HANG_S  # a loaded host starts Chromium slowly
     while time.monotonic() < end:
         line = proc.stderr.readline()
         m = re.search(r"DevTools listening on ws://127\.0\.0\.1:(\d+)/", line)
@@ -138,14 +147,16 @@ def shown(text, value):
 def comm_checks(check, dt, run, api):
     """A communication-only run: no motion panels; interrupts against the budget as the API has them."""
     lay = wait_dom(dt, lambda d: d["strip"] >= 3 and all(r and "us at" in r[8] for r in d["irq"][:3]),
-                   timeout=6, expression=DOM_LAYOUT)
+                   timeout=HANG_S, expression=DOM_LAYOUT)
     check(not lay["motion_shown"] and lay["motion_height"] == 0, "no motion panel on a communication-only run")
     check(lay["strip"] >= 3, "the margin strip has %d points" % lay["strip"])
     api.request({"op": "pause"})
     snap = api.request({"op": "snapshot"})["data"]
     check(snap["motion"] is None, "the API has no motion layer either")
-    time.sleep(0.3)  # the page's next update shows the paused state
-    lay = dt.dom(DOM_LAYOUT)
+    # The first update the page shows as paused was made after the pause, of the state the
+    # snapshot has (the simulation stands still between them).
+    lay = wait_dom(dt, lambda d: d["status"] == "paused", timeout=HANG_S, expression=DOM_LAYOUT)
+    check(lay["status"] == "paused", "the page shows the run paused")
     budget = snap["table3"]["budget_us"]
     check(shown(lay["budget"], budget), "the budget on the page: %s us (API %.3f)" % (lay["budget"], budget))
     for src in snap["interrupts"][:3]:
@@ -181,7 +192,7 @@ def fb_label(f):
 
 def motion_checks(check, dt, snap):
     """A motion run: the panels are there, each function block reads as one state, the API's."""
-    lay = wait_dom(dt, lambda d: "Powered" in d["fb_states"], timeout=3, expression=DOM_LAYOUT)
+    lay = wait_dom(dt, lambda d: "Powered" in d["fb_states"], timeout=HANG_S, expression=DOM_LAYOUT)
     check(lay["motion_shown"] and lay["motion_height"] > 500, "the motion panels are shown (%.0f px)" % lay["motion_height"])
     bad = [t for t in lay["fb_states"] if not FB_STATE.match(t)]
     check(lay["fb_states"] and not bad, "every function block reads as one state (%d; not: %s)" % (len(lay["fb_states"]), bad))
@@ -229,7 +240,7 @@ def main(rcsim, scenario, screenshot, kind="motion"):
             save(check, dt, screenshot)
             return 1 if failures else 0
         # The plot draws as the circle is commanded: wait for a good part of it.
-        d = wait_dom(dt, lambda d: d["points"] >= 200 and d["drawn"] >= 200, timeout=6)
+        d = wait_dom(dt, lambda d: d["points"] >= 200 and d["drawn"] >= 200, timeout=HANG_S)
         print("page drawn after %.1f s" % (time.monotonic() - t0))
         check(d["points"] >= 200, "the plot has %d points of the commanded path" % d["points"])
         check(d["drawn"] >= 200, "the canvas has %d pixels in the commanded path's blue" % d["drawn"])
@@ -240,7 +251,7 @@ def main(rcsim, scenario, screenshot, kind="motion"):
         api.request({"op": "pause"})
         snap = api.request({"op": "snapshot"})["data"]
         axes = snap["motion"]["axes"]
-        d = wait_dom(dt, lambda d: d["status"] == "paused", timeout=3)
+        d = wait_dom(dt, lambda d: d["status"] == "paused", timeout=HANG_S)
         check(d["status"] == "paused", "the page shows the run paused")
         d = dt.dom()
         for a in (0, 1):
@@ -262,7 +273,7 @@ def main(rcsim, scenario, screenshot, kind="motion"):
         shutil.rmtree(profile, ignore_errors=True)
         run.proc.send_signal(signal.SIGINT)
         try:
-            run.finish(timeout=20)
+            run.finish(timeout=HANG_S)
         except subprocess.TimeoutExpired:
             run.kill()
             failures.append("rcsim did not end on SIGINT")
