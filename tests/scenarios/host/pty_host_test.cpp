@@ -111,26 +111,26 @@ private:
     }
 };
 
-/// One paced run of `sim` while `client` runs on its own thread.
-void run_with(const std::function<void()>& client, const sc_time& sim) {
-    RealtimePacer pacer("pacer", 1.0);
-    Watchdog wd("wd", milliseconds(10000));
-    std::thread t(client);
-    sc_core::sc_start(sim);
-    t.join();
-    EXPECT_FALSE(wd.fired);
+/// Waits (wall time, bounded) until `cond` holds: a client's step that must follow the host's.
+bool wait_until(const std::function<bool()>& cond, milliseconds limit = milliseconds(10000)) {
+    const auto end = WallClock::now() + limit;
+    while (!cond() && WallClock::now() < end) std::this_thread::sleep_for(milliseconds(1));
+    return cond();
 }
 
-/// One paced run that lasts until `client`, on its own thread, has returned (the watchdog ends
-/// a run that hangs): for a client the controller waits for, which a fixed simulated length
-/// would race on a loaded host.
-void run_until_client_done(const std::function<void()>& client) {
+/// One paced run while `client` runs on its own thread, until the client has returned and
+/// `settled()` holds (what its last step must cause on the line), then `tail` more simulated
+/// time for what must not follow; polled every simulated millisecond. A fixed simulated length
+/// would race a client thread that a loaded host runs late. The watchdog ends a run that hangs.
+void run_until_client_done(const std::function<void()>& client, const std::function<bool()>& settled = {},
+                           const sc_time& tail = sc_core::SC_ZERO_TIME) {
     RealtimePacer pacer("pacer", 1.0);
     Watchdog wd("wd", milliseconds(10000));
     std::atomic<bool> done{false};
     spawn_checked(
         [&] {
-            while (!done) wait(sc_time(1, sc_core::SC_MS));
+            while (!done || (settled && !settled())) wait(sc_time(1, sc_core::SC_MS));
+            if (tail > sc_core::SC_ZERO_TIME) wait(tail);
             sc_core::sc_pause();
         },
         "until_client_done");
@@ -225,13 +225,13 @@ TEST(PtyHost, ClientBytesGoOnTheLineAtTheClientsBaudRate) {
     host.connect(line, SerialLine::b);
     ControllerEnd ctl("ctl", line);
     ctl.fmt = SerialFormat::parse("4800,8E1");
-    run_with(
+    run_until_client_done(
         [&] {
             TermClient c(host.slave_path());
             c.set_speed(B4800);
             c.write("AB");
         },
-        us(300000));
+        [&] { return ctl.got.size() >= 2; }, us(50000));
     ASSERT_EQ(ctl.got.size(), 2u);
     EXPECT_EQ(ctl.got[0].data, 'A');
     EXPECT_EQ(ctl.got[1].data, 'B');
@@ -268,30 +268,30 @@ TEST(PtyHost, ControllerBytesAreSampledAtTheClientsBaudRate) {
     EXPECT_EQ(host.counters().line_errors, 1u);
     // The io thread counts a write when it completes, which may be just after the client read
     // the byte: wait for the count to come (a count above 2 still fails below).
-    const auto end = WallClock::now() + milliseconds(10000);
-    while (host.counters().bytes_out < 2 && WallClock::now() < end) std::this_thread::sleep_for(milliseconds(1));
+    wait_until([&] { return host.counters().bytes_out >= 2; });
     EXPECT_EQ(host.counters().bytes_out, 2u);
 }
 
 // A NUL at 300,8E1 holds the wire at SPACE for 10 bits of 300 (33.3 ms), far beyond one 9600,8E1
 // character (11 bits of 9600, 1.146 ms): the controller's receiver detects a BREAK one of its
 // characters after the fall and its end when the wire returns to MARK. The same NUL at 9600 is an
-// ordinary character.
+// ordinary character. The host takes the client's rate with each byte: the client changes it
+// once the host has taken the first NUL, and keeps it until the host has taken the second.
 TEST(PtyHost, ASlowNulIsABreakOnTheLine) {
     SerialLine line("line");
     PtyHost host("pty", PtyHostConfig{});
     host.connect(line, SerialLine::b);
     ControllerEnd ctl("ctl", line);
-    run_with(
+    run_until_client_done(
         [&] {
             TermClient c(host.slave_path());
             c.write(std::string(1, '\0'));
-            std::this_thread::sleep_for(milliseconds(100));
+            EXPECT_TRUE(wait_until([&] { return host.counters().bytes_in >= 1; }));
             c.set_speed(B300);
             c.write(std::string(1, '\0'));
-            std::this_thread::sleep_for(milliseconds(100));
+            EXPECT_TRUE(wait_until([&] { return host.counters().bytes_in >= 2; }));
         },
-        us(400000));
+        [&] { return ctl.breaks.size() >= 2; }, us(50000));
     ASSERT_EQ(ctl.got.size(), 1u);
     EXPECT_EQ(ctl.got[0].data, 0u);
     EXPECT_FALSE(ctl.got[0].parity_error || ctl.got[0].framing_error);
@@ -311,20 +311,21 @@ TEST(PtyHost, TcsendbreakOnALinuxPtyReachesTheHostAsNothing) {
     PtyHost host("pty", PtyHostConfig{});
     host.connect(line, SerialLine::b);
     ControllerEnd ctl("ctl", line);
-    run_with(
+    run_until_client_done(
         [&] {
             const int fd = ::open(host.slave_path().c_str(), O_RDWR | O_NOCTTY);
             EXPECT_EQ(::tcsendbreak(fd, 0), 0); // "succeeds"
             ::close(fd);
         },
-        us(300000));
+        {}, us(300000)); // time for anything it sent to arrive
     EXPECT_EQ(host.counters().bytes_in, 0u);
     EXPECT_TRUE(ctl.breaks.empty());
     EXPECT_TRUE(ctl.got.empty());
 }
 
 // With end_on_disconnect the run ends once the last client closed, after its bytes are on the
-// line; the opens and closes are counted.
+// line; the opens and closes are counted. The client closes once the host has its bytes: the host
+// reads a closing client's bytes for kCloseSettle only, which a loaded host can exceed.
 TEST(PtyHost, TheLastCloseEndsTheRunAfterTheClientsBytes) {
     SerialLine line("line");
     PtyHostConfig cfg;
@@ -337,6 +338,7 @@ TEST(PtyHost, TheLastCloseEndsTheRunAfterTheClientsBytes) {
     std::thread client([&] {
         TermClient c(host.slave_path());
         c.write("XYZ");
+        EXPECT_TRUE(wait_until([&] { return host.counters().bytes_in >= 3; }));
     });
     sc_core::sc_start(); // until the client closes
     client.join();
