@@ -74,6 +74,7 @@ void Uart82510::reset_registers() {
     bank_ = 0;
     ger_ = 0;
     lcr_ = 0;
+    lcr_written_ = divisor_written_ = false;
     mcr_ = 0;
     msr_ = modem_in_; // deltas cleared
     acr0_ = 0;
@@ -289,12 +290,15 @@ void Uart82510::write_bank0(unsigned off, std::uint8_t v) {
     case TXD:
         if (dlab) brga_ = static_cast<std::uint16_t>((brga_ & 0xFF00) | v);
         else push_tx(v);
+        divisor_written_ = divisor_written_ || dlab;
         break;
     case GER:
         if (dlab) brga_ = static_cast<std::uint16_t>((brga_ & 0x00FF) | (v << 8));
         else ger_ = v & 0x3F;
+        divisor_written_ = divisor_written_ || dlab;
         break;
     case LCR: {
+        lcr_written_ = true;
         const bool was_break = lcr_ & LCR_SBK;
         lcr_ = v;
         if (was_break != bool(v & LCR_SBK)) set_line_break(v & LCR_SBK);
@@ -372,8 +376,10 @@ void Uart82510::write_bank3(unsigned off, std::uint8_t v) {
     case CLCF:
         if (dlab) brgb_ = static_cast<std::uint16_t>((brgb_ & 0xFF00) | v);
         else clcf_ = v & 0xF0;
+        divisor_written_ = divisor_written_ || dlab;
         break;
     case BACF:
+        divisor_written_ = divisor_written_ || dlab;
         if (dlab) brgb_ = static_cast<std::uint16_t>((brgb_ & 0x00FF) | (v << 8));
         else {
             bacf_ = v;

@@ -140,6 +140,10 @@ public:
     /// none without one. A failed `overruns` check names it.
     const std::optional<sc_core::sc_time>& first_overrun() const { return first_overrun_; }
     const Config& config() const { return cfg_; }
+    /// The CPU has written the character format (LCR) and a baud-rate divisor (BAL/BAH with
+    /// DLAB) since the last RESET: rx_format() is then the firmware's choice, not the reset
+    /// state. The verdict computes the budget from a port only once this holds.
+    bool format_programmed() const { return lcr_written_ && divisor_written_; }
     unsigned bank() const { return bank_; }
     unsigned rx_level() const { return rx_count_; }
     unsigned tx_level() const { return tx_count_; }
@@ -178,6 +182,7 @@ private:
     // registers
     unsigned bank_ = 0;
     std::uint8_t ger_ = 0, lcr_ = 0, mcr_ = 0, msr_ = 0, acr0_ = 0;
+    bool lcr_written_ = false, divisor_written_ = false; // since RESET (format_programmed)
     std::uint16_t brga_ = 0, brgb_ = 0;
     std::uint8_t txf_ = 0, rst_ = 0;
     std::uint8_t fmd_ = 0, tmd_ = 0, imd_ = 0, acr1_ = 0, rie_ = 0, rmd_ = 0;

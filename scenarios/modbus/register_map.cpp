@@ -25,35 +25,34 @@ double rtf(monitor::BoardMonitor& m, unsigned) { return m.rtf(); }
 double paused(monitor::BoardMonitor& m, unsigned) { return m.paused() ? 1 : 0; }
 double zero(monitor::BoardMonitor&, unsigned) { return 0; }
 
-// ---- Table 3 (report.json "table3", measured so far) ----
-const Samples& rs232(monitor::BoardMonitor& m) { return m.world().rs232_rx_service_us(); }
-double budget(monitor::BoardMonitor& m, unsigned) { return budget_us(m.world(), m.world().scenario()); }
-double isr_mean(monitor::BoardMonitor& m, unsigned) { return measured(rs232(m), &Summary::mean); }
-double isr_max(monitor::BoardMonitor& m, unsigned) { return measured(rs232(m), &Summary::max); }
-double dpram_byte(monitor::BoardMonitor& m, unsigned) {
-    const auto b = m.world().dpram_time().per_byte_us();
-    return b ? *b : kNone;
+// ---- Table 3 and the verdict: the one judge's, so far (scenarios/verdict/judge.h) ----
+double table3(monitor::BoardMonitor& m, const char* key) {
+    const nlohmann::json& v = m.judgement().table3[key];
+    return v.is_number() ? v.get<double>() : kNone;
 }
-double margin(monitor::BoardMonitor& m, unsigned) { return budget(m, 0) - (isr_mean(m, 0) + dpram_byte(m, 0)); }
-double worst_margin(monitor::BoardMonitor& m, unsigned) { return budget(m, 0) - (isr_max(m, 0) + dpram_byte(m, 0)); }
+double budget(monitor::BoardMonitor& m, unsigned) { return table3(m, "budget_us"); }
+double isr_mean(monitor::BoardMonitor& m, unsigned) { return table3(m, "rs232_isr_us"); }
+double isr_max(monitor::BoardMonitor& m, unsigned) { return table3(m, "rs232_isr_max_us"); }
+double dpram_byte(monitor::BoardMonitor& m, unsigned) { return table3(m, "dpram_byte_us"); }
+double margin(monitor::BoardMonitor& m, unsigned) { return table3(m, "margin_us"); }
+double worst_margin(monitor::BoardMonitor& m, unsigned) { return table3(m, "worst_margin_us"); }
 double over_budget(monitor::BoardMonitor& m, unsigned) {
     const double b = budget(m, 0);
+    if (std::isnan(b)) return kNone;
     double n = 0;
     for (unsigned l = 0; l < 4; ++l)
         for (const auto& [v, count] : m.world().probe.latency_us(l).values())
             if (v > b) n += static_cast<double>(count);
     return n;
 }
-// 0 not measured (no RS-232 receive service yet), 1 passing so far, 2 failing so far: a negative
-// worst-case margin, a latency over the budget, an overrun or a frame the host gave up on.
+// The run's verdict so far, as the run's end, the page and the API judge it: 0 not measured yet
+// (inconclusive), 1 passing so far, 2 failing so far (a check failed that no later event can undo).
 double verdict(monitor::BoardMonitor& m, unsigned) {
-    if (std::isnan(worst_margin(m, 0))) return 0;
-    bool fail = worst_margin(m, 0) < 0 || over_budget(m, 0) > 0;
-    for (unsigned p = 0; p < World::kPorts; ++p) {
-        fail = fail || m.world().ctl.comm.uart[p].stats().overruns > 0;
-        if (const auto& h = m.world().protocol[p]) fail = fail || h->counters().frames_failed > 0;
+    switch (m.judgement().verdict.verdict) {
+    case Verdict::passed: return 1;
+    case Verdict::failed: return 2;
+    default: return 0;
     }
-    return fail ? 2 : 1;
 }
 
 // ---- per port ----
@@ -165,14 +164,14 @@ const std::vector<Entry> kMap = {
     // input registers: the run and Table 3
     {"sim_time", T::input_register, 0, once, 0, Y::u32, 1000, "s", R, "simulated time", sim_time},
     {"rtf", T::input_register, 2, once, 0, Y::u32, 1000, "", R, "real-time factor measured over the last half second of running wall time (0 while paused)", rtf},
-    {"verdict", T::input_register, 4, once, 0, Y::u16, 1, "", R, "0 not measured yet; 1 passing so far; 2 failing so far (worst_margin < 0 or a latency over the budget or an overrun or a failed frame)", verdict},
+    {"verdict", T::input_register, 4, once, 0, Y::u16, 1, "", R, "the run's verdict so far (the same judge as report.json): 0 not measured yet; 1 passing so far; 2 failing so far (a check failed that no later event can undo)", verdict},
     {"rs232_isr_mean", T::input_register, 6, once, 0, Y::u32, 1000, "us", R, "Table 3: RS-232 receive service mean so far", isr_mean},
     {"rs232_isr_max", T::input_register, 8, once, 0, Y::u32, 1000, "us", R, "Table 3: RS-232 receive service max so far", isr_max},
     {"dpram_byte", T::input_register, 10, once, 0, Y::u32, 1000, "us", R, "Table 3: DP-RAM time per byte", dpram_byte},
     {"budget", T::input_register, 12, once, 0, Y::u32, 1000, "us", R, "Table 3: the budget (the mean character arrival period or the scenario's budget_us)", budget},
     {"margin", T::input_register, 14, once, 0, Y::i32, 1000, "us", R, "Table 3: budget - (rs232_isr_mean + dpram_byte)", margin},
     {"worst_margin", T::input_register, 16, once, 0, Y::i32, 1000, "us", R, "budget - (rs232_isr_max + dpram_byte)", worst_margin},
-    {"latency_over_budget", T::input_register, 18, once, 0, Y::u32, 1, "", R, "interrupt latencies (IR0..IR3) over the budget so far", over_budget},
+    {"latency_over_budget", T::input_register, 18, once, 0, Y::u32, 1, "", R, "interrupt latencies (IR0..IR3) over the budget so far (reported, not judged: docs/scenarios.md \"Checks\")", over_budget},
     // input registers: per port
     {"port{n}.host_step", T::input_register, 100, port, 20, Y::u16, 1, "", R, "the host's protocol step: 0 idle; 1 ENQ sent; 2 frame on the line; 3 awaiting EOT", host_step},
     {"port{n}.controller_step", T::input_register, 101, port, 20, Y::u16, 1, "", R, "the controller's protocol step (as host_step)", controller_step},

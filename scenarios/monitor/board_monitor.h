@@ -11,6 +11,7 @@
 #include "scenarios/config/monitor_section.h"
 #include "scenarios/world/world.h"
 #include "scenarios/monitor/monitor_server.h"
+#include "scenarios/verdict/judge.h"
 
 #include <systemc>
 #include <nlohmann/json.hpp>
@@ -66,6 +67,10 @@ public:
 
     /// The state as the API's "snapshot" (docs/monitor.md "Snapshot").
     nlohmann::json snapshot();
+    /// The verdict and its figures so far (scenarios/verdict/judge.h, Moment::so_far): what the
+    /// page, the JSON API and the Modbus registers show. Judged again only when simulated time
+    /// moved since the last call.
+    const Judgement& judgement();
 
 private:
     using Clock = std::chrono::steady_clock;
@@ -116,7 +121,9 @@ private:
     std::string path_json(Subscription& s, std::size_t max_points);
     nlohmann::json motion_json();
     nlohmann::json ports_json();
-    nlohmann::json table3_now();
+    std::optional<Judgement> judged_;
+    sc_core::sc_time judged_at_;
+    std::uint64_t judged_delta_ = 0;
     nlohmann::json interrupts_json(double budget_us);
     nlohmann::json interrupt_figures(double budget_us);
     nlohmann::json irq_cache_;                 // interrupt_figures() as of irq_cache_completed_ interrupts

@@ -4,7 +4,10 @@
 
 #include "scenarios/verdict/latency_causes.h"
 #include "scenarios/verdict/measure.h"
+#include "scenarios/verdict/judge.h"
 #include "models/clock.h"
+
+#include <limits>
 
 namespace rcsim::monitor {
 
@@ -42,9 +45,25 @@ nlohmann::json BoardMonitor::snapshot() {
                         {"clients", server_ ? server_->clients() : 0}};
     j["motion"] = motion_json();
     j["ports"] = ports_json();
-    j["table3"] = table3_now();
-    j["interrupts"] = interrupts_json(j["table3"]["budget_us"].get<double>());
+    const Judgement& judged = judgement();
+    j["table3"] = judged.table3;
+    j["verdict"] = {{"verdict", verdict_name(judged.verdict.verdict)},
+                    {"reason", judged.verdict.reason},
+                    {"checks", judged.checks_json()}};
+    j["interrupts"] = interrupts_json(judged.budget.value.value_or(std::numeric_limits<double>::infinity()));
+    if (!judged.budget.value)
+        for (auto& i : j["interrupts"]) i["over_budget"] = nullptr; // no budget: not measured, never 0
     return j;
+}
+
+const Judgement& BoardMonitor::judgement() {
+    const sc_core::sc_time now = sc_core::sc_time_stamp();
+    if (!judged_ || now != judged_at_ || sc_core::sc_delta_count() != judged_delta_) {
+        judged_ = judge(world_, world_.scenario(), Moment::so_far, 0);
+        judged_at_ = now;
+        judged_delta_ = sc_core::sc_delta_count();
+    }
+    return *judged_;
 }
 
 // Per interrupt source: counts, rate, latency and service so far against the budget, and the
@@ -156,27 +175,6 @@ nlohmann::json BoardMonitor::ports_json() {
         ports.push_back(pj);
     }
     return ports;
-}
-
-// Table 3 as measured so far (report.json "table3" has the final figures): the RS-232 receive
-// service, the DP-RAM time per byte, the budget and the margin.
-nlohmann::json BoardMonitor::table3_now() {
-    const Samples& rx = world_.rs232_rx_service_us();
-    const auto per_byte = world_.dpram_time().per_byte_us();
-    const double budget = budget_us(world_, world_.scenario());
-    nlohmann::json t = {{"rs232_isr_us", samples_brief(rx)},
-                        {"dpram_byte_us", per_byte ? nlohmann::json(*per_byte) : nlohmann::json(nullptr)},
-                        {"budget_us", budget},
-                        {"paper_rs232_isr_us", kPaperRs232IsrUs},
-                        {"paper_dpram_byte_us", kPaperDpramByteUs},
-                        {"margin_us", nullptr},
-                        {"worst_margin_us", nullptr}};
-    if (rx.count() > 0 && per_byte) {
-        const Summary m = rx.summary();
-        t["margin_us"] = budget - (m.mean + *per_byte);
-        t["worst_margin_us"] = budget - (m.max + *per_byte);
-    }
-    return t;
 }
 
 } // namespace rcsim::monitor

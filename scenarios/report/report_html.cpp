@@ -48,6 +48,7 @@ td.l,th.l{text-align:left}
 tr.pass td.v{background:#e3f4e6}tr.fail td.v{background:#fbe0e0}
 td.bad{background:#fbe0e0;font-weight:bold}
 td.ok{color:#1e7e34;font-weight:bold}td.ko{color:#c82333;font-weight:bold}
+ul.warnings{background:#fff3cd;border:1px solid #e0c060;border-radius:6px;padding:8px 8px 8px 28px;margin:0 0 10px}
 table.meta td{text-align:left;border:none;padding:1px 14px 1px 0}
 table.meta td:first-child{color:#666}
 nav a{margin-right:14px}
@@ -78,6 +79,14 @@ void banner(std::ostream& o, const json& r, const char* what) {
       << "</h1><div class=\"verdict\">" << v << "</div></div>\n";
     const std::string why = js(r, "verdict_reason");
     if (!why.empty()) o << "<p class=\"verdict-reason\" id=\"verdict-reason\">" << esc(why) << "</p>\n";
+    // Every warning at the top, under the verdict: a hint there explains a run that measured nothing.
+    const json& warnings = jo(r, "warnings");
+    if (warnings.is_array() && !warnings.empty()) {
+        o << "<ul class=\"warnings\" id=\"warnings\">\n";
+        for (const auto& w : warnings)
+            if (w.is_string()) o << "<li>warning: " << esc(w.get<std::string>()) << "</li>\n";
+        o << "</ul>\n";
+    }
 }
 
 /// The anchor of a failed check's timeline ("Where the checks failed").
@@ -105,28 +114,46 @@ void section_checks(std::ostream& o, const json& r, bool timelines = false) {
     o << "</table></section>\n";
 }
 
+/// A Table 3 figure: its value, or "not measured" (never a 0 that reads as measured, never green).
+std::string table3_cell(const json& t, const char* key, const char* colour_by_sign = nullptr) {
+    if (!t.is_object() || !t.contains(key) || !t[key].is_number())
+        return "<td class=\"nm\">not measured</td>";
+    const double v = t[key].get<double>();
+    const char* css = colour_by_sign ? (v >= 0 ? "ok" : "ko") : "";
+    return std::string("<td class=\"") + css + "\">" + num(v, 3) + "</td>";
+}
+
 void section_table3(std::ostream& o, const json& r) {
     const json& t = jo(r, "table3");
-    const double isr = jd(t, "rs232_isr_us"), dp = jd(t, "dpram_byte_us");
     const double pisr = jd(t, "paper_rs232_isr_us", 82), pdp = jd(t, "paper_dpram_byte_us", 52.553);
-    const double margin = jd(t, "margin_us"), budget = jd(t, "budget_us");
+    const bool measured = t.contains("rs232_isr_us") && t["rs232_isr_us"].is_number() && t.contains("dpram_byte_us") &&
+                          t["dpram_byte_us"].is_number();
+    json sum = json::object();
+    if (measured) sum["sum"] = jd(t, "rs232_isr_us") + jd(t, "dpram_byte_us");
     o << "<section id=\"table3\"><h2>Table 3: processing time per character</h2>\n"
       << "<table><tr><th class=\"l\"></th><th>simulated [us]</th><th>paper [us]</th><th>simulated / paper</th></tr>\n";
-    auto row = [&o](const std::string& name, double a, double b) {
-        o << "<tr><td class=\"l\">" << name << "</td><td>" << num(a, 3) << "</td><td>" << num(b, 3) << "</td><td>"
-          << (b > 0 ? num(a / b, 3) : std::string("-")) << "</td></tr>\n";
+    auto row = [&o](const std::string& name, const std::string& cell, double paper, const json& v) {
+        o << "<tr><td class=\"l\">" << name << "</td>" << cell << "<td>" << num(paper, 3) << "</td><td>"
+          << (v.is_number() && paper > 0 ? num(v.get<double>() / paper, 3) : std::string("-")) << "</td></tr>\n";
     };
-    row("RS-232 interrupt (mean service of the RX interrupts)", isr, pisr);
-    row("DP-RAM (1 byte)", dp, pdp);
-    row("sum", isr + dp, pisr + pdp);
-    o << "<tr><td class=\"l\">budget (one character time / 3 ports)</td><td>" << num(budget, 3) << "</td><td>"
-      << num(budget, 3) << "</td><td></td></tr>\n"
-      << "<tr><td class=\"l\">margin = budget - sum</td><td class=\"" << (margin >= 0 ? "ok" : "ko") << "\">"
-      << num(margin, 3) << "</td><td>" << num(budget - pisr - pdp, 3) << "</td><td></td></tr>\n"
-      << "<tr><td class=\"l\">longest RS-232 RX interrupt</td><td>" << num(jd(t, "rs232_isr_max_us"), 3)
-      << "</td><td></td><td></td></tr>\n"
+    row("RS-232 interrupt (mean service of the RX interrupts)", table3_cell(t, "rs232_isr_us"), pisr,
+        jo(t, "rs232_isr_us"));
+    row("DP-RAM (1 byte)", table3_cell(t, "dpram_byte_us"), pdp, jo(t, "dpram_byte_us"));
+    row("sum", table3_cell(sum, "sum"), pisr + pdp, jo(sum, "sum"));
+    const json& budget = jo(t, "budget_us");
+    o << "<tr><td class=\"l\">budget (one character time / 3 ports)</td>" << table3_cell(t, "budget_us") << "<td>"
+      << (budget.is_number() ? num(budget.get<double>(), 3) : std::string("-")) << "</td><td></td></tr>\n"
+      << "<tr><td class=\"l\">margin = budget - sum</td>" << table3_cell(t, "margin_us", "sign") << "<td>"
+      << (budget.is_number() ? num(budget.get<double>() - pisr - pdp, 3) : std::string("-")) << "</td><td></td></tr>\n"
+      << "<tr><td class=\"l\">longest RS-232 RX interrupt</td>" << table3_cell(t, "rs232_isr_max_us")
+      << "<td></td><td></td></tr>\n"
       << "<tr><td class=\"l\">DP-RAM bytes measured</td><td>" << ju(t, "dpram_bytes_measured")
-      << "</td><td></td><td></td></tr>\n</table>\n<div class=\"chart\">" << table3_svg(t) << "</div></section>\n";
+      << "</td><td></td><td></td></tr>\n</table>\n";
+    if (t.contains("not_measured"))
+        for (const auto& [k, why] : t["not_measured"].items())
+            if (why.is_string()) o << "<p class=\"note\">not measured: " << esc(k) << ": " << esc(why.get<std::string>()) << "</p>\n";
+    if (measured && budget.is_number()) o << "<div class=\"chart\">" << table3_svg(t) << "</div>";
+    o << "</section>\n";
 }
 
 void section_interrupts(std::ostream& o, const json& r, const InterruptLog& log) {

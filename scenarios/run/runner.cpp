@@ -5,6 +5,7 @@
 
 #include "scenarios/world/world.h"
 #include "scenarios/verdict/checks.h"
+#include "scenarios/verdict/judge.h"
 #include "scenarios/verdict/measure.h"
 #include "scenarios/verdict/latency_causes.h"
 #include "scenarios/run/cause_symbols.h"
@@ -32,6 +33,7 @@
 #include <sstream>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -59,10 +61,9 @@ nlohmann::json run_header(const Scenario& s, const RunOptions& opt, double wall)
     return h;
 }
 
-/// The verdict from report["checks"] into `report`; the exit code (verdict/checks.h). `idle`: why
-/// the scenario gave the controller nothing to measure ("" when it did).
-int conclude(nlohmann::json& report, const std::string& idle = "") {
-    const RunVerdict v = judge_run(report["checks"], stop_signal(), idle);
+/// The verdict of a motion run from report["checks"] into `report`; the exit code (verdict/checks.h).
+int conclude(nlohmann::json& report) {
+    const RunVerdict v = judge_run(report["checks"], stop_signal());
     put_verdict(report, v);
     return exit_code_of(v, stop_signal());
 }
@@ -127,70 +128,6 @@ std::unique_ptr<modbus::ModbusBridge> start_modbus(monitor::BoardMonitor* mon, c
     return b;
 }
 
-/// Why a run may have no RS-232 receive interrupt at all: the scenario gives the controller no
-/// traffic of its own ("" when some host generates traffic). A user's tcp or pty host carries
-/// only what its user sends.
-std::string why_no_traffic(const Scenario& s) {
-    std::string driven;
-    bool any_host = false;
-    for (unsigned p = 0; p < s.ports.size(); ++p) {
-        const PortScenario& ps = s.ports[p];
-        if (ps.host == PortScenario::Host::none) continue;
-        any_host = true;
-        if (ps.host == PortScenario::Host::protocol && ps.protocol.traffic.pattern != HostTraffic::Pattern::none) return "";
-        if (ps.host == PortScenario::Host::raw && !ps.raw.sends.empty()) return "";
-        if (ps.host == PortScenario::Host::replay) return "";
-        if (ps.host == PortScenario::Host::tcp || ps.host == PortScenario::Host::pty)
-            driven += (driven.empty() ? "" : ", ") + std::string("port ") + std::to_string(p) +
-                      (ps.host == PortScenario::Host::tcp ? " (tcp)" : " (pty)");
-    }
-    if (!any_host) return "no host is attached to any port";
-    if (!driven.empty()) return "only what the user sends on " + driven + " reaches the controller, and it sent no character";
-    return "no host sent traffic";
-}
-
-/// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
-/// and its worst case with the longest RS-232 receive service. A figure with no samples is null
-/// and named in "not_measured" with the reason.
-nlohmann::json table3_json(const World& w, const Scenario& s, const InterruptFigures& c, CheckFigures& f) {
-    const double budget = budget_us(w, s);
-    nlohmann::json j = {{"rs232_isr_us", nullptr},      {"rs232_isr_max_us", nullptr},
-                        {"dpram_byte_us", nullptr},     {"dpram_bytes_measured", c.dpram_bytes},
-                        {"paper_rs232_isr_us", kPaperRs232IsrUs}, {"paper_dpram_byte_us", kPaperDpramByteUs},
-                        {"budget_us", budget},          {"margin_us", nullptr},
-                        {"worst_margin_us", nullptr}};
-    nlohmann::json missing = nlohmann::json::object();
-    const std::string idle = why_no_traffic(s);
-    if (c.rs232_rx_service.count() == 0) {
-        missing["rs232_isr_us"] = "no RS-232 receive interrupt" + (idle.empty() ? std::string(" took a character out of an RX FIFO") : ": " + idle);
-    } else {
-        j["rs232_isr_us"] = c.rs232_rx_service.summary().mean;
-        j["rs232_isr_max_us"] = c.rs232_rx_service.summary().max;
-    }
-    if (!c.dpram_byte_us)
-        missing["dpram_byte_us"] = "no chunk of two or more bytes was forwarded into DP-RAM" + (idle.empty() ? "" : ": " + idle);
-    else j["dpram_byte_us"] = *c.dpram_byte_us;
-    if (missing.empty()) {
-        const double mean = budget - (j["rs232_isr_us"].get<double>() + *c.dpram_byte_us);
-        const double worst = budget - (j["rs232_isr_max_us"].get<double>() + *c.dpram_byte_us);
-        j["margin_us"] = mean;
-        j["worst_margin_us"] = worst;
-        f.table3_margin_us = Figure::of(mean);
-        f.table3_worst_margin_us = Figure::of(worst);
-    } else {
-        // The RS-232 interrupt first: it is what the budget is about.
-        std::string why;
-        if (missing.size() == 2 && !idle.empty())
-            why = "no RS-232 receive interrupt and no DP-RAM chunk: " + idle;
-        else
-            for (const char* k : {"rs232_isr_us", "dpram_byte_us"})
-                if (missing.contains(k)) why += (why.empty() ? "" : "; ") + std::string(k) + ": " + missing[k].get<std::string>();
-        f.table3_margin_us = f.table3_worst_margin_us = Figure::none(why);
-        j["not_measured"] = missing;
-    }
-    return j;
-}
-
 /// A tcp client sent more than the line carried by the end of the run. Not a firmware defect (the
 /// line's speed is the limit; the verdict stands), but never a silent pass: the report says so.
 std::string unsent_warning(unsigned p, const nlohmann::json& tcp, const SerialFormat& f) {
@@ -203,24 +140,17 @@ std::string unsent_warning(unsigned p, const nlohmann::json& tcp, const SerialFo
     return os.str();
 }
 
-/// report.json "ports", "main_cpu", "dpram", "realtime", "motion"; fills the per-port totals the
-/// checks judge.
-void report_world(const World& world, const Scenario& s, const RunOptions& opt, nlohmann::json& report,
-                  CheckFigures& f) {
+/// report.json "ports", "main_cpu", "dpram", "realtime", "motion".
+void report_world(const World& world, const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
     report["ports"] = nlohmann::json::array();
     report["warnings"] = nlohmann::json::array();
     for (unsigned p = 0; p < kPorts; ++p) {
         nlohmann::json pj = port_json(world, p);
-        f.overruns += pj["overruns"].get<std::uint64_t>();
-        f.frames_failed += pj["frames_failed"].get<std::uint64_t>();
-        f.frames_delivered += pj["frames_delivered"].get<std::uint64_t>();
-        f.command_mismatches += world.observers[p].commands().mismatches();
-        f.response_mismatches += world.observers[p].responses().mismatches();
-        f.malformed += world.ctl.main.port_stats(p).malformed;
-        const Samples& lat = world.char_latency_us[p];
-        f.char_latency_max_us[p] = lat.count() ? Figure::of(lat.summary().max)
-                                               : Figure::none("the controller read no character on this port");
-        if (world.protocol[p] && s.ports[p].protocol.traffic.pattern != HostTraffic::Pattern::none) ++f.traffic_ports;
+        if (s.ports[p].host != PortScenario::Host::none && !world.ctl.comm.uart[p].format_programmed())
+            report["warnings"].push_back("port " + std::to_string(p) + ": the firmware never programmed its 82510's "
+                                         "character format (it has the reset state's " +
+                                         pj["controller_format"].get<std::string>() +
+                                         "): the budget and the port's character-latency limit are not measured");
         if (pj.contains("host_format") && pj["host_format"] != pj["controller_format"])
             report["warnings"].push_back("port " + std::to_string(p) + ": the host sends " +
                                          pj["host_format"].get<std::string>() + " but the controller's 82510 is set to " +
@@ -231,6 +161,9 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
             pj["script"] = script_json(world.protocol[p]->script_result());
         report["ports"].push_back(pj);
     }
+    if (!world.probe.interrupts_enabled())
+        report["warnings"].push_back("the comm CPU never enabled interrupts (IF stayed 0 from the reset on): "
+                                     "no interrupt was taken, no interrupt figure is measured");
     report["main_cpu"] = world.ctl.main.report();
     if (world.program) report["main_cpu"]["program"] = world.program->report();
     report["dpram"] = {{"collisions", world.ctl.dpram.collisions()}};
@@ -355,19 +288,20 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
                           {"quantum_us", to_us(s.board.comm.quantum)}};
     const InterruptFigures c = measure_interrupts(world);
     report["interrupts"] = c.interrupts;
-    CheckFigures f;
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
-    f.bus_errors = world.ctl.comm.cpu.bus_errors().total();
-    report["table3"] = table3_json(world, s, c, f);
-    add_latency_causes(report["interrupts"], world, budget_us(world, s), cause_symbols(opt.symbols, rom));
-    report_world(world, s, opt, report, f);
-
-    nlohmann::json checks = nlohmann::json::array();
-    for (const Check& ch : communication_checks(world, s, f)) checks.push_back(to_json(ch));
-    for (const Check& ch : system_motion_checks(world, s)) checks.push_back(to_json(ch)); // scripted hosts, motion
-    report["checks"] = checks;
+    // The one judge (verdict/judge.h): the same figures and verdict the live page and Modbus show.
+    const Judgement judged = judge(world, s, Moment::end, stop_signal());
+    report["table3"] = judged.table3;
+    add_latency_causes(report["interrupts"], world, judged.budget.value.value_or(std::numeric_limits<double>::infinity()),
+                       cause_symbols(opt.symbols, rom));
+    if (!judged.budget.value) // no budget, no count over it: not measured, never a reassuring 0
+        for (auto& [name, source] : report["interrupts"].items())
+            if (source.contains("over_budget")) source["over_budget"] = nullptr;
+    report_world(world, s, opt, report);
+    report["checks"] = judged.checks_json();
     report["checks_off"] = s.checks.off;
-    const int code = conclude(report, why_no_traffic(s));
+    put_verdict(report, judged.verdict);
+    const int code = exit_code_of(judged.verdict, stop_signal());
 
     if (!opt.out_dir.empty()) {
         write_report_json(opt.out_dir, report);

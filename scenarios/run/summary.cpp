@@ -206,10 +206,30 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
     if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
 }
 
+/// Before the tables: why a run FAILED (its first failed check, with its why) or was
+/// INCONCLUSIVE (the verdict's reason), and every warning: what to read first.
+void print_first_cause(const nlohmann::json& r, std::ostream& os) {
+    const std::string verdict = r.value("verdict", std::string());
+    if (verdict == "failed") {
+        for (const auto& c : r["checks"])
+            if (c.value("status", "") == "failed") {
+                os << "\n\nfirst cause: " << c["name"].get<std::string>() << " failed"
+                   << (c.contains("why") ? ": " + c["why"].get<std::string>() : std::string());
+                break;
+            }
+    } else if (verdict == "inconclusive") {
+        os << "\n\nfirst cause: not measured: " << r.value("verdict_reason", std::string());
+    }
+    const auto warnings = r.value("warnings", nlohmann::json::array());
+    if (!warnings.empty() && verdict != "failed" && verdict != "inconclusive") os << "\n";
+    for (const auto& w : warnings) os << "\nwarning: " << w.get<std::string>();
+}
+
 /// The longest latency of each source with what held it, and how many were over the budget
 /// (report.json "interrupts".SOURCE."worst", docs/scenarios.md "Latency causes").
 void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
     const auto& in = r["interrupts"];
+    const nlohmann::json& budget = r["table3"]["budget_us"];
     std::ostringstream body;
     body << std::fixed;
     for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram"}) {
@@ -220,17 +240,20 @@ void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
         body << "  " << name << " latency max " << std::setprecision(1) << top["latency_us"].get<double>() << " us at "
              << std::setprecision(3) << top["ir_rise_us"].get<double>() << " us: " << top.value("text", std::string("?"))
              << "\n";
-        const std::uint64_t over = in[name].value("over_budget", std::uint64_t{0});
+        const std::uint64_t over = in[name]["over_budget"].is_number() ? in[name]["over_budget"].get<std::uint64_t>() : 0;
         if (over > 0) {
             std::size_t listed = 0;
-            for (const auto& e : w) listed += e["latency_us"].get<double>() > r["table3"]["budget_us"].get<double>();
+            for (const auto& e : w) listed += e["latency_us"].get<double>() > budget.get<double>();
             body << "    over the budget: " << over << " (the " << listed
                  << " longest with their causes in report.json)\n";
         }
     }
     if (body.str().empty()) return;
-    os << "\nlongest latencies and their causes (budget " << std::fixed << std::setprecision(1)
-       << r["table3"]["budget_us"].get<double>() << std::defaultfloat << " us)\n" << body.str();
+    os << "\nlongest latencies and their causes (";
+    if (budget.is_number())
+        os << "budget " << std::fixed << std::setprecision(1) << budget.get<double>() << std::defaultfloat << " us";
+    else os << "budget not measured";
+    os << "; latencies are reported, not judged: docs/scenarios.md \"Checks\")\n" << body.str();
 }
 
 } // namespace
@@ -255,6 +278,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     // Which firmware ran, and how its image was read (a smaller one is mirrored: models/rom_image.h).
     if (r.contains("rom_format"))
         os << "\nROM: " << r["rom"].get<std::string>() << " (" << r["rom_format"].get<std::string>() << ")";
+    print_first_cause(r, os);
     os << "\n\ninterrupts (us)      count   latency mean/p99/max        service mean/p99/max\n";
     for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram", "rs232_rx"}) {
         const auto& i = r["interrupts"][name];
@@ -269,7 +293,8 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     const auto& t = r["table3"];
     os << "\nTable 3               simulated      paper\n"
        << "  RS-232 interrupt  " << std::setw(10) << f(t["rs232_isr_us"], 3) << " us" << std::setw(10)
-       << f(t["paper_rs232_isr_us"], 3) << " us   (max " << f(t["rs232_isr_max_us"], 3) << " us)\n"
+       << f(t["paper_rs232_isr_us"], 3) << " us   (max " << f(t["rs232_isr_max_us"], 3)
+       << " us; receive interrupts that read a character)\n"
        << "  DP-RAM (1 byte)   " << std::setw(10) << f(t["dpram_byte_us"], 3) << " us" << std::setw(10)
        << f(t["paper_dpram_byte_us"], 3) << " us\n"
        << "  sum               " << std::setw(10)
@@ -277,6 +302,9 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
        << f(sum(t["paper_rs232_isr_us"], t["paper_dpram_byte_us"]), 3) << " us\n"
        << "  budget " << f(t["budget_us"], 3) << " us, margin " << f(t["margin_us"], 3) << " us (worst case "
        << f(t["worst_margin_us"], 3) << " us)\n";
+    if (t.contains("longest_service") && t["longest_service"].is_object())
+        os << "  longest service of any kind: " << t["longest_service"]["source"].get<std::string>() << " "
+           << f(t["longest_service"]["service_us"], 3) << " us (the rule judges its blocking time: interrupt_blocking_max_us)\n";
     if (t.contains("not_measured"))
         for (const auto& [k, why] : t["not_measured"].items()) os << "  not measured: " << k << ": " << why.get<std::string>() << "\n";
     print_ports(r["ports"], os);
@@ -286,7 +314,6 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
     }
     print_bus_errors(r, os);
-    for (const auto& w : r.value("warnings", nlohmann::json::array())) os << "\nwarning: " << w.get<std::string>() << "\n";
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {
         const bool unmeasured = c.value("status", "") == "not measured";

@@ -92,12 +92,14 @@ struct CheckFigures {
     std::uint64_t traffic_ports = 0; // ports whose host generates commands by itself
     std::array<Figure, World::kPorts> char_latency_max_us; // per port; only ports with a host
     Figure table3_margin_us, table3_worst_margin_us;
+    Figure budget; // the Table 3 budget, us: not measured before the firmware programmed its 82510s
 };
 
 /// Port p's character-latency limit: a character may wait in the RX FIFO; it is lost only when
 /// its read comes later than the FIFO can hold the characters behind it (fifo_depth of the
-/// port's own character times, as its 82510 is programmed), unless the scenario sets one.
-double char_latency_limit_us(const World& w, const Scenario& s, unsigned p);
+/// port's own character times, as its 82510 is programmed), unless the scenario sets one. None
+/// (the reason) while the firmware has not programmed the port's character format.
+Figure char_latency_limit_us(const World& w, const Scenario& s, unsigned p);
 
 /// Every communication check that is not switched off, in report order.
 std::vector<Check> communication_checks(const World& w, const Scenario& s, const CheckFigures& f);

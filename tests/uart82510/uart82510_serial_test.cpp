@@ -72,6 +72,26 @@ TEST(Uart82510Serial, FormatFollowsLcrAndTmd) {
     });
 }
 
+// The verdict's budget comes from a port only once the firmware chose its format: the LCR and a
+// divisor (DLAB set) written since RESET; a RESET (pin or ICM software reset) forgets both.
+TEST(Uart82510Serial, FormatIsProgrammedOnceLcrAndADivisorAreWritten) {
+    UartOnLine b;
+    run([&] {
+        EXPECT_FALSE(b.uart.format_programmed());
+        b.cpu.wr(LCR, LCR_DLAB);
+        EXPECT_FALSE(b.uart.format_programmed()); // the LCR written, no divisor yet
+        b.cpu.wr(BAL, 60);
+        EXPECT_TRUE(b.uart.format_programmed());
+        b.uart.reset();
+        EXPECT_FALSE(b.uart.format_programmed());
+        b.cpu.wr(TXD, 'x'); // DLAB clear after RESET: a character, not a divisor
+        b.cpu.wr(LCR, 0x1B);
+        EXPECT_FALSE(b.uart.format_programmed());
+        b.cpu.setup_9600_8e1();
+        EXPECT_TRUE(b.uart.format_programmed());
+    });
+}
+
 TEST(Uart82510Serial, ReceivesIntoTheFifoWithLevels) {
     UartOnLine b;
     run([&] {

@@ -51,6 +51,7 @@ DOM_LAYOUT = """JSON.stringify({
   ports_right: document.getElementById("ports").getBoundingClientRect().right,
   ports_rows: document.querySelectorAll("#ports tr").length,
   budget: document.getElementById("budget").textContent,
+  verdict: document.getElementById("verdict").textContent,
   irq: [0, 1, 2, 3].map(l => { const r = document.getElementById("irq-" + l);
                                return r ? Array.from(r.cells).map(c => c.textContent) : null; }),
   strip: Number(document.getElementById("margin-strip").dataset.points),
@@ -162,6 +163,10 @@ def comm_checks(check, dt, run, api):
     check(lay["status"] == "paused", "the page shows the run paused")
     budget = snap["table3"]["budget_us"]
     check(shown(lay["budget"], budget), "the budget on the page: %s us (API %.3f)" % (lay["budget"], budget))
+    # One judge: the page says the API's verdict so far.
+    words = {"passed": "PASSING", "failed": "FAILING", "inconclusive": "NOT MEASURED YET"}
+    check(lay["verdict"] == words[snap["verdict"]["verdict"]],
+          "the page's verdict %r is the API's %r" % (lay["verdict"], snap["verdict"]["verdict"]))
     for src in snap["interrupts"][:3]:
         row = lay["irq"][src["level"]]
         lat, svc = src["latency_us"], src["service_us"]

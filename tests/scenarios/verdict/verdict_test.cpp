@@ -2,6 +2,7 @@
 // when one was not measured, else PASSED; INTERRUPTED whatever they say when a signal stopped the
 // run. Exit codes 0, 1, 4, 128 + signal (docs/scenarios.md "Verdicts and exit codes").
 #include "scenarios/verdict/checks.h"
+#include "scenarios/verdict/judge.h"
 
 #include <gtest/gtest.h>
 
@@ -69,3 +70,28 @@ TEST(Verdict, ReportJsonCarriesVerdictReasonAndPassed) {
 }
 
 } // namespace
+
+// Live (the page, the API, Modbus), a failure stands only when no later event can undo it.
+TEST(JudgeSoFar, AMinimumNotReachedYetIsNotAFailureYet) {
+    const rcsim::Check c = rcsim::as_so_far(rcsim::Check::at_least("frames_delivered", rcsim::Figure::of(0), 3));
+    EXPECT_EQ(c.status, rcsim::Check::Status::not_measured);
+    EXPECT_NE(c.figure.reason.find("not final before the end of the run"), std::string::npos);
+}
+
+TEST(JudgeSoFar, AMeanMarginCanStillComeGood) {
+    const rcsim::Check c = rcsim::as_so_far(rcsim::Check::at_least("table3_margin_us", rcsim::Figure::of(-5), 0));
+    EXPECT_EQ(c.status, rcsim::Check::Status::not_measured);
+}
+
+TEST(JudgeSoFar, AMaximumOrACountOverItsLimitFailsAtOnce) {
+    EXPECT_EQ(rcsim::as_so_far(rcsim::Check::at_most("overruns", rcsim::Figure::of(1), 0)).status,
+              rcsim::Check::Status::failed);
+    EXPECT_EQ(rcsim::as_so_far(rcsim::Check::at_most("interrupt_blocking_max_us", rcsim::Figure::of(500), 381.9)).status,
+              rcsim::Check::Status::failed);
+    EXPECT_EQ(rcsim::as_so_far(rcsim::Check::at_least("table3_worst_margin_us", rcsim::Figure::of(-1), 0)).status,
+              rcsim::Check::Status::failed);
+}
+
+TEST(JudgeSoFar, APassStaysAPass) {
+    EXPECT_TRUE(rcsim::as_so_far(rcsim::Check::at_least("frames_delivered", rcsim::Figure::of(3), 3)).passed());
+}
