@@ -21,6 +21,7 @@
 #include "scenarios/trace/perfetto_trace.h"
 #include "scenarios/trace/profile_run.h"
 #include "scenarios/coverage/coverage_run.h"
+#include "scenarios/debug/rom_symbols.h"
 #include "models/plumbing/config_error.h"
 #include "models/plumbing/gzip_stream.h"
 #include "models/plumbing/output_file.h"
@@ -292,7 +293,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     prepare_output_folders(s.output_files());
     RomSource source = opt.rom ? *opt.rom : s.rom;
     if (source.file.empty()) source.file = RCSIM_COMM_FW_ROM;
-    const std::string& rom = source.file; // the image, or the even EPROM: its symbols are beside it
+    const std::string& rom = source.file; // the image, or the even EPROM
+    // Read before the run, so that a bad --symbols file is bad input at once; the causes, the
+    // profile, coverage and report.json all name addresses from this one table.
+    const debug::RomSymbols symbols = debug::rom_symbols(source, opt.symbols);
 
     // The probe's records as rows: interrupts.csv (streamed) and report.html's histograms and
     // timeline windows.
@@ -308,13 +312,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     std::unique_ptr<trace::ProfileRun> profile;
     if (opt.profile) {
         if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
-        profile = std::make_unique<trace::ProfileRun>(world, trace::run_symbols(opt.symbols, rom));
+        profile = std::make_unique<trace::ProfileRun>(world, symbols.table);
     }
     // After the profiler and the debugger: its hook calls theirs (coverage_run.h).
     std::unique_ptr<coverage::CoverageRun> cover;
     if (opt.coverage) {
         if (opt.out_dir.empty()) throw ConfigError("--coverage needs --out DIR (coverage.info, report.html)");
-        cover = std::make_unique<coverage::CoverageRun>(world, coverage::run_code_map(opt.symbols, rom, opt.out_dir));
+        cover = std::make_unique<coverage::CoverageRun>(world, coverage::run_code_map(symbols, rom, opt.out_dir));
     }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::optional<OutputFile> csv;
@@ -349,6 +353,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["rom"] = std::filesystem::path(rom).filename().string() +
                     (source.odd.empty() ? "" : " + " + std::filesystem::path(source.odd).filename().string());
     report["rom_format"] = world.ctl.comm.rom_format();
+    const debug::RomSymbolsSummary named = debug::summary(symbols);
+    report["symbols"] = {{"origin", named.origin}, {"file", named.file}, {"count", named.count}};
     report["comm_cpu"] = {{"cycles", world.ctl.comm.cpu.cycles()},
                           {"instructions", world.ctl.comm.cpu.instructions()},
                           {"clock_hz", s.board.comm.cpu_hz},
@@ -359,7 +365,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     f.bus_errors = world.ctl.comm.cpu.bus_errors().total();
     report["table3"] = table3_json(world, s, c, f);
-    add_latency_causes(report["interrupts"], world, budget_us(world, s), cause_symbols(opt.symbols, rom));
+    add_latency_causes(report["interrupts"], world, budget_us(world, s), cause_symbols(symbols.table));
     report_world(world, s, opt, report, f);
 
     nlohmann::json checks = nlohmann::json::array();
