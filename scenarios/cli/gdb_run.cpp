@@ -4,16 +4,13 @@
 #include "scenarios/world/world.h"
 #include "scenarios/debug/elf_symbols.h"
 #include "scenarios/debug/gdb_script.h"
+#include "scenarios/debug/rom_symbols.h"
 #include "scenarios/report/output.h"
 #include "models/plumbing/config_error.h"
 
 #include <filesystem>
 #include <fstream>
 #include <ostream>
-
-#ifndef RCSIM_COMM_FW_MAP
-#define RCSIM_COMM_FW_MAP ""
-#endif
 
 namespace rcsim::debug {
 
@@ -22,13 +19,8 @@ GdbRun::GdbRun(const GdbOptions& gdb, const Scenario& s, RunOptions& opt, std::o
     if (s.has_motion) throw ConfigError(s.file, 0, "--gdb: a motion scenario runs no 8086 to debug");
     config_.set_listen(gdb.listen);
     config_.wait = gdb.wait;
-    const bool built_rom = !opt.rom && s.rom.file.empty();
-    try {
-        if (!gdb.symbols.empty()) symbols_ = SymbolTable::load(gdb.symbols);
-        else if (built_rom && std::string(RCSIM_COMM_FW_MAP).size()) symbols_ = SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
-    } catch (const SymbolError& e) {
-        throw ConfigError(e.what());
-    }
+    // The ROM the run loads (the option's, the scenario's, else the built firmware: "").
+    symbols_ = rom_symbols(opt.rom ? *opt.rom : s.rom, gdb.symbols).table;
     if (symbols_.empty()) {
         log_ << "gdb: no symbols for this ROM (--symbols FILE gives them)" << std::endl;
     } else if (opt.out_dir.empty()) {

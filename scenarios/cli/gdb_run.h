@@ -15,11 +15,11 @@ namespace rcsim::debug {
 struct GdbOptions {
     std::string listen;  // --gdb [HOST:]PORT
     bool wait = false;   // --gdb-wait
-    std::string symbols; // --symbols FILE ("" = the built firmware's ld86 map, for its ROM)
+    std::string symbols; // --symbols FILE[@SEG] ("" = debug::rom_symbols decides from the ROM)
 };
 
-/// Set up before run_scenario(): reads the symbols (the file named, or the built firmware's map
-/// when the run uses the built ROM), writes them as OUT/symbols.elf for gdb's `symbol-file`, and
+/// Set up before run_scenario(): reads the ROM's symbols (debug::rom_symbols: the file named, or
+/// the built firmware's map when the run's ROM is the built firmware), writes them as OUT/symbols.elf for gdb's `symbol-file`, and
 /// makes `options.on_world` start the stub on the assembled board. Keep it alive across
 /// run_scenario() and call finish() with its exit code. Throws ConfigError on bad input.
 class GdbRun {

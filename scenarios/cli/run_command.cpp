@@ -75,7 +75,7 @@ void add_run_command(CLI::App& app) {
                   "Coverage of the comm CPU's ROM: DIR/coverage.info (lcov), DIR/coverage/ (genhtml, when installed), "
                   "a section in report.html (docs/tools.md \"Coverage\")");
     auto* symbols = cmd->add_option("--symbols", args->symbols,
-                                    "For --profile, --coverage and --gdb: the ROM's symbols (ld86 -M map, nasm map, a linker's Publics "
+                                    "The ROM's symbols, for the latency causes, --profile, --coverage and --gdb (ld86 -M map, nasm map, a linker's Publics "
                                     "by Value map or NAME ADDRESS lines; FILE@SEG loads a map's image at SEG:0000; "
                                     "default: the built firmware's; docs/tools.md)");
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
@@ -119,8 +119,8 @@ void add_run_command(CLI::App& app) {
             if (*rom_odd && !*rom) throw ConfigError("--rom-odd needs --rom (the even EPROM of the pair)");
             if (*rom_odd && args->rom_odd.empty()) throw ConfigError("--rom-odd '': an empty path");
             if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
-            if (*symbols && !*gdb && !args->profile && !args->coverage)
-                throw ConfigError("--symbols needs --gdb, --profile or --coverage");
+            if (*symbols && args->symbols.empty())
+                throw ConfigError("--symbols '': an empty path (leave --symbols out for the built firmware's own)");
             // Both sit on the core's one instruction-boundary hook (i8086::StepHook).
             if (*gdb && args->profile) throw ConfigError("--gdb and --profile cannot be used together");
             args->gdb.symbols = args->symbols;

@@ -1,11 +1,12 @@
 // rcsim sweep | merge | compare: regression timing reports (docs/regression.md).
-//   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE] [--coverage]
+//   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE] [--symbols FILE[@SEG]] [--coverage]
 //   rcsim merge DIR... [--out DIR]
 //   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
 #include "models/plumbing/cli_range.h"
 #include "models/plumbing/config_error.h"
 #include "models/plumbing/output_file.h"
 #include "models/plumbing/stop_signal.h"
+#include "scenarios/debug/rom_symbols.h"
 #include "scenarios/sweep/compare.h"
 #include "scenarios/sweep/expectation.h"
 #include "scenarios/sweep/merge.h"
@@ -55,6 +56,7 @@ std::string run_problem(const fs::path& run_dir, int exit_code) {
 
 struct SweepArgs {
     std::string file, out, shard, rom;
+    std::string symbols;   // --symbols FILE[@SEG] for every run, absolute once checked
     std::size_t shards = 0;
     unsigned jobs = 0;
     bool list = false;
@@ -66,6 +68,7 @@ std::vector<std::string> sweep_run_argv(const SweepArgs& a, const std::string& e
                                         const std::string& rom) {
     std::vector<std::string> argv = run_argv(exe, dir, run, rom);
     if (a.coverage) argv.push_back("--coverage");
+    if (!a.symbols.empty()) argv.insert(argv.end(), {"--symbols", a.symbols});
     return argv;
 }
 
@@ -104,7 +107,7 @@ void mark_not_run(const Sweep& sweep, const SweepRun& run, const fs::path& dir, 
 }
 
 /// Runs this shard's runs `jobs` at a time; returns the sweep's exit code.
-int run_sweep(const SweepArgs& a, bool shards_given) {
+int run_sweep(SweepArgs a, bool shards_given) {
     const Sweep sweep = load_sweep(a.file);
     const Shard shard = shard_from(a.shard, shards_given ? std::optional<std::size_t>(a.shards) : std::nullopt,
                                    [](const char* v) { return std::getenv(v); });
@@ -113,6 +116,11 @@ int run_sweep(const SweepArgs& a, bool shards_given) {
         std::error_code ec;
         if (!fs::is_regular_file(a.rom, ec)) throw ConfigError(a.rom, 0, "--rom: no such ROM image");
         rom = fs::absolute(a.rom).lexically_normal().string();
+    }
+    if (!a.symbols.empty()) {
+        // Read once here, as each run would: a bad file is one message, not one failed run each.
+        debug::rom_symbols(RomSource{rom, ""}, a.symbols);
+        a.symbols = fs::absolute(a.symbols).lexically_normal().string(); // the runs start elsewhere
     }
     const fs::path dir = fs::absolute(a.out).lexically_normal();
     std::error_code ec;
@@ -176,6 +184,8 @@ void add_sweep(CLI::App& app) {
     auto* shards = cmd->add_option("--shards", a->shards, "Shard count with JOB_COMPLETION_INDEX (Kubernetes)")
                        ->check(whole_in(1, 1000000));
     cmd->add_option("--rom", a->rom, "ROM image for every run (instead of the built firmware)");
+    cmd->add_option("--symbols", a->symbols,
+                    "The ROM's symbols for every run: its latency causes, --coverage (FILE[@SEG], docs/tools.md \"Symbols\")");
     cmd->add_flag("--coverage", a->coverage,
                   "Every run with --coverage; their tracefiles merged into DIR/coverage.info (docs/tools.md \"Coverage\")");
     cmd->callback([a, shards] {

@@ -1,7 +1,6 @@
 #include "scenarios/coverage/coverage_run.h"
 
 #include "models/plumbing/config_error.h"
-#include "scenarios/trace/profile_run.h"
 #include "scenarios/world/world.h"
 
 #include <fcntl.h>
@@ -12,12 +11,6 @@
 #include <cstdlib>
 #include <vector>
 
-#ifndef RCSIM_COMM_FW_ROM
-#define RCSIM_COMM_FW_ROM ""
-#endif
-#ifndef RCSIM_COMM_FW_MAP
-#define RCSIM_COMM_FW_MAP ""
-#endif
 #ifndef RCSIM_COMM_FW_LISTINGS
 #define RCSIM_COMM_FW_LISTINGS ""
 #endif
@@ -38,12 +31,6 @@ std::vector<std::uint8_t> rom_bytes(World& world) {
     std::vector<std::uint8_t> rom(kRomSize);
     if (!world.ctl.comm.cpu.debug_read(kRomBase, rom.data(), rom.size())) rom.assign(kRomSize, 0);
     return rom;
-}
-
-bool is_built_firmware(const std::string& rom) {
-    const std::string built = RCSIM_COMM_FW_ROM;
-    std::error_code ec;
-    return !built.empty() && std::filesystem::equivalent(rom, built, ec) && !ec;
 }
 
 } // namespace
@@ -74,22 +61,15 @@ std::string CoverageRun::finish(const std::filesystem::path& dir) {
     return coverage_section_html(t, html ? "coverage/index.html" : "");
 }
 
-CodeMap run_code_map(const std::string& symbols_file, const std::string& rom, const std::filesystem::path& dir) {
-    if (symbols_file.empty() && is_built_firmware(rom)) {
+CodeMap run_code_map(const debug::RomSymbols& symbols, const std::string& rom, const std::filesystem::path& dir) {
+    if (symbols.built_firmware()) {
         const std::filesystem::path listings = RCSIM_COMM_FW_LISTINGS, sources = RCSIM_COMM_FW_SOURCES;
-        debug::SymbolTable symbols;
-        try {
-            symbols = debug::SymbolTable::load_ld86_map(RCSIM_COMM_FW_MAP);
-        } catch (const debug::SymbolError& e) {
-            throw ConfigError(e.what());
-        }
         return firmware_code_map({{sources / "crt0.s", listings / "crt0.lst"}, {sources / "isr.s", listings / "isr.lst"}},
-                                 {sources / "main.c", sources / "hw.c"}, symbols);
+                                 {sources / "main.c", sources / "hw.c"}, symbols.table);
     }
-    const debug::SymbolTable symbols = trace::run_symbols(symbols_file, rom);
-    if (symbols.empty())
+    if (symbols.table.empty())
         throw ConfigError("--coverage: the ROM " + rom + " has no symbols: give its map with --symbols FILE (docs/tools.md \"Coverage\")");
-    return symbol_code_map(symbols, kRomBase, kRomBase + kRomSize, dir / "coverage_rom.txt");
+    return symbol_code_map(symbols.table, kRomBase, kRomBase + kRomSize, dir / "coverage_rom.txt");
 }
 
 bool run_genhtml(const std::filesystem::path& info, const std::filesystem::path& html_dir) {

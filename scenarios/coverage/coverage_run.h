@@ -14,6 +14,7 @@
 #include "scenarios/coverage/code_map.h"
 #include "scenarios/coverage/counters.h"
 #include "scenarios/coverage/tracefile.h"
+#include "scenarios/debug/rom_symbols.h"
 
 #include <filesystem>
 #include <string>
@@ -47,10 +48,10 @@ private:
     std::pair<i8086::StepHook, void*> next_; // the observer that was there before
 };
 
-/// The code map of the run's ROM: the built firmware's (listings, ld86 map, C sources) when `rom`
-/// is the built firmware and no `symbols_file` is given; else the ROM's symbols as address ranges,
-/// described in dir/coverage_rom.txt. A ROM without symbols is a ConfigError.
-CodeMap run_code_map(const std::string& symbols_file, const std::string& rom, const std::filesystem::path& dir);
+/// The code map of the run's ROM `rom` from its symbols (debug::rom_symbols): the built firmware's
+/// (listings, ld86 map, C sources) when they are the built firmware's map; else the symbols as
+/// address ranges, described in dir/coverage_rom.txt. A ROM without symbols is a ConfigError.
+CodeMap run_code_map(const debug::RomSymbols& symbols, const std::string& rom, const std::filesystem::path& dir);
 
 /// genhtml on PATH renders `info` into `html_dir` (its index.html); false when genhtml is absent
 /// or fails (its messages go to html_dir/genhtml.log).

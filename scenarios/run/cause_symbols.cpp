@@ -1,21 +1,16 @@
 #include "scenarios/run/cause_symbols.h"
 
-#include "scenarios/trace/profile_run.h"
-#include "models/plumbing/config_error.h"
+#include "scenarios/debug/rom_symbols.h"
 
 #include <cstdio>
 #include <memory>
 
 namespace rcsim {
 
-SymbolOf cause_symbols(const std::string& file, const std::string& rom) {
-    std::shared_ptr<const debug::SymbolTable> table;
-    try {
-        table = std::make_shared<const debug::SymbolTable>(trace::run_symbols(file, rom));
-    } catch (const ConfigError&) {
-        return {};
-    }
-    if (table->empty()) return {};
+SymbolOf cause_symbols(debug::SymbolTable symbols) {
+    if (symbols.empty()) return {};
+    // Shared: a SymbolOf is copied into every cause's making.
+    auto table = std::make_shared<const debug::SymbolTable>(std::move(symbols));
     return [table](std::uint32_t linear) -> std::string {
         const debug::Symbol* s = table->containing(linear);
         if (!s || s->kind != debug::Symbol::Kind::code) return "";
@@ -24,6 +19,10 @@ SymbolOf cause_symbols(const std::string& file, const std::string& rom) {
         std::snprintf(buf, sizeof buf, "+0x%X", static_cast<unsigned>(linear - s->address));
         return s->name + buf;
     };
+}
+
+SymbolOf cause_symbols(const std::string& file, const std::string& rom) {
+    return cause_symbols(debug::rom_symbols(RomSource{rom, ""}, file).table);
 }
 
 } // namespace rcsim

@@ -2,16 +2,20 @@
 // "interrupts".SOURCE."worst", docs/scenarios.md "Latency causes").
 #pragma once
 
+#include "scenarios/debug/symbols.h"
 #include "scenarios/verdict/latency_causes.h"
 
 #include <string>
 
 namespace rcsim {
 
-/// The ROM's symbols as the profiler finds them (trace::run_symbols: `file` if given, else the
-/// built firmware's ld86 map when `rom` is the built firmware): "name" for an address a code
-/// symbol starts at, "name+0x1C" inside one, "" elsewhere. Empty (addresses only) when there are
-/// none or they cannot be read: a cause never fails a run.
+/// The ROM's symbols (the run's, debug::rom_symbols) as the causes name an address: "name" for
+/// an address a code symbol starts at, "name+0x1C" inside one, "" elsewhere. Empty (addresses
+/// only) when the table is.
+SymbolOf cause_symbols(debug::SymbolTable table);
+
+/// The same for the symbols debug::rom_symbols decides for the ROM image `rom` ("" = the built
+/// firmware) and `file` (FILE[@SEG], "" = none given). Throws ConfigError naming a bad file.
 SymbolOf cause_symbols(const std::string& file, const std::string& rom);
 
 } // namespace rcsim

@@ -22,6 +22,7 @@
 #include "scenarios/trace/perfetto_trace.h"
 #include "scenarios/trace/profile_run.h"
 #include "scenarios/coverage/coverage_run.h"
+#include "scenarios/debug/rom_symbols.h"
 #include "models/plumbing/config_error.h"
 #include "models/plumbing/gzip_stream.h"
 #include "models/plumbing/output_file.h"
@@ -225,7 +226,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     prepare_output_folders(s.output_files());
     RomSource source = opt.rom ? *opt.rom : s.rom;
     if (source.file.empty()) source.file = RCSIM_COMM_FW_ROM;
-    const std::string& rom = source.file; // the image, or the even EPROM: its symbols are beside it
+    const std::string& rom = source.file; // the image, or the even EPROM
+    // Read before the run, so that a bad --symbols file is bad input at once; the causes, the
+    // profile, coverage and report.json all name addresses from this one table.
+    const debug::RomSymbols symbols = debug::rom_symbols(source, opt.symbols);
 
     // The probe's records as rows: interrupts.csv (streamed) and report.html's histograms and
     // timeline windows.
@@ -241,13 +245,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     std::unique_ptr<trace::ProfileRun> profile;
     if (opt.profile) {
         if (opt.out_dir.empty()) throw ConfigError("--profile needs --out DIR (profile.txt, profile.folded, report.html)");
-        profile = std::make_unique<trace::ProfileRun>(world, trace::run_symbols(opt.symbols, rom));
+        profile = std::make_unique<trace::ProfileRun>(world, symbols.table);
     }
     // After the profiler and the debugger: its hook calls theirs (coverage_run.h).
     std::unique_ptr<coverage::CoverageRun> cover;
     if (opt.coverage) {
         if (opt.out_dir.empty()) throw ConfigError("--coverage needs --out DIR (coverage.info, report.html)");
-        cover = std::make_unique<coverage::CoverageRun>(world, coverage::run_code_map(opt.symbols, rom, opt.out_dir));
+        cover = std::make_unique<coverage::CoverageRun>(world, coverage::run_code_map(symbols, rom, opt.out_dir));
     }
     // interrupts.csv is written as the interrupts complete: a long run keeps none of its rows.
     std::optional<OutputFile> csv;
@@ -282,6 +286,8 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["rom"] = std::filesystem::path(rom).filename().string() +
                     (source.odd.empty() ? "" : " + " + std::filesystem::path(source.odd).filename().string());
     report["rom_format"] = world.ctl.comm.rom_format();
+    const debug::RomSymbolsSummary named = debug::summary(symbols);
+    report["symbols"] = {{"origin", named.origin}, {"file", named.file}, {"count", named.count}};
     report["comm_cpu"] = {{"cycles", world.ctl.comm.cpu.cycles()},
                           {"instructions", world.ctl.comm.cpu.instructions()},
                           {"clock_hz", s.board.comm.cpu_hz},
@@ -293,7 +299,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     const Judgement judged = judge(world, s, Moment::end, stop_signal());
     report["table3"] = judged.table3;
     add_latency_causes(report["interrupts"], world, judged.budget.value.value_or(std::numeric_limits<double>::infinity()),
-                       cause_symbols(opt.symbols, rom));
+                       cause_symbols(symbols.table));
     if (!judged.budget.value) // no budget, no count over it: not measured, never a reassuring 0
         for (auto& [name, source] : report["interrupts"].items())
             if (source.contains("over_budget")) source["over_budget"] = nullptr;

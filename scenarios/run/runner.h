@@ -36,7 +36,7 @@ struct RunOptions {
     std::function<void(World&)> on_finished;
     std::string trace;                  // "" = no Trace Event Format file (scenarios/trace/perfetto_trace.h)
     bool profile = false;               // the cycle profiler (scenarios/trace/profile_run.h); needs out_dir
-    std::string symbols;                // the ROM's symbols for the profile ("" = the built firmware's map)
+    std::string symbols;                // --symbols FILE[@SEG]: the ROM's symbols ("" = debug::rom_symbols decides)
     bool coverage = false;              // coverage.info of the comm ROM (scenarios/coverage/coverage_run.h); needs out_dir
     std::optional<std::string> monitor; // --monitor [HOST:]PORT: serve the remote monitor (docs/monitor.md)
     std::optional<std::string> modbus;  // --modbus [HOST:]PORT: serve Modbus TCP (docs/monitor.md)

@@ -1,21 +1,10 @@
 #include "scenarios/trace/profile_run.h"
 
-#include "models/plumbing/config_error.h"
 #include "models/plumbing/output_file.h"
 #include "scenarios/world/world.h"
 #include "scenarios/trace/flame_graph.h"
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-
-#ifndef RCSIM_COMM_FW_ROM
-#define RCSIM_COMM_FW_ROM ""
-#endif
-#ifndef RCSIM_COMM_FW_MAP
-#define RCSIM_COMM_FW_MAP ""
-#endif
 
 namespace rcsim::trace {
 
@@ -66,19 +55,6 @@ std::string ProfileRun::finish(const std::filesystem::path& dir) {
     write_with(dir / "profile.txt", [&](std::ostream& o) { profiler_.write_table(o, hz); });
     write_with(dir / "profile.folded", [&](std::ostream& o) { profiler_.write_folded(o); });
     return flame_graph_svg(profiler_, hz);
-}
-
-debug::SymbolTable run_symbols(const std::string& file, const std::string& rom) {
-    try {
-        if (!file.empty()) return debug::SymbolTable::load(file);
-        const std::string built = RCSIM_COMM_FW_ROM, map = RCSIM_COMM_FW_MAP;
-        if (!map.empty() && std::filesystem::exists(map) && std::filesystem::exists(rom) && std::filesystem::exists(built) &&
-            std::filesystem::equivalent(rom, built))
-            return debug::SymbolTable::load_ld86_map(map);
-    } catch (const debug::SymbolError& e) {
-        throw ConfigError(e.what());
-    }
-    return debug::SymbolTable();
 }
 
 } // namespace rcsim::trace

@@ -24,7 +24,7 @@ namespace trace {
 class ProfileRun {
 public:
     /// Hooks the profiler onto `world`'s comm CPU (before sc_start); functions are named from
-    /// `symbols`: "name", "name+0x1C" for an entry point inside a symbol (a called local label),
+    /// `symbols` (the run's, debug::rom_symbols): "name", "name+0x1C" for an entry point inside a symbol (a called local label),
     /// "F1234" (the linear address) where no code symbol is.
     ProfileRun(World& world, debug::SymbolTable symbols);
     ProfileRun(const ProfileRun&) = delete;
@@ -44,10 +44,6 @@ private:
     static bool on_step(void* self, const i8086::Cpu& cpu);
     static void on_bus(void* self, const i8086::BusRecord& r);
 };
-
-/// The symbols of the ROM a run executes: `file` if given, else the built firmware's ld86 map
-/// when `rom` is the built firmware, else none (functions named by address).
-debug::SymbolTable run_symbols(const std::string& file, const std::string& rom);
 
 } // namespace trace
 } // namespace rcsim

@@ -261,6 +261,15 @@ truncate -s 3G sparse.rom
 expect 2 "sparse.rom: ROM image is 3221225472 bytes" -- run ok.yaml --rom sparse.rom
 expect 2 "/proc/self/mem: ROM image is 0 bytes" -- run ok.yaml --rom /proc/self/mem
 
+# --- symbols: --symbols FILE[@SEG] alone or with any option (scenarios/debug/rom_symbols.h) ---
+# Read before the run: a bad file is one message naming it, whatever else the run does.
+printf 'start F000:0000\nbroken line with too many words here\n' > bad.sym
+expect 2 "--symbols: bad.sym:2: " -- run ok.yaml --symbols bad.sym
+expect 2 "--symbols: nothere.map: cannot open the symbol file" -- run ok.yaml --symbols nothere.map
+head -c 65536 /dev/zero > zero.rom
+expect 2 "--symbols: nothere.map: cannot open the symbol file" -- run ok.yaml --rom zero.rom --symbols nothere.map
+expect 2 "--symbols '': an empty path" -- run ok.yaml --symbols ''
+
 # --- exit 3: legal 8259A modes the model does not implement -----------------------------------
 # A ROM whose reset code (FFFF:0000 = offset 0xFFF0) writes ICW1 0x11 to the 8259A at I/O 0xC0:
 # IC4=1 but SNGL=0, cascade mode (8259A data sheet, ICW1 bit 1), then HLT.

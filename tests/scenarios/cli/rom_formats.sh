@@ -3,13 +3,14 @@
 # HEX with segment (02) records as Debian's objcopy writes it, Intel HEX with linear (04) records
 # written here from the specification's layout, and an even/odd EPROM pair; each run gives the same
 # report, but for the ROM's name and format. A 32 KB image runs mirrored and says so; the scenario's
-# `rom: {even, odd}` is the pair; an ELF, text and a lone --rom-odd are bad input (exit 2).
+# `rom: {even, odd}` is the pair; each is the built firmware by its bytes and gets its map; an ELF, text and a lone --rom-odd are bad input (exit 2).
 #
-# Usage: rom_formats.sh RCSIM ROM SCENARIO
+# Usage: rom_formats.sh RCSIM ROM SCENARIO MAP (MAP: the built ROM's ld86 map)
 set -u
 RCSIM=$(realpath "${1:?usage}")
 ROM=$(realpath "${2:?usage}")
 SCENARIO=$(realpath "${3:?usage}")
+MAP=$(realpath "${4:?usage}")
 export SC_COPYRIGHT_MESSAGE=DISABLE
 W=$(mktemp -d "${TMPDIR:-/tmp}/rcsim_rom_formats.XXXXXX")
 trap 'rm -rf "$W"' EXIT
@@ -17,8 +18,8 @@ cd "$W" || exit 1
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-# A copy: the built ROM's own symbols are used only for the built file, and every run here must
-# see the same (no) symbols.
+# A copy: the same bytes are the built firmware in every format (scenarios/debug/rom_symbols.h),
+# so every run here names its causes from the built firmware's map.
 cp "$ROM" raw.rom
 objcopy -I binary -O ihex --change-addresses 0xF0000 raw.rom segment.hex || fail "objcopy"
 grep -q '^:02000002F0000C' segment.hex || fail "objcopy wrote no segment record F000"
@@ -43,12 +44,12 @@ run() { # NAME ARGS...: a reproducible run into NAME/
     shift
     "$RCSIM" run "$SCENARIO" --out "$name" --reproducible "$@" > "$name.txt" 2>&1
 }
-same_as_raw() { # NAME: its report is the raw run's but for rom and rom_format
+same_as_raw() { # NAME: its report is the raw run's but for rom, rom_format and whose symbols
     /usr/bin/python3 - raw/report.json "$1/report.json" <<'PY' || fail "$1: the report differs from the raw image's"
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 for r in (a, b):
-    r.pop("rom"), r.pop("rom_format")
+    r.pop("rom"), r.pop("rom_format"), r.pop("symbols")
 assert a == b, [k for k in a if a[k] != b.get(k)]
 PY
 }
@@ -60,6 +61,14 @@ format_is() { # NAME TEXT
 
 run raw --rom raw.rom || fail "raw image: exit $?"
 format_is raw "raw 64 KB"
+symbols_are() { # NAME ORIGIN FILE: report.json "symbols"
+    /usr/bin/python3 - "$1/report.json" "$2" "$3" <<'PY' || fail "$1: symbols are not $2 $3"
+import json, sys
+s = json.load(open(sys.argv[1]))["symbols"]
+assert s["origin"] == sys.argv[2] and s["file"] == sys.argv[3] and s["count"] > 0, s
+PY
+}
+symbols_are raw "built firmware" "$(basename "$MAP")"
 run segment --rom segment.hex || fail "segment.hex: exit $?"
 same_as_raw segment
 format_is segment "Intel HEX, 65536 bytes"
@@ -67,6 +76,7 @@ run linear --rom linear.hex || fail "linear.hex: exit $?"
 same_as_raw linear
 run pair --rom even.bin --rom-odd odd.bin || fail "the pair: exit $?"
 same_as_raw pair
+symbols_are pair "built firmware" "$(basename "$MAP")"
 format_is pair "even/odd EPROM pair: even raw 32 KB, odd raw 32 KB"
 grep -q '"rom": "even.bin + odd.bin"' pair/report.json || fail "the pair's report does not name both EPROMs"
 # The scenario's rom: {even, odd}, relative to the scenario file.
@@ -81,7 +91,9 @@ import sys
 rom = open("raw.rom", "rb").read()
 assert all(b == 0xFF for b in rom[0x7FF0:0xFFF0]), "the firmware no longer fits in 32 KB"
 open("27256.bin", "wb").write(rom[:0x7FF0] + rom[0xFFF0:])'
-run 27256 --rom 27256.bin || fail "a 32 KB image: exit $?"
+# Its 64 KB differ from the built ROM's (the mirror): the map is the user's to give.
+run 27256 --rom 27256.bin --symbols "$MAP" || fail "a 32 KB image: exit $?"
+symbols_are 27256 "--symbols" "$(basename "$MAP")"
 same_as_raw 27256
 format_is 27256 "raw 32 KB, mirrored 2x across 64 KB"
 grep -q "ROM: 27256.bin (raw 32 KB, mirrored 2x across 64 KB)" 27256.txt || fail "the summary does not say the image is mirrored"

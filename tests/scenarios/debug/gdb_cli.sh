@@ -27,7 +27,8 @@ expect "$work/bad.map:4: bad address '0000:00G0'" --gdb 0 --symbols "$work/bad.m
 expect "$work/bad.map@F00X: bad load segment 'F00X'" --gdb 0 --symbols "$work/bad.map@F00X"
 expect "$work/bad.sym@F000: a load segment (@SEG) places a map" --gdb 0 --symbols "$work/bad.sym@F000"
 expect "--gdb-wait needs --gdb" --gdb-wait
-expect "--symbols needs --gdb" --symbols "$work/bad.sym"
+# --symbols alone is read too (for the latency causes): the same message, before the run.
+expect "--symbols: $work/bad.sym:2: bad address 'F0000'" --symbols "$work/bad.sym"
 expect "--gdb and --profile cannot be used together" --gdb 0 --profile --out "$work/o"
 expect "--gdb '127.0.0.1:99999': port 99999 out of range" --gdb 127.0.0.1:99999
 expect "--gdb 'foo:12': bad address 'foo'" --gdb foo:12

@@ -50,6 +50,10 @@ IDS="t-rom=0-seed=1 t-rom=0-seed=2 t-rom=2-seed=1 t-rom=2-seed=2"
 [ ! -f "L/t-rom=2-seed=1/report.json" ] || fail "--list ran a run"
 # The listed command alone: its report is the one the sweep writes (checked in 3).
 bash -c "$(sed -n 3p list.txt | cut -f2)" > /dev/null || fail "the listed command of t-rom=2-seed=1 failed"
+# --symbols reaches every run, with the path made absolute (the runs start in their own folders).
+printf 'start F000:0000\n' > my.sym
+"$RCSIM" sweep s.yaml --out LS --list --symbols my.sym > list_sym.txt || fail "--list --symbols exit $?"
+[ "$(grep -cF -- "--symbols $PWD/my.sym" list_sym.txt)" -eq 4 ] || fail "--symbols is not in every run: $(cat list_sym.txt)"
 
 # --- 2. sweep --jobs 2 --------------------------------------------------------------------------
 "$RCSIM" sweep s.yaml --out A --jobs 2 > a_out.txt 2> a_err.txt || fail "sweep exit $?: $(cat a_err.txt)"
@@ -214,6 +218,7 @@ expect2 "shard 3/2" sweep s.yaml --out B --shard 3/2
 expect2 "--shard 'x' must be K/N" sweep s.yaml --out B --shard x
 SLURM_ARRAY_TASK_ID=a SLURM_ARRAY_TASK_COUNT=2 expect2 "SLURM_ARRAY_TASK_ID 'a' is not a number" sweep s.yaml --out B
 expect2 "nope.rom: --rom: no such ROM image" sweep s.yaml --out B --rom nope.rom
+expect2 "--symbols: nope.map: cannot open the symbol file" sweep s.yaml --out B --symbols nope.map
 expect2 "nodir: not a directory of runs" merge nodir
 expect2 "nodir: no such report.json or run directory" compare A nodir
 mkdir -p empty && expect2 "empty: holds no run" compare A empty
