@@ -167,6 +167,7 @@
 #define ST_RECV       1               /* receiving from the host; full chunks go to DP-RAM */
 #define ST_DONE       2               /* frame good (EOT sent); forward the rest to DP-RAM */
 #define ST_DROP       3               /* frame dropped (NAK sent / T2 gap); clean up */
+#define ST_RESET      4               /* port reset asked for: the main loop runs it (port_reinit) */
 #define ST_SEND_ENQ   10
 #define ST_WAIT_ACK   11
 #define ST_SEND       12
@@ -221,7 +222,8 @@ extern unsigned char tx_try[NO_PORT];
 extern unsigned char tx_whole[NO_PORT];     /* the frame being sent left whole at least once */
 extern unsigned char txe_wait[NO_PORT];     /* a timer starts when the transmitter is idle */
 extern unsigned t1_lim[NO_PORT];            /* T1 + one character, in ticks (see main()) */
-extern unsigned char reset_due[NO_PORT];    /* port reset deferred until the EOT'd frame is out */
+extern unsigned char reset_due[NO_PORT];    /* port reset asked for (1; | 2: tell the main CPU), waiting
+                                             * for the EOT'd frame (step 2) or the main loop (step 4) */
 extern unsigned char quenched[NO_PORT];     /* receiver interrupts off after an overrun ... */
 extern unsigned quench_t[NO_PORT];          /* ... since this tick */
 extern unsigned char fresh[NO_PORT];        /* port reset and untouched since */
@@ -238,11 +240,12 @@ void tx_fill(int port);               /* step 12: fill the TX FIFO; IF = 0 */
 void tx_retry(int port);              /* NAK / T1 while sending: back off or give up; IF = 0 */
 void ger_update(int port);            /* GER from the port's state; IF = 0 */
 void take_chunk(int port);            /* a chunk from the main CPU into the transmit ring; any IF */
+void port_reset(int port, int notify);     /* ask for a port reset (deferred in step 2); any IF */
+void port_reset_now(int port, int notify); /* ask for it whatever the step; any IF */
 /* hw.c */
 void pic_init(void);
 void uart_init(int port);
-void port_reset(int port, int notify);
-void port_reinit(int port, int notify);
+void port_reinit(int port);
 /* main.c */
 void main_loop(void);
 void mb_post(unsigned char word);

@@ -14,9 +14,12 @@ void pic_init(void)
 
 /*
  * 82510 channel set-up: software reset, 9600 bps 8E1 (BRGA divisor 60 at 18.432 MHz),
- * 4-byte RX FIFO with threshold 1, interrupts on received data and on receive errors and
- * BREAK; on TICK_PORT also BRGB as the 1 ms timer.  Leaves bank 1 (WORK) selected, which is
- * the bank the main loop and the ISRs work in.  Call with interrupts disabled.
+ * 4-byte RX FIFO with threshold 1, receive errors and BREAK as Rx machine sources; on TICK_PORT
+ * also BRGB as the 1 ms timer.  Leaves GER = 0 (the software reset clears it: the channel asks
+ * for nothing; ger_update turns its sources on) and bank 1 (WORK) selected, the bank the main
+ * loop and the ISRs work in.  Any IF: with GER = 0 the port's handler finds nothing pending,
+ * and it restores the bank it found (isr.s _rs232_isr), so the other ports' interrupts -- and
+ * this port's stray one -- may run between two writes (docs/firmware.md "Faults and the rule").
  */
 void uart_init(int port)
 {
@@ -64,63 +67,51 @@ void uart_init(int port)
     outb(b + U_ICM, ICM_STC);
     if (tick)
         outb(b + U_TMCR, TMCR_GO_B);
-
-    /* bank 0: interrupt enables, then back to the working bank */
-    outb(b + U_BANK, BANK_NAS);
-    outb(b + U_GER, GER_ON(port));
-    outb(b + U_BANK, BANK_WORK);
 }
 
 /*
- * Port reset: re-initialise the 82510 channel, drop both buffers and the state, free pflag[p].
- * `notify' also tells the main CPU with a 0x3p word in int2rbt.
+ * The reset of a port in step 4 (ST_RESET), from the main loop only, IF = 1.  Step 4 keeps every
+ * other path off the port meanwhile: its GER asks for nothing but the tick (ger_update), the
+ * per-character code only NAKs an ENQ, the main loop runs nothing else of it, port_reset only
+ * adds its notify bit.  So the receive state and the 82510 are done with interrupts enabled;
+ * only the transmit ring, which the mailbox handler's chunk copy also changes (take_chunk), and
+ * the way back to step 0 are done with IF = 0.  Drops both buffers, frees pflag[p] and, if
+ * reset_due says so, tells the main CPU with a 0x3p word in int2rbt.
  */
-void port_reinit(int port, int notify)
+void port_reinit(int port)
 {
-    unsigned f = irq_off();
+    unsigned f;
 
-    step[port] = ST_IDLE;
     quenched[port] = 0;
     txe_wait[port] = 0;
-    reset_due[port] = 0;
-    uart_init(port);
     rx_len[port] = 0;
     rx_fwd[port] = 0;
     rx_bad[port] = 0;
     chunk_out[port] = 0;
+    tx_try[port] = 0;
+    tx_whole[port] = 0;
+    uart_init(port);
+
+    /* One step for the mailbox handler's chunk copy: a chunk it began before is dropped (gen),
+     * one it begins after goes into the empty ring, and its ACK word follows our 0x3p. */
+    f = irq_off();
+    ++gen[port];
     chunk_pending[port] = 0;
     tx_have[port] = 0;
     tx_rd[port] = 0;
     tx_wr[port] = 0;
     tx_used[port] = 0;
     tx_part[port] = 0;
-    tx_try[port] = 0;
-    tx_whole[port] = 0;
-    ++gen[port];
     dp_wr(PFLAG(port), P_FREE);
-    if (notify)
+    if (reset_due[port] & 2)
         mb_post(MB_RESET | port);
+    irq_restore(f);
+
+    f = irq_off();
+    reset_due[port] = 0;
     fresh[port] = 1;
+    step[port] = ST_IDLE;
+    ger_update(port);                   /* the receiver (and the tick) on again */
+    irq_restore(f);
     ++n_reset[port];
-    irq_restore(f);
-}
-
-/*
- * A port reset is asked for (mailbox word 0x3p from the main CPU, BREAK on the line).  A frame
- * we have answered with EOT (step 2, being handed to the main CPU) is a promise of delivery: the
- * reset then waits until its last chunk has been consumed (to_dpram calls port_reinit); the
- * port answers ENQ with NAK meanwhile.  Any IF.
- */
-void port_reset(int port, int notify)
-{
-    unsigned f = irq_off();
-
-    if (step[port] == ST_DONE) {
-        if (!reset_due[port])
-            ++n_deferred[port];
-        reset_due[port] |= notify ? 3 : 1;
-    } else {
-        port_reinit(port, notify);
-    }
-    irq_restore(f);
 }

@@ -15,7 +15,8 @@
 ! Conventions
 ! * DS = SS = DATA_SEG from start-up on: nothing changes DS (the DP-RAM is reached through
 !   ES), so the entries do not reload it.  ES is scratch; the entries save it where they use it.
-! * IF = 0 in the RS-232 paths.  The DP-RAM handler sends its EOI and runs with IF = 1.
+! * IF = 0 in the RS-232 paths.  The DP-RAM handler sends its EOI and runs with IF = 1.  No
+!   handler resets a port: it asks for the reset (port_reset), the main loop runs it.
 ! * Inside, a port's routines take BX = port and SI = 2 * port (the index of byte and of word
 !   arrays, fw.h: the per-port arrays are C arrays), keep both, and may change AX CX DX DI ES.
 ! * From C (bcc): arguments on the stack, AX BX CX DX ES scratch, SI DI BP kept.
@@ -92,6 +93,7 @@ ST_IDLE       = 0
 ST_RECV       = 1
 ST_DONE       = 2
 ST_DROP       = 3
+ST_RESET      = 4
 ST_SEND_ENQ   = 10
 ST_WAIT_ACK   = 11
 ST_SEND       = 12
@@ -115,8 +117,11 @@ GIR_B1_NONE   = 0x21          ! ... nothing pending
 .globl _tx_retry
 .globl _ger_update
 .globl _take_chunk
-! from C (main.c, hw.c)
 .globl _port_reset
+.globl _port_reset_now
+! from C (main.c, hw.c)
+.globl _reset_due
+.globl _n_deferred
 .globl _mb_post
 .globl _ticks
 .globl _step
@@ -610,21 +615,16 @@ ae_nak:
 ! Rx machine status (AL = RST): BREAK resets the port once (further BREAK reports before the
 ! port is used just flush); OE/PE/FE spoil the frame being received; an overrun also quenches
 ! the port: a line that floods us keeps its receiver interrupts off for QUENCH_MS (the main loop
-! turns them on again).
+! turns them on again).  The reset is only asked for here (port_reset: step 4, the port's
+! sources off); the main loop runs it with interrupts enabled (hw.c port_reinit).
 line_status:
 	test	al,#RST_BKD
 	jz	ls_err
 	inc	word ptr _n_break[si]
 	cmp	byte ptr _fresh[bx],#0
 	jne	ls_flush
-	push	bx
-	mov	ax,#1
-	push	ax
-	push	bx
-	call	_port_reset             ! port_reset(p, 1)
-	add	sp,*4
-	pop	bx
-	ret
+	mov	al,#3                   ! reset, and tell the main CPU
+	br	reset_ask_r
 ls_err:
 	test	al,#RST_ERRS
 	jz	ls_ret
@@ -646,9 +646,10 @@ ls_ret:
 	ret
 
 ! ---- sending -------------------------------------------------------------------------------
-! GER from the port's state: the receiver's sources unless quenched, the tick on TICK_PORT, the
-! Tx FIFO while a frame goes out (step 12), the Tx machine while a timer waits for the
-! transmitter to be idle.  Bank 0, GER, back to bank 1.  IF = 0.  Changes AX, DX.
+! GER from the port's state: the tick on TICK_PORT; in step 4 (a reset waits for the main loop)
+! nothing else; otherwise the receiver's sources unless quenched, the Tx FIFO while a frame goes
+! out (step 12), the Tx machine while a timer waits for the transmitter to be idle.  Bank 0,
+! GER, back to bank 1.  IF = 0.  Changes AX, DX.
 .even
 ger_update_r:
 	xor	al,al
@@ -656,6 +657,8 @@ ger_update_r:
 	jne	gu_1
 	mov	al,#GER_TIMER
 gu_1:
+	cmp	byte ptr _step[bx],#ST_RESET
+	je	gu_4
 	cmp	byte ptr _quenched[bx],#0
 	jne	gu_2
 	or	al,#GER_RX
@@ -891,11 +894,9 @@ dp_1:
 dp_2:
 	cmp	cl,#MB_RESET
 	jne	dp_bad
-	xor	ax,ax
-	push	ax
-	push	bx
-	call	_port_reset             ! port_reset(p, 0)
-	add	sp,*4
+	cli
+	mov	al,#1                   ! reset, the main CPU knows
+	call	reset_ask_r
 	jmp	dp_out
 dp_bad:
 	inc	word ptr [_n_badmb]
@@ -994,6 +995,65 @@ tc_gone:
 tc_wrap:
 	sub	di,#TXBUF_SIZE
 	jmp	tc_next
+
+! ---- port reset: asked for here, run by the main loop (hw.c port_reinit) ---------------------
+! A port reset is asked for (BREAK, mailbox word 0x3p; AL = the reset_due bits: 1, or 3 to tell
+! the main CPU with a 0x3p word).  A frame we have answered with EOT (step 2, being handed to the
+! main CPU) is a promise of delivery: the reset is only noted and waits until its last chunk has
+! been consumed (to_dpram asks again then); the port answers ENQ with NAK meanwhile.  Otherwise
+! reset_now_r.  IF = 0; short, so that the handlers may ask (docs/firmware.md "Faults and the
+! rule").  Changes AX, DX.
+reset_ask_r:
+	cmp	byte ptr _step[bx],#ST_DONE
+	jne	reset_now_r
+	cmp	byte ptr _reset_due[bx],#0
+	jne	ra_1
+	inc	word ptr _n_deferred[si]
+ra_1:
+	or	_reset_due[bx],al
+	ret
+
+! Ask for the reset now, whatever the step: step 4, the generation bumped (a chunk being copied
+! to or from DP-RAM is dropped), the port's 82510 sources off but the tick (ger_update_r).
+! AL = the reset_due bits.  IF = 0.  Changes AX, DX.
+reset_now_r:
+	or	_reset_due[bx],al
+	cmp	byte ptr _step[bx],#ST_RESET
+	je	rn_ret
+	mov	byte ptr _step[bx],#ST_RESET
+	inc	byte ptr _gen[bx]
+	br	ger_update_r
+rn_ret:
+	ret
+
+! void port_reset(int port, int notify), void port_reset_now(int port, int notify): the same for
+! C, any IF.
+MACRO C_RESET
+_?1:
+	mov	bx,sp
+	mov	al,4[bx]
+	or	al,6[bx]                ! notify != 0 (either byte)
+	mov	bx,2[bx]
+	pushf
+	cli
+	push	si
+	push	di
+	mov	si,bx
+	add	si,si
+	or	al,al
+	mov	al,#1
+	jz	?1_go
+	mov	al,#3
+?1_go:
+	call	?2
+	pop	di
+	pop	si
+	popf
+	ret
+MEND
+
+C_RESET(port_reset,reset_ask_r)
+C_RESET(port_reset_now,reset_now_r)
 
 ! ---- for the C main loop ---------------------------------------------------------------------
 ! void NAME(int port): BX = port, SI = 2 * port, then the routine; SI and DI kept for bcc.

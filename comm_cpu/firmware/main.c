@@ -129,8 +129,8 @@ static void to_dpram(int port)
                 if (dp_rd(PFLAG(port)) == EXT_USE)
                     dp_wr(PFLAG(port), P_FREE);
                 step[port] = ST_IDLE;
-                if (reset_due[port])    /* a reset waited for the frame (port_reset) */
-                    port_reinit(port, reset_due[port] & 2);
+                if (reset_due[port])    /* a reset waited for the frame (port_reset): now */
+                    port_reset_now(port, reset_due[port] & 2);
             }
             irq_restore(f);
             return;
@@ -319,6 +319,9 @@ void main_loop(void)
             case ST_DROP:
                 rx_drop(port);
                 break;
+            case ST_RESET:
+                port_reinit(port);      /* asked for by a handler or below */
+                break;
             case ST_SEND_ENQ:
                 send_enq(port);
                 break;
@@ -337,8 +340,8 @@ void main_loop(void)
             area_watch(port);
             if (quenched[port])
                 quench_watch(port);
-            if (chunk_out[port] && ticks - chunk_t[port] >= DP_ACK_MS)
-                port_reinit(port, 1);   /* the main CPU never consumed the chunk: now */
+            if (chunk_out[port] && step[port] != ST_RESET && ticks - chunk_t[port] >= DP_ACK_MS)
+                port_reset_now(port, 1);    /* the main CPU never consumed the chunk: next pass */
         }
         mb_pump();
     }
@@ -366,6 +369,7 @@ int main(void)
     for (port = 0; port < NO_PORT; port++) {
         t1_lim[port] = t1_ticks(port);
         uart_init(port);
+        ger_update(port);
         dp_wr(PFLAG(port), P_FREE);
     }
     dp_rd(INT2EXT);                     /* drop a stale INT_L so that IR3 sees edges */

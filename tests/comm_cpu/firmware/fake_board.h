@@ -343,6 +343,7 @@ struct IrqRecord {
     std::uint8_t bank_at_entry; // bank of the interrupting 82510 at INTA
     std::uint8_t bank_at_eoi;   // and when the ISR wrote the EOI
     bool eoi_seen = false;
+    cycles_t eoi_at = 0;        // when the ISR wrote the EOI
 };
 
 class FakeBoard : public rcsim::i8086::BusHandler {
@@ -563,6 +564,7 @@ private:
                 IrqRecord& r = irqs.back();
                 r.bank_at_eoi = uart_bank_of(r.vector);
                 r.eoi_seen = true;
+                r.eoi_at = now;
             }
             pic.write(port == kPicA1, v);
         }
