@@ -50,7 +50,8 @@ void SequenceMatcher::sent(FrameId id, Note note) {
     const auto e = std::find_if(early_.begin(), early_.end(), [id](const Item& i) { return i.id == id; });
     if (e == early_.end()) {
         Item item{id, std::move(note), {}};
-        item.drop.cause = item.note.cause; // a sent frame's cause goes with its drop
+        // A sent frame's cause goes with its drop, unless it has one for its loss.
+        item.drop.cause = item.note.loss_cause ? *item.note.loss_cause : item.note.cause;
         waiting_.push_back(std::move(item));
         if (waiting_.size() > kWindow) {
             lost(waiting_.front());
@@ -64,7 +65,7 @@ void SequenceMatcher::sent(FrameId id, Note note) {
     for (Item& w : waiting_) w.overtaken = true;
     if (std::any_of(early_.begin(), e, [id](const Item& i) { return i.id > id; })) {
         ++counts_.reordered;
-        list(unexplained_, {FrameEvent::Kind::reordered, e->note.label, e->note.time_us, {}});
+        list(unexplained_, {FrameEvent::Kind::reordered, e->note.label, e->note.time_us, {}, {}, false});
     }
     early_.erase(e);
     matched(id, note.cause);
@@ -86,7 +87,7 @@ void SequenceMatcher::received(FrameId id, Note note) {
         for (auto older = waiting_.begin(); older != w; ++older) older->overtaken = true;
         if (w->overtaken) {
             ++counts_.reordered;
-            list(unexplained_, {FrameEvent::Kind::reordered, note.label, note.time_us, {}});
+            list(unexplained_, {FrameEvent::Kind::reordered, note.label, note.time_us, {}, {}, false});
         }
         matched(id, w->drop.cause);
         waiting_.erase(w);
@@ -131,7 +132,7 @@ void SequenceMatcher::copy(const Note& note, const ScenarioCause& cause) {
     ++counts_.duplicates;
     const ScenarioCause& c = note.cause.empty() ? cause : note.cause;
     if (!c.empty()) ++counts_.after_fault;
-    list(unexplained_, {FrameEvent::Kind::duplicate, note.label, note.time_us, c});
+    list(unexplained_, {FrameEvent::Kind::duplicate, note.label, note.time_us, c, {}, false});
 }
 
 // A received frame that was never sent: unexpected, and its later copies duplicates of it.
@@ -142,14 +143,14 @@ void SequenceMatcher::never_sent(const Item& it) {
     }
     ++counts_.unexpected;
     if (!it.note.cause.empty()) ++counts_.after_fault;
-    list(unexplained_, {FrameEvent::Kind::unexpected, it.note.label, it.note.time_us, it.note.cause});
+    list(unexplained_, {FrameEvent::Kind::unexpected, it.note.label, it.note.time_us, it.note.cause, {}, false});
     if (it.id == kNoFrameId) return;
     remember(it.id, it.note.cause);
 }
 
 void SequenceMatcher::lost(const Item& item) {
     using K = FrameEvent::Kind;
-    FrameEvent e{K::lost, item.note.label, item.note.time_us, item.drop.cause};
+    FrameEvent e{K::lost, item.note.label, item.note.time_us, item.drop.cause, item.drop.attempts, false};
     if (item.drop.why == DropReason::gave_up) {
         ++counts_.dropped_gave_up;
         e.kind = K::gave_up;
@@ -160,7 +161,9 @@ void SequenceMatcher::lost(const Item& item) {
         ++counts_.lost;
     }
     if (item.drop.why != DropReason::none) e.time_us = item.drop.time_us;
-    if (e.cause.empty()) {
+    // A give-up is the scenario's only when a cause hit every attempt the protocol owed.
+    e.expected = !e.cause.empty() && (!e.attempts || e.attempts->all_owed_hit());
+    if (!e.expected) {
         list(unexplained_, std::move(e));
     } else {
         ++counts_.expected;
@@ -172,11 +175,12 @@ void SequenceMatcher::list(std::vector<FrameEvent>& v, FrameEvent e) {
     if (v.size() < kListed) v.push_back(std::move(e));
 }
 
-bool SequenceMatcher::explain(FrameId id, DropReason why, double time_us) {
+bool SequenceMatcher::explain(FrameId id, DropReason why, double time_us, std::optional<Attempts> attempts) {
     for (Item& i : waiting_)
         if (i.id == id) {
             i.drop.why = why;
             i.drop.time_us = time_us;
+            i.drop.attempts = attempts;
             return true;
         }
     return false;
@@ -215,6 +219,7 @@ void SequenceMatcher::finish(bool interrupted) {
 void LineObserver::line_char(Dir d, std::uint8_t byte, bool error) {
     Sender& s = dir_[d];
     if (s.collecting) {
+        extend_attempt(d); // a long frame outlasts T1: the attempt lasts while it is on the line
         if (byte == proto::SOH && !error) { // a new frame: the partial one is given up
             s.decoder.reset();
             s.decoder.feed(byte);
@@ -246,14 +251,22 @@ void LineObserver::control(Dir d, std::uint8_t byte) {
     case proto::ENQ:
         ++me.counts.enqs;
         if (!me.open) me.cause = {}; // a fresh transfer: the causes before it are not its own
+        begin_attempt(d, now());
+        me.attempt_cause = {};       // nor those before this attempt its own
         if (peer.await == Await::enq) ++enq_collisions_;
         me.await = Await::enq;
         break;
     case proto::ACK:
-        if (peer.await == Await::enq) peer.await = Await::none;
+        if (peer.await == Await::enq) {
+            peer.await = Await::none;
+            extend_attempt(pd); // its frame follows
+        }
         break;
     case proto::NAK:
-        if (peer.await != Await::none) ++peer.counts.naks;
+        if (peer.await != Await::none) {
+            ++peer.counts.naks;
+            peer.attempt_until = now(); // that attempt is over: what comes before the retry is not its
+        }
         // The controller refused a valid command: it will not forward it.
         if (d == controller_to_host && peer.await == Await::frame && peer.last_good && !offered_.empty() &&
             offered_.back().id == peer.transfer)
@@ -281,8 +294,13 @@ void LineObserver::frame_done(Dir d, bool good) {
     if (s.open) {
         // Offered again after an attempt without EOT: a retry, unless it is a different valid
         // frame, which means the sender gave the last one up.
-        if (key && s.last && *key != *s.last) ++s.counts.abandoned;
-        else ++s.counts.retries;
+        if (key && s.last && *key != *s.last) {
+            ++s.counts.abandoned;
+            // The sender gave the last frame up: this attempt is the new frame's first.
+            if (s.attempts.made > 0) s.attempts = {1, s.attempt_hit ? 1u : 0u};
+        } else {
+            ++s.counts.retries;
+        }
     }
     if (key) {
         if (!s.open || !s.last || *key != *s.last) s.transfer = next_id_++; // a retry keeps its id
@@ -292,8 +310,9 @@ void LineObserver::frame_done(Dir d, bool good) {
     s.open = true;
     s.last_good = good;
     s.await = Await::frame;
+    extend_attempt(d); // T1 from its ETX
     // The responses' record: what reached the host intact, EOT or not.
-    if (key && d == controller_to_host) responses_.received(response_id(*key), {s.last_label, now(), {}});
+    if (key && d == controller_to_host) responses_.received(response_id(*key), {s.last_label, now(), {}, {}});
     if (on_frame) on_frame(d, good, s.decoder.frame());
 }
 
@@ -314,7 +333,8 @@ void LineObserver::acknowledged(Dir d) {
         ++s.counts.frames_eot;
         // The commands' intention: what the host was told was delivered, with the first cause
         // that hit the port during its transfer.
-        if (d == host_to_controller) commands_.sent(s.transfer, {s.last_label, now(), s.cause});
+        // Its loss is explained by the attempt that got the EOT only (class comment).
+        if (d == host_to_controller) commands_.sent(s.transfer, {s.last_label, now(), s.cause, s.attempt_cause});
     }
     // The comm CPU has its EOT: the oldest response in its ring is done (valid or not).
     if (d == controller_to_host && !in_ring_.empty()) {
@@ -332,10 +352,44 @@ void LineObserver::line_break(Dir d) {
     line_fault(break_before_reset_);
 }
 
-void LineObserver::line_fault(const ScenarioCause& c) {
+void LineObserver::begin_attempt(Dir d, double t) {
+    Sender& s = dir_[d];
+    ++s.attempts.made;
+    s.attempt_hit = false;
+    s.attempt_until = t + kT1Us + kAttemptSlackUs;
+}
+
+// Every attempt live at t, either sender's, was hit (once each).
+void LineObserver::hit_attempts(double t) {
+    for (Sender& s : dir_) {
+        if (!s.attempt_live(t) || s.attempt_hit) continue;
+        s.attempt_hit = true;
+        ++s.attempts.hit;
+    }
+}
+
+// Whether the character a cause destroyed was its sender's ENQ, the start of an attempt the
+// receiver never saw. The byte, when the line kept it; otherwise (its bits altered) an ENQ is the
+// only character a side sends with no attempt of either side live, and the controller sends one
+// only with a response in its ring.
+bool LineObserver::destroyed_enq(const HitChar& h, double t) const {
+    if (h.byte) return *h.byte == proto::ENQ;
+    const Dir peer = h.from == host_to_controller ? controller_to_host : host_to_controller;
+    if (dir_[h.from].attempt_live(t) || dir_[peer].attempt_live(t)) return false;
+    return h.from == host_to_controller || !in_ring_.empty();
+}
+
+void LineObserver::line_fault(const ScenarioCause& c, std::optional<HitChar> hit) {
+    const double t = now();
+    if (hit && destroyed_enq(*hit, t)) {
+        begin_attempt(hit->from, t);
+        dir_[hit->from].attempt_cause = {};
+    }
+    hit_attempts(t);
     // The command being transferred (from its ENQ on), and the response being sent: the oldest
     // in the comm CPU's ring.
     Sender& h = dir_[host_to_controller];
+    if (h.attempt_cause.empty() && h.attempt_live(t)) h.attempt_cause = c;
     if (h.cause.empty()) {
         h.cause = c;
         // The command of this transfer already on the line shares the cause.
@@ -383,19 +437,23 @@ FrameId LineObserver::response_id(const FrameKey& k) const {
 void LineObserver::main_received(const FrameKey& k, std::string label) {
     ScenarioCause cause;
     const FrameId id = command_id(k, cause);
-    commands_.received(id, {std::move(label), now(), std::move(cause)});
+    commands_.received(id, {std::move(label), now(), std::move(cause), {}});
 }
 
 void LineObserver::main_handed(const FrameKey& k, std::string label) {
     const FrameId id = next_id_++;
-    responses_.sent(id, {std::move(label), now(), {}});
+    responses_.sent(id, {std::move(label), now(), {}, {}});
     // The firmware's ring holds at most 8 frames; an id this old can no longer be explained.
     keep_last(in_ring_, {id, k, {}});
 }
 
 void LineObserver::response_given_up() {
     if (in_ring_.empty()) return;
-    responses_.explain(in_ring_.front().id, DropReason::gave_up, now());
+    // The give-up ends the comm CPU's attempts at that frame (its next ENQ begins the next one's);
+    // `open` stays, so the next frame offered still counts it abandoned (DirCounts).
+    Sender& c = dir_[controller_to_host];
+    responses_.explain(in_ring_.front().id, DropReason::gave_up, now(), c.attempts);
+    c.end_attempts();
     in_ring_.pop_front();
 }
 

@@ -62,6 +62,26 @@ struct ScenarioCause {
     bool empty() const { return what.empty(); }
 };
 
+/// The retries the protocol owes a frame after its first attempt (docs/system.md §6.2: "at most 3
+/// times", 4 attempts in all; a NAK and a T1 timeout each end an attempt; ENQ and frame retries
+/// share the count). The spec's, on both sides: the simulated hosts' retries are not a scenario
+/// setting (ProtocolHost::Timing::max_retries keeps this default), and what the firmware does
+/// must not set what it owes.
+constexpr unsigned kMaxRetry = 3;
+/// T1 (docs/system.md §6.1): the longest a sender waits for the answer to its ENQ or its frame.
+constexpr double kT1Us = 50000;
+
+/// The attempts a sender made at one frame on the line, and how many of them a scenario cause
+/// hit (docs/scenarios.md "Expected drops").
+struct Attempts {
+    unsigned made = 0;
+    unsigned hit = 0;
+    /// Every attempt the protocol allows was hit: then, and only then, a give-up is the scenario's.
+    bool all_owed_hit() const { return hit >= 1 + kMaxRetry; }
+    /// The retries the protocol still owed when the sender gave the frame up.
+    unsigned owed_retries() const { return made >= 1 + kMaxRetry ? 0 : 1 + kMaxRetry - made; }
+};
+
 /// A short, printable name of a frame for the report: `EC 00 "HELLO" (5 bytes)`, the data cut
 /// after 16 characters.
 std::string frame_label(const std::string& token, std::uint8_t bch, const std::string& data);
@@ -73,6 +93,8 @@ struct FrameEvent {
     std::string frame;   // frame_label()
     double time_us = 0;  // sent (lost), dropped (gave_up, port_reset), received (duplicate, unexpected), final (reordered)
     ScenarioCause cause; // an expected drop's cause, or what hit a duplicate's or unexpected frame's transfer
+    std::optional<Attempts> attempts; // a frame given up: the attempts its sender made and those hit
+    bool expected = false;            // an expected drop (SequenceMatcher::expected_drops)
 };
 const char* kind_name(FrameEvent::Kind k);
 
@@ -127,6 +149,9 @@ public:
         std::string label;
         double time_us = 0;
         ScenarioCause cause;
+        /// A sent frame's: what explains its loss, when not `cause` (a command: the cause of the
+        /// attempt that got the EOT, where `cause` is its whole transfer's, for a copy).
+        std::optional<ScenarioCause> loss_cause = std::nullopt;
     };
     /// The first frames the report lists of each kind.
     static constexpr std::size_t kListed = 8;
@@ -137,8 +162,10 @@ public:
     void received(FrameId id, Note note);
     void received(FrameId id) { received(id, Note()); }
     /// Gives sent frame `id` a reason, should it turn out lost, and the time it was dropped.
+    /// `attempts` (a give-up): what its sender made of the attempts it owed; the drop is expected
+    /// only when every one of them was hit (Attempts::all_owed_hit), whatever its cause.
     /// False: it is no longer waiting (matched, or final).
-    bool explain(FrameId id, DropReason why, double time_us = 0);
+    bool explain(FrameId id, DropReason why, double time_us = 0, std::optional<Attempts> attempts = std::nullopt);
     /// Gives frame `id` a cause, unless it has one (`replace`: whatever it had): a waiting sent
     /// frame's, should it be lost, or a matched one's, should a copy of it arrive. False: it is
     /// no longer waiting.
@@ -162,6 +189,7 @@ private:
         DropReason why = DropReason::none;
         double time_us = 0;
         ScenarioCause cause;
+        std::optional<Attempts> attempts;
     };
     struct Item {
         FrameId id;
@@ -199,12 +227,25 @@ private:
 ///     on this port: the first such reset within kBreakResetUs of the BREAK; every response in
 ///     the ring goes with it. A reset with no BREAK before it (the chunk-ACK timeout, a reset the
 ///     main CPU asked for) explains nothing;
-///   - a response given up (0x4p, 0x5p) or lost when a cause hit this port while that response
-///     was the oldest in the comm CPU's transmit ring (the one it was sending);
+///   - a response given up (0x4p, 0x5p) when a cause hit every attempt the protocol allows: the
+///     first and kMaxRetry retries (below). A firmware that gives up sooner, or after an attempt
+///     nothing hit, is at fault, and the give-up counts with its attempts, hits and the retries
+///     still owed;
+///   - a response lost (never given up) when a cause hit this port while that response was the
+///     oldest in the comm CPU's transmit ring (the one it was sending);
 ///   - a command the host got EOT for and the main CPU never received, when a cause hit this port
-///     during that command's transfer (from the host's ENQ that started it to the EOT): a fault
-///     can make the host read an EOT the controller never sent. A BREAK or reset after the EOT
-///     explains nothing: an EOT is a promise of delivery (docs/system.md §5.2).
+///     during the attempt that got the EOT (from the host's ENQ that began it): a fault can make
+///     the host read an EOT the controller never sent. A cause on an earlier attempt, or a BREAK
+///     or reset after the EOT, explains nothing: an EOT is a promise of delivery (docs/system.md
+///     §5.2).
+///
+/// Attempts (docs/system.md §6.2): each begins with its sender's ENQ and lasts until the other
+/// side's NAK or EOT, or T1 (plus kAttemptSlackUs) after the sender's last character or the ACK
+/// it got. A cause hits the attempts live at its time, either direction's. An ENQ the cause itself
+/// destroyed is an attempt the receiver never saw: a dropped character's byte is known (the line
+/// kept its bits), and a dropped ENQ begins a hit attempt; an altered one whose byte is lost begins
+/// one when neither side has a live attempt it could belong to (the controller only with a
+/// response to send).
 /// Duplicates, unexpected and reordered frames are never expected: exactly once is what the
 /// check asks, whatever made the sender repeat itself. A duplicate or unexpected frame whose
 /// transfer a cause hit is listed with that cause (Counts::after_fault).
@@ -223,6 +264,9 @@ public:
     /// The longest a BREAK from the host explains the port reset that follows it: the firmware
     /// defers a reset until an EOT'd frame is handed over, at most its 1 s chunk-ACK timeout.
     static constexpr double kBreakResetUs = 2e6;
+    /// How long past T1 an attempt still takes a cause: the timers count whole 1 ms ticks from the
+    /// transmitter going idle, and an answer's START may come that late (docs/system.md §6.1).
+    static constexpr double kAttemptSlackUs = 2000;
 
     struct DirCounts {
         std::uint64_t enqs = 0;
@@ -243,9 +287,18 @@ public:
     /// The receiver saw a BREAK begin: a frame in progress from that side is cut. A BREAK from
     /// the host is a cause, and explains the port reset that follows it.
     void line_break(Dir d);
+    /// The character a cause hit, when it hit one: who sent it and, when the line kept its data
+    /// bits (a dropped character), its byte (the low 7 bits: the control bytes are ASCII).
+    struct HitChar {
+        Dir from;
+        std::optional<std::uint8_t> byte;
+    };
     /// The scenario did something to this port's line (an injected fault, noise, a BREAK it
-    /// injected): a cause for the frames on their way (the class comment says which).
-    void line_fault(const ScenarioCause& c);
+    /// injected): a cause for the frames on their way and the attempts live (the class comment
+    /// says which); `hit` the character it destroyed, if one.
+    void line_fault(const ScenarioCause& c, std::optional<HitChar> hit = std::nullopt);
+    /// The attempts of the frame direction d's sender is on (none between transfers).
+    const Attempts& attempts(Dir d) const { return dir_[d].attempts; }
 
     // ---- the main CPU's DP-RAM side ----
     void main_received(const FrameKey& k, std::string label = {});
@@ -293,14 +346,27 @@ private:
         std::string last_label;        // ... its frame_label()
         FrameId transfer = kNoFrameId; // ... its id: a retry keeps it
         ScenarioCause cause;           // the first cause since this sender's transfer began
+        ScenarioCause attempt_cause;   // the first cause that hit its current attempt
         DirCounts counts;
-        /// The transfer is over (its EOT, or a port reset): nothing offered waits for an answer.
+        Attempts attempts;             // of the current transfer
+        bool attempt_hit = false;      // the current attempt was hit
+        double attempt_until = -1;     // ... and takes causes until then (us)
+        /// The transfer is over (its EOT, a give-up, a port reset): nothing offered waits for an
+        /// answer, and the next ENQ begins a new count of attempts.
         void end_transfer() {
             open = false;
             last.reset();
             cause = {};
+            attempt_cause = {};
             await = Await::none;
+            end_attempts();
         }
+        void end_attempts() {
+            attempts = {};
+            attempt_hit = false;
+            attempt_until = -1;
+        }
+        bool attempt_live(double t) const { return attempts.made > 0 && t <= attempt_until; }
     };
     std::array<Sender, 2> dir_;
     std::uint64_t enq_collisions_ = 0, breaks_ = 0;
@@ -322,6 +388,11 @@ private:
     ScenarioCause break_before_reset_;
 
     double now() const { return clock ? clock() : 0.0; }
+    void begin_attempt(Dir d, double t);
+    /// Sender d's attempt takes causes until T1 after now (its last character, or the ACK it got).
+    void extend_attempt(Dir d) { dir_[d].attempt_until = now() + kT1Us + kAttemptSlackUs; }
+    void hit_attempts(double t);
+    bool destroyed_enq(const HitChar& h, double t) const;
     void control(Dir d, std::uint8_t byte);
     void frame_done(Dir d, bool good);
     void acknowledged(Dir d);

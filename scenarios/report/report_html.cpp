@@ -325,6 +325,12 @@ void exactly_once_table(std::ostream& o, const json& ports) {
 void exactly_once_notes(std::ostream& o, const json& r) {
     std::ostringstream rows;
     auto ms = [](double us) { return num(us / 1e3, 3) + " ms"; };
+    // A give-up's attempts: made, hit by a cause, the retries the protocol still owed.
+    auto attempts = [](const json& e) -> std::string {
+        if (!e.contains("attempts")) return "";
+        return "; attempts " + std::to_string(ju(e, "attempts")) + ", hit " + std::to_string(ju(e, "hit")) +
+               ", retries owed " + std::to_string(ju(e, "owed_retries"));
+    };
     const json& ports = jo(r, "ports");
     for (std::size_t p = 0; p < ports.size(); ++p)
         for (const char* k : {"commands", "responses"}) {
@@ -333,7 +339,7 @@ void exactly_once_notes(std::ostream& o, const json& r) {
                 rows << "<tr><td>" << p << "</td><td class=\"l\">" << k << "</td><td class=\"l\">expected: "
                      << esc(js(e, "dropped")) << "</td><td>" << ms(jd(e, "time_us")) << "</td><td class=\"l\">"
                      << esc(js(e, "frame")) << "</td><td class=\"l\">" << esc(js(e, "cause")) << " at "
-                     << ms(jd(e, "cause_us")) << "</td></tr>\n";
+                     << ms(jd(e, "cause_us")) << attempts(e) << "</td></tr>\n";
             if (ju(b, "in_flight"))
                 rows << "<tr><td>" << p << "</td><td class=\"l\">" << k << "</td><td class=\"l\">in flight at the stop: "
                      << ju(b, "in_flight") << "</td><td></td><td></td><td></td></tr>\n";
@@ -346,7 +352,7 @@ void exactly_once_notes(std::ostream& o, const json& r) {
                  << "</td><td class=\"l bad\">counted: " << esc(js(e, "what")) << "</td><td>" << ms(jd(e, "time_us"))
                  << "</td><td class=\"l\">" << esc(js(e, "frame")) << "</td><td class=\"l\">"
                  << (e.contains("cause") ? esc(js(e, "cause")) + " at " + ms(jd(e, "cause_us")) : std::string())
-                 << "</td></tr>\n";
+                 << attempts(e) << "</td></tr>\n";
     }
     if (rows.str().empty()) return;
     o << "<h3>Frames not delivered once: expected drops, in flight, the first counted</h3>\n<table><tr><th>port</th>"

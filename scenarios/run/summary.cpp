@@ -179,6 +179,13 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
         s << std::fixed << std::setprecision(3) << us.get<double>() / 1e3 << " ms";
         return s.str();
     };
+    // A give-up's attempts (docs/scenarios.md "Expected drops").
+    auto attempts = [](const nlohmann::json& e) -> std::string {
+        if (!e.contains("attempts")) return "";
+        return "; attempts " + std::to_string(e["attempts"].get<unsigned>()) + ", hit " +
+               std::to_string(e["hit"].get<unsigned>()) + ", retries owed " +
+               std::to_string(e["owed_retries"].get<unsigned>());
+    };
     const auto& ports = r["ports"];
     for (std::size_t p = 0; p < ports.size(); ++p)
         for (const char* k : {"commands", "responses"}) {
@@ -187,7 +194,7 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
             for (const auto& e : b.value("expected_drops", nlohmann::json::array()))
                 out << "  port " << p << " " << k << ": expected, " << e["dropped"].get<std::string>() << " at "
                     << ms(e["time_us"]) << ": " << e["frame"].get<std::string>() << "; cause "
-                    << e["cause"].get<std::string>() << " at " << ms(e["cause_us"]) << "\n";
+                    << e["cause"].get<std::string>() << " at " << ms(e["cause_us"]) << attempts(e) << "\n";
             const std::uint64_t listed = b.value("expected_drops", nlohmann::json::array()).size();
             if (u(b, "expected") > listed)
                 out << "  port " << p << " " << k << ": " << u(b, "expected") - listed << " more expected\n";
@@ -201,7 +208,7 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
                 << ": counted, " << e["what"].get<std::string>() << " at " << ms(e["time_us"]) << ": "
                 << e["frame"].get<std::string>()
                 << (e.contains("cause") ? "; after " + e["cause"].get<std::string>() + " at " + ms(e["cause_us"]) : "")
-                << "\n";
+                << attempts(e) << "\n";
     }
     if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
 }

@@ -285,8 +285,15 @@ std::vector<Check> communication_checks(const World& w, const Scenario& s, const
             std::string dir = e.value("direction", std::string());
             for (char& ch : dir)
                 if (ch == '_') ch = ' ';
+            // A give-up says what the protocol still owed (docs/scenarios.md "Expected drops").
+            std::string attempts;
+            if (e.contains("attempts"))
+                attempts = " after " + std::to_string(e.value("attempts", 0u)) + " attempt(s), " +
+                           std::to_string(e.value("hit", 0u)) + " hit by a cause, " +
+                           std::to_string(e.value("owed_retries", 0u)) + " retr" +
+                           (e.value("owed_retries", 0u) == 1 ? "y" : "ies") + " still owed";
             return "port " + std::to_string(e.value("port", 0u)) + " (" + dir + "): " + e.value("frame", std::string()) +
-                   " " + e.value("what", std::string()) + " at " + us(e.value("time_us", 0.0)) +
+                   " " + e.value("what", std::string()) + " at " + us(e.value("time_us", 0.0)) + attempts +
                    (first.size() > 1 ? " (and more in the detail)" : "");
         }, first_unexplained(c.detail));
         checks.push_back(std::move(c));

@@ -179,13 +179,16 @@ const char* direction_name(unsigned d) {
 nlohmann::json frame_event_json(const FrameEvent& e, unsigned direction) {
     nlohmann::json j = {{"direction", direction_name(direction)}, {"frame", e.frame}, {"time_us", e.time_us}};
     // An expected drop says how it was dropped; a frame that counts, what became of it.
-    const bool expected_drop = !e.cause.empty() && (e.kind == FrameEvent::Kind::lost ||
-                                                    e.kind == FrameEvent::Kind::gave_up ||
-                                                    e.kind == FrameEvent::Kind::port_reset);
-    j[expected_drop ? "dropped" : "what"] = kind_name(e.kind);
+    j[e.expected ? "dropped" : "what"] = kind_name(e.kind);
     if (!e.cause.empty()) {
         j["cause"] = e.cause.what;
         j["cause_us"] = e.cause.time_us;
+    }
+    // A give-up: the attempts its sender made, those a cause hit, the retries it still owed.
+    if (e.attempts) {
+        j["attempts"] = e.attempts->made;
+        j["hit"] = e.attempts->hit;
+        j["owed_retries"] = e.attempts->owed_retries();
     }
     return j;
 }

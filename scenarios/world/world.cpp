@@ -45,7 +45,7 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
         lines[p].on_deliver = [this, p](const SerialLine::Delivered& d) { observe_line(p, d); };
         observers[p].clock = [] { return to_us(sc_core::sc_time_stamp()); };
         // A faulted character is counted when it starts: its cause has that time.
-        lines[p].on_transmit = [this, p](const SerialLine::Traced&) { sync_line_faults(p); };
+        lines[p].on_transmit = [this, p](const SerialLine::Traced& t) { sync_line_faults(p, &t); };
     }
     if (s.main_motion) {
         motion = std::make_unique<motion::MotionController>("motion", motion_config(s));
@@ -157,22 +157,31 @@ void World::sync_line_faults() {
     for (unsigned p = 0; p < kPorts; ++p) sync_line_faults(p);
 }
 
-void World::sync_line_faults(unsigned p) {
+void World::sync_line_faults(unsigned p, const SerialLine::Traced* sent) {
     for (const SerialLine::Side side : {SerialLine::a, SerialLine::b}) {
         const SerialLine::Stats& now = lines[p].stats(side);
         SerialLine::Stats& seen = line_stats_seen_[p][side];
         const bool host = side == SerialLine::b;
-        auto note = [&](std::uint64_t cur, std::uint64_t& old, const char* what) {
+        // The character being sent is the one hit (a fault counts at its START); the observer
+        // counts the attempts it destroyed. A dropped one kept its bits: its byte is known (the
+        // low 7 data bits after START: the control bytes are ASCII, whatever the format).
+        std::optional<LineObserver::HitChar> hit;
+        if (sent && sent->from == side) {
+            hit = LineObserver::HitChar{host ? LineObserver::host_to_controller : LineObserver::controller_to_host, {}};
+            if (sent->dropped) hit->byte = static_cast<std::uint8_t>((sent->word.cells >> 1) & 0x7F);
+        }
+        auto note = [&](std::uint64_t cur, std::uint64_t& old, const char* what, bool a_character = true) {
             if (cur == old) return;
             old = cur;
-            observers[p].line_fault({what, to_us(sc_core::sc_time_stamp())});
+            observers[p].line_fault({what, to_us(sc_core::sc_time_stamp())},
+                                    a_character ? hit : std::nullopt);
         };
         note(now.dropped, seen.dropped, host ? "injected fault: a host character dropped"
                                              : "injected fault: a controller character dropped");
         note(now.faults, seen.faults, host ? "injected fault: a host character altered"
                                            : "injected fault: a controller character altered");
         note(now.noise_flips, seen.noise_flips, host ? "noise on a host character" : "noise on a controller character");
-        if (host) note(now.breaks, seen.breaks, "BREAK from the host");
+        if (host) note(now.breaks, seen.breaks, "BREAK from the host", false);
     }
 }
 

@@ -133,7 +133,8 @@ private:
     void observe_line(unsigned p, const SerialLine::Delivered& d);
     void sync_main_side();
     void sync_line_faults();
-    void sync_line_faults(unsigned p);
+    /// `sent`: the character being put on the line now, when called for it (the one a fault hit).
+    void sync_line_faults(unsigned p, const SerialLine::Traced* sent = nullptr);
     void on_record(const InterruptRecord& r);
     void on_settled(const sc_core::sc_time& horizon);
 };

@@ -110,29 +110,177 @@ TEST(ExpectedDrops, ABreakExplainsOnlyTheFirstCommCpuResetAndOnlyWithinItsWindow
     EXPECT_EQ(c.o.response_books().expected_drops()[0].frame, "EC 00 \"FIRST\" (5 bytes)");
 }
 
-TEST(ExpectedDrops, AFaultExplainsTheGiveUpOfTheResponseBeingSentOnly) {
+// ---- retries owed (docs/system.md §6.2: the first attempt and kMaxRetry = 3 retries) ----
+
+// The comm CPU's attempt whose ENQ a fault dropped: the host never saw it, T1 runs out. `t` in us.
+void dropped_controller_enq(Clocked& c, double t) {
+    c.now = t;
+    c.o.line_fault({"injected fault: a controller character dropped", t}, LineObserver::HitChar{C, ENQ});
+}
+
+// T1 and the back-off of retry n after an attempt that began at t (docs/system.md §6.1).
+double retry_at(double t, unsigned n) { return t + kT1Us + 10000.0 * n; }
+
+TEST(RetriesOwed, TheProtocolOwesTheFirstAttemptAndThreeRetries) {
+    EXPECT_EQ(kMaxRetry, 3u); // docs/system.md §6.2: "at most 3 times (4 attempts in all)"
+    EXPECT_EQ((Attempts{1, 1}).owed_retries(), 3u);
+    EXPECT_EQ((Attempts{4, 3}).owed_retries(), 0u);
+    EXPECT_FALSE((Attempts{3, 3}).all_owed_hit());
+    EXPECT_TRUE((Attempts{4, 4}).all_owed_hit());
+}
+
+TEST(RetriesOwed, AGiveUpAfterEveryOwedAttemptWasHitIsExpected) {
     Clocked c;
     hand(c.o, resp("SENDING"));
-    hand(c.o, resp("WAITING"));
-    c.now = 700;
-    c.o.line_fault({"injected fault: a controller character dropped", 700});
-    c.now = 900;
-    c.o.response_given_up(); // 0x4p for the oldest: the one the fault hit
-    c.now = 1500;
-    c.o.response_given_up(); // the next one: no fault while it was being sent
+    double t = 700;
+    for (unsigned n = 1; n <= 4; ++n) {
+        dropped_controller_enq(c, t);
+        t = retry_at(t, n);
+    }
+    c.now = t;
+    c.o.response_given_up(); // 0x4p after the third retry
     c.o.finish();
     const auto& r = c.o.responses();
-    EXPECT_EQ(r.dropped_gave_up, 2u);
+    EXPECT_EQ(r.dropped_gave_up, 1u);
     EXPECT_EQ(r.expected, 1u);
-    EXPECT_EQ(r.mismatches(), 1u);
+    EXPECT_EQ(r.mismatches(), 0u);
     const auto& e = c.o.response_books().expected_drops();
     ASSERT_EQ(e.size(), 1u);
     EXPECT_EQ(e[0].frame, "EC 00 \"SENDING\" (7 bytes)");
     EXPECT_EQ(e[0].kind, FrameEvent::Kind::gave_up);
-    EXPECT_EQ(e[0].time_us, 900);
+    EXPECT_EQ(e[0].time_us, t);
     EXPECT_EQ(e[0].cause.time_us, 700);
+    ASSERT_TRUE(e[0].attempts);
+    EXPECT_EQ(e[0].attempts->made, 4u);
+    EXPECT_EQ(e[0].attempts->hit, 4u);
+    EXPECT_TRUE(c.o.response_books().unexplained().empty());
+}
+
+// The firmware with MAX_RETRY patched to 0: one dropped ENQ, and it gives the response up.
+TEST(RetriesOwed, AGiveUpWithRetriesStillOwedCounts) {
+    Clocked c;
+    hand(c.o, resp("SENDING"));
+    hand(c.o, resp("WAITING"));
+    dropped_controller_enq(c, 700);
+    c.now = retry_at(700, 1);
+    c.o.response_given_up();
+    // The next response's transfer starts a count of its own, and goes through.
+    c.now += 1000;
+    controller_transfer(c.o, resp("WAITING"));
+    c.o.finish();
+    const auto& r = c.o.responses();
+    EXPECT_EQ(r.dropped_gave_up, 1u);
+    EXPECT_EQ(r.expected, 0u);
+    EXPECT_EQ(r.mismatches(), 1u);
     ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
-    EXPECT_EQ(c.o.response_books().unexplained()[0].time_us, 1500);
+    const FrameEvent& e = c.o.response_books().unexplained()[0];
+    EXPECT_EQ(e.kind, FrameEvent::Kind::gave_up);
+    EXPECT_FALSE(e.expected);
+    EXPECT_EQ(e.time_us, retry_at(700, 1));
+    EXPECT_EQ(e.cause.what, "injected fault: a controller character dropped"); // it was hit, still it counts
+    ASSERT_TRUE(e.attempts);
+    EXPECT_EQ(e.attempts->made, 1u);
+    EXPECT_EQ(e.attempts->hit, 1u);
+    EXPECT_EQ(e.attempts->owed_retries(), 3u);
+    EXPECT_EQ(c.o.attempts(C).made, 0u); // the delivered one's transfer is over
+}
+
+// Four attempts, the first hit; the host answers none of the other three (nothing the scenario
+// did): the give-up counts, though the firmware owed nothing more.
+TEST(RetriesOwed, AGiveUpAfterAnAttemptNoCauseHitCounts) {
+    Clocked c;
+    hand(c.o, resp("SENDING"));
+    dropped_controller_enq(c, 700);
+    double t = retry_at(700, 1);
+    for (unsigned n = 2; n <= 4; ++n) {
+        c.now = t;
+        send(c.o, C, ctl(ENQ)); // seen by the host, never answered
+        t = retry_at(t, n);
+    }
+    EXPECT_EQ(c.o.attempts(C).made, 4u);
+    EXPECT_EQ(c.o.attempts(C).hit, 1u);
+    c.now = t;
+    c.o.response_given_up();
+    c.o.finish();
+    EXPECT_EQ(c.o.responses().expected, 0u);
+    EXPECT_EQ(c.o.responses().mismatches(), 1u);
+    ASSERT_EQ(c.o.response_books().unexplained().size(), 1u);
+    const FrameEvent& e = c.o.response_books().unexplained()[0];
+    ASSERT_TRUE(e.attempts);
+    EXPECT_EQ(e.attempts->made, 4u);
+    EXPECT_EQ(e.attempts->hit, 1u);
+    EXPECT_EQ(e.attempts->owed_retries(), 0u);
+}
+
+// A cause in the back-off between two attempts hits neither: the attempt before ended at its NAK.
+TEST(RetriesOwed, ACauseAfterTheNakHitsNoAttempt) {
+    Clocked c;
+    hand(c.o, resp("SENDING"));
+    c.now = 100;
+    send(c.o, C, ctl(ENQ));
+    send(c.o, H, ctl(proto::NAK));
+    c.now = 5000; // back-off: no attempt of either side live, and the byte is known (not an ENQ)
+    c.o.line_fault({"injected fault: a host character dropped", 5000}, LineObserver::HitChar{H, ACK});
+    EXPECT_EQ(c.o.attempts(C).made, 1u);
+    EXPECT_EQ(c.o.attempts(C).hit, 0u);
+    EXPECT_EQ(c.o.attempts(H).made, 0u);
+}
+
+// An altered character whose byte is lost: an ENQ when nothing else could have been on the line
+// (the controller with a response to send), an answer to a live attempt otherwise.
+TEST(RetriesOwed, AnAlteredCharacterBeginsAnAttemptOnlyWhenNoneIsLive) {
+    Clocked c;
+    hand(c.o, resp("SENDING"));
+    c.now = 100;
+    c.o.line_fault({"noise on a controller character", 100}, LineObserver::HitChar{C, std::nullopt});
+    EXPECT_EQ(c.o.attempts(C).made, 1u);
+    EXPECT_EQ(c.o.attempts(C).hit, 1u);
+    c.now = 200; // the host's ENQ of its own attempt, then the controller's answer is altered
+    send(c.o, H, ctl(ENQ));
+    c.o.line_fault({"noise on a controller character", 300}, LineObserver::HitChar{C, std::nullopt});
+    EXPECT_EQ(c.o.attempts(C).made, 1u); // not a new attempt: the ACK the host waits for
+    EXPECT_EQ(c.o.attempts(H).made, 1u);
+    EXPECT_EQ(c.o.attempts(H).hit, 1u);
+}
+
+// The host's side: its ENQs dropped by a fault are attempts the controller never saw, each hit.
+TEST(RetriesOwed, TheHostsDroppedEnqsAreHitAttempts) {
+    Clocked c;
+    double t = 100;
+    for (unsigned n = 1; n <= 4; ++n) {
+        c.now = t;
+        c.o.line_fault({"injected fault: a host character dropped", t}, LineObserver::HitChar{H, ENQ});
+        t = retry_at(t, n);
+    }
+    EXPECT_EQ(c.o.attempts(H).made, 4u);
+    EXPECT_EQ(c.o.attempts(H).hit, 4u);
+    EXPECT_TRUE(c.o.attempts(H).all_owed_hit());
+    EXPECT_EQ(c.o.attempts(C).made, 0u);
+}
+
+// The host's side: a command the controller EOT'd on a retry and the main CPU never received.
+// The cause hit the first attempt (NAKed), not the one that got the EOT: it explains nothing.
+TEST(RetriesOwed, ACauseOnAnEarlierAttemptExplainsNoLostCommand) {
+    Clocked c;
+    const proto::Frame f = resp("RETRIED"), g = resp("NEXT");
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    c.o.line_fault({"injected fault: a host character altered", 0}, LineObserver::HitChar{H, std::nullopt});
+    send(c.o, H, wire(f));
+    send(c.o, C, ctl(proto::NAK));
+    c.now = retry_at(0, 1);
+    send(c.o, H, ctl(ENQ));
+    send(c.o, C, ctl(ACK));
+    send(c.o, H, wire(f));
+    EXPECT_EQ(c.o.attempts(H).made, 2u);
+    EXPECT_EQ(c.o.attempts(H).hit, 1u);
+    send(c.o, C, ctl(EOT));
+    host_transfer(c.o, g);
+    c.o.main_received(frame_key(g));
+    c.o.finish();
+    EXPECT_EQ(c.o.commands().lost, 1u);
+    EXPECT_EQ(c.o.commands().expected, 0u);
+    EXPECT_EQ(c.o.commands().mismatches(), 1u);
 }
 
 TEST(ExpectedDrops, ACommandHitDuringItsTransferAndNeverReceivedIsExpected) {

@@ -15,8 +15,8 @@ FAIL or ---- line naming the check, and the verdict line PASSED, FAILED: ... or 
 --rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
 KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
 Each --html=TEXT must appear in report.html. Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
-`ports` (report["ports"]), `main` (report["main_cpu"]["ports"]) and `why(NAME)` (the failed
-check's explanation, "" without one) in scope: it states what the figures must be from the
+`ports` (report["ports"]), `main` (report["main_cpu"]["ports"]), `why(NAME)` (the failed
+check's explanation, "" without one) and `summary` (what rcsim printed) in scope: it states what the figures must be from the
 scenario's design, e.g. that two independent counters agree."""
 import json
 import os
@@ -96,7 +96,8 @@ def main():
             problems.append(f"report.json {key} = {got!r}, expected {value!r}")
     scope = {"report": report, "ports": report.get("ports", []),
              "main": report.get("main_cpu", {}).get("ports", []),
-             "why": lambda name: checks.get(name, {}).get("why", "")}
+             "why": lambda name: checks.get(name, {}).get("why", ""),
+             "summary": run.stdout}
     for expr in expects:
         try:
             ok = eval(expr, {"__builtins__": {"all": all, "any": any, "sum": sum, "len": len, "range": range}}, scope)
