@@ -49,6 +49,7 @@ public:
     /// narrows it, so those cycles keep the direct path and a fast-forward does not replay
     /// them to it one by one.
     void set_bus_hook_kinds(BusKinds kinds) { hook_kinds_ = hook_ ? kinds : 0; }
+    BusKinds bus_hook_kinds() const { return hook_kinds_; }
     /// Instruction-boundary observer (nullptr turns it off). Without `skipped` (debuggers,
     /// profilers: they need each instruction's time, and may stop) the fast-forward is off while
     /// it is set, so the hook sees every boundary. With `skipped` (counters) the fast-forward
