@@ -49,6 +49,7 @@ public:
     /// narrows it, so those cycles keep the direct path and a fast-forward does not replay
     /// them to it one by one.
     void set_bus_hook_kinds(BusKinds kinds) { hook_kinds_ = hook_ ? kinds : 0; }
+    BusKinds bus_hook_kinds() const { return hook_kinds_; }
     /// Instruction-boundary observer (nullptr turns it off). Without `skipped` (debuggers,
     /// profilers: they need each instruction's time, and may stop) the fast-forward is off while
     /// it is set, so the hook sees every boundary. With `skipped` (counters) the fast-forward
@@ -155,6 +156,15 @@ public:
     /// The k-th newest memory cycle the BusHandler answered with wait states, k < held_cycles().
     const HeldCycle& held_cycle(unsigned k) const { return held_ring_[(held_count_ - 1 - k) % kHeldHistory]; }
     unsigned held_cycles() const { return held_count_ < kHeldHistory ? unsigned(held_count_) : kHeldHistory; }
+    /// An observer of every change of IF as it is recorded (CLI, STI, POPF, IRET, an entry, the
+    /// reset, the fast-forward's replayed changes), in the order the core records them: a probe
+    /// that measures how long IF was 0 over any window needs each one, not only the last
+    /// kIfHistory. nullptr (the default) for none; unset it costs one test per change.
+    using IfHook = void (*)(void* context, const IfChange& change);
+    void set_if_hook(IfHook hook, void* context) {
+        if_hook_ = hook;
+        if_hook_ctx_ = context;
+    }
     /// The last instruction executed (or in progress): its boundary and CS:IP (first prefix).
     cycles_t instruction_start() const { return instr_start_; }
     std::uint16_t instruction_cs() const { return instr_cs_; }
@@ -390,7 +400,10 @@ private:
     bool check_interrupts();
     /// A change of IF by the instruction executing now, or by the entry at intr_boundary_.
     void note_if(bool enabled, IfChange::How how, std::uint8_t opcode, std::uint8_t vector = 0);
-    void push_if(const IfChange& c) { if_ring_[if_count_++ % kIfHistory] = c; }
+    void push_if(const IfChange& c) {
+        if_ring_[if_count_++ % kIfHistory] = c;
+        if (if_hook_) if_hook_(if_hook_ctx_, c);
+    }
     void note_held(Bus kind, std::uint32_t addr, cycles_t start, unsigned waits);
 
     // ---- idle fast-forward (idle.cpp) ----
@@ -638,6 +651,8 @@ private:
     std::array<IfChange, kIfHistory> if_ring_{};      // newest at if_count_ - 1
     std::array<HeldCycle, kHeldHistory> held_ring_{}; // newest at held_count_ - 1
     std::uint64_t if_count_ = 0, held_count_ = 0;
+    IfHook if_hook_ = nullptr;
+    void* if_hook_ctx_ = nullptr;
     cycles_t intr_boundary_ = 0;
     bool intr_from_halt_ = false, entry_at_boundary_ = false; // (interrupt() from check_interrupts)
 

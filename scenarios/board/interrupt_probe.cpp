@@ -1,6 +1,7 @@
 #include "scenarios/board/interrupt_probe.h"
 
 #include "comm_cpu/cpu8086.h"
+#include "comm_cpu/i8086/disasm.h"
 
 #include <algorithm>
 
@@ -11,6 +12,7 @@ using i8086::BusRecord;
 
 double InterruptRecord::latency_us() const { return to_us(first_isr - ir_rise); }
 double InterruptRecord::service_us() const { return to_us(iret_done - first_isr); }
+double InterruptRecord::blocking_us() const { return to_us(blocking); }
 
 InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::vector<IrqLine*> ir,
                                std::uint16_t pic_io_base, std::uint32_t dpram_base,
@@ -21,6 +23,32 @@ InterruptProbe::InterruptProbe(sc_core::sc_module_name name, Cpu8086& cpu, std::
     for (IrqLine* line : ir_) sensitive << line->value_changed_event();
     dont_initialize();
     cpu_.set_bus_observer(&InterruptProbe::bus_hook, this, watched_);
+    cpu_.core().set_if_hook(&InterruptProbe::if_hook, this);
+}
+
+void InterruptProbe::if_hook(void* self, const i8086::IfChange& c) {
+    auto* probe = static_cast<InterruptProbe*>(self);
+    probe->if_clock_.change(probe->cpu_.time_of(c.cycle), c.enabled);
+}
+
+void InterruptProbe::IfClock::change(const sc_core::sc_time& at, bool enabled) {
+    // A change stamped before the last one (a fast-forward replays a loop's changes after its
+    // bus cycles) counts from the last: the running total never goes back.
+    const sc_core::sc_time t = std::max(at, last);
+    prev = last;
+    prev_off = off;
+    prev_total = total;
+    if (off) total += t - last;
+    last = t;
+    off = !enabled;
+}
+
+sc_core::sc_time InterruptProbe::IfClock::off_until(const sc_core::sc_time& t) const {
+    if (t >= last) return off ? total + (t - last) : total;
+    // Asked for a time just before the last change (a window that ends at a cycle the core
+    // has already run past): the change before it still holds there.
+    if (t >= prev) return prev_off ? prev_total + (t - prev) : prev_total;
+    return prev_total;
 }
 
 void InterruptProbe::watch_kinds() {
@@ -93,6 +121,8 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
         rec.inta2 = t;
         rec.vector = static_cast<std::uint8_t>(r.data & 0xFF);
         rec.level = rec.vector & 7;
+        rec.boundary_cycle = cpu_.core().interrupt_boundary();
+        stack_.back().begin_if_off = if_clock_.off_until(cpu_.time_of(rec.boundary_cycle));
         if (rise_pending_[rec.level]) {
             rec.ir_rise = rise_[rec.level];
             rec.has_rise = true;
@@ -101,6 +131,7 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
             rec.startup = rec.ir_rise < cpu_.time_of(cpu_.core().interrupts_enabled_at());
             rec.cause = explain_latency(track_[rec.level], rec.ir_rise, cpu_);
             track_[rec.level].close();
+            name_holder(rec);
         }
         return;
     }
@@ -135,14 +166,40 @@ std::optional<sc_core::sc_time> InterruptProbe::interrupts_enabled() const {
 }
 
 void InterruptProbe::close_top(const sc_core::sc_time& iret_done) {
-    InterruptRecord rec = stack_.back().rec;
+    const Open o = stack_.back();
+    InterruptRecord rec = o.rec;
     stack_.pop_back();
     rec.iret_done = iret_done;
     rec.done = true;
+    rec.ret_cs = o.ret_cs;
+    rec.ret_ip = o.ret_ip;
+    if (rec.path_len == 0 && o.entered) { // no write while blocking: its handler at least ran
+        rec.path[0] = rec.handler;
+        rec.path_len = 1;
+    }
+    // Blocking: all of the service up to its EOI (its level in service), IF = 0 after it; the
+    // nested services' own windows taken out of each part.
+    const sc_core::sc_time if_off_end = if_clock_.off_until(iret_done);
+    if (rec.has_eoi && rec.eoi < iret_done) {
+        rec.blocking = (rec.eoi - rec.first_isr) - o.nested_before_eoi;
+        const sc_core::sc_time after = if_off_end - o.eoi_if_off;
+        if (after > o.nested_if_off) rec.blocking += after - o.nested_if_off;
+    } else {
+        rec.blocking = (iret_done - rec.first_isr) - o.nested_before_eoi;
+    }
+    if (!stack_.empty()) { // nested: its window [boundary, iret_done] is not its parent's
+        Open& parent = stack_.back();
+        const sc_core::sc_time from = cpu_.time_of(rec.boundary_cycle);
+        if (!parent.rec.has_eoi) parent.nested_before_eoi += iret_done - from;
+        else parent.nested_if_off += if_off_end - o.begin_if_off;
+    }
+    recent_[recent_n_++ % kRecent] = rec;
     const unsigned level = rec.level & 7;
     if (rec.startup) {
         startup_.push_back(rec);
     } else {
+        blocking_[level].add(rec.blocking_us());
+        if (!longest_[level].done || rec.blocking > longest_[level].blocking) longest_[level] = rec;
         ++count_[level];
         if (rec.has_rise) {
             latency_[level].add(rec.latency_us());
@@ -216,6 +273,7 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r) {
             o.entered = true;
             o.rec.handler = handler;
             o.rec.first_isr = cpu_.time_of(r.start + 4 + r.wait_states);
+            if (fifo_level && o.rec.level < 3) o.rec.rx_fifo_level = fifo_level(o.rec.level);
             if (o.rec.has_rise) finish_latency_cause(o.rec.cause, o.rec.ir_rise, o.rec.first_isr, cpu_, dpram_base_, 0x400);
             return true;
         }
@@ -232,6 +290,7 @@ void InterruptProbe::on_handler_cycle(const BusRecord& r) {
         if (r.address == pic_io_base_ && (r.data & 0x18) == 0 && (r.data & 0x20) && !o.rec.has_eoi) {
             o.rec.eoi = cpu_.time_of(r.start);
             o.rec.has_eoi = true;
+            o.eoi_if_off = if_clock_.off_until(o.rec.eoi);
         }
         break;
     case Bus::mem_read:
@@ -240,6 +299,9 @@ void InterruptProbe::on_handler_cycle(const BusRecord& r) {
         break;
     case Bus::mem_write:
         if (r.address - dpram_base_ < dpram_size_) o.rec.dpram_writes += r.width;
+        // Blocking now (IF = 0, or no EOI yet): a write deeper in the stack than any before may
+        // come from a deeper routine.
+        if (!(cpu_.core().regs().flags & i8086::flag::IF) || !o.rec.has_eoi) sample_path(o, r);
         break;
     case Bus::code_fetch: {
         const std::uint32_t ret = ((std::uint32_t(o.ret_cs) << 4) + o.ret_ip) & 0xFFFFF;
@@ -279,6 +341,132 @@ std::vector<const InterruptRecord*> InterruptProbe::of_level(unsigned level) con
     for (const auto& r : done_)
         if (r.level == level) out.push_back(&r);
     return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Call paths, read off the stack: a word is a return address when the bytes before the code it
+// points at decode as a CALL (near: E8, FF /2; far: 9A, FF /3) that ends exactly there.
+
+namespace {
+
+using i8086::Flow;
+
+// Whether a CALL of kind `flow` ends at cs:ip. `*inside` gets an address inside the routine it
+// called: its target for a direct call (E8, 9A), else 0 (the bytes do not name it).
+bool call_ending_at(Cpu8086& cpu, std::uint16_t cs, std::uint16_t ip, Flow flow, std::uint32_t* inside) {
+    const std::uint32_t linear = i8086::Cpu::linear(cs, ip);
+    std::uint8_t b[i8086::kLongestInstruction + 1];
+    for (unsigned len = 2; len <= sizeof b; ++len) {
+        if (ip < len || !cpu.debug_read(linear - len, b, len)) continue;
+        const i8086::Decoded d = i8086::decode(b, len);
+        if (d.length != len || d.flow != flow) continue;
+        const std::uint8_t* op = b + d.prefixes;
+        *inside = 0;
+        if (d.opcode == 0xE8)
+            *inside = i8086::Cpu::linear(cs, static_cast<std::uint16_t>(ip + (op[1] | op[2] << 8)));
+        else if (d.opcode == 0x9A)
+            *inside = i8086::Cpu::linear(static_cast<std::uint16_t>(op[3] | op[4] << 8),
+                                         static_cast<std::uint16_t>(op[1] | op[2] << 8));
+        return true;
+    }
+    return false;
+}
+
+} // namespace
+
+unsigned InterruptProbe::walk_stack(std::uint32_t from, std::uint32_t to, std::uint16_t cs, std::uint32_t skip,
+                                    std::uint32_t* out, unsigned max) {
+    // Upward from the top of the stack (the deepest call first), reversed at the end.
+    struct Call {
+        std::uint32_t ret, inside;
+    };
+    std::array<Call, 2 * InterruptRecord::kMaxPath> calls{};
+    unsigned n = 0;
+    const auto word = [&](std::uint32_t a, std::uint16_t* w) {
+        std::uint8_t b[2];
+        if (a == skip || a + 1 == skip || !cpu_.debug_read(a, b, 2)) return false;
+        *w = static_cast<std::uint16_t>(b[0] | b[1] << 8);
+        return true;
+    };
+    for (std::uint32_t a = from; a + 2 <= to && n < calls.size(); a += 2) {
+        std::uint16_t ip = 0, seg = 0;
+        if (!word(a, &ip)) continue;
+        std::uint32_t inside = 0;
+        if (a + 4 <= to && word(a + 2, &seg) && call_ending_at(cpu_, seg, ip, Flow::call_far, &inside)) {
+            calls[n++] = {i8086::Cpu::linear(seg, ip), inside};
+            a += 2; // its CS
+        } else if (call_ending_at(cpu_, cs, ip, Flow::call_near, &inside)) {
+            calls[n++] = {i8086::Cpu::linear(cs, ip), inside};
+        }
+    }
+    // Outermost first: each call names the routine it called (its target), or, for an indirect
+    // call, the next return address (inside that routine) or `out`'s caller's current address.
+    unsigned m = 0;
+    for (unsigned k = n; k-- > 0 && m < max;) {
+        if (calls[k].inside) out[m++] = calls[k].inside;
+        else if (k > 0) out[m++] = calls[k - 1].ret;
+        else out[m++] = 0; // the deepest: the caller puts the current instruction there
+    }
+    return m;
+}
+
+void InterruptProbe::sample_path(Open& o, const BusRecord& r) {
+    const i8086::Cpu& core = cpu_.core();
+    const i8086::Registers& regs = core.regs();
+    std::uint32_t sp = i8086::Cpu::linear(regs.s[i8086::SS], regs.r[i8086::SP]);
+    if (r.address < sp && sp - r.address <= 2) sp = r.address; // a push whose SP is not yet down
+    // Only deeper than before, and only on the stack the entry pushed to (a handler that
+    // switches stacks is not walked: 1 KB bounds the walk).
+    if (sp >= o.deepest_sp || o.pushes < 3 || sp >= o.ip_slot || o.ip_slot - sp > 0x400) return;
+    o.deepest_sp = sp;
+    std::array<std::uint32_t, 2 * InterruptRecord::kMaxPath> called{};
+    const unsigned n = walk_stack(sp, o.ip_slot, o.new_cs, r.address, called.data(), unsigned(called.size()));
+    const std::uint32_t here = i8086::Cpu::linear(core.instruction_cs(), core.instruction_ip());
+    InterruptRecord& rec = o.rec;
+    // The handler, then the deepest kMaxPath - 1 routines called.
+    rec.path[0] = rec.handler;
+    rec.path_len = 1;
+    for (unsigned k = n > InterruptRecord::kMaxPath - 1 ? n - (InterruptRecord::kMaxPath - 1) : 0; k < n; ++k)
+        rec.path[rec.path_len++] = called[k] ? called[k] : here;
+}
+
+// The service or main-program code that held the IF = 0 stretch of the latency being explained.
+void InterruptProbe::name_holder(InterruptRecord& rec) {
+    const LatencyCause::IfOff& f = rec.cause.if_off;
+    if (!f.valid || !f.has_off) return;
+    if (f.off.how == i8086::IfChange::How::entry) {
+        // A service entered at that boundary: still open (it let this one nest), or closed lately.
+        const InterruptRecord* holder = nullptr;
+        for (std::size_t k = 0; k + 1 < stack_.size(); ++k)
+            if (stack_[k].rec.boundary_cycle == f.off.cycle) holder = &stack_[k].rec;
+        for (unsigned k = 0; k < kRecent && k < recent_n_ && !holder; ++k) {
+            const InterruptRecord& c = recent_[(recent_n_ - 1 - k) % kRecent];
+            if (c.boundary_cycle == f.off.cycle) holder = &c;
+        }
+        if (!holder) return;
+        rec.holder_service = true;
+        rec.holder_level = int(holder->level);
+        rec.holder_path = holder->path;
+        rec.holder_path_len = holder->path_len;
+        if (holder->path_len == 0) { // it wrote nothing while blocking: its handler at least
+            rec.holder_path[0] = holder->handler;
+            rec.holder_path_len = 1;
+        }
+        rec.holder_ret_cs = holder->ret_cs ? holder->ret_cs : f.off.cs;
+        rec.holder_ret_ip = holder->ret_cs ? holder->ret_ip : f.off.ip;
+        return;
+    }
+    if (f.off.how != i8086::IfChange::How::instruction || stack_.size() > 1) return;
+    // Main-program code (CLI, POPF): the routines on its stack now (no frame bounds it: 64 words),
+    // then the instruction that cleared IF.
+    const i8086::Registers& regs = cpu_.core().regs();
+    const std::uint32_t sp = i8086::Cpu::linear(regs.s[i8086::SS], regs.r[i8086::SP]);
+    std::array<std::uint32_t, InterruptRecord::kMaxPath> called{};
+    const unsigned n = walk_stack(sp, sp + 128, f.off.cs, ~0u, called.data(), InterruptRecord::kMaxPath - 1);
+    rec.holder_path_len = 0;
+    for (unsigned k = 0; k < n; ++k)
+        if (called[k]) rec.holder_path[rec.holder_path_len++] = called[k];
+    rec.holder_path[rec.holder_path_len++] = i8086::Cpu::linear(f.off.cs, f.off.ip);
 }
 
 } // namespace rcsim

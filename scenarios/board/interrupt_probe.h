@@ -56,6 +56,34 @@ struct InterruptRecord {
     std::uint64_t dpram_writes = 0;
     LatencyCause cause;            // what held it (known with an IR rise)
 
+    /// The part of its own service [first_isr, iret_done] (the interrupts nested in it left out) that
+    /// kept other requests waiting: IF = 0, or its level still in service in the 8259A (before its
+    /// EOI; the whole service when it sends none). IF changes count from the boundary of the
+    /// instruction that made them (i8086::IfChange::cycle).
+    sc_core::sc_time blocking;
+    double blocking_us() const;
+    /// What ran while it blocked: the call path to the deepest routine that ran while the service
+    /// was blocking (linear code addresses, outermost first: [0] the handler's entry, then one
+    /// address inside each routine called, the last inside the deepest routine). path_len 0: unknown.
+    static constexpr unsigned kMaxPath = 8;
+    std::array<std::uint32_t, kMaxPath> path{};
+    unsigned path_len = 0;
+    /// Where it interrupted: the return address its entry pushed (CS:IP).
+    std::uint16_t ret_cs = 0, ret_ip = 0;
+    /// The boundary at which the CPU took it (the cycle of its entry's IF change).
+    i8086::cycles_t boundary_cycle = 0;
+    /// RS-232 sources: the RX FIFO level of the level's port at first_isr (InterruptProbe::fifo_level).
+    unsigned rx_fifo_level = 0;
+    /// The cause's IF = 0 stretch was held by a service (the off change is its entry): that service's
+    /// level, handler, call path and the location it interrupted. Main-program code held it
+    /// (a CLI or POPF): holder_level -1, holder_path the main program's call path at the CLI's
+    /// routine (outermost first, the last the clearing instruction). holder_path_len 0: unknown.
+    int holder_level = -1;
+    std::array<std::uint32_t, kMaxPath> holder_path{};
+    unsigned holder_path_len = 0;
+    bool holder_service = false; // an interrupt service held it (else main-program code)
+    std::uint16_t holder_ret_cs = 0, holder_ret_ip = 0;
+
     double latency_us() const;
     double service_us() const;
 };
@@ -114,6 +142,15 @@ public:
     std::optional<sc_core::sc_time> interrupts_enabled() const;
     const Samples& latency_us(unsigned level) const { return latency_[level & 7]; }
     const Samples& service_us(unsigned level) const { return service_[level & 7]; }
+    /// The blocking time of every service of the level after start-up (InterruptRecord::blocking).
+    const Samples& blocking_us(unsigned level) const { return blocking_[level & 7]; }
+    /// The level's service with the longest blocking time (the first of equals; start-up
+    /// excluded), nullptr when none.
+    const InterruptRecord* longest_blocking(unsigned level) const {
+        return longest_[level & 7].done ? &longest_[level & 7] : nullptr;
+    }
+    /// The RX FIFO level of the port of an 8259A level, read at each first_isr (unset: 0).
+    std::function<unsigned(unsigned level)> fifo_level;
     /// The records of the level's longest latencies, with their causes.
     const WorstLatencies& worst(unsigned level) const { return worst_[level & 7]; }
 
@@ -182,7 +219,35 @@ private:
         std::uint16_t ret_ip = 0, ret_cs = 0;
         bool entered = false;               // first handler fetch seen
         bool popped = false;                // the return IP was read back
+        sc_core::sc_time eoi_if_off;        // IfClock::off_until at its EOI
+        sc_core::sc_time nested_before_eoi; // wall time of nested services before its EOI
+        sc_core::sc_time nested_if_off;     // IF = 0 time of nested services after its EOI
+        sc_core::sc_time begin_if_off;      // IfClock::off_until at its entry's boundary
+        std::uint32_t deepest_sp = ~0u;     // lowest stack address of a walk while blocking
     };
+    /// The running total of IF = 0 time, fed by the core's IF changes (i8086::Cpu::set_if_hook):
+    /// the IF = 0 part of any window [a, b] is off_until(b) - off_until(a).
+    struct IfClock {
+        bool off = true; // IF = 0 from the reset
+        sc_core::sc_time last, total;                   // the last change, IF = 0 time up to it
+        bool prev_off = true;
+        sc_core::sc_time prev, prev_total;              // the change before it
+        void change(const sc_core::sc_time& t, bool enabled);
+        sc_core::sc_time off_until(const sc_core::sc_time& t) const;
+    } if_clock_;
+    static void if_hook(void* self, const i8086::IfChange& c);
+    /// The last services closed, for the holder of a later latency's IF = 0 stretch.
+    static constexpr unsigned kRecent = 4;
+    std::array<InterruptRecord, kRecent> recent_{};
+    unsigned recent_n_ = 0;
+    void name_holder(InterruptRecord& rec);
+    /// Return addresses on the stack in [from, to) (near: in code segment `cs`), outermost first,
+    /// appended to `out` (at most `max`); the word at `skip` is left out (being written now).
+    unsigned walk_stack(std::uint32_t from, std::uint32_t to, std::uint16_t cs, std::uint32_t skip,
+                        std::uint32_t* out, unsigned max);
+    void sample_path(Open& o, const i8086::BusRecord& r);
+    std::array<Samples, 8> blocking_;
+    std::array<InterruptRecord, 8> longest_{};
     std::vector<Open> stack_;
     std::vector<InterruptRecord> held_; // completed, some interrupt entered before them still open
     std::array<std::uint64_t, 8> count_{};

@@ -91,8 +91,8 @@ void find_off(LatencyCause::IfOff& f, const sc_time& a, unsigned k, const i8086:
 
 // A stretch [a, until) with IF = 0; its details are the cause's when it is the longest one.
 void disabled(LatencyCause& c, const LatencyCause::IfOff& f) {
-    add(c, LatencyPhase{Kind::interrupts_disabled, -1, f.from, f.until});
-    if (!c.if_off.valid || f.until - f.from > c.if_off.until - c.if_off.from) c.if_off = f;
+    add(c, LatencyPhase{Kind::interrupts_disabled, -1, f.from, f.to});
+    if (!c.if_off.valid || f.to - f.from > c.if_off.to - c.if_off.from) c.if_off = f;
 }
 
 // A stretch [a, b) in which INT was up but the CPU took nothing, ended by the 8259A (another
@@ -107,15 +107,19 @@ void waited(LatencyCause& c, LatencyPhase p, Kind otherwise, const i8086::Cpu& c
     LatencyCause::IfOff f;
     f.valid = true;
     f.from = p.from;
-    f.until = p.to;
+    f.to = f.until = p.to;
     f.has_on = false;
+    // IF came back with the first set after the stretch began (before or after the 8259A ended
+    // it; the newest change is the one that let this interrupt in at the latest): the walk goes
+    // from the newest change back, the last set seen is the first.
     for (unsigned k = 0; k < core.if_changes(); ++k) {
         const i8086::IfChange& ch = core.if_change(k);
         const sc_time t = cpu.time_of(ch.cycle);
         if (t <= p.from) break;
-        if (ch.enabled && t <= p.to && !f.has_on) {
+        if (ch.enabled) {
             f.on = ch;
             f.has_on = true;
+            f.until = t;
         }
     }
     find_off(f, p.from, 0, core, cpu);
@@ -144,7 +148,7 @@ void cpu_side(LatencyCause& c, const sc_time& a, const sc_time& b, Cpu8086& cpu)
             LatencyCause::IfOff f;
             f.valid = true;
             f.from = a;
-            f.until = end;
+            f.to = f.until = end;
             f.on = on;
             f.has_on = true;
             find_off(f, a, 1, core, cpu);

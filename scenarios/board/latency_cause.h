@@ -63,14 +63,16 @@ struct LatencyCause {
     sc_core::sc_time cause_time;
     sc_core::sc_time boundary; // where the CPU took the interrupt (the entry's start)
 
-    /// The longest stretch [from, until) with IF = 0 (interrupts_disabled): the change that
-    /// cleared IF (`off`, at `since`; has_off false when the core's history does not reach back
-    /// to it) and the one that set it again (`on`; `until` the end of that instruction, or of the
-    /// stretch when the 8259A ended it: another request was taken).
+    /// The longest stretch [from, to) of the latency with IF = 0 (interrupts_disabled): the change
+    /// that cleared IF (`off`, at `since`; has_off false when the core's history does not reach
+    /// back to it) and the one that set it again (`on`, the first after `from`; `until` when IF
+    /// came back: the end of that instruction when the CPU took this interrupt right after it,
+    /// else the boundary it began at). `to` is `until` unless the 8259A ended the stretch first
+    /// (another request was taken): then the stretch's end, and IF came back later or earlier.
     struct IfOff {
         bool valid = false, has_off = false, has_on = false;
         i8086::IfChange off, on;
-        sc_core::sc_time from, since, until;
+        sc_core::sc_time from, since, until, to;
     } if_off;
 
     /// The instruction the CPU had to finish (instruction): where and when it began, its bytes.

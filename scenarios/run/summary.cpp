@@ -1,10 +1,14 @@
 // rcsim — the printed summary of a report (what `rcsim run` shows on the terminal).
 #include "scenarios/run/runner.h"
 
+#include <algorithm>
 #include <cctype>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace rcsim {
 
@@ -232,6 +236,27 @@ void print_first_cause(const nlohmann::json& r, std::ostream& os) {
     for (const auto& w : warnings) os << "\nwarning: " << w.get<std::string>();
 }
 
+/// Every kind of phase (with its source) that took 10 % or more of a latency, longest first:
+/// "    phases: interrupts_disabled 171.7 us, in_service rs232_1 145.4 us" (the text names the
+/// largest only).
+void print_phases(const nlohmann::json& worst, std::ostream& os) {
+    if (!worst.contains("phases") || !worst["latency_us"].is_number()) return;
+    const double latency = worst["latency_us"].get<double>();
+    std::vector<std::pair<std::string, double>> kinds; // in order of first appearance
+    for (const auto& p : worst["phases"]) {
+        const std::string name = p["phase"].get<std::string>() + (p.contains("source") ? " " + p["source"].get<std::string>() : "");
+        auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == name; });
+        if (it == kinds.end()) kinds.emplace_back(name, p["us"].get<double>());
+        else it->second += p["us"].get<double>();
+    }
+    std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(1);
+    for (const auto& [name, us] : kinds)
+        if (latency > 0 && us >= 0.1 * latency) line << (line.tellp() > 0 ? ", " : "") << name << " " << us << " us";
+    if (line.tellp() > 0) os << "    phases of 10 % or more: " << line.str() << "\n";
+}
+
 /// The longest latency of each source with what held it, and how many were over the budget
 /// (report.json "interrupts".SOURCE."worst", docs/scenarios.md "Latency causes").
 void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
@@ -247,6 +272,7 @@ void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
         body << "  " << name << " latency max " << std::setprecision(1) << top["latency_us"].get<double>() << " us at "
              << std::setprecision(3) << top["ir_rise_us"].get<double>() << " us: " << top.value("text", std::string("?"))
              << "\n";
+        print_phases(top, body);
         const std::uint64_t over = in[name]["over_budget"].is_number() ? in[name]["over_budget"].get<std::uint64_t>() : 0;
         if (over > 0) {
             std::size_t listed = 0;

@@ -57,12 +57,12 @@ int entry_level(const i8086::IfChange& c, unsigned vector_base) {
 }
 
 // An IF change in words: "CLI at F000:011A, cli_here", "reset at FFFF:0000", "entry of the rs232_0
-// interrupt at F000:0973, main" (the code it interrupted).
+// interrupt" (where it interrupted is no place IF = 0 was held at: said apart, "interrupted at").
 std::string change_at(const i8086::IfChange& c, unsigned vector_base, const SymbolOf& symbol) {
     std::string what = change_name(c);
     if (c.how == i8086::IfChange::How::entry) {
         const int level = entry_level(c, vector_base);
-        what = "entry of the " + (level >= 0 ? source_name(unsigned(level)) : "vector " + hex2(c.vector) + "h") +
+        return "entry of the " + (level >= 0 ? source_name(unsigned(level)) : "vector " + hex2(c.vector) + "h") +
                " interrupt";
     }
     std::string s = what + " at " + seg_off(c.cs, c.ip);
@@ -78,12 +78,46 @@ void put_code(json& j, const char* at_key, const char* symbol_key, std::uint16_t
     if (!s.empty()) j[symbol_key] = s;
 }
 
+std::string joined(const std::vector<std::string>& names) {
+    std::string s;
+    for (const std::string& n : names) s += (s.empty() ? "" : " > ") + n;
+    return s;
+}
+
+// The location the service that held IF = 0 had interrupted (its entry's return address).
+bool interrupted_at(const InterruptRecord& r, std::uint16_t* cs, std::uint16_t* ip) {
+    const auto& f = r.cause.if_off;
+    if (r.holder_service) {
+        *cs = r.holder_ret_cs;
+        *ip = r.holder_ret_ip;
+        return true;
+    }
+    if (f.valid && f.has_off && f.off.how == i8086::IfChange::How::entry) {
+        *cs = f.off.cs;
+        *ip = f.off.ip;
+        return true;
+    }
+    return false;
+}
+
+// "; held by isr0 > routine_a > routine_b, interrupted at F000:0119 (idle+0x3)" for the IF = 0
+// stretch, "" when nothing names its holder.
+std::string held_by(const InterruptRecord& r, const SymbolOf& symbol) {
+    std::string s;
+    const std::string path = joined(path_names(r.holder_path.data(), r.holder_path_len, symbol));
+    if (!path.empty()) s = r.holder_service ? "; held by " + path : "; held by main-program code " + path;
+    std::uint16_t cs = 0, ip = 0;
+    if (interrupted_at(r, &cs, &ip)) s += (s.empty() ? "; " : ", ") + std::string("interrupted at ") + where(cs, ip, symbol);
+    return s;
+}
+
 json detail_json(const LatencyCause& c, unsigned vector_base, const SymbolOf& symbol) {
     json d = json::object();
     if (c.if_off.valid) {
         const auto& f = c.if_off;
         json j;
         j["from_us"] = to_us(f.from);
+        j["to_us"] = to_us(f.to);
         j["until_us"] = to_us(f.until);
         if (f.has_on) {
             j["enabled_by"] = change_name(f.on);
@@ -135,7 +169,7 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
                        : " since before " + at_us(f.from) + " us";
         s += " until " + at_us(f.until) + " us";
         if (f.has_on) s += " (" + change_at(f.on, vector_base, symbol) + ")";
-        return s + "; " + took + " of the latency";
+        return s + held_by(r, symbol) + "; " + took + " of the latency";
     }
     case Kind::in_service:
         if (c.cause_level == int(r.level))
@@ -166,6 +200,10 @@ json latency_cause_json(const InterruptRecord& r, unsigned vector_base, const Sy
     j["latency_us"] = r.has_rise ? json(to_us(r.first_isr - r.ir_rise)) : json();
     j["ir_rise_us"] = r.has_rise ? json(to_us(r.ir_rise)) : json();
     j["first_isr_us"] = to_us(r.first_isr);
+    j["service_us"] = r.service_us();
+    j["blocking_us"] = r.blocking_us();
+    j["path"] = path_names(r.path.data(), r.path_len, symbol);
+    if (r.level < 3) j["rx_fifo_level"] = r.rx_fifo_level;
     const LatencyCause& c = r.cause;
     if (!c.known) return j;
     j["boundary_us"] = to_us(c.boundary);
@@ -180,7 +218,28 @@ json latency_cause_json(const InterruptRecord& r, unsigned vector_base, const Sy
         phases.push_back(q);
     }
     j["phases"] = phases;
+    if (c.if_off.valid) {
+        j["if_on_us"] = to_us(c.if_off.until);
+        if (r.holder_path_len) {
+            j["holder"] = path_names(r.holder_path.data(), r.holder_path_len, symbol);
+            j["holder_source"] = r.holder_service ? source_name(unsigned(r.holder_level)) : "main";
+        }
+        std::uint16_t cs = 0, ip = 0;
+        if (interrupted_at(r, &cs, &ip)) put_code(j, "interrupted_at", "interrupted_symbol", cs, ip, symbol);
+    }
     return j;
+}
+
+std::vector<std::string> path_names(const std::uint32_t* path, unsigned n, const SymbolOf& symbol) {
+    std::vector<std::string> out;
+    for (unsigned k = 0; k < n; ++k) {
+        std::string s = symbol ? symbol(path[k]) : std::string();
+        const std::size_t plus = s.find('+');
+        if (plus != std::string::npos) s.resize(plus);
+        if (s.empty()) s = hex(path[k], 5);
+        if (out.empty() || out.back() != s) out.push_back(s);
+    }
+    return out;
 }
 
 void add_latency_causes(json& interrupts, const World& w, double budget_us, const SymbolOf& symbol) {

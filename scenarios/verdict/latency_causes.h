@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace rcsim {
 
@@ -18,8 +19,15 @@ class World;
 /// The code symbol holding a linear address ("main", "rs232_isr+0x1C"), "" where none is known.
 using SymbolOf = std::function<std::string(std::uint32_t linear)>;
 
+/// The routines of a call path (InterruptRecord::path, holder_path), outermost first: each
+/// address's symbol without its offset ("rs232_isr"), consecutive repeats once; an address without
+/// a symbol as its linear address in hex ("F0123").
+std::vector<std::string> path_names(const std::uint32_t* path, unsigned n, const SymbolOf& symbol);
+
 /// One record's latency and cause: {"latency_us", "ir_rise_us", "boundary_us", "first_isr_us",
-/// "cause", "text", "detail", "phases"}. `vector_base`: the 8259A's ICW2 (names the level of an
+/// "cause", "text", "detail", "phases"}, its own service ("service_us", "blocking_us", "path",
+/// "rx_fifo_level") and, when IF = 0 held it, who held it ("holder", "holder_source",
+/// "interrupted_at", "interrupted_symbol", "if_on_us"; docs/scenarios.md "Latency causes"). `vector_base`: the 8259A's ICW2 (names the level of an
 /// interrupt entry that cleared IF); `symbol` may be empty.
 nlohmann::json latency_cause_json(const InterruptRecord& r, unsigned vector_base, const SymbolOf& symbol);
 /// Its cause in words: "interrupts disabled (IF=0) since 0.000 us at FFFF:0000 (reset), ...".

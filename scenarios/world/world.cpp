@@ -56,6 +56,7 @@ World::World(sc_core::sc_module_name name, const Scenario& s)
     if (s.program) load_program(*s.program);
     probe.keep_records(false);
     probe.watch_pic(ctl.comm.pic); // what the 8259A held each request for (latency causes)
+    probe.fifo_level = [this](unsigned level) { return ctl.comm.uart[level].rx_level(); }; // IR0..2: port 0..2
     ctl.main.keep_history(false);
     ctl.main.on_received = [this](const FrameRecord& f) {
         if (f.port < kPorts)

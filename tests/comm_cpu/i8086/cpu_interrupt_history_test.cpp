@@ -209,3 +209,31 @@ TEST(CpuInterruptHistory, TheFastForwardKeepsTheHistory) {
         }
     }
 }
+
+namespace {
+
+void collect(void* out, const IfChange& c) { static_cast<std::vector<IfChange>*>(out)->push_back(c); }
+
+} // namespace
+
+// The IF hook (Cpu::set_if_hook) sees every change, in order, each as the history records it: all
+// of them, not the last kIfHistory; a forwarded loop's changes too, the same as executed.
+TEST(CpuInterruptHistory, TheIfHookSeesEveryChangeForwardedOrNot) {
+    constexpr cycles_t irq = 150'013;
+    Board on, off;
+    std::vector<IfChange> seen_on, seen_off;
+    on.cpu.set_if_hook(&collect, &seen_on);
+    off.cpu.set_if_hook(&collect, &seen_off);
+    cli_sti_loop(on, true, irq, 1009);
+    cli_sti_loop(off, false, irq, 1009);
+    ASSERT_GT(on.cpu.forwarded_cycles(), irq / 2);
+    // Each period of the loop (CLI 2, IN 10 + 1 Tw, STI 2, NOP 3, JMP 15: at least 32 clocks)
+    // clears and sets IF: thousands of changes, far more than the history keeps.
+    ASSERT_GT(seen_off.size(), 2 * (irq / 40));
+    ASSERT_EQ(seen_on.size(), seen_off.size());
+    for (std::size_t i = 0; i < seen_on.size(); ++i) ASSERT_TRUE(same(seen_on[i], seen_off[i])) << "change " << i;
+    for (std::size_t i = 1; i < seen_off.size(); ++i) ASSERT_NE(seen_off[i].enabled, seen_off[i - 1].enabled) << i;
+    // The newest ones are the history's.
+    for (unsigned k = 0; k < off.cpu.if_changes(); ++k)
+        EXPECT_TRUE(same(off.cpu.if_change(k), seen_off[seen_off.size() - 1 - k])) << k;
+}

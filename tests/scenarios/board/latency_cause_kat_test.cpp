@@ -232,8 +232,12 @@ TEST(LatencyCauseKat, InterruptsDisabledFromCliToSti) {
     EXPECT_EQ(c.instruction.start, at_clock(until));
     // since 716 clocks = 89.5 us, until 1020 clocks = 127.5 us; 289.5 clocks = 36.1875 us.
     const std::string text = latency_cause_text(x, 0x20, symbols_of("kat_cli"));
+    // Main-program code held it: the routine of its CLI (no call on main's stack) names it.
+    EXPECT_FALSE(x.holder_service);
+    EXPECT_EQ(path_names(x.holder_path.data(), x.holder_path_len, symbols_of("kat_cli")),
+              std::vector<std::string>{"cli_here"});
     EXPECT_EQ(text, "interrupts disabled (IF=0) since 89.500 us (CLI at F000:0120, cli_here) until 127.500 us "
-                    "(STI at F000:0185, sti_here); 36.2 us of the latency")
+                    "(STI at F000:0185, sti_here); held by main-program code cli_here; 36.2 us of the latency")
         << text;
 }
 
@@ -353,4 +357,129 @@ TEST(LatencyCauseKat, DpramBusyHoldsTheBus) {
     EXPECT_EQ(text, "the bus held by DP-RAM BUSY for 8.2 us (" + std::to_string(read.wait_states) +
                         " wait states at D0010)")
         << text;
+}
+
+// (5) kat_blocking: blocking time and call paths. Each expected blocking time is, exactly, from
+// the first handler instruction (first_isr) to the boundary of the instruction that set IF again
+// (the core's own IF history: i8086::Cpu::if_change), the handler having sent its EOI before;
+// and, from the clock tables [TAB], at least the sum of the clocks of the instructions in between
+// (each in the queue), at most that with each taken LOOP's target refetched after its flush, one
+// ROM word fetch (4 + 1 Tw [BRD]) each, and 200 clocks for the other fetches:
+//   isr0: MOV AL 4, OUT 10, PUSH CX 11, CALL 19, PUSH BP 11, CALL 19, PUSH BP 11, MOV CX 4,
+//         LOOP 1000 times (17 taken, 5 the last), POP BP 8, RET 8, POP BP 8, RET 8, POP CX 8.
+//   isr1: MOV AL 4, OUT 10, then STI: IF = 1 from there, the EOI was sent before.
+namespace {
+
+constexpr std::uint64_t kLoop1000 = 999 * 17 + 5;
+constexpr std::uint64_t kIsr0Clocks = 4 + 10 + 11 + 19 + 11 + 19 + 11 + 4 + kLoop1000 + 8 + 8 + 8 + 8 + 8;
+constexpr std::uint64_t kSlack = 999 * 5 + 200;
+
+// The first IF change made by `opcode` (an instruction) after `after`, from the core's history.
+sc_time if_change_of(CpuPicDpram& b, std::uint8_t opcode, const sc_time& after) {
+    const i8086::Cpu& core = b.cpu.core();
+    sc_time found = SC_ZERO_TIME;
+    for (unsigned k = 0; k < core.if_changes(); ++k) { // newest first: the last one found is the first
+        const i8086::IfChange& c = core.if_change(k);
+        if (c.how == i8086::IfChange::How::instruction && c.opcode == opcode && b.cpu.time_of(c.cycle) > after)
+            found = b.cpu.time_of(c.cycle);
+    }
+    if (found == SC_ZERO_TIME) ADD_FAILURE() << "no IF change by opcode " << unsigned(opcode);
+    return found;
+}
+
+std::vector<std::string> names(const InterruptRecord& r) {
+    return path_names(r.path.data(), r.path_len, symbols_of("kat_blocking"));
+}
+
+} // namespace
+
+// IR0 interrupts main's loop at 600.5: isr0 blocks from its first instruction to its IRET (EOI at once, IF = 0
+// all along) through isr0 > routine_a > routine_b. IR2 rises during routine_b's loop: IF = 0 holds
+// it until isr0's IRET; the cause names isr0's path and where isr0 had interrupted (main's loop).
+TEST(BlockingKat, HandlerThroughTwoRoutinesWithInterruptsDisabled) {
+    CpuPicDpram b("board", "kat_blocking",
+                  {{mid_clock(600), 0, true}, {mid_clock(640), 0, false}, {mid_clock(2000), 2, true},
+                   {mid_clock(30000), 2, false}}); // IR2 high until its INTA [DS]
+    b.cpu.set_debug_bus_observer(nullptr, nullptr); // (it sees every cycle: the probe's kinds below)
+    sc_start(us(4500));
+    ASSERT_EQ(b.probe.records().size(), 2u);
+    const InterruptRecord& x = b.record_of(0);
+    const sc_time iret = if_change_of(b, 0xCF, x.first_isr);
+    EXPECT_EQ(x.blocking, iret - x.first_isr);
+    EXPECT_GE(x.blocking, at_clock(kIsr0Clocks));
+    EXPECT_LE(x.blocking, at_clock(kIsr0Clocks + kSlack));
+    EXPECT_LT(x.blocking, x.iret_done - x.first_isr); // the IRET itself blocks no more
+    EXPECT_EQ(names(x), (std::vector<std::string>{"isr0", "routine_a", "routine_b"}));
+    EXPECT_EQ(x.path[0], 0xF0200u); // the handler's entry
+    EXPECT_EQ(b.probe.blocking_us(0).count(), 1u);
+    ASSERT_NE(b.probe.longest_blocking(0), nullptr);
+    EXPECT_EQ(b.probe.longest_blocking(0)->blocking, x.blocking);
+    EXPECT_EQ(b.probe.longest_blocking(1), nullptr);
+    // Back in main's loop the probe watches only INTA and memory writes, as before: the paths
+    // cost the main program nothing (its fetches and reads keep the core's direct path).
+    EXPECT_EQ(b.cpu.core().bus_hook_kinds(),
+              i8086::bus_kind_bit(i8086::Bus::int_ack) | i8086::bus_kind_bit(i8086::Bus::mem_write));
+
+    const InterruptRecord& y = b.record_of(2);
+    EXPECT_EQ(y.cause.cause, Kind::interrupts_disabled);
+    ASSERT_TRUE(y.cause.if_off.has_on);
+    EXPECT_EQ(y.cause.if_off.on.opcode, 0xCF); // isr0's IRET set IF again
+    EXPECT_GE(y.cause.if_off.until, iret);     // ... at its end, where IR2 was taken
+    EXPECT_EQ(y.cause.if_off.until, y.cause.boundary);
+    EXPECT_TRUE(y.holder_service);
+    EXPECT_EQ(y.holder_level, 0);
+    EXPECT_EQ(path_names(y.holder_path.data(), y.holder_path_len, symbols_of("kat_blocking")),
+              (std::vector<std::string>{"isr0", "routine_a", "routine_b"}));
+    const std::string text = latency_cause_text(y, 0x20, symbols_of("kat_blocking"));
+    EXPECT_NE(text.find("(entry of the rs232_0 interrupt) until "), std::string::npos) << text;
+    EXPECT_NE(text.find("; held by isr0 > routine_a > routine_b, interrupted at F000:0119 (spin)"), std::string::npos)
+        << text;
+    const nlohmann::json j = latency_cause_json(y, 0x20, symbols_of("kat_blocking"));
+    EXPECT_EQ(j["holder"], (std::vector<std::string>{"isr0", "routine_a", "routine_b"}));
+    EXPECT_EQ(j["holder_source"], "rs232_0");
+    EXPECT_EQ(j["interrupted_at"], "F000:0119");
+    EXPECT_EQ(j["if_on_us"].get<double>(), to_us(y.cause.if_off.until));
+}
+
+// IR1 interrupts main at 600.5: isr1 sends its EOI and enables interrupts at once, then loops 1000 times
+// with IF = 1. It blocks only up to its STI; its service is the whole loop.
+TEST(BlockingKat, EarlyEoiAndStiBlockOnlyTheShortPart) {
+    CpuPicDpram b("board", "kat_blocking", {{mid_clock(600), 1, true}, {mid_clock(640), 1, false}});
+    sc_start(us(3000));
+    ASSERT_EQ(b.probe.records().size(), 1u);
+    const InterruptRecord& x = b.record_of(1);
+    ASSERT_TRUE(x.has_eoi);
+    EXPECT_LT(x.eoi, if_change_of(b, 0xFB, x.first_isr));
+    EXPECT_EQ(x.blocking, if_change_of(b, 0xFB, x.first_isr) - x.first_isr);
+    EXPECT_GE(x.blocking, at_clock(4 + 10));
+    EXPECT_LE(x.blocking, at_clock(4 + 10 + 20));
+    EXPECT_GE(x.iret_done - x.first_isr, at_clock(kLoop1000));
+    EXPECT_EQ(names(x), std::vector<std::string>{"isr1"});
+}
+
+// IR1 as above; IR0 rises in isr1's loop and nests (IF = 1, isr1's EOI sent): isr0 blocks as when
+// it interrupts main; isr1's blocking stays its short part, isr0's window left out of it. IR2
+// rises during isr0's loop: held by isr0, which had interrupted isr1's loop.
+TEST(BlockingKat, NestedServiceLeftOutOfItsParent) {
+    CpuPicDpram b("board", "kat_blocking",
+                  {{mid_clock(600), 1, true}, {mid_clock(640), 1, false}, {mid_clock(3000), 0, true},
+                   {mid_clock(3040), 0, false}, {mid_clock(5000), 2, true}, {mid_clock(30000), 2, false}});
+    sc_start(us(7000));
+    ASSERT_EQ(b.probe.records().size(), 3u);
+    const InterruptRecord& outer = b.record_of(1);
+    const InterruptRecord& nested = b.record_of(0);
+    EXPECT_EQ(nested.depth, 1u);
+    EXPECT_GE(nested.blocking, at_clock(kIsr0Clocks));
+    EXPECT_LE(nested.blocking, at_clock(kIsr0Clocks + kSlack));
+    EXPECT_GE(outer.blocking, at_clock(4 + 10));
+    EXPECT_LE(outer.blocking, at_clock(4 + 10 + 20));
+    EXPECT_GE(outer.iret_done - outer.first_isr, at_clock(kLoop1000 + kIsr0Clocks));
+    EXPECT_EQ(names(nested), (std::vector<std::string>{"isr0", "routine_a", "routine_b"}));
+    const InterruptRecord& y = b.record_of(2);
+    EXPECT_EQ(y.cause.cause, Kind::interrupts_disabled);
+    EXPECT_TRUE(y.holder_service);
+    EXPECT_EQ(y.holder_level, 0);
+    const std::string text = latency_cause_text(y, 0x20, symbols_of("kat_blocking"));
+    EXPECT_NE(text.find("; held by isr0 > routine_a > routine_b, interrupted at F000:024"), std::string::npos) << text;
+    EXPECT_NE(text.find("(isr1_loop)"), std::string::npos) << text;
 }

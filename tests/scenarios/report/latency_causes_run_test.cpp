@@ -8,7 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -75,6 +77,11 @@ void expect_worst_lists(const Outcome& r) {
             EXPECT_EQ(e["phases"][0]["from_us"], e["ir_rise_us"]);
             EXPECT_NE(r.html.find(html_escaped(e["text"].get<std::string>())), std::string::npos) << e["text"];
         }
+        for (const json& e : w) { // its own service, with what blocked (docs/scenarios.md "Latency causes")
+            EXPECT_LE(e["blocking_us"].get<double>(), e["service_us"].get<double>() + 1e-9);
+            EXPECT_GT(e["blocking_us"].get<double>(), 0.0);
+            EXPECT_FALSE(e["path"].empty());
+        }
         EXPECT_LE(over, i["over_budget"].get<std::uint64_t>());
         if (i["over_budget"].get<std::uint64_t>() <= 20) {
             EXPECT_EQ(over, i["over_budget"].get<std::uint64_t>());
@@ -136,4 +143,29 @@ TEST(LatencyCausesRun, AllCFirmwareWorstCasesHaveTheirCauses) {
     EXPECT_GT(in_service, 0u);
     EXPECT_NE(r.summary.find("longest latencies and their causes"), std::string::npos);
     expect_worst_lists(r);
+    // The summary's line of each source's longest latency lists every phase kind of 10 % or more
+    // of it (the text names only the largest), each with its total.
+    for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram"}) {
+        const json& w = r.report["interrupts"][name]["worst"];
+        if (w.empty()) continue;
+        const double latency = w[0]["latency_us"].get<double>();
+        std::map<std::string, double> kinds;
+        for (const json& p : w[0]["phases"])
+            kinds[p["phase"].get<std::string>() + (p.contains("source") ? " " + p["source"].get<std::string>() : "")] +=
+                p["us"].get<double>();
+        const std::size_t line = r.summary.find(std::string("  ") + name + " latency max ");
+        ASSERT_NE(line, std::string::npos) << name;
+        const std::size_t next = r.summary.find('\n', line) + 1;
+        const std::string phases = r.summary.substr(next, r.summary.find('\n', next) - next);
+        std::size_t listed = 0;
+        for (const auto& [kind, us] : kinds) {
+            char want[96];
+            std::snprintf(want, sizeof want, "%s %.1f us", kind.c_str(), us);
+            const bool shown = phases.find(want) != std::string::npos;
+            EXPECT_EQ(shown, us >= 0.1 * latency) << name << ": " << want << " in \"" << phases << "\"";
+            listed += us >= 0.1 * latency;
+        }
+        EXPECT_GE(listed, 1u);
+        EXPECT_EQ(phases.rfind("    phases of 10 % or more: ", 0), 0u) << phases;
+    }
 }
