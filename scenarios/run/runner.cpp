@@ -296,7 +296,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["interrupts"] = c.interrupts;
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     // The one judge (verdict/judge.h): the same figures and verdict the live page and Modbus show.
-    const Judgement judged = judge(world, s, Moment::end, stop_signal());
+    const Judgement judged = judge(world, s, Moment::end, stop_signal(), cause_symbols(symbols.table));
     report["table3"] = judged.table3;
     add_latency_causes(report["interrupts"], world, judged.budget.value.value_or(std::numeric_limits<double>::infinity()),
                        cause_symbols(symbols.table));

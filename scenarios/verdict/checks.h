@@ -13,6 +13,7 @@
 #include "scenarios/config/check_names.h"
 #include "scenarios/world/world.h"
 #include "scenarios/config/scenario.h"
+#include "scenarios/verdict/latency_causes.h"
 
 #include <nlohmann/json.hpp>
 
@@ -101,7 +102,9 @@ struct CheckFigures {
 /// (the reason) while the firmware has not programmed the port's character format.
 Figure char_latency_limit_us(const World& w, const Scenario& s, unsigned p);
 
-/// Every communication check that is not switched off, in report order.
-std::vector<Check> communication_checks(const World& w, const Scenario& s, const CheckFigures& f);
+/// Every communication check that is not switched off, in report order. `symbol` names the code
+/// addresses in the explanations (may be empty: addresses).
+std::vector<Check> communication_checks(const World& w, const Scenario& s, const CheckFigures& f,
+                                        const SymbolOf& symbol = {});
 
 } // namespace rcsim

@@ -177,12 +177,12 @@ CheckFigures check_figures(const World& w, const Scenario& s, const InterruptFig
     return f;
 }
 
-Judgement judge(const World& w, const Scenario& s, Moment m, int stop_signal) {
+Judgement judge(const World& w, const Scenario& s, Moment m, int stop_signal, const SymbolOf& symbol) {
     Judgement j;
     const InterruptFigures c = measure_interrupts(w);
     const CheckFigures f = check_figures(w, s, c, &j.table3);
     j.budget = f.budget;
-    j.checks = communication_checks(w, s, f);
+    j.checks = communication_checks(w, s, f, symbol);
     if (m == Moment::end)
         for (Check& ch : system_motion_checks(w, s)) j.checks.push_back(std::move(ch)); // scripted hosts, motion
     else

@@ -48,8 +48,9 @@ std::string why_no_traffic(const World& w, const Scenario& s);
 /// The figures the communication checks judge, read from the world (the same at the end and live).
 CheckFigures check_figures(const World& w, const Scenario& s, const InterruptFigures& c, nlohmann::json* table3);
 
-/// Judges the run. `stop_signal`: the signal that stopped it (0: none). At the end call it once
-/// after World::finish_observers() and World::finish().
-Judgement judge(const World& w, const Scenario& s, Moment m, int stop_signal);
+/// Judges the run. `stop_signal`: the signal that stopped it (0: none); `symbol` names code
+/// addresses in the explanations (empty: addresses). At the end call it once after
+/// World::finish_observers() and World::finish().
+Judgement judge(const World& w, const Scenario& s, Moment m, int stop_signal, const SymbolOf& symbol = {});
 
 } // namespace rcsim

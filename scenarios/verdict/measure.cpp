@@ -30,6 +30,8 @@ InterruptFigures measure_interrupts(const World& w) {
         j["count"] = w.probe.count(level);
         j["latency_us"] = samples_json(w.probe.latency_us(level));
         j["service_us"] = samples_json(w.probe.service_us(level));
+        // The part of each service that kept other requests waiting (the rule judges it).
+        j["blocking_us"] = samples_json(w.probe.blocking_us(level));
         c.interrupts[names[level]] = j;
     }
     // RS-232 interrupts that took at least one character out of the RX FIFO (the paper's

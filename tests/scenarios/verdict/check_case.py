@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Runs one scenario through the real rcsim binary and asserts its verdict.
 
-usage: check_case.py [--rom ROM] [--report KEY=JSON ...] RCSIM SCENARIO OUTDIR EXIT
+usage: check_case.py [--rom ROM] [--symbols MAP] [--report KEY=JSON ...] RCSIM SCENARIO OUTDIR EXIT
                      [FAILING_CHECK[=STATUS] ...] [--expect=EXPR ...]
 
 EXIT is the expected exit code (0 every check holds, 1 a check failed, 4 inconclusive: none failed
@@ -12,7 +12,7 @@ measured, else PASSED) and is asserted in all three places a user reads it: the 
 report.json (`verdict`, `passed`, each check's `passed` and `status`) and the printed summary (a
 FAIL or ---- line naming the check, and the verdict line PASSED, FAILED: ... or INCONCLUSIVE: ...).
 
---rom runs the scenario with that ROM image; each --report KEY=JSON asserts one report.json value,
+--rom runs the scenario with that ROM image (--symbols: its symbols); each --report KEY=JSON asserts one report.json value,
 KEY a dotted path (list elements by index: bus_errors.first.0.address), JSON its value.
 Each --html=TEXT must appear in report.html. Each --expect=EXPR is a Python expression that must be true of the report, with `report`,
 `ports` (report["ports"]), `main` (report["main_cpu"]["ports"]), `why(NAME)` (the failed
@@ -34,9 +34,9 @@ def report_value(report, key):
 def main():
     args = sys.argv[1:]
     extra, report_wants = [], []
-    while args and args[0] in ("--rom", "--report"):
-        if args[0] == "--rom":
-            extra += ["--rom", args[1]]
+    while args and args[0] in ("--rom", "--symbols", "--report"):
+        if args[0] in ("--rom", "--symbols"):
+            extra += [args[0], args[1]]
         else:
             key, _, value = args[1].partition("=")
             report_wants.append((key, json.loads(value)))
