@@ -276,8 +276,13 @@ TEST(LatencyCauseKat, HigherPriorityHandlerInService) {
     EXPECT_EQ(c.cause_time, at_clock(133));
     EXPECT_EQ(c.instruction.ip, 0x0248); // OUT 0C0h,AL
     EXPECT_EQ(c.instruction.start, at_clock(r0 + kTailOutRead + 1));
+    // The holder is IR1's service (isr1, which called nothing) that had interrupted main's HLT at
+    // F000:0119: its return address is the next instruction, F000:011A (main + 2).
+    EXPECT_TRUE(x.holder_service);
+    EXPECT_EQ(x.holder_level, 1);
     EXPECT_EQ(latency_cause_text(x, 0x20, symbols_of("kat_in_service")),
-              "the rs232_1 interrupt in service in the 8259A (higher priority) for 16.6 us");
+              "the rs232_1 interrupt in service in the 8259A (higher priority) for 16.6 us; held by isr1, "
+              "interrupted at F000:011A (main+0x2)");
 }
 
 // (3) MOV AX,5 / XOR DX,DX / MOV BX,1000h / STI / HLT; IR3 wakes it at 601, its IRET returns at
