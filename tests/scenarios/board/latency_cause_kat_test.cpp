@@ -406,6 +406,11 @@ TEST(BlockingKat, HandlerThroughTwoRoutinesWithInterruptsDisabled) {
                   {{mid_clock(600), 0, true}, {mid_clock(640), 0, false}, {mid_clock(2000), 2, true},
                    {mid_clock(30000), 2, false}}); // IR2 high until its INTA [DS]
     b.cpu.set_debug_bus_observer(nullptr, nullptr); // (it sees every cycle: the probe's kinds below)
+    std::vector<std::pair<unsigned, sc_time>> asked; // the RX FIFO levels asked for: level, when
+    b.probe.fifo_level = [&asked](unsigned level) {
+        asked.emplace_back(level, sc_time_stamp());
+        return 3u;
+    };
     sc_start(us(4500));
     ASSERT_EQ(b.probe.records().size(), 2u);
     const InterruptRecord& x = b.record_of(0);
@@ -420,6 +425,13 @@ TEST(BlockingKat, HandlerThroughTwoRoutinesWithInterruptsDisabled) {
     ASSERT_NE(b.probe.longest_blocking(0), nullptr);
     EXPECT_EQ(b.probe.longest_blocking(0)->blocking, x.blocking);
     EXPECT_EQ(b.probe.longest_blocking(1), nullptr);
+    // The RX FIFO level is read once per RS-232 service, when its handler begins (the kernel's
+    // time at most a slice behind first_isr), and kept with the record.
+    ASSERT_EQ(asked.size(), 2u);
+    EXPECT_EQ(asked[0].first, 0u);
+    EXPECT_EQ(asked[1].first, 2u);
+    EXPECT_LE(asked[0].second, x.first_isr);
+    EXPECT_EQ(x.rx_fifo_level, 3u);
     // Back in main's loop the probe watches only INTA and memory writes, as before: the paths
     // cost the main program nothing (its fetches and reads keep the core's direct path).
     EXPECT_EQ(b.cpu.core().bus_hook_kinds(),
