@@ -500,3 +500,34 @@ TEST(BlockingKat, NestedServiceLeftOutOfItsParent) {
     EXPECT_NE(text.find("; held by isr0 > routine_a > routine_b, interrupted at F000:024"), std::string::npos) << text;
     EXPECT_NE(text.find("(isr1_loop)"), std::string::npos) << text;
 }
+
+// (6) kat_main_hold: IR3 rises at 400.5, while hold_irqs (called by main) runs with IF = 0. The
+// cause is interrupts_disabled since hold_irqs's CLI, until IF came back with its STI: the end of
+// the STI (2 clocks [TAB]) when the next instruction, RET, begins (at most one ROM fetch, 4 + 1 Tw
+// [BRD], later), and the holder is main-program code in hold_irqs.
+TEST(BlockingKat, MainProgramCliToStiNamesItsRoutine) {
+    CpuPicDpram b("board", "kat_main_hold", {{mid_clock(400), 3, true}, {mid_clock(4000), 3, false}});
+    sc_start(us(1000));
+    ASSERT_EQ(b.probe.records().size(), 1u);
+    const InterruptRecord& x = b.record_of(3);
+    EXPECT_FALSE(x.startup);
+    const LatencyCause& c = x.cause;
+    EXPECT_EQ(c.cause, Kind::interrupts_disabled);
+    ASSERT_TRUE(c.if_off.has_off && c.if_off.has_on);
+    EXPECT_EQ(c.if_off.off.opcode, 0xFA);
+    EXPECT_EQ(c.if_off.off.ip, 0x0800);
+    EXPECT_EQ(c.if_off.on.opcode, 0xFB);
+    const sc_time sti = b.cpu.time_of(c.if_off.on.cycle);
+    EXPECT_GE(c.if_off.until, sti + at_clock(2));
+    EXPECT_LE(c.if_off.until, sti + at_clock(2 + 5));
+    EXPECT_FALSE(x.holder_service);
+    EXPECT_EQ(path_names(x.holder_path.data(), x.holder_path_len, symbols_of("kat_main_hold")),
+              std::vector<std::string>{"hold_irqs"});
+    const std::string text = latency_cause_text(x, 0x20, symbols_of("kat_main_hold"));
+    EXPECT_NE(text.find("(CLI at F000:0800, hold_irqs) until "), std::string::npos) << text;
+    EXPECT_NE(text.find("(STI at F000:0806, sti_here); held by main-program code hold_irqs; "), std::string::npos)
+        << text;
+    const nlohmann::json j = latency_cause_json(x, 0x20, symbols_of("kat_main_hold"));
+    EXPECT_EQ(j["holder_source"], "main");
+    EXPECT_FALSE(j.contains("interrupted_at"));
+}
