@@ -131,7 +131,6 @@ void InterruptProbe::on_inta(const BusRecord& r, const sc_core::sc_time& t) {
             rec.startup = rec.ir_rise < cpu_.time_of(cpu_.core().interrupts_enabled_at());
             rec.cause = explain_latency(track_[rec.level], rec.ir_rise, cpu_);
             track_[rec.level].close();
-            name_holder(rec);
         }
         return;
     }
@@ -265,6 +264,7 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r) {
             o.ip_slot = at;
         }
         ++o.pushes;
+        if (o.pushes == 3 && o.entered && o.rec.has_rise) name_holder(o); // the first fetch came first
         return true;
     }
     if (r.kind == Bus::code_fetch && o.ivt_reads == 2 && !o.entered) {
@@ -274,7 +274,10 @@ bool InterruptProbe::on_entry_cycle(Open& o, const BusRecord& r) {
             o.rec.handler = handler;
             o.rec.first_isr = cpu_.time_of(r.start + 4 + r.wait_states);
             if (fifo_level && o.rec.level < 3) o.rec.rx_fifo_level = fifo_level(o.rec.level);
-            if (o.rec.has_rise) finish_latency_cause(o.rec.cause, o.rec.ir_rise, o.rec.first_isr, cpu_, dpram_base_, 0x400);
+            if (o.rec.has_rise) {
+                finish_latency_cause(o.rec.cause, o.rec.ir_rise, o.rec.first_isr, cpu_, dpram_base_, 0x400);
+                if (o.pushes == 3) name_holder(o); // else at the last push, below
+            }
             return true;
         }
     }
@@ -375,7 +378,7 @@ bool call_ending_at(Cpu8086& cpu, std::uint16_t cs, std::uint16_t ip, Flow flow,
 } // namespace
 
 unsigned InterruptProbe::walk_stack(std::uint32_t from, std::uint32_t to, std::uint16_t cs, std::uint32_t skip,
-                                    std::uint32_t* out, unsigned max) {
+                                    std::uint32_t here, std::uint32_t* out, unsigned max) {
     // Upward from the top of the stack (the deepest call first), reversed at the end.
     struct Call {
         std::uint32_t ret, inside;
@@ -399,13 +402,23 @@ unsigned InterruptProbe::walk_stack(std::uint32_t from, std::uint32_t to, std::u
             calls[n++] = {i8086::Cpu::linear(cs, ip), inside};
         }
     }
+    // A chain of frames: the routine a direct call entered holds the code that runs inside it
+    // (the next return address inward, or `here` for the deepest), so it starts at or before that
+    // code. A word that breaks the chain is stale data that only looks like a return address
+    // (left above the stack's top, or a local): dropped.
+    unsigned kept = 0;
+    std::uint32_t inner = here;
+    for (unsigned k = 0; k < n; ++k) {
+        if (calls[k].inside && calls[k].inside > inner) continue;
+        calls[kept++] = calls[k];
+        inner = calls[k].ret;
+    }
     // Outermost first: each call names the routine it called (its target), or, for an indirect
-    // call, the next return address (inside that routine) or `out`'s caller's current address.
+    // call, the next return address inward (inside that routine) or `here`.
     unsigned m = 0;
-    for (unsigned k = n; k-- > 0 && m < max;) {
+    for (unsigned k = kept; k-- > 0 && m < max;) {
         if (calls[k].inside) out[m++] = calls[k].inside;
-        else if (k > 0) out[m++] = calls[k - 1].ret;
-        else out[m++] = 0; // the deepest: the caller puts the current instruction there
+        else out[m++] = k > 0 ? calls[k - 1].ret : here;
     }
     return m;
 }
@@ -420,52 +433,65 @@ void InterruptProbe::sample_path(Open& o, const BusRecord& r) {
     if (sp >= o.deepest_sp || o.pushes < 3 || sp >= o.ip_slot || o.ip_slot - sp > 0x400) return;
     o.deepest_sp = sp;
     std::array<std::uint32_t, 2 * InterruptRecord::kMaxPath> called{};
-    const unsigned n = walk_stack(sp, o.ip_slot, o.new_cs, r.address, called.data(), unsigned(called.size()));
     const std::uint32_t here = i8086::Cpu::linear(core.instruction_cs(), core.instruction_ip());
+    const unsigned n = walk_stack(sp, o.ip_slot, o.new_cs, r.address, here, called.data(), unsigned(called.size()));
     InterruptRecord& rec = o.rec;
     // The handler, then the deepest kMaxPath - 1 routines called.
     rec.path[0] = rec.handler;
     rec.path_len = 1;
     for (unsigned k = n > InterruptRecord::kMaxPath - 1 ? n - (InterruptRecord::kMaxPath - 1) : 0; k < n; ++k)
-        rec.path[rec.path_len++] = called[k] ? called[k] : here;
+        rec.path[rec.path_len++] = called[k];
 }
 
-// The service or main-program code that held the IF = 0 stretch of the latency being explained.
-void InterruptProbe::name_holder(InterruptRecord& rec) {
+// What held the latency being explained (its dominant cause): for interrupts_disabled the service
+// whose entry cleared IF, or the main-program code that did; for in_service the service of the
+// level in service (the 8259A's ISR bit is its handler's until the EOI).
+void InterruptProbe::name_holder(Open& entering) {
+    InterruptRecord& rec = entering.rec;
     const LatencyCause::IfOff& f = rec.cause.if_off;
-    if (!f.valid || !f.has_off) return;
-    if (f.off.how == i8086::IfChange::How::entry) {
-        // A service entered at that boundary: still open (it let this one nest), or closed lately.
-        const InterruptRecord* holder = nullptr;
-        for (std::size_t k = 0; k + 1 < stack_.size(); ++k)
-            if (stack_[k].rec.boundary_cycle == f.off.cycle) holder = &stack_[k].rec;
-        for (unsigned k = 0; k < kRecent && k < recent_n_ && !holder; ++k) {
-            const InterruptRecord& c = recent_[(recent_n_ - 1 - k) % kRecent];
-            if (c.boundary_cycle == f.off.cycle) holder = &c;
-        }
-        if (!holder) return;
+    const auto take = [&rec](const InterruptRecord& h, std::uint16_t ret_cs, std::uint16_t ret_ip) {
         rec.holder_service = true;
-        rec.holder_level = int(holder->level);
-        rec.holder_path = holder->path;
-        rec.holder_path_len = holder->path_len;
-        if (holder->path_len == 0) { // it wrote nothing while blocking: its handler at least
-            rec.holder_path[0] = holder->handler;
+        rec.holder_level = int(h.level);
+        rec.holder_path = h.path;
+        rec.holder_path_len = h.path_len;
+        if (h.path_len == 0) { // it wrote nothing while blocking (so far): its handler at least
+            rec.holder_path[0] = h.handler;
             rec.holder_path_len = 1;
         }
-        rec.holder_ret_cs = holder->ret_cs ? holder->ret_cs : f.off.cs;
-        rec.holder_ret_ip = holder->ret_cs ? holder->ret_ip : f.off.ip;
+        rec.holder_ret_cs = ret_cs;
+        rec.holder_ret_ip = ret_ip;
+    };
+    // A service still open (below the one being entered: it let this one nest), innermost first,
+    // else one closed lately, newest first.
+    const auto find = [&](auto&& is_it) {
+        for (std::size_t k = stack_.size() - 1; k-- > 0;)
+            if (is_it(stack_[k].rec)) return take(stack_[k].rec, stack_[k].ret_cs, stack_[k].ret_ip), true;
+        for (unsigned k = 0; k < kRecent && k < recent_n_; ++k) {
+            const InterruptRecord& c = recent_[(recent_n_ - 1 - k) % kRecent];
+            if (is_it(c)) return take(c, c.ret_cs, c.ret_ip), true;
+        }
+        return false;
+    };
+    if (rec.cause.cause == LatencyPhase::Kind::in_service && rec.cause.cause_level >= 0) {
+        const unsigned level = unsigned(rec.cause.cause_level);
+        find([&](const InterruptRecord& h) { return h.level == level && h.entered_before(rec.inta1); });
+        return;
+    }
+    if (rec.cause.cause != LatencyPhase::Kind::interrupts_disabled || !f.valid || !f.has_off) return;
+    if (f.off.how == i8086::IfChange::How::entry) {
+        find([&](const InterruptRecord& h) { return h.boundary_cycle == f.off.cycle; });
         return;
     }
     if (f.off.how != i8086::IfChange::How::instruction || stack_.size() > 1) return;
     // Main-program code (CLI, POPF): the routines on its stack now (no frame bounds it: 64 words),
     // then the instruction that cleared IF.
-    const i8086::Registers& regs = cpu_.core().regs();
-    const std::uint32_t sp = i8086::Cpu::linear(regs.s[i8086::SS], regs.r[i8086::SP]);
+    // Its stack as the interrupted code left it: above the entry's FLAGS, CS, IP.
+    const std::uint32_t sp = entering.ip_slot + 6;
+    const std::uint32_t here = i8086::Cpu::linear(entering.ret_cs, entering.ret_ip);
     std::array<std::uint32_t, InterruptRecord::kMaxPath> called{};
-    const unsigned n = walk_stack(sp, sp + 128, f.off.cs, ~0u, called.data(), InterruptRecord::kMaxPath - 1);
+    const unsigned n = walk_stack(sp, sp + 128, f.off.cs, ~0u, here, called.data(), InterruptRecord::kMaxPath - 1);
     rec.holder_path_len = 0;
-    for (unsigned k = 0; k < n; ++k)
-        if (called[k]) rec.holder_path[rec.holder_path_len++] = called[k];
+    for (unsigned k = 0; k < n; ++k) rec.holder_path[rec.holder_path_len++] = called[k];
     rec.holder_path[rec.holder_path_len++] = i8086::Cpu::linear(f.off.cs, f.off.ip);
 }
 

@@ -74,10 +74,11 @@ struct InterruptRecord {
     i8086::cycles_t boundary_cycle = 0;
     /// RS-232 sources: the RX FIFO level of the level's port at first_isr (InterruptProbe::fifo_level).
     unsigned rx_fifo_level = 0;
-    /// The cause's IF = 0 stretch was held by a service (the off change is its entry): that service's
-    /// level, handler, call path and the location it interrupted. Main-program code held it
-    /// (a CLI or POPF): holder_level -1, holder_path the main program's call path at the CLI's
-    /// routine (outermost first, the last the clearing instruction). holder_path_len 0: unknown.
+    /// What held it (its cause's dominant phase): for interrupts_disabled the service whose entry
+    /// cleared IF, for in_service the service of the level in service: that service's level, call
+    /// path and the location it interrupted. Main-program code that cleared IF (CLI, POPF):
+    /// holder_service false, holder_path the routines on its stack when this one was taken, then
+    /// the routine of the clearing instruction. holder_path_len 0: unknown.
     int holder_level = -1;
     std::array<std::uint32_t, kMaxPath> holder_path{};
     unsigned holder_path_len = 0;
@@ -86,6 +87,7 @@ struct InterruptRecord {
 
     double latency_us() const;
     double service_us() const;
+    bool entered_before(const sc_core::sc_time& t) const { return inta1 < t; }
 };
 
 /// The source name of an 8259A level on the communication board: rs232_0..2 (IR0..IR2), dpram
@@ -240,11 +242,13 @@ private:
     static constexpr unsigned kRecent = 4;
     std::array<InterruptRecord, kRecent> recent_{};
     unsigned recent_n_ = 0;
-    void name_holder(InterruptRecord& rec);
-    /// Return addresses on the stack in [from, to) (near: in code segment `cs`), outermost first,
-    /// appended to `out` (at most `max`); the word at `skip` is left out (being written now).
+    /// At the first handler fetch of `entering`, its latency's cause complete: who held it.
+    void name_holder(Open& entering);
+    /// The routines called by the return addresses on the stack in [from, to) (near: in code
+    /// segment `cs`), outermost first, into `out` (at most `max`); `here` is the code running now
+    /// (inside the deepest); the word at `skip` is left out (being written now).
     unsigned walk_stack(std::uint32_t from, std::uint32_t to, std::uint16_t cs, std::uint32_t skip,
-                        std::uint32_t* out, unsigned max);
+                        std::uint32_t here, std::uint32_t* out, unsigned max);
     void sample_path(Open& o, const i8086::BusRecord& r);
     std::array<Samples, 8> blocking_;
     std::array<InterruptRecord, 8> longest_{};

@@ -88,11 +88,13 @@ std::string joined(const std::vector<std::string>& names) {
 bool interrupted_at(const InterruptRecord& r, std::uint16_t* cs, std::uint16_t* ip) {
     const auto& f = r.cause.if_off;
     if (r.holder_service) {
+        if (r.holder_ret_cs == 0 && r.holder_ret_ip == 0) return false; // its entry was not seen whole
         *cs = r.holder_ret_cs;
         *ip = r.holder_ret_ip;
         return true;
     }
-    if (f.valid && f.has_off && f.off.how == i8086::IfChange::How::entry) {
+    if (r.cause.cause == LatencyPhase::Kind::interrupts_disabled && f.valid && f.has_off &&
+        f.off.how == i8086::IfChange::How::entry) {
         *cs = f.off.cs;
         *ip = f.off.ip;
         return true;
@@ -117,7 +119,6 @@ json detail_json(const LatencyCause& c, unsigned vector_base, const SymbolOf& sy
         const auto& f = c.if_off;
         json j;
         j["from_us"] = to_us(f.from);
-        j["to_us"] = to_us(f.to);
         j["until_us"] = to_us(f.until);
         if (f.has_on) {
             j["enabled_by"] = change_name(f.on);
@@ -173,8 +174,8 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
     }
     case Kind::in_service:
         if (c.cause_level == int(r.level))
-            return "its own previous interrupt still in service in the 8259A (no EOI yet) for " + took;
-        return "the " + held + " interrupt in service in the 8259A (higher priority) for " + took;
+            return "its own previous interrupt still in service in the 8259A (no EOI yet) for " + took + held_by(r, symbol);
+        return "the " + held + " interrupt in service in the 8259A (higher priority) for " + took + held_by(r, symbol);
     case Kind::priority: return "the " + held + " request (higher priority) taken first, for " + took;
     case Kind::masked: return "masked in the 8259A (IMR) for " + took;
     case Kind::not_ready: return "the 8259A not initialised for " + took;
@@ -218,15 +219,13 @@ json latency_cause_json(const InterruptRecord& r, unsigned vector_base, const Sy
         phases.push_back(q);
     }
     j["phases"] = phases;
-    if (c.if_off.valid) {
-        j["if_on_us"] = to_us(c.if_off.until);
-        if (r.holder_path_len) {
-            j["holder"] = path_names(r.holder_path.data(), r.holder_path_len, symbol);
-            j["holder_source"] = r.holder_service ? source_name(unsigned(r.holder_level)) : "main";
-        }
-        std::uint16_t cs = 0, ip = 0;
-        if (interrupted_at(r, &cs, &ip)) put_code(j, "interrupted_at", "interrupted_symbol", cs, ip, symbol);
+    if (c.if_off.valid) j["if_on_us"] = to_us(c.if_off.until);
+    if (r.holder_path_len) {
+        j["holder"] = path_names(r.holder_path.data(), r.holder_path_len, symbol);
+        j["holder_source"] = r.holder_service ? source_name(unsigned(r.holder_level)) : "main";
     }
+    std::uint16_t cs = 0, ip = 0;
+    if (interrupted_at(r, &cs, &ip)) put_code(j, "interrupted_at", "interrupted_symbol", cs, ip, symbol);
     return j;
 }
 
@@ -269,6 +268,9 @@ void add_latency_causes(json& interrupts, const World& w, double budget_us, cons
             json cause = latency_cause_json(records[k], base, symbol);
             cause.erase("latency_us"); // the record has them already, to the picosecond
             cause.erase("ir_rise_us");
+            // Its service is not judged either: the blocking figures and paths are the judged
+            // services' (a start-up record keeps its figures as they were, for `rcsim compare`).
+            for (const char* key : {"service_us", "blocking_us", "path", "rx_fifo_level", "if_on_us"}) cause.erase(key);
             startup[k].update(cause);
         }
 }

@@ -276,8 +276,13 @@ TEST(LatencyCauseKat, HigherPriorityHandlerInService) {
     EXPECT_EQ(c.cause_time, at_clock(133));
     EXPECT_EQ(c.instruction.ip, 0x0248); // OUT 0C0h,AL
     EXPECT_EQ(c.instruction.start, at_clock(r0 + kTailOutRead + 1));
+    // The holder is IR1's service (isr1, which called nothing) that had interrupted main's HLT at
+    // F000:0119: its return address is the next instruction, F000:011A (main + 2).
+    EXPECT_TRUE(x.holder_service);
+    EXPECT_EQ(x.holder_level, 1);
     EXPECT_EQ(latency_cause_text(x, 0x20, symbols_of("kat_in_service")),
-              "the rs232_1 interrupt in service in the 8259A (higher priority) for 16.6 us");
+              "the rs232_1 interrupt in service in the 8259A (higher priority) for 16.6 us; held by isr1, "
+              "interrupted at F000:011A (main+0x2)");
 }
 
 // (3) MOV AX,5 / XOR DX,DX / MOV BX,1000h / STI / HLT; IR3 wakes it at 601, its IRET returns at
@@ -401,6 +406,11 @@ TEST(BlockingKat, HandlerThroughTwoRoutinesWithInterruptsDisabled) {
                   {{mid_clock(600), 0, true}, {mid_clock(640), 0, false}, {mid_clock(2000), 2, true},
                    {mid_clock(30000), 2, false}}); // IR2 high until its INTA [DS]
     b.cpu.set_debug_bus_observer(nullptr, nullptr); // (it sees every cycle: the probe's kinds below)
+    std::vector<std::pair<unsigned, sc_time>> asked; // the RX FIFO levels asked for: level, when
+    b.probe.fifo_level = [&asked](unsigned level) {
+        asked.emplace_back(level, sc_time_stamp());
+        return 3u;
+    };
     sc_start(us(4500));
     ASSERT_EQ(b.probe.records().size(), 2u);
     const InterruptRecord& x = b.record_of(0);
@@ -415,6 +425,13 @@ TEST(BlockingKat, HandlerThroughTwoRoutinesWithInterruptsDisabled) {
     ASSERT_NE(b.probe.longest_blocking(0), nullptr);
     EXPECT_EQ(b.probe.longest_blocking(0)->blocking, x.blocking);
     EXPECT_EQ(b.probe.longest_blocking(1), nullptr);
+    // The RX FIFO level is read once per RS-232 service, when its handler begins (the kernel's
+    // time at most a slice behind first_isr), and kept with the record.
+    ASSERT_EQ(asked.size(), 2u);
+    EXPECT_EQ(asked[0].first, 0u);
+    EXPECT_EQ(asked[1].first, 2u);
+    EXPECT_LE(asked[0].second, x.first_isr);
+    EXPECT_EQ(x.rx_fifo_level, 3u);
     // Back in main's loop the probe watches only INTA and memory writes, as before: the paths
     // cost the main program nothing (its fetches and reads keep the core's direct path).
     EXPECT_EQ(b.cpu.core().bus_hook_kinds(),
@@ -482,4 +499,35 @@ TEST(BlockingKat, NestedServiceLeftOutOfItsParent) {
     const std::string text = latency_cause_text(y, 0x20, symbols_of("kat_blocking"));
     EXPECT_NE(text.find("; held by isr0 > routine_a > routine_b, interrupted at F000:024"), std::string::npos) << text;
     EXPECT_NE(text.find("(isr1_loop)"), std::string::npos) << text;
+}
+
+// (6) kat_main_hold: IR3 rises at 400.5, while hold_irqs (called by main) runs with IF = 0. The
+// cause is interrupts_disabled since hold_irqs's CLI, until IF came back with its STI: the end of
+// the STI (2 clocks [TAB]) when the next instruction, RET, begins (at most one ROM fetch, 4 + 1 Tw
+// [BRD], later), and the holder is main-program code in hold_irqs.
+TEST(BlockingKat, MainProgramCliToStiNamesItsRoutine) {
+    CpuPicDpram b("board", "kat_main_hold", {{mid_clock(400), 3, true}, {mid_clock(4000), 3, false}});
+    sc_start(us(1000));
+    ASSERT_EQ(b.probe.records().size(), 1u);
+    const InterruptRecord& x = b.record_of(3);
+    EXPECT_FALSE(x.startup);
+    const LatencyCause& c = x.cause;
+    EXPECT_EQ(c.cause, Kind::interrupts_disabled);
+    ASSERT_TRUE(c.if_off.has_off && c.if_off.has_on);
+    EXPECT_EQ(c.if_off.off.opcode, 0xFA);
+    EXPECT_EQ(c.if_off.off.ip, 0x0800);
+    EXPECT_EQ(c.if_off.on.opcode, 0xFB);
+    const sc_time sti = b.cpu.time_of(c.if_off.on.cycle);
+    EXPECT_GE(c.if_off.until, sti + at_clock(2));
+    EXPECT_LE(c.if_off.until, sti + at_clock(2 + 5));
+    EXPECT_FALSE(x.holder_service);
+    EXPECT_EQ(path_names(x.holder_path.data(), x.holder_path_len, symbols_of("kat_main_hold")),
+              std::vector<std::string>{"hold_irqs"});
+    const std::string text = latency_cause_text(x, 0x20, symbols_of("kat_main_hold"));
+    EXPECT_NE(text.find("(CLI at F000:0800, hold_irqs) until "), std::string::npos) << text;
+    EXPECT_NE(text.find("(STI at F000:0806, sti_here); held by main-program code hold_irqs; "), std::string::npos)
+        << text;
+    const nlohmann::json j = latency_cause_json(x, 0x20, symbols_of("kat_main_hold"));
+    EXPECT_EQ(j["holder_source"], "main");
+    EXPECT_FALSE(j.contains("interrupted_at"));
 }

@@ -81,6 +81,10 @@ void expect_worst_lists(const Outcome& r) {
             EXPECT_LE(e["blocking_us"].get<double>(), e["service_us"].get<double>() + 1e-9);
             EXPECT_GT(e["blocking_us"].get<double>(), 0.0);
             EXPECT_FALSE(e["path"].empty());
+            // An RS-232 service's RX FIFO level: at most the 82510's 4-byte FIFO (docs/serial.md).
+            if (std::string(name).rfind("rs232_", 0) == 0 && e.contains("rx_fifo_level")) {
+                EXPECT_LE(e["rx_fifo_level"].get<unsigned>(), 4u);
+            }
         }
         EXPECT_LE(over, i["over_budget"].get<std::uint64_t>());
         if (i["over_budget"].get<std::uint64_t>() <= 20) {
@@ -143,6 +147,9 @@ TEST(LatencyCausesRun, AllCFirmwareWorstCasesHaveTheirCauses) {
     EXPECT_GT(in_service, 0u);
     EXPECT_NE(r.summary.find("longest latencies and their causes"), std::string::npos);
     expect_worst_lists(r);
+    // A receive interrupt begins with its character in the FIFO: of the 20 longest receive
+    // latencies, each RS-232 record reached its handler with at least one.
+    for (const json& e : i["worst"]) EXPECT_GE(e["rx_fifo_level"].get<unsigned>(), 1u) << e["ir_rise_us"];
     // The summary's line of each source's longest latency lists every phase kind of 10 % or more
     // of it (the text names only the largest), each with its total.
     for (const char* name : {"rs232_0", "rs232_1", "rs232_2", "dpram"}) {
