@@ -9,7 +9,10 @@
 // (start jitter) and the control cycle delay the INT_R handler.
 //
 // When the processor is released and several activities wait, the highest priority wins
-// (control cycle > interrupt > command > transmit), first come first served among equals.
+// (control cycle > interrupt > command > transmit), first come first served among equals. The
+// choice is made a delta cycle after the processor becomes free (or is asked for while free), so
+// the activities that release and ask at the same instant compete by priority, never in the order
+// the kernel happened to run them.
 #pragma once
 
 #include <systemc>
@@ -40,11 +43,14 @@ private:
         std::uint64_t ticket;
     };
 
+    void choose_soon(); // the owner is chosen a delta cycle later (choose)
+    void choose();      // the best waiter gets the processor
     bool owned_ = false;
+    bool choosing_ = false; // choose_ is notified
     std::uint64_t owner_ticket_ = 0; // ticket of the owner, or of the waiter just granted
     std::uint64_t next_ticket_ = 1;
     std::vector<Waiter> waiters_;
-    sc_core::sc_event granted_;
+    sc_core::sc_event granted_, choose_;
     sc_core::sc_time busy_since_;
     sc_core::sc_time busy_total_;
 };

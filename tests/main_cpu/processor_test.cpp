@@ -50,3 +50,55 @@ TEST(Processor, HighestPriorityWaiterGetsItThenFirstComeAmongEquals) {
     EXPECT_EQ(c.cpu.busy_time(), us(25));
     EXPECT_FALSE(c.cpu.busy());
 }
+
+namespace {
+
+/// The processor is released and asked for at the same instant (10 us) by two activities of
+/// different priority. The kernel runs processes woken at one instant in an order of its own
+/// (it follows the other events of that instant, e.g. how often the comm CPU synchronised), so the
+/// contenders are spawned in either order: the control cycle must win both times.
+struct SameInstant : sc_core::sc_module {
+    Processor cpu{"cpu"};
+    std::vector<std::pair<std::string, sc_time>> starts;
+
+    SameInstant(sc_core::sc_module_name n, bool transmit_first) : sc_module(n) {
+        test::spawn_checked([this] { run(Processor::Priority::interrupt, "holder", us(0), us(10)); }, "holder");
+        auto transmit = [this] { run(Processor::Priority::transmit, "transmit", us(10), us(5)); };
+        auto cycle = [this] { run(Processor::Priority::control_cycle, "cycle", us(10), us(5)); };
+        if (transmit_first) {
+            test::spawn_checked(transmit, "transmit");
+            test::spawn_checked(cycle, "cycle");
+        } else {
+            test::spawn_checked(cycle, "cycle");
+            test::spawn_checked(transmit, "transmit");
+        }
+    }
+    void run(Processor::Priority p, const char* who, sc_time at, sc_time hold) {
+        wait(at);
+        cpu.acquire(p);
+        starts.emplace_back(who, sc_core::sc_time_stamp());
+        wait(hold);
+        cpu.release();
+    }
+};
+
+void expect_cycle_first(SameInstant& c) {
+    sc_core::sc_start(us(100));
+    ASSERT_EQ(c.starts.size(), 3u);
+    EXPECT_EQ(c.starts[0], std::make_pair(std::string("holder"), us(0)));
+    EXPECT_EQ(c.starts[1], std::make_pair(std::string("cycle"), us(10)));
+    EXPECT_EQ(c.starts[2], std::make_pair(std::string("transmit"), us(15)));
+    EXPECT_EQ(c.cpu.busy_time(), us(20));
+}
+
+} // namespace
+
+TEST(Processor, AtOneInstantPriorityDecidesWhateverTheKernelOrderTransmitFirst) {
+    SameInstant c("c", true);
+    expect_cycle_first(c);
+}
+
+TEST(Processor, AtOneInstantPriorityDecidesWhateverTheKernelOrderCycleFirst) {
+    SameInstant c("c", false);
+    expect_cycle_first(c);
+}

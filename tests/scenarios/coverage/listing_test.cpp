@@ -48,14 +48,17 @@ TEST(As86Listing, AnInstructionIsOnItsSourceLine) {
 
 TEST(As86Listing, AMacroBodyLineHoldsOneInstructionPerExpansion) {
     const As86Listing l = read_as86_listing(kListings + "/isr.lst");
-    // RS232_ENTRY is expanded three times (ports 0-2), C_ENTRY four times.
+    // RS232_ENTRY is expanded three times (ports 0-2), C_RESET twice, C_ENTRY four times.
     ASSERT_EQ(lines_with(kSources + "/isr.s", "RS232_ENTRY(").size(), 3u);
     const auto gir = lines_with(kSources + "/isr.s", "in\tal,?2+U_GIR");
     ASSERT_FALSE(gir.empty());
     EXPECT_EQ(instructions_on(l, gir[0]), 3u);
-    const auto call = lines_with(kSources + "/isr.s", "call\t?2");
-    ASSERT_EQ(call.size(), 1u);
-    EXPECT_EQ(instructions_on(l, call[0]), 4u);
+    ASSERT_EQ(lines_with(kSources + "/isr.s", "C_RESET(").size(), 2u);
+    ASSERT_EQ(lines_with(kSources + "/isr.s", "C_ENTRY(").size(), 4u);
+    const auto call = lines_with(kSources + "/isr.s", "call\t?2"); // C_RESET's body, then C_ENTRY's
+    ASSERT_EQ(call.size(), 2u);
+    EXPECT_EQ(instructions_on(l, call[0]), 2u);
+    EXPECT_EQ(instructions_on(l, call[1]), 4u);
 }
 
 TEST(As86Listing, NotAListingIsAnErrorNamingTheFile) {
