@@ -356,11 +356,29 @@ using i8086::Flow;
 
 // Whether a CALL of kind `flow` ends at cs:ip. `*inside` gets an address inside the routine it
 // called: its target for a direct call (E8, 9A), else 0 (the bytes do not name it).
+/// `n` bytes at `linear` where the CPU maps memory directly (RAM, ROM), or nullptr: the probe
+/// reads code and stack there without a copy (the walks run on every blocking service).
+const std::uint8_t* mapped(Cpu8086& cpu, std::uint32_t linear, unsigned n) {
+    const MemRegion* r = cpu.core().memory().find(linear);
+    if (!r || !r->contains(linear + n - 1)) return nullptr;
+    return r->data + (linear - r->base);
+}
+
 bool call_ending_at(Cpu8086& cpu, std::uint16_t cs, std::uint16_t ip, Flow flow, std::uint32_t* inside) {
-    const std::uint32_t linear = i8086::Cpu::linear(cs, ip);
-    std::uint8_t b[i8086::kLongestInstruction + 1];
-    for (unsigned len = 2; len <= sizeof b; ++len) {
-        if (ip < len || !cpu.debug_read(linear - len, b, len)) continue;
+    constexpr unsigned kBack = i8086::kLongestInstruction + 1;
+    if (ip < 2) return false;
+    const unsigned back = ip < kBack ? ip : kBack;
+    // Code runs from memory the CPU maps directly: a word that points elsewhere is data.
+    const std::uint8_t* before = mapped(cpu, i8086::Cpu::linear(cs, static_cast<std::uint16_t>(ip - back)), back);
+    if (!before) return false;
+    for (unsigned len = 2; len <= back; ++len) {
+        const std::uint8_t* b = before + (back - len);
+        // Only a CALL's opcode (E8, 9A, FF) or a segment prefix can begin one: the common case,
+        // a data word, is turned away without decoding.
+        const std::uint8_t first = b[0];
+        if (first != 0xE8 && first != 0x9A && first != 0xFF && first != 0x26 && first != 0x2E && first != 0x36 &&
+            first != 0x3E)
+            continue;
         const i8086::Decoded d = i8086::decode(b, len);
         if (d.length != len || d.flow != flow) continue;
         const std::uint8_t* op = b + d.prefixes;
@@ -387,8 +405,10 @@ unsigned InterruptProbe::walk_stack(std::uint32_t from, std::uint32_t to, std::u
     unsigned n = 0;
     const auto word = [&](std::uint32_t a, std::uint16_t* w) {
         std::uint8_t b[2];
-        if (a == skip || a + 1 == skip || !cpu_.debug_read(a, b, 2)) return false;
-        *w = static_cast<std::uint16_t>(b[0] | b[1] << 8);
+        if (a == skip || a + 1 == skip) return false;
+        if (const std::uint8_t* m = mapped(cpu_, a, 2)) *w = static_cast<std::uint16_t>(m[0] | m[1] << 8);
+        else if (cpu_.debug_read(a, b, 2)) *w = static_cast<std::uint16_t>(b[0] | b[1] << 8);
+        else return false;
         return true;
     };
     for (std::uint32_t a = from; a + 2 <= to && n < calls.size(); a += 2) {
