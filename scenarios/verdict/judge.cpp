@@ -54,9 +54,6 @@ void put_margins(const Figure& budget, const InterruptFigures& c, const std::str
     j["not_measured"] = missing;
 }
 
-/// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
-/// and its worst case with the longest RS-232 receive service. A figure with no samples is null
-/// and named in "not_measured" with the reason.
 /// The longest service of any kind and source after start-up (a receive that read nothing, line
 /// status, transmit, timer, DP-RAM mailbox): {"source", "service_us"}, null before the first.
 nlohmann::json longest_service_json(const World& w) {
@@ -69,6 +66,9 @@ nlohmann::json longest_service_json(const World& w) {
     return j;
 }
 
+/// report.json "table3": the paper's equation, margin = budget - (RS-232 ISR + DP-RAM per byte),
+/// and its worst case with the longest RS-232 receive service. A figure with no samples is null
+/// and named in "not_measured" with the reason.
 nlohmann::json table3_json(const World& w, const Figure& budget, const InterruptFigures& c, const std::string& idle,
                            CheckFigures& f) {
     nlohmann::json j = {{"rs232_isr_us", nullptr},
