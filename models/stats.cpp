@@ -66,6 +66,15 @@ const std::vector<std::pair<double, std::uint64_t>>& Samples::values() const {
     return values_;
 }
 
+std::uint64_t Samples::count_above(double limit) const {
+    const auto& v = values();
+    const auto first = std::upper_bound(v.begin(), v.end(), limit,
+                                        [](double l, const std::pair<double, std::uint64_t>& e) { return l < e.first; });
+    std::uint64_t n = 0;
+    for (auto it = first; it != v.end(); ++it) n += it->second;
+    return n;
+}
+
 Summary Samples::summary() const {
     Summary s;
     s.count = count_;

@@ -55,6 +55,8 @@ public:
     double resolution() const { return resolution_; }
     /// The distinct kept values with their counts, ascending.
     const std::vector<std::pair<double, std::uint64_t>>& values() const;
+    /// How many samples exceed `limit` (of the kept values: once coarsened, each as rounded).
+    std::uint64_t count_above(double limit) const;
 
 private:
     double resolution_;

@@ -37,13 +37,11 @@ double dpram_byte(monitor::BoardMonitor& m, unsigned) { return table3(m, "dpram_
 double margin(monitor::BoardMonitor& m, unsigned) { return table3(m, "margin_us"); }
 double worst_margin(monitor::BoardMonitor& m, unsigned) { return table3(m, "worst_margin_us"); }
 double over_budget(monitor::BoardMonitor& m, unsigned) {
-    const double b = budget(m, 0);
-    if (std::isnan(b)) return kNone;
-    double n = 0;
-    for (unsigned l = 0; l < 4; ++l)
-        for (const auto& [v, count] : m.world().probe.latency_us(l).values())
-            if (v > b) n += static_cast<double>(count);
-    return n;
+    const std::optional<double> b = m.judgement().budget.value;
+    if (!b) return kNone;
+    std::uint64_t n = 0;
+    for (unsigned l = 0; l < 4; ++l) n += m.world().probe.latency_us(l).count_above(*b);
+    return static_cast<double>(n);
 }
 // The run's verdict so far, as the run's end, the page and the API judge it: 0 not measured yet
 // (inconclusive), 1 passing so far, 2 failing so far (a check failed that no later event can undo).

@@ -124,11 +124,11 @@ private:
     std::optional<Judgement> judged_;
     sc_core::sc_time judged_at_;
     std::uint64_t judged_delta_ = 0;
-    nlohmann::json interrupts_json(double budget_us);
-    nlohmann::json interrupt_figures(double budget_us);
+    nlohmann::json interrupts_json(std::optional<double> budget_us);
+    nlohmann::json interrupt_figures(std::optional<double> budget_us);
     nlohmann::json irq_cache_;                 // interrupt_figures() as of irq_cache_completed_ interrupts
     std::uint64_t irq_cache_completed_ = 0;
-    double irq_cache_budget_ = 0;
+    std::optional<double> irq_cache_budget_;
     void reply(std::uint64_t client, nlohmann::json msg);
 };
 

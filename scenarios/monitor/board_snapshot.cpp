@@ -7,7 +7,6 @@
 #include "scenarios/verdict/judge.h"
 #include "models/clock.h"
 
-#include <limits>
 
 namespace rcsim::monitor {
 
@@ -22,13 +21,6 @@ nlohmann::json samples_brief(const Samples& s) {
     if (s.count() == 0) return nullptr;
     const Summary m = s.summary();
     return {{"count", m.count}, {"mean", m.mean}, {"max", m.max}, {"p99", m.p99}};
-}
-
-std::uint64_t count_over(const Samples& s, double limit) {
-    std::uint64_t n = 0;
-    for (const auto& [v, count] : s.values())
-        if (v > limit) n += count;
-    return n;
 }
 
 } // namespace
@@ -50,9 +42,7 @@ nlohmann::json BoardMonitor::snapshot() {
     j["verdict"] = {{"verdict", verdict_name(judged.verdict.verdict)},
                     {"reason", judged.verdict.reason},
                     {"checks", judged.checks_json()}};
-    j["interrupts"] = interrupts_json(judged.budget.value.value_or(std::numeric_limits<double>::infinity()));
-    if (!judged.budget.value)
-        for (auto& i : j["interrupts"]) i["over_budget"] = nullptr; // no budget: not measured, never 0
+    j["interrupts"] = interrupts_json(judged.budget.value);
     return j;
 }
 
@@ -70,7 +60,7 @@ const Judgement& BoardMonitor::judgement() {
 // longest latency with its cause in words (scenarios/verdict/latency_causes.h). The figures only
 // change when an interrupt completes: they are made again only then (a sim-clock subscriber may
 // ask for hundreds of snapshots a second).
-nlohmann::json BoardMonitor::interrupts_json(double budget) {
+nlohmann::json BoardMonitor::interrupts_json(std::optional<double> budget) {
     std::uint64_t completed = 0;
     for (unsigned l = 0; l < 4; ++l) completed += world_.probe.count(l);
     if (irq_cache_.is_null() || completed != irq_cache_completed_ || budget != irq_cache_budget_) {
@@ -83,7 +73,7 @@ nlohmann::json BoardMonitor::interrupts_json(double budget) {
     return irq;
 }
 
-nlohmann::json BoardMonitor::interrupt_figures(double budget) {
+nlohmann::json BoardMonitor::interrupt_figures(std::optional<double> budget) {
     nlohmann::json irq = nlohmann::json::array();
     const char* names[] = {"IR0 82510 port 0", "IR1 82510 port 1", "IR2 82510 port 2", "IR3 DP-RAM INT_L"};
     const unsigned base = world_.ctl.comm.pic.vector_base();
@@ -95,7 +85,8 @@ nlohmann::json BoardMonitor::interrupt_figures(double budget) {
                             {"rate_hz", 0.0},
                             {"latency_us", samples_brief(latency)},
                             {"service_us", samples_brief(world_.probe.service_us(l))},
-                            {"over_budget", count_over(latency, budget)},
+                            // No budget, no count over it: not measured, never a reassuring 0.
+                            {"over_budget", budget ? nlohmann::json(latency.count_above(*budget)) : nlohmann::json(nullptr)},
                             {"worst", nullptr}};
         const auto& worst = world_.probe.worst(l).records();
         if (!worst.empty())

@@ -1,7 +1,5 @@
 #include "scenarios/run/cause_symbols.h"
 
-#include "scenarios/debug/rom_symbols.h"
-
 #include <cstdio>
 #include <memory>
 
@@ -19,10 +17,6 @@ SymbolOf cause_symbols(debug::SymbolTable symbols) {
         std::snprintf(buf, sizeof buf, "+0x%X", static_cast<unsigned>(linear - s->address));
         return s->name + buf;
     };
-}
-
-SymbolOf cause_symbols(const std::string& file, const std::string& rom) {
-    return cause_symbols(debug::rom_symbols(RomSource{rom, ""}, file).table);
 }
 
 } // namespace rcsim

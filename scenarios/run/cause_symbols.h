@@ -5,7 +5,6 @@
 #include "scenarios/debug/symbols.h"
 #include "scenarios/verdict/latency_causes.h"
 
-#include <string>
 
 namespace rcsim {
 
@@ -13,9 +12,5 @@ namespace rcsim {
 /// an address a code symbol starts at, "name+0x1C" inside one, "" elsewhere. Empty (addresses
 /// only) when the table is.
 SymbolOf cause_symbols(debug::SymbolTable table);
-
-/// The same for the symbols debug::rom_symbols decides for the ROM image `rom` ("" = the built
-/// firmware) and `file` (FILE[@SEG], "" = none given). Throws ConfigError naming a bad file.
-SymbolOf cause_symbols(const std::string& file, const std::string& rom);
 
 } // namespace rcsim

@@ -34,7 +34,6 @@
 #include <sstream>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -292,17 +291,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
                           {"instructions", world.ctl.comm.cpu.instructions()},
                           {"clock_hz", s.board.comm.cpu_hz},
                           {"quantum_us", to_us(s.board.comm.quantum)}};
-    const InterruptFigures c = measure_interrupts(world);
-    report["interrupts"] = c.interrupts;
-    report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     // The one judge (verdict/judge.h): the same figures and verdict the live page and Modbus show.
-    const Judgement judged = judge(world, s, Moment::end, stop_signal(), cause_symbols(symbols.table));
+    const SymbolOf symbol = cause_symbols(symbols.table);
+    const Judgement judged = judge(world, s, Moment::end, stop_signal(), symbol);
+    report["interrupts"] = judged.interrupts.interrupts;
+    report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     report["table3"] = judged.table3;
-    add_latency_causes(report["interrupts"], world, judged.budget.value.value_or(std::numeric_limits<double>::infinity()),
-                       cause_symbols(symbols.table));
-    if (!judged.budget.value) // no budget, no count over it: not measured, never a reassuring 0
-        for (auto& [name, source] : report["interrupts"].items())
-            if (source.contains("over_budget")) source["over_budget"] = nullptr;
+    add_latency_causes(report["interrupts"], world, judged.budget.value, symbol);
     report_world(world, s, opt, report);
     report["checks"] = judged.checks_json();
     report["checks_off"] = s.checks.off;

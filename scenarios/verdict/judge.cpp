@@ -179,8 +179,8 @@ CheckFigures check_figures(const World& w, const Scenario& s, const InterruptFig
 
 Judgement judge(const World& w, const Scenario& s, Moment m, int stop_signal, const SymbolOf& symbol) {
     Judgement j;
-    const InterruptFigures c = measure_interrupts(w);
-    const CheckFigures f = check_figures(w, s, c, &j.table3);
+    j.interrupts = measure_interrupts(w);
+    const CheckFigures f = check_figures(w, s, j.interrupts, &j.table3);
     j.budget = f.budget;
     j.checks = communication_checks(w, s, f, symbol);
     if (m == Moment::end)

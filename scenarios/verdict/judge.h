@@ -25,6 +25,7 @@ struct Scenario;
 enum class Moment { end, so_far };
 
 struct Judgement {
+    InterruptFigures interrupts; // what the probe and the DP-RAM watch measured (measure_interrupts)
     Figure budget;              // the Table 3 budget, us (budget_figure)
     nlohmann::json table3;      // report.json "table3"
     std::vector<Check> checks;  // communication checks, then (at the end) the motion ones

@@ -241,20 +241,16 @@ std::vector<std::string> path_names(const std::uint32_t* path, unsigned n, const
     return out;
 }
 
-void add_latency_causes(json& interrupts, const World& w, double budget_us, const SymbolOf& symbol) {
+void add_latency_causes(json& interrupts, const World& w, std::optional<double> budget_us, const SymbolOf& symbol) {
     const unsigned base = w.ctl.comm.pic.vector_base();
-    const auto over = [budget_us](const Samples& s) {
-        std::uint64_t n = 0;
-        for (const auto& [v, count] : s.values())
-            if (v > budget_us) n += count;
-        return n;
-    };
     const auto put = [&](const char* name, const Samples& latency, const WorstLatencies& worst) {
         json list = json::array();
         for (const InterruptRecord& r : worst.records())
-            if (list.empty() || to_us(r.first_isr - r.ir_rise) > budget_us) list.push_back(latency_cause_json(r, base, symbol));
+            if (list.empty() || (budget_us && to_us(r.first_isr - r.ir_rise) > *budget_us))
+                list.push_back(latency_cause_json(r, base, symbol));
         interrupts[name]["worst"] = list;
-        interrupts[name]["over_budget"] = over(latency);
+        // No budget, no count over it: not measured, never a reassuring 0.
+        interrupts[name]["over_budget"] = budget_us ? json(latency.count_above(*budget_us)) : json(nullptr);
     };
     for (unsigned level = 0; level < 4; ++level)
         put(source_name(level).c_str(), w.probe.latency_us(level), w.probe.worst(level));

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,10 @@ nlohmann::json latency_cause_json(const InterruptRecord& r, unsigned vector_base
 std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, const SymbolOf& symbol);
 
 /// Adds to each source of report.json "interrupts" (rs232_0..2, dpram, rs232_rx) "over_budget", how
-/// many of its latencies exceeded `budget_us`, and "worst": its longest latency and every kept one
-/// over the budget (at most WorstLatencies::kKeep), longest first, each with its cause; and to each
-/// of "startup"."records" its cause.
-void add_latency_causes(nlohmann::json& interrupts, const World& w, double budget_us, const SymbolOf& symbol);
+/// many of its latencies exceeded `budget_us` (null without a budget), and "worst": its longest
+/// latency and every kept one over the budget (at most WorstLatencies::kKeep), longest first, each
+/// with its cause; and to each of "startup"."records" its cause.
+void add_latency_causes(nlohmann::json& interrupts, const World& w, std::optional<double> budget_us,
+                        const SymbolOf& symbol);
 
 } // namespace rcsim

@@ -11,24 +11,30 @@ using sc_core::sc_time;
 
 namespace {
 
-/// Three activities: "a" holds the processor 0..10 us; "low" and "high" ask for it at 2 us and
-/// 3 us; the high-priority one must get it first although it asked later.
-struct Contenders : sc_core::sc_module {
+/// Activities sharing one processor: each asks for it at `at`, notes when it got it, holds it for
+/// `hold` and releases it.
+struct Activities : sc_core::sc_module {
     Processor cpu{"cpu"};
     std::vector<std::pair<std::string, sc_time>> starts;
 
-    explicit Contenders(sc_core::sc_module_name n) : sc_module(n) {
-        test::spawn_checked([this] { holder(); }, "holder");
-        test::spawn_checked([this] { low(); }, "low");
-        test::spawn_checked([this] { high(); }, "high");
-        test::spawn_checked([this] { low2(); }, "low2");
-    }
+    using sc_module::sc_module;
     void run(Processor::Priority p, const char* who, sc_time at, sc_time hold) {
         wait(at);
         cpu.acquire(p);
         starts.emplace_back(who, sc_core::sc_time_stamp());
         wait(hold);
         cpu.release();
+    }
+};
+
+/// Three activities: "a" holds the processor 0..10 us; "low" and "high" ask for it at 2 us and
+/// 3 us; the high-priority one must get it first although it asked later.
+struct Contenders : Activities {
+    explicit Contenders(sc_core::sc_module_name n) : Activities(n) {
+        test::spawn_checked([this] { holder(); }, "holder");
+        test::spawn_checked([this] { low(); }, "low");
+        test::spawn_checked([this] { high(); }, "high");
+        test::spawn_checked([this] { low2(); }, "low2");
     }
     void holder() { run(Processor::Priority::interrupt, "holder", sc_core::SC_ZERO_TIME, us(10)); }
     void low() { run(Processor::Priority::transmit, "low", us(2), us(5)); }
@@ -57,11 +63,8 @@ namespace {
 /// different priority. The kernel runs processes woken at one instant in an order of its own
 /// (it follows the other events of that instant, e.g. how often the comm CPU synchronised), so the
 /// contenders are spawned in either order: the control cycle must win both times.
-struct SameInstant : sc_core::sc_module {
-    Processor cpu{"cpu"};
-    std::vector<std::pair<std::string, sc_time>> starts;
-
-    SameInstant(sc_core::sc_module_name n, bool transmit_first) : sc_module(n) {
+struct SameInstant : Activities {
+    SameInstant(sc_core::sc_module_name n, bool transmit_first) : Activities(n) {
         test::spawn_checked([this] { run(Processor::Priority::interrupt, "holder", us(0), us(10)); }, "holder");
         auto transmit = [this] { run(Processor::Priority::transmit, "transmit", us(10), us(5)); };
         auto cycle = [this] { run(Processor::Priority::control_cycle, "cycle", us(10), us(5)); };
@@ -72,13 +75,6 @@ struct SameInstant : sc_core::sc_module {
             test::spawn_checked(cycle, "cycle");
             test::spawn_checked(transmit, "transmit");
         }
-    }
-    void run(Processor::Priority p, const char* who, sc_time at, sc_time hold) {
-        wait(at);
-        cpu.acquire(p);
-        starts.emplace_back(who, sc_core::sc_time_stamp());
-        wait(hold);
-        cpu.release();
     }
 };
 

@@ -153,3 +153,15 @@ TEST(Samples, TheResolutionIsTheConstructors) {
     EXPECT_TRUE(s.exact());
     EXPECT_EQ(s.count(), 0u);
 }
+
+// The over-budget counts of every output (report.json, the live page, Modbus) are this one count.
+TEST(Samples, CountAboveCountsTheSamplesStrictlyOverTheLimit) {
+    Samples s;
+    EXPECT_EQ(s.count_above(0), 0u);
+    for (double v : {1.0, 2.0, 2.0, 3.0, 381.875, 382.0}) s.add(v);
+    EXPECT_EQ(s.count_above(0.5), 6u);
+    EXPECT_EQ(s.count_above(2.0), 3u); // equal to the limit is not over it
+    EXPECT_EQ(s.count_above(1.5), 5u);
+    EXPECT_EQ(s.count_above(381.9), 1u);
+    EXPECT_EQ(s.count_above(382.0), 0u);
+}

@@ -193,7 +193,7 @@ void expect_wake(const CpuPicDpram& b, std::uint64_t wake) {
     EXPECT_EQ(w.iret_done, at_clock(wake + kWakeToReturn));
 }
 
-SymbolOf symbols_of(const std::string& rom) { return cause_symbols(kat(rom + ".map"), ""); }
+SymbolOf symbols_of(const std::string& rom) { return cause_symbols(debug::SymbolTable::load(kat(rom + ".map"))); }
 
 } // namespace
 
