@@ -16,6 +16,7 @@ PACKAGES=(
   chromium                 # the monitor's page test (headless; tests/scenarios/monitor/page_test.py)
   lcov                     # lcov and genhtml read --coverage's tracefiles (tests/scenarios/coverage, docs/tools.md)
   libmodbus-dev            # rcsim run --modbus: the Modbus TCP server (scenarios/modbus)
+  libnlopt-dev             # rcsim search: the derivative-free optimisers (scenarios/search)
   python3-pymodbus         # its tests' client (tests/scenarios/modbus)
   python3-serial-asyncio   # pymodbus 3.0's client package imports it (Debian only recommends it)
 )

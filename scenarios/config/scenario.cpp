@@ -571,6 +571,8 @@ Scenario load_scenario(const std::string& path) {
     top.child("motion");
     s.monitor = monitor::read_monitor_section(s.root, path);
     top.child("monitor");
+    s.search = read_search_section(s.root, path);
+    top.child("search");
     top.finish();
     return s;
 }

@@ -9,6 +9,7 @@
 #include "scenarios/host/replay_host.h"
 #include "scenarios/host/tcp_host.h"
 #include "scenarios/config/monitor_section.h"
+#include "scenarios/config/search_section.h"
 #include "scenarios/config/motion_plan.h"
 #include "scenarios/config/trajectory_options.h"
 #include "main_cpu/motion/motion_controller.h"
@@ -107,6 +108,8 @@ struct Scenario {
     std::optional<MotionPlan> motion;
     /// The `monitor:` section (docs/monitor.md); none without one.
     std::optional<monitor::MonitorOptions> monitor;
+    /// The `search:` section (docs/search.md): what `rcsim search` varies; a run ignores it.
+    std::optional<SearchSection> search;
 
     /// The files a run of this scenario writes besides its reports: host logs, records, port
     /// files. Relative as the file names them until place_outputs().

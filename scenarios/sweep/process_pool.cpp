@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <utility>
 
 extern char** environ;
 
@@ -110,11 +111,12 @@ std::string self_executable() {
     return ec ? std::string("rcsim") : p.string();
 }
 
-Progress::Progress(std::size_t total, bool interactive) : total_(total), line_(interactive) {}
+Progress::Progress(std::size_t total, bool interactive, std::string what)
+    : total_(total), line_(interactive), what_(std::move(what)) {}
 
 void Progress::update(std::size_t done, std::size_t failed, double elapsed_s) {
     const double eta = done ? elapsed_s / static_cast<double>(done) * static_cast<double>(total_ - done) : 0;
-    line_.show("sweep " + std::to_string(done) + "/" + std::to_string(total_) + "  " + std::to_string(failed) +
+    line_.show(what_ + " " + std::to_string(done) + "/" + std::to_string(total_) + "  " + std::to_string(failed) +
                " failed  ETA " + minutes_seconds(eta));
 }
 
@@ -125,15 +127,15 @@ void Progress::note(const std::string& line) {
 
 void Progress::finish(std::size_t failed, double elapsed_s) {
     line_.clear();
-    std::fprintf(stderr, "sweep: %zu runs, %zu failed, %.1f s\n", total_, failed, elapsed_s);
+    std::fprintf(stderr, "%s: %zu runs, %zu failed, %.1f s\n", what_.c_str(), total_, failed, elapsed_s);
 }
 
 void Progress::interrupted(const char* signal_name, std::size_t completed, std::size_t interrupted, std::size_t failed,
                            double elapsed_s) {
     line_.clear();
     const std::size_t not_run = total_ - completed - interrupted;
-    std::fprintf(stderr, "sweep: stopped by %s: %zu of %zu runs completed, %zu interrupted, %zu not run, %zu failed, %.1f s\n",
-                 signal_name, completed, total_, interrupted, not_run, failed, elapsed_s);
+    std::fprintf(stderr, "%s: stopped by %s: %zu of %zu runs completed, %zu interrupted, %zu not run, %zu failed, %.1f s\n",
+                 what_.c_str(), signal_name, completed, total_, interrupted, not_run, failed, elapsed_s);
 }
 
 } // namespace rcsim::sweep

@@ -42,7 +42,8 @@ std::string self_executable();
 /// the final line.
 class Progress {
 public:
-    Progress(std::size_t total, bool interactive);
+    /// `what` names the command on its lines: "sweep 12/40 ...", "search 12/64 ...".
+    Progress(std::size_t total, bool interactive, std::string what = "sweep");
     void update(std::size_t done, std::size_t failed, double elapsed_s);
     /// A line that must stay (a failure), printed above the progress line.
     void note(const std::string& line);
@@ -56,6 +57,7 @@ public:
 private:
     std::size_t total_;
     ProgressLine line_;
+    std::string what_;
 };
 
 } // namespace rcsim::sweep

@@ -66,27 +66,6 @@ std::string id_text(const std::string& s) {
     return out.empty() ? "_" : out;
 }
 
-/// Input files a scenario names are relative to the scenario file; the materialised copy lives
-/// elsewhere, so they become absolute. Output files (logs, records) stay relative: they land in
-/// the run's directory.
-void absolutise_inputs(YAML::Node doc, const fs::path& dir) {
-    auto fix = [&dir](YAML::Node n) {
-        if (!n.IsScalar()) return;
-        const fs::path p = n.Scalar();
-        if (!p.empty() && p.is_relative()) n = fs::absolute(dir / p).lexically_normal().string();
-    };
-    if (!doc.IsMap()) return;
-    if (doc["rom"]) fix(doc["rom"]);
-    if (doc["rom"] && doc["rom"].IsMap())
-        for (const char* chip : {"even", "odd"})
-            if (doc["rom"][chip]) fix(doc["rom"][chip]);
-    if (doc["ports"] && doc["ports"].IsSequence())
-        for (std::size_t i = 0; i < doc["ports"].size(); ++i)
-            if (doc["ports"][i].IsMap() && doc["ports"][i]["file"]) fix(doc["ports"][i]["file"]);
-    for (const char* section : {"motion", "main_cpu"})
-        if (doc[section] && doc[section].IsMap() && doc[section]["program"]) fix(doc[section]["program"]);
-}
-
 /// An axis's values: a list of scalars, or {range: [first, last]} / {range: [first, last, step]}.
 void read_values(const YAML::Node& n, const std::string& file, Axis& a) {
     auto fail = [&](const YAML::Node& at, const std::string& why) {
@@ -327,6 +306,24 @@ void expand(const Entry& e, const Sweep& sweep, const std::vector<std::pair<std:
 }
 
 } // namespace
+
+void absolutise_inputs(YAML::Node doc, const fs::path& dir) {
+    auto fix = [&dir](YAML::Node n) {
+        if (!n.IsScalar()) return;
+        const fs::path p = n.Scalar();
+        if (!p.empty() && p.is_relative()) n = fs::absolute(dir / p).lexically_normal().string();
+    };
+    if (!doc.IsMap()) return;
+    if (doc["rom"]) fix(doc["rom"]);
+    if (doc["rom"] && doc["rom"].IsMap())
+        for (const char* chip : {"even", "odd"})
+            if (doc["rom"][chip]) fix(doc["rom"][chip]);
+    if (doc["ports"] && doc["ports"].IsSequence())
+        for (std::size_t i = 0; i < doc["ports"].size(); ++i)
+            if (doc["ports"][i].IsMap() && doc["ports"][i]["file"]) fix(doc["ports"][i]["file"]);
+    for (const char* section : {"motion", "main_cpu"})
+        if (doc[section] && doc[section].IsMap() && doc[section]["program"]) fix(doc[section]["program"]);
+}
 
 Sweep load_sweep(const std::string& path) {
     Sweep s;

@@ -50,6 +50,11 @@ Sweep load_sweep(const std::string& path);
 /// sets every element. Throws std::invalid_argument saying why the path does not fit `doc`.
 void set_path(YAML::Node doc, const std::string& path, const YAML::Node& value);
 
+/// Input files a scenario names are relative to the scenario file (in `dir`); a materialised copy
+/// lives elsewhere, so they become absolute. Output files (logs, records) stay relative: they land
+/// in the run's directory.
+void absolutise_inputs(YAML::Node doc, const std::filesystem::path& dir);
+
 /// The scenario file text of a run (its materialised document).
 std::string scenario_text(const SweepRun& run);
 

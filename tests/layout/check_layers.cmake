@@ -27,6 +27,7 @@
 #   modbus/                                -> modbus monitor and the folders monitor may include
 #   run/                                   -> every folder above but sweep, cli
 #   sweep/                                 -> sweep run coverage report verdict config board host
+#   search/                                -> search and the folders sweep may include
 #   cli/                                   -> every folder
 #
 # and the root of scenarios/ holds data only: a .cpp or .h there is a violation.
@@ -63,8 +64,9 @@ set(sc_coverage coverage trace report verdict world config board debug host)
 set(sc_modbus  modbus monitor report verdict world config board host)
 set(sc_run     run coverage trace modbus monitor report verdict world config board debug host)
 set(sc_sweep   sweep run coverage report verdict config board host)
-set(sc_cli     cli sweep run coverage trace modbus monitor report verdict world config board debug host)
-set(sc_folders host board debug config world verdict report trace monitor modbus coverage run sweep cli)
+set(sc_search  search sweep run coverage report verdict config board host)
+set(sc_cli     cli search sweep run coverage trace modbus monitor report verdict world config board debug host)
+set(sc_folders host board debug config world verdict report trace monitor modbus coverage run sweep search cli)
 
 set(violations 0)
 set(files_seen 0)

@@ -1,0 +1,216 @@
+#include "scenarios/search/optimiser.h"
+
+#include <nlopt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+namespace rcsim::search {
+
+namespace {
+
+/// Stands for "no figure" to NLopt: worse than any figure a run reports.
+constexpr double kNoFigure = 1e300;
+
+nlopt_algorithm nlopt_of(const std::string& name) {
+    if (name == "subplex") return NLOPT_LN_SBPLX;
+    if (name == "neldermead") return NLOPT_LN_NELDERMEAD;
+    if (name == "cobyla") return NLOPT_LN_COBYLA;
+    if (name == "direct-l") return NLOPT_GN_DIRECT_L;
+    if (name == "crs2") return NLOPT_GN_CRS2_LM;
+    throw std::invalid_argument("unknown search algorithm '" + name + "'");
+}
+
+/// Uniform in [0, 1) from the generator's top 53 bits (std::uniform_real_distribution's output
+/// is the library's choice; this is the same everywhere).
+double unit(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
+
+/// One NLopt stream: its thread, its budget and its side of the handshake with the rounds.
+struct Stream {
+    std::string name;
+    std::vector<double> start, lo, hi;
+    std::size_t budget = 0, asked = 0;
+    std::uint64_t seed = 0;
+    // The handshake (under Rounds::m).
+    bool waiting = false, done = false, answered = false;
+    std::vector<double> ask;
+    double answer = 0;
+};
+
+/// The lockstep rounds: every live stream posts one point, the batch is evaluated, each gets its answer.
+struct Rounds {
+    std::mutex m;
+    std::condition_variable cv;
+    bool stop = false;
+    Direction direction = Direction::maximize;
+    nlopt_algorithm algorithm = NLOPT_LN_SBPLX;
+    double step = 0.1;
+};
+
+struct Context {
+    Rounds* rounds;
+    Stream* stream;
+    nlopt_opt opt;
+};
+
+double objective(unsigned n, const double* x, double*, void* data) {
+    auto* c = static_cast<Context*>(data);
+    std::unique_lock<std::mutex> lock(c->rounds->m);
+    Stream& s = *c->stream;
+    if (c->rounds->stop || s.asked >= s.budget) { // the budget is ours to keep, whatever NLopt counts
+        nlopt_force_stop(c->opt);
+        return c->rounds->direction == Direction::maximize ? -kNoFigure : kNoFigure;
+    }
+    ++s.asked;
+    s.ask.assign(x, x + n);
+    s.waiting = true;
+    s.answered = false;
+    c->rounds->cv.notify_all();
+    c->rounds->cv.wait(lock, [&] { return s.answered || c->rounds->stop; });
+    if (!s.answered) nlopt_force_stop(c->opt);
+    return s.answer;
+}
+
+void run_stream(Rounds& r, Stream& s, std::size_t dims) {
+    nlopt_opt opt = nlopt_create(r.algorithm, static_cast<unsigned>(dims));
+    Context c{&r, &s, opt};
+    nlopt_set_lower_bounds(opt, s.lo.data());
+    nlopt_set_upper_bounds(opt, s.hi.data());
+    if (r.direction == Direction::maximize) nlopt_set_max_objective(opt, objective, &c);
+    else nlopt_set_min_objective(opt, objective, &c);
+    nlopt_set_maxeval(opt, static_cast<int>(s.budget));
+    nlopt_set_xtol_abs1(opt, 1e-9); // run the budget out: a figure's edge may be narrow
+    nlopt_set_initial_step1(opt, r.step);
+    if (r.algorithm == NLOPT_GN_CRS2_LM) {
+        nlopt_srand(s.seed); // NLopt's generator is per thread
+        nlopt_set_population(opt, static_cast<unsigned>(std::max<std::size_t>(dims + 2, std::min<std::size_t>(s.budget / 2, 10 * (dims + 1)))));
+    }
+    std::vector<double> x = s.start;
+    double f = 0;
+    nlopt_optimize(opt, x.data(), &f);
+    nlopt_destroy(opt);
+    std::lock_guard<std::mutex> lock(r.m);
+    s.done = true;
+    s.waiting = false;
+    r.cv.notify_all();
+}
+
+/// Asks the streams' points round by round until every stream is done; false when stopped.
+bool drive(Rounds& r, std::vector<Stream>& streams, const Evaluate& evaluate) {
+    for (;;) {
+        std::vector<Stream*> batch;
+        std::vector<Ask> asks;
+        {
+            std::unique_lock<std::mutex> lock(r.m);
+            r.cv.wait(lock, [&] {
+                return std::all_of(streams.begin(), streams.end(), [](const Stream& s) { return s.done || s.waiting; });
+            });
+            for (Stream& s : streams)
+                if (s.waiting) {
+                    batch.push_back(&s);
+                    asks.push_back({s.ask, s.name});
+                }
+        }
+        if (batch.empty()) return true;
+        std::vector<std::optional<double>> answers(asks.size());
+        const bool go_on = evaluate(asks, answers);
+        std::lock_guard<std::mutex> lock(r.m);
+        for (std::size_t i = 0; i < batch.size(); ++i) {
+            const double none = r.direction == Direction::maximize ? -kNoFigure : kNoFigure;
+            batch[i]->answer = answers[i] ? *answers[i] : none;
+            batch[i]->answered = go_on;
+            batch[i]->waiting = false;
+        }
+        if (!go_on) r.stop = true;
+        r.cv.notify_all();
+        if (!go_on) return false;
+    }
+}
+
+} // namespace
+
+std::size_t sample_size(std::size_t runs, unsigned starts) {
+    const std::size_t quarter = (runs + 3) / 4;
+    return std::min(runs, std::max<std::size_t>(quarter, starts));
+}
+
+std::vector<std::vector<double>> latin_hypercube(std::size_t n, std::size_t dims, std::uint64_t seed) {
+    std::mt19937_64 g(seed);
+    std::vector<std::vector<double>> points(n, std::vector<double>(dims));
+    for (std::size_t d = 0; d < dims; ++d) {
+        std::vector<std::size_t> cell(n);
+        for (std::size_t i = 0; i < n; ++i) cell[i] = i;
+        for (std::size_t i = n; i > 1; --i) std::swap(cell[i - 1], cell[g() % i]); // Fisher-Yates
+        for (std::size_t i = 0; i < n; ++i) points[i][d] = (static_cast<double>(cell[i]) + unit(g)) / static_cast<double>(n);
+    }
+    return points;
+}
+
+bool optimise(const Plan& plan, const Evaluate& evaluate) {
+    Rounds r;
+    r.direction = plan.direction;
+    r.algorithm = nlopt_of(plan.algorithm);
+    const unsigned starts = std::max(1u, plan.starts);
+    const std::size_t n0 = sample_size(plan.runs, starts);
+    // The sample: one batch.
+    std::vector<Ask> asks;
+    for (auto& u : latin_hypercube(n0, plan.dims, plan.seed)) asks.push_back({std::move(u), "sample"});
+    std::vector<std::optional<double>> values(asks.size());
+    if (!evaluate(asks, values)) return false;
+    // The streams start from the best sample points, best first (ties: the earlier point).
+    std::vector<std::size_t> order(n0);
+    for (std::size_t i = 0; i < n0; ++i) order[i] = i;
+    const bool up = plan.direction == Direction::maximize;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (!values[b]) return static_cast<bool>(values[a]);
+        if (!values[a]) return false;
+        return up ? *values[a] > *values[b] : *values[a] < *values[b];
+    });
+    const std::size_t left = plan.runs - n0;
+    const std::size_t count = std::min<std::size_t>(starts, left);
+    if (count == 0) return true;
+    std::vector<Stream> streams(count);
+    r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
+    const bool slices = r.algorithm == NLOPT_GN_DIRECT_L;
+    for (std::size_t k = 0; k < count; ++k) {
+        Stream& s = streams[k];
+        s.name = "s" + std::to_string(k + 1);
+        s.budget = left / count + (k < left % count ? 1 : 0);
+        s.seed = plan.seed * 1000 + k + 1;
+        s.lo.assign(plan.dims, 0.0);
+        s.hi.assign(plan.dims, 1.0);
+        if (slices) { // DIRECT-L starts from its box's centre: each stream gets a slice of the first axis
+            s.lo[0] = static_cast<double>(k) / static_cast<double>(count);
+            s.hi[0] = static_cast<double>(k + 1) / static_cast<double>(count);
+            s.start.assign(plan.dims, 0.5);
+            s.start[0] = (s.lo[0] + s.hi[0]) / 2;
+        } else {
+            s.start = asks[order[k % n0]].u;
+        }
+    }
+    std::vector<std::thread> threads;
+    for (Stream& s : streams) threads.emplace_back(run_stream, std::ref(r), std::ref(s), plan.dims);
+    auto join = [&] {
+        {
+            std::lock_guard<std::mutex> lock(r.m);
+            r.stop = r.stop || std::any_of(streams.begin(), streams.end(), [](const Stream& s) { return !s.done; });
+        }
+        r.cv.notify_all();
+        for (auto& t : threads) t.join();
+    };
+    try {
+        const bool finished = drive(r, streams, evaluate);
+        join();
+        return finished;
+    } catch (...) { // a run the loader refused, say: the streams must end before the error goes up
+        join();
+        throw;
+    }
+}
+
+} // namespace rcsim::search

@@ -1,0 +1,51 @@
+// rcsim — the optimiser of a search (docs/search.md "How it searches"): a Latin-hypercube sample of
+// the unit cube, then `starts` streams of an NLopt algorithm, each from one of the best sample
+// points (or, for DIRECT-L, over its own slice of the first axis).
+//
+// NLopt calls its objective one point at a time, so each stream runs in a thread of its own whose
+// objective waits for its answer; the streams advance in lockstep rounds, each round one batch of
+// runs for the process pool. A stream's points depend only on its own answers, and the sample only
+// on the seed: the same seed asks the same points in the same order whatever `--jobs` is.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rcsim::search {
+
+enum class Direction { maximize, minimize };
+
+struct Plan {
+    std::string algorithm = "subplex"; // one of search_algorithms()
+    std::size_t dims = 1;
+    std::size_t runs = 1; // points to ask in all
+    unsigned starts = 4;  // streams after the sample
+    std::uint64_t seed = 1;
+    Direction direction = Direction::maximize;
+};
+
+/// A point the optimiser asks for: coordinates in [0, 1] per axis; `stage` is "sample" or the
+/// stream ("s1", "s2", ...).
+struct Ask {
+    std::vector<double> u;
+    std::string stage;
+};
+
+/// Evaluates one batch: one answer per ask (none: the run gave no figure). False: stop searching.
+using Evaluate = std::function<bool(const std::vector<Ask>&, std::vector<std::optional<double>>&)>;
+
+/// How many of `runs` points the sample takes: a quarter, at least one per start.
+std::size_t sample_size(std::size_t runs, unsigned starts);
+
+/// An n-point Latin hypercube of [0, 1]^dims from `seed` (its own generator: the same points on
+/// every platform): each axis cut into n equal cells, one point in each.
+std::vector<std::vector<double>> latin_hypercube(std::size_t n, std::size_t dims, std::uint64_t seed);
+
+/// Runs the plan, asking `evaluate` for every point. Returns false when it stopped the search.
+bool optimise(const Plan& plan, const Evaluate& evaluate);
+
+} // namespace rcsim::search
