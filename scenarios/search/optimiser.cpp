@@ -14,6 +14,9 @@ namespace rcsim::search {
 
 namespace {
 
+/// Evaluations a stream wants per vertex of its simplex (see optimise()).
+constexpr std::size_t kEvalsPerVertex = 8;
+
 /// Stands for "no figure" to NLopt: worse than any figure a run reports.
 constexpr double kNoFigure = 1e300;
 
@@ -33,7 +36,9 @@ double unit(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p
 /// One NLopt stream: its thread, its budget and its side of the handshake with the rounds.
 struct Stream {
     std::string name;
-    std::vector<double> start, lo, hi;
+    std::vector<double> point;     // the whole point: the noise axes keep these values
+    std::vector<std::size_t> free; // the axes the stream moves
+    std::vector<double> start, lo, hi; // over the free axes
     std::size_t budget = 0, asked = 0;
     std::uint64_t seed = 0;
     // The handshake (under Rounds::m).
@@ -67,7 +72,8 @@ double objective(unsigned n, const double* x, double*, void* data) {
         return c->rounds->direction == Direction::maximize ? -kNoFigure : kNoFigure;
     }
     ++s.asked;
-    s.ask.assign(x, x + n);
+    s.ask = s.point;
+    for (unsigned i = 0; i < n; ++i) s.ask[s.free[i]] = x[i];
     s.waiting = true;
     s.answered = false;
     c->rounds->cv.notify_all();
@@ -76,7 +82,8 @@ double objective(unsigned n, const double* x, double*, void* data) {
     return s.answer;
 }
 
-void run_stream(Rounds& r, Stream& s, std::size_t dims) {
+void run_stream(Rounds& r, Stream& s) {
+    const std::size_t dims = s.free.size();
     nlopt_opt opt = nlopt_create(r.algorithm, static_cast<unsigned>(dims));
     Context c{&r, &s, opt};
     nlopt_set_lower_bounds(opt, s.lo.data());
@@ -135,8 +142,8 @@ bool drive(Rounds& r, std::vector<Stream>& streams, const Evaluate& evaluate) {
 } // namespace
 
 std::size_t sample_size(std::size_t runs, unsigned starts) {
-    const std::size_t quarter = (runs + 3) / 4;
-    return std::min(runs, std::max<std::size_t>(quarter, starts));
+    const std::size_t eighth = (runs + 7) / 8;
+    return std::min(runs, std::max<std::size_t>(eighth, starts));
 }
 
 std::vector<std::vector<double>> latin_hypercube(std::size_t n, std::size_t dims, std::uint64_t seed) {
@@ -171,8 +178,14 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
         if (!values[a]) return false;
         return up ? *values[a] > *values[b] : *values[a] < *values[b];
     });
+    // A stream needs room to refine: about eight evaluations per simplex vertex (d + 1) for a
+    // local method to halve its step several times. Fewer, longer streams when the budget is short.
+    std::vector<std::size_t> free;
+    for (std::size_t d = 0; d < plan.dims; ++d)
+        if (d >= plan.noise.size() || !plan.noise[d]) free.push_back(d);
     const std::size_t left = plan.runs - n0;
-    const std::size_t count = std::min<std::size_t>(starts, left);
+    const std::size_t room = left / (kEvalsPerVertex * (free.size() + 1));
+    const std::size_t count = free.empty() ? 0 : std::min<std::size_t>(left, std::clamp<std::size_t>(room, 1, starts));
     if (count == 0) return true;
     std::vector<Stream> streams(count);
     r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
@@ -182,19 +195,21 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
         s.name = "s" + std::to_string(k + 1);
         s.budget = left / count + (k < left % count ? 1 : 0);
         s.seed = plan.seed * 1000 + k + 1;
-        s.lo.assign(plan.dims, 0.0);
-        s.hi.assign(plan.dims, 1.0);
+        s.free = free;
+        s.point = asks[order[k % n0]].u;
+        s.lo.assign(free.size(), 0.0);
+        s.hi.assign(free.size(), 1.0);
         if (slices) { // DIRECT-L starts from its box's centre: each stream gets a slice of the first axis
             s.lo[0] = static_cast<double>(k) / static_cast<double>(count);
             s.hi[0] = static_cast<double>(k + 1) / static_cast<double>(count);
-            s.start.assign(plan.dims, 0.5);
+            s.start.assign(free.size(), 0.5);
             s.start[0] = (s.lo[0] + s.hi[0]) / 2;
         } else {
-            s.start = asks[order[k % n0]].u;
+            for (std::size_t d : free) s.start.push_back(s.point[d]);
         }
     }
     std::vector<std::thread> threads;
-    for (Stream& s : streams) threads.emplace_back(run_stream, std::ref(r), std::ref(s), plan.dims);
+    for (Stream& s : streams) threads.emplace_back(run_stream, std::ref(r), std::ref(s));
     auto join = [&] {
         {
             std::lock_guard<std::mutex> lock(r.m);

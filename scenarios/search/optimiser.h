@@ -1,6 +1,7 @@
 // rcsim — the optimiser of a search (docs/search.md "How it searches"): a Latin-hypercube sample of
-// the unit cube, then `starts` streams of an NLopt algorithm, each from one of the best sample
-// points (or, for DIRECT-L, over its own slice of the first axis).
+// the unit cube, then up to `starts` streams of an NLopt algorithm, each from one of the best sample
+// points (or, for DIRECT-L, over its own slice of the first axis); as many streams as the budget
+// gives each 8 (d + 1) evaluations, at least one.
 //
 // NLopt calls its objective one point at a time, so each stream runs in a thread of its own whose
 // objective waits for its answer; the streams advance in lockstep rounds, each round one batch of
@@ -26,6 +27,9 @@ struct Plan {
     unsigned starts = 4;  // streams after the sample
     std::uint64_t seed = 1;
     Direction direction = Direction::maximize;
+    /// Axes with no neighbourhood (the seed: seeds 7 and 8 are unrelated runs): the sample varies
+    /// them, a stream keeps its start point's value, since a local step in them is a fresh draw.
+    std::vector<bool> noise;
 };
 
 /// A point the optimiser asks for: coordinates in [0, 1] per axis; `stage` is "sample" or the
@@ -38,7 +42,9 @@ struct Ask {
 /// Evaluates one batch: one answer per ask (none: the run gave no figure). False: stop searching.
 using Evaluate = std::function<bool(const std::vector<Ask>&, std::vector<std::optional<double>>&)>;
 
-/// How many of `runs` points the sample takes: a quarter, at least one per start.
+/// How many of `runs` points the sample takes: an eighth, at least one per start. A figure that is
+/// the maximum of a run (a latency) is rugged: most of what a search finds it finds near a good
+/// point (docs/search.md "How it searches" has the measurements behind the eighth).
 std::size_t sample_size(std::size_t runs, unsigned starts);
 
 /// An n-point Latin hypercube of [0, 1]^dims from `seed` (its own generator: the same points on

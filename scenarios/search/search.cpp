@@ -69,27 +69,27 @@ sweep::SweepRun make_run(const Setup& st, const std::string& id, const std::vect
 }
 
 /// Each axis alone at its two ends must give a scenario the loader accepts: a bad range is one
-/// message naming the axis before anything runs.
+/// message naming the axis and the loader's reason before anything runs.
 void check_axes(const Setup& st) {
-    const sweep::Sweep sw{st.s.file, "search", {}};
+    const fs::path file = st.dir / "axis_check.yaml";
     for (std::size_t i = 0; i < st.axes.size(); ++i)
         for (double end : {st.axes[i].lo, st.axes[i].hi}) {
             std::vector<double> values;
             for (std::size_t k = 0; k < st.axes.size(); ++k) values.push_back(k == i ? end : st.axes[k].lo);
-            sweep::SweepRun run;
+            const std::string what = "search axis '" + st.axes[i].path + "' = " + st.axes[i].text(end);
             try {
-                run = make_run(st, "check", values);
+                write_file(file, sweep::scenario_text(make_run(st, "check", values)), "a scenario to check");
+                (void)load_scenario(file.string());
             } catch (const std::invalid_argument& e) {
-                throw ConfigError(st.s.file, 0, std::string("search axis: ") + e.what());
-            }
-            try {
-                sweep::materialise(sw, run, st.dir);
-            } catch (const ConfigError& e) {
-                throw ConfigError("search axis '" + st.axes[i].path + "' = " + st.axes[i].text(end) + ": " + e.what());
+                throw ConfigError(what + ": " + e.what());
+            } catch (const ConfigError& e) { // "FILE:LINE: why": the file is ours, the why the user's
+                const std::string m = e.what();
+                const std::size_t at = m.rfind(file.string() + ":", 0) == 0 ? m.find(": ", file.string().size() + 1) : std::string::npos;
+                throw ConfigError(what + ": the scenario refuses it: " + (at == std::string::npos ? m : m.substr(at + 2)));
             }
         }
     std::error_code ec;
-    fs::remove_all(st.dir / "check", ec);
+    fs::remove(file, ec);
 }
 
 Setup prepare(const SearchOptions& o) {
@@ -141,7 +141,7 @@ public:
         const unsigned parallel = st_.o.jobs ? st_.o.jobs : std::max(1u, std::thread::hardware_concurrency());
         const std::size_t first = result_.history.size();
         for (const Point& p : points) result_.history.push_back(p);
-        sweep::run_jobs(
+        const auto results = sweep::run_jobs(
             jobs, parallel,
             [&](std::size_t j, const sweep::JobResult& r, std::size_t) {
                 read_result(result_.history[first + j], r.exit_code);
@@ -149,8 +149,16 @@ public:
                 progress_.update(done_, failed_, elapsed());
             },
             [] { return stop_signal(); });
+        // A stop leaves the points that never started out (the pool starts them in order).
+        std::size_t started = 0;
+        while (started < results.size() && results[started].started) ++started;
+        result_.history.resize(first + started);
         return stop_signal() == 0;
     }
+
+    /// Runs that ended with their figure, and runs a stop signal cut short.
+    std::size_t completed() const { return done_ - interrupted_; }
+    std::size_t interrupted() const { return interrupted_; }
 
     double elapsed() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
@@ -161,6 +169,12 @@ private:
     void read_result(Point& p, int exit_code) {
         const fs::path report = st_.runs_dir / p.id / "report.json";
         std::error_code ec;
+        const int stop = stop_signal();
+        if (stop != 0 && exit_code == 128 + stop) { // its report, if any, says interrupted: no figure
+            p.verdict = "interrupted";
+            ++interrupted_;
+            return;
+        }
         if (!fs::exists(report, ec)) {
             p.verdict = "exit " + std::to_string(exit_code);
             ++failed_;
@@ -182,7 +196,7 @@ private:
     SearchResult& result_;
     sweep::Progress& progress_;
     std::chrono::steady_clock::time_point t0_;
-    std::size_t done_ = 0, failed_ = 0;
+    std::size_t done_ = 0, failed_ = 0, interrupted_ = 0;
 };
 
 std::string run_id(const std::string& stage, std::size_t n) {
@@ -212,7 +226,10 @@ Evaluate evaluator(const Setup& st, SearchResult& result, Runner& runner) {
             fresh.push_back(std::move(p));
         }
         const bool go_on = fresh.empty() || runner.run(fresh);
-        for (std::size_t i = 0; i < asks.size(); ++i) out[i] = result.history[seen->at(keys[i])].figure;
+        for (std::size_t i = 0; i < asks.size(); ++i) {
+            const std::size_t at = seen->at(keys[i]); // beyond the history: a stop kept it from running
+            out[i] = at < result.history.size() ? result.history[at].figure : std::nullopt;
+        }
         return go_on;
     };
 }
@@ -254,7 +271,8 @@ std::optional<double> figure_of(const json& report, const std::string& path) {
         if (!v.is_number()) throw ConfigError("figure '" + path + "' is not a number (" + v.dump() + ")");
         return v.get<double>();
     }
-    // Name the figures that exist: those under the longest part of the path that does.
+    // Name the figures that exist: those under the longest part of the path that does, and of
+    // them, when some end as the path does past its first wrong key, those.
     std::string prefix = path;
     std::vector<std::string> near;
     while (near.empty()) {
@@ -265,6 +283,14 @@ std::optional<double> figure_of(const json& report, const std::string& path) {
                 (prefix.empty() || k.size() == prefix.size() || k[prefix.size()] == '.' || k[prefix.size()] == '['))
                 near.push_back(k);
         if (prefix.empty()) break;
+    }
+    const std::size_t wrong_key = path.find_first_of(".[", prefix.size() + 1);
+    if (wrong_key != std::string::npos) {
+        const std::string tail = path.substr(wrong_key);
+        std::vector<std::string> alike;
+        for (const std::string& k : near)
+            if (k.size() >= tail.size() && k.compare(k.size() - tail.size(), tail.size(), tail) == 0) alike.push_back(k);
+        if (!alike.empty()) near = alike;
     }
     std::string list;
     const std::size_t shown = std::min<std::size_t>(near.size(), 40);
@@ -316,15 +342,16 @@ int run_search(const SearchOptions& o) {
     base.id = base.stage = "base";
     bool finished = runner.run({base});
     if (finished) {
-        const Plan plan{st.algorithm, st.axes.size(), o.runs - 1, st.starts, o.seed, o.direction};
+        Plan plan{st.algorithm, st.axes.size(), o.runs - 1, st.starts, o.seed, o.direction, {}};
+        for (const Axis& a : st.axes) plan.noise.push_back(a.path == "seed");
         finished = optimise(plan, evaluator(st, result, runner));
     }
     result.stopped_by = stop_signal();
     result.best = best_of(result, o.direction);
     result.wall_s = runner.elapsed();
     if (result.stopped_by)
-        progress.interrupted(result.stopped_by == SIGINT ? "SIGINT" : "SIGTERM", result.history.size(), 0,
-                             runner.failed(), result.wall_s);
+        progress.interrupted(result.stopped_by == SIGINT ? "SIGINT" : "SIGTERM", runner.completed(),
+                             runner.interrupted(), runner.failed(), result.wall_s);
     else
         progress.finish(runner.failed(), result.wall_s);
 

@@ -155,7 +155,7 @@ std::string runs_table(const SearchResult& r) {
 } // namespace
 
 std::string reproduce_command(const PageInput& in) {
-    std::string cmd = "rcsim run " + sweep::shell_quote((in.dir / "worst.yaml").string());
+    std::string cmd = "rcsim run " + sweep::shell_quote((fs::path(in.options.out) / "worst.yaml").string());
     if (!in.options.symbols.empty()) cmd += " --symbols " + sweep::shell_quote(in.options.symbols);
     return cmd;
 }
@@ -271,11 +271,11 @@ void print_outcome(const PageInput& in, std::ostream& out) {
         out << "best: " << in.options.figure << " = " << num(*w.figure, 3) << " (run " << w.id << ", " << w.verdict
             << "; the scenario as written: "
             << (r.history[0].figure ? num(*r.history[0].figure, 3) : std::string("not measured")) << ")\n"
-            << "witness: " << (in.dir / "worst.yaml").string() << "\n";
+            << "witness: " << (fs::path(in.options.out) / "worst.yaml").string() << "\n";
     } else {
         out << "best: " << in.options.figure << " not measured in any run\n";
     }
-    out << "search: " << (in.dir / "search.html").string() << "\n";
+    out << "search: " << (fs::path(in.options.out) / "search.html").string() << "\n";
 }
 
 } // namespace rcsim::search

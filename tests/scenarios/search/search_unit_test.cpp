@@ -221,7 +221,7 @@ struct Bowl {
 TEST(SearchOptimiser, EveryAlgorithmClimbsASmoothTopWithinItsBudget) {
     for (const std::string& alg : search_algorithms()) {
         Bowl bowl;
-        const Plan plan{alg, 2, 80, 2, 1, Direction::maximize};
+        const Plan plan{alg, 2, 80, 2, 1, Direction::maximize, {}};
         ASSERT_TRUE(optimise(plan, [&](const auto& a, auto& o) { return bowl(a, o); })) << alg;
         EXPECT_LE(bowl.asked.size(), 80u) << alg;
         // Within 0.03 of the top for the local ones; 0.1 for CRS2, a population spread over the box.
@@ -233,7 +233,7 @@ TEST(SearchOptimiser, EveryAlgorithmClimbsASmoothTopWithinItsBudget) {
 TEST(SearchOptimiser, TheSameSeedAsksTheSamePoints) {
     for (const std::string& alg : {std::string("subplex"), std::string("crs2")}) {
         Bowl a, b, c;
-        const Plan plan{alg, 3, 40, 3, 5, Direction::minimize};
+        const Plan plan{alg, 3, 40, 3, 5, Direction::minimize, {}};
         optimise(plan, [&](const auto& x, auto& o) { return a(x, o); });
         optimise(plan, [&](const auto& x, auto& o) { return b(x, o); });
         EXPECT_EQ(a.asked, b.asked) << alg;
@@ -246,7 +246,7 @@ TEST(SearchOptimiser, TheSameSeedAsksTheSamePoints) {
 
 TEST(SearchOptimiser, AStopEndsTheSearchAndAnErrorComesUp) {
     std::size_t batches = 0;
-    const Plan plan{"subplex", 2, 40, 4, 1, Direction::maximize};
+    const Plan plan{"subplex", 2, 40, 4, 1, Direction::maximize, {}};
     const bool finished = optimise(plan, [&](const std::vector<Ask>& asks, std::vector<std::optional<double>>& out) {
         for (auto& o : out) o = 1.0;
         (void)asks;
