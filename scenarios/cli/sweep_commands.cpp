@@ -67,7 +67,7 @@ struct SweepArgs {
 std::vector<std::string> sweep_run_argv(const SweepArgs& a, const std::string& exe, const fs::path& dir, const SweepRun& run,
                                         const std::string& rom) {
     std::vector<std::string> argv = run_argv(exe, dir, run, rom);
-    if (a.coverage) argv.push_back("--coverage");
+    if (a.coverage && !run.search) argv.push_back("--coverage"); // a search's runs are many: no coverage
     if (!a.symbols.empty()) argv.insert(argv.end(), {"--symbols", a.symbols});
     return argv;
 }

@@ -256,8 +256,19 @@ void place_as_run(const Setup& st, const SearchResult& r) {
             fs::copy_file(e.path(), st.dir / name, fs::copy_options::overwrite_existing, ec);
     }
     json meta = fs::exists(st.dir / "run.json") ? sweep::read_json_file(st.dir / "run.json") : json::object();
-    meta["search"] = {{"figure", st.o.figure}, {"witness", r.history[*r.best].id}, {"runs", r.history.size()},
-                      {"search_json", "search.json"}};
+    json& search = meta["search"];
+    const Point& w = r.history[*r.best];
+    search["figure"] = st.o.figure;
+    search["direction"] = st.o.direction == Direction::maximize ? "maximize" : "minimize";
+    search["seed"] = st.o.seed;
+    search["budget"] = st.o.runs;
+    search["runs"] = r.history.size();
+    search["witness"] = w.id;
+    search["value"] = *w.figure;
+    json params = json::object();
+    for (std::size_t i = 0; i < w.values.size(); ++i)
+        params[st.axes[i].path] = sweep::scalar_json(YAML::Node(st.axes[i].text(w.values[i])));
+    search["parameters"] = params;
     write_file(st.dir / "run.json", meta.dump(2) + "\n", "the run's parameters");
 }
 

@@ -52,6 +52,7 @@ struct Entry {
     std::vector<AxisGroup> groups;
     std::vector<std::string> expect_fail; // by every run of the entry
     std::vector<ExpectFailWhen> expect_fail_when;
+    std::optional<SearchSpec> search;
     int line = 0;
 };
 
@@ -202,6 +203,22 @@ void read_expect_fail_when(YamlMap& m, Entry& e) {
     }
 }
 
+/// `search: {maximize: FIGURE | minimize: FIGURE, runs: N, seed: S, algorithm: NAME}`: the entry's
+/// one run searches its base for the figure's worst case. The figure's path and the algorithm are
+/// checked by `rcsim search` when it runs (it knows the report and its optimisers).
+SearchSpec read_search(YamlMap m) {
+    SearchSpec s;
+    if (m.has("maximize") == m.has("minimize")) m.fail("'search' needs one of 'maximize: FIGURE' and 'minimize: FIGURE'");
+    s.maximize = m.has("maximize");
+    s.figure = m.require<std::string>(s.maximize ? "maximize" : "minimize");
+    if (s.figure.empty()) m.fail("'search': the figure path is empty");
+    s.runs = static_cast<std::size_t>(m.integer("runs", s.runs, 2, 100000));
+    s.seed = m.get<std::uint64_t>("seed", 1);
+    s.algorithm = m.get<std::string>("algorithm", "");
+    m.finish();
+    return s;
+}
+
 /// One entry of `sweeps:`, or the top level when the file has no `sweeps:` (`top`: its `set:` is
 /// the sweep's, applied by the caller).
 Entry read_entry(YamlMap m, const std::string& default_name, const fs::path& dir, bool top) {
@@ -242,6 +259,11 @@ Entry read_entry(YamlMap m, const std::string& default_name, const fs::path& dir
     label_axes(e.groups);
     if (m.has("expect_fail")) e.expect_fail = read_check_names(m.child("expect_fail"), m.file(), "expect_fail");
     if (m.has("expect_fail_when")) read_expect_fail_when(m, e);
+    if (m.has("search")) {
+        if (!e.groups.empty() || e.base_axis)
+            m.fail(m.child("search"), "a 'search' entry is one run: it takes no axes, zip or list of bases");
+        e.search = read_search(m.map("search"));
+    }
     m.finish();
     return e;
 }
@@ -282,6 +304,7 @@ void expand(const Entry& e, const Sweep& sweep, const std::vector<std::pair<std:
             }
         r.id = id.empty() ? "run" : id;
         r.expect_fail = expected_failures(e, r.parameters);
+        r.search = e.search;
         r.scenario = YAML::Clone(base.doc);
         r.scenario["name"] = r.id;
         auto apply = [&](const std::string& path, const YAML::Node& v, int line) {
@@ -336,14 +359,14 @@ Sweep load_sweep(const std::string& path) {
     const fs::path dir = fs::path(path).parent_path();
     std::vector<Entry> entries;
     if (top.has("sweeps")) {
-        for (const char* k : {"base", "axes", "zip", "expect_fail", "expect_fail_when"})
+        for (const char* k : {"base", "axes", "zip", "expect_fail", "expect_fail_when", "search"})
             if (top.has(k)) top.fail(top.child(k), std::string("'") + k + "' belongs inside an entry of 'sweeps'");
         for (YamlMap& m : top.maps("sweeps")) entries.push_back(read_entry(m, s.name, dir, false));
         if (entries.empty()) top.fail(top.child("sweeps"), "'sweeps' lists no entry");
     } else {
         // The top level is the one entry (its finish() checks the keys of both).
         entries.push_back(read_entry(YamlMap(root, path, ""), s.name, dir, true));
-        for (const char* k : {"base", "axes", "zip", "sweeps", "expect_fail", "expect_fail_when"}) top.child(k);
+        for (const char* k : {"base", "axes", "zip", "sweeps", "expect_fail", "expect_fail_when", "search"}) top.child(k);
     }
     top.finish();
     std::map<std::string, int> seen;
@@ -438,6 +461,9 @@ nlohmann::json run_json(const SweepRun& run) {
     for (const auto& [k, v] : run.parameters) params[k] = scalar_json(v);
     nlohmann::json j = {{"id", run.id}, {"entry", run.entry}, {"parameters", params}};
     if (!run.expect_fail.empty()) j["expect_fail"] = run.expect_fail;
+    if (run.search)
+        j["search"] = {{"figure", run.search->figure}, {"direction", run.search->maximize ? "maximize" : "minimize"},
+                       {"runs", run.search->runs}, {"seed", run.search->seed}};
     return j;
 }
 
@@ -541,6 +567,13 @@ std::vector<std::string> run_argv(const std::string& exe, const fs::path& dir, c
                                   const std::string& rom) {
     const fs::path d = dir / run.id;
     std::vector<std::string> argv{exe, "run", (d / "scenario.yaml").string(), "--out", d.string(), "--reproducible"};
+    if (run.search) {
+        const SearchSpec& s = *run.search;
+        argv = {exe, "search", (d / "scenario.yaml").string(), s.maximize ? "--maximize" : "--minimize", s.figure,
+                "--runs", std::to_string(s.runs), "--seed", std::to_string(s.seed), "--jobs", "1", "--out", d.string(),
+                "--reproducible", "--as-run"};
+        if (!s.algorithm.empty()) argv.insert(argv.end(), {"--algorithm", s.algorithm});
+    }
     if (!rom.empty()) {
         argv.push_back("--rom");
         argv.push_back(rom);

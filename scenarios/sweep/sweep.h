@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -19,6 +20,16 @@
 #include <vector>
 
 namespace rcsim::sweep {
+
+/// A sweep entry's `search:` (docs/regression.md "Searched worst cases"): the entry's one run is
+/// `rcsim search` for this figure; its witness's reports stand for the run.
+struct SearchSpec {
+    std::string figure;
+    bool maximize = true;
+    std::size_t runs = 16;
+    std::uint64_t seed = 1;
+    std::string algorithm; // "" = search's default
+};
 
 /// One run of a sweep.
 struct SweepRun {
@@ -34,6 +45,7 @@ struct SweepRun {
     /// The checks this run is expected to fail (`expect_fail`, and `expect_fail_when` for its axis
     /// values), sorted: the sweep judges the run by them, the run's own report does not know them.
     std::vector<std::string> expect_fail;
+    std::optional<SearchSpec> search; // the run is a search (an entry with `search:`)
 };
 
 struct Sweep {
@@ -93,7 +105,8 @@ std::vector<std::size_t> shard_runs(std::size_t total, const Shard& shard);
 std::string shell_quote(const std::string& word);
 
 /// The argv that runs `run` alone: EXE run DIR/<id>/scenario.yaml --out DIR/<id> --reproducible
-/// [--rom ROM].
+/// [--rom ROM]; for a search entry EXE search DIR/<id>/scenario.yaml --maximize FIGURE --runs N
+/// --seed S --jobs 1 --out DIR/<id> --reproducible --as-run [--algorithm A] [--rom ROM].
 std::vector<std::string> run_argv(const std::string& exe, const std::filesystem::path& dir, const SweepRun& run,
                                   const std::string& rom);
 

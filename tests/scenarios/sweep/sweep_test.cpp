@@ -314,3 +314,35 @@ TEST_F(SweepTest, ExpectFailOfAnUnknownCheckNamesFileLineAndName) {
     EXPECT_NE(error_of("sweeps:\n  - {base: base.yaml}\nexpect_fail: [overruns]\n").find("bad.yaml:3: 'expect_fail' belongs inside an entry"),
               std::string::npos);
 }
+
+TEST_F(SweepTest, ASearchEntryIsOneRunThatRunsRcsimSearch) {
+    const Sweep s = load_sweep(write("s.yaml", "sweeps:\n"
+                                               "  - name: worst\n    base: base.yaml\n"
+                                               "    search: {maximize: interrupts.rs232_0.latency_us.max, runs: 12, seed: 3}\n"
+                                               "  - {name: plain, base: base.yaml}\n"));
+    ASSERT_EQ(s.runs.size(), 2u);
+    const SweepRun& w = s.runs[0];
+    ASSERT_TRUE(w.search);
+    EXPECT_FALSE(s.runs[1].search);
+    const auto argv = run_argv("rcsim", dir, w, "");
+    const std::vector<std::string> want{"rcsim", "search", (dir / "worst" / "scenario.yaml").string(), "--maximize",
+                                        "interrupts.rs232_0.latency_us.max", "--runs", "12", "--seed", "3", "--jobs", "1",
+                                        "--out", (dir / "worst").string(), "--reproducible", "--as-run"};
+    EXPECT_EQ(argv, want);
+    const nlohmann::json j = run_json(w);
+    EXPECT_EQ(j["search"]["figure"], "interrupts.rs232_0.latency_us.max");
+    EXPECT_EQ(j["search"]["direction"], "maximize");
+    EXPECT_EQ(j["search"]["runs"], 12);
+    EXPECT_EQ(run_argv("rcsim", dir, s.runs[1], "")[1], "run");
+}
+
+TEST_F(SweepTest, ASearchEntryNamesOneFigureAndTakesNoAxes) {
+    EXPECT_NE(error_of("base: base.yaml\nsearch: {runs: 4}\n").find("one of 'maximize: FIGURE' and 'minimize: FIGURE'"),
+              std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\nsearch: {maximize: a, minimize: b}\n").find("one of"), std::string::npos);
+    const std::string axes = error_of("base: base.yaml\naxes: {seed: [1, 2]}\nsearch: {maximize: a}\n");
+    EXPECT_NE(axes.find("bad.yaml:3:"), std::string::npos) << axes;
+    EXPECT_NE(axes.find("takes no axes"), std::string::npos) << axes;
+    EXPECT_NE(error_of("base: base.yaml\nsearch: {maximize: a, runs: 1}\n").find("runs"), std::string::npos);
+    EXPECT_NE(error_of("base: base.yaml\nsearch: {maximize: a, budget: 4}\n").find("budget"), std::string::npos);
+}
