@@ -36,13 +36,15 @@ double unit(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p
 /// One NLopt stream: its thread, its budget and its side of the handshake with the rounds.
 struct Stream {
     std::string name;
-    std::vector<double> point;     // the whole point: the noise axes keep these values
-    std::vector<std::size_t> free; // the axes the stream moves
-    std::vector<double> start, lo, hi; // over the free axes
-    std::size_t budget = 0, asked = 0;
+    std::vector<std::vector<double>> starts; // whole points, best first: a converged start gives way to the next
+    std::vector<double> point;               // the current start: the noise axes keep its values
+    std::vector<std::size_t> free;           // the axes the stream moves
+    std::vector<double> lo, hi;              // over the free axes
+    std::size_t budget = 0, spent = 0;       // runs (answers from an earlier run are free)
+    std::size_t repeats = 0;                 // answers in a row from earlier runs: converged
     std::uint64_t seed = 0;
     // The handshake (under Rounds::m).
-    bool waiting = false, done = false, answered = false;
+    bool waiting = false, done = false, answered = false, ran = false;
     std::vector<double> ask;
     double answer = 0;
 };
@@ -67,11 +69,12 @@ double objective(unsigned n, const double* x, double*, void* data) {
     auto* c = static_cast<Context*>(data);
     std::unique_lock<std::mutex> lock(c->rounds->m);
     Stream& s = *c->stream;
-    if (c->rounds->stop || s.asked >= s.budget) { // the budget is ours to keep, whatever NLopt counts
+    // The budget is in runs, ours to keep whatever NLopt counts; a start whose points all ran
+    // before has converged and gives way to the next.
+    if (c->rounds->stop || s.spent >= s.budget || s.repeats >= 2 * (n + 1)) {
         nlopt_force_stop(c->opt);
         return c->rounds->direction == Direction::maximize ? -kNoFigure : kNoFigure;
     }
-    ++s.asked;
     s.ask = s.point;
     for (unsigned i = 0; i < n; ++i) s.ask[s.free[i]] = x[i];
     s.waiting = true;
@@ -79,10 +82,14 @@ double objective(unsigned n, const double* x, double*, void* data) {
     c->rounds->cv.notify_all();
     c->rounds->cv.wait(lock, [&] { return s.answered || c->rounds->stop; });
     if (!s.answered) nlopt_force_stop(c->opt);
+    s.spent += s.ran ? 1 : 0;
+    s.repeats = s.ran ? 0 : s.repeats + 1;
     return s.answer;
 }
 
-void run_stream(Rounds& r, Stream& s) {
+/// One NLopt run of stream `s` from its current start `x`, until it converges, its budget is
+/// spent or the search stops.
+void optimise_from(Rounds& r, Stream& s, std::vector<double> x) {
     const std::size_t dims = s.free.size();
     nlopt_opt opt = nlopt_create(r.algorithm, static_cast<unsigned>(dims));
     Context c{&r, &s, opt};
@@ -90,17 +97,30 @@ void run_stream(Rounds& r, Stream& s) {
     nlopt_set_upper_bounds(opt, s.hi.data());
     if (r.direction == Direction::maximize) nlopt_set_max_objective(opt, objective, &c);
     else nlopt_set_min_objective(opt, objective, &c);
-    nlopt_set_maxeval(opt, static_cast<int>(s.budget));
-    nlopt_set_xtol_abs1(opt, 1e-9); // run the budget out: a figure's edge may be narrow
+    nlopt_set_xtol_abs1(opt, 1e-9); // run on: a figure's edge may be narrow (objective() ends it)
     nlopt_set_initial_step1(opt, r.step);
     if (r.algorithm == NLOPT_GN_CRS2_LM) {
         nlopt_srand(s.seed); // NLopt's generator is per thread
-        nlopt_set_population(opt, static_cast<unsigned>(std::max<std::size_t>(dims + 2, std::min<std::size_t>(s.budget / 2, 10 * (dims + 1)))));
+        const std::size_t population = std::min<std::size_t>(s.budget / 2, 10 * (dims + 1));
+        nlopt_set_population(opt, static_cast<unsigned>(std::max<std::size_t>(dims + 2, population)));
     }
-    std::vector<double> x = s.start;
     double f = 0;
     nlopt_optimize(opt, x.data(), &f);
     nlopt_destroy(opt);
+}
+
+void run_stream(Rounds& r, Stream& s) {
+    for (const std::vector<double>& start : s.starts) {
+        std::vector<double> x;
+        {
+            std::lock_guard<std::mutex> lock(r.m);
+            if (r.stop || s.spent >= s.budget) break;
+            s.point = start;
+            s.repeats = 0;
+        }
+        for (std::size_t i = 0; i < s.free.size(); ++i) x.push_back(std::clamp(start[s.free[i]], s.lo[i], s.hi[i]));
+        optimise_from(r, s, x);
+    }
     std::lock_guard<std::mutex> lock(r.m);
     s.done = true;
     s.waiting = false;
@@ -124,12 +144,13 @@ bool drive(Rounds& r, std::vector<Stream>& streams, const Evaluate& evaluate) {
                 }
         }
         if (batch.empty()) return true;
-        std::vector<std::optional<double>> answers(asks.size());
+        std::vector<Answer> answers(asks.size());
         const bool go_on = evaluate(asks, answers);
         std::lock_guard<std::mutex> lock(r.m);
         for (std::size_t i = 0; i < batch.size(); ++i) {
             const double none = r.direction == Direction::maximize ? -kNoFigure : kNoFigure;
-            batch[i]->answer = answers[i] ? *answers[i] : none;
+            batch[i]->answer = answers[i].figure ? *answers[i].figure : none;
+            batch[i]->ran = answers[i].ran;
             batch[i]->answered = go_on;
             batch[i]->waiting = false;
         }
@@ -167,16 +188,18 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
     // The sample: one batch.
     std::vector<Ask> asks;
     for (auto& u : latin_hypercube(n0, plan.dims, plan.seed)) asks.push_back({std::move(u), "sample"});
-    std::vector<std::optional<double>> values(asks.size());
+    std::vector<Answer> values(asks.size());
     if (!evaluate(asks, values)) return false;
     // The streams start from the best sample points, best first (ties: the earlier point).
     std::vector<std::size_t> order(n0);
     for (std::size_t i = 0; i < n0; ++i) order[i] = i;
     const bool up = plan.direction == Direction::maximize;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        if (!values[b]) return static_cast<bool>(values[a]);
-        if (!values[a]) return false;
-        return up ? *values[a] > *values[b] : *values[a] < *values[b];
+        const auto& fa = values[a].figure;
+        const auto& fb = values[b].figure;
+        if (!fb) return static_cast<bool>(fa);
+        if (!fa) return false;
+        return up ? *fa > *fb : *fa < *fb;
     });
     // A stream needs room to refine: about eight evaluations per simplex vertex (d + 1) for a
     // local method to halve its step several times. Fewer, longer streams when the budget is short.
@@ -196,16 +219,16 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
         s.budget = left / count + (k < left % count ? 1 : 0);
         s.seed = plan.seed * 1000 + k + 1;
         s.free = free;
-        s.point = asks[order[k % n0]].u;
         s.lo.assign(free.size(), 0.0);
         s.hi.assign(free.size(), 1.0);
         if (slices) { // DIRECT-L starts from its box's centre: each stream gets a slice of the first axis
             s.lo[0] = static_cast<double>(k) / static_cast<double>(count);
             s.hi[0] = static_cast<double>(k + 1) / static_cast<double>(count);
-            s.start.assign(free.size(), 0.5);
-            s.start[0] = (s.lo[0] + s.hi[0]) / 2;
+            std::vector<double> centre = asks[order[0]].u;
+            centre[free[0]] = (s.lo[0] + s.hi[0]) / 2;
+            s.starts.push_back(centre); // DIRECT-L is global in its slice: one start
         } else {
-            for (std::size_t d : free) s.start.push_back(s.point[d]);
+            for (std::size_t j = k; j < n0; j += count) s.starts.push_back(asks[order[j]].u);
         }
     }
     std::vector<std::thread> threads;

@@ -1,7 +1,8 @@
 // rcsim — the optimiser of a search (docs/search.md "How it searches"): a Latin-hypercube sample of
 // the unit cube, then up to `starts` streams of an NLopt algorithm, each from one of the best sample
 // points (or, for DIRECT-L, over its own slice of the first axis); as many streams as the budget
-// gives each 8 (d + 1) evaluations, at least one.
+// gives each 8 (d + 1) runs, at least one. A stream whose points have all run before has
+// converged: it goes on from the next best sample point it was dealt, until its runs are spent.
 //
 // NLopt calls its objective one point at a time, so each stream runs in a thread of its own whose
 // objective waits for its answer; the streams advance in lockstep rounds, each round one batch of
@@ -39,8 +40,15 @@ struct Ask {
     std::string stage;
 };
 
-/// Evaluates one batch: one answer per ask (none: the run gave no figure). False: stop searching.
-using Evaluate = std::function<bool(const std::vector<Ask>&, std::vector<std::optional<double>>&)>;
+/// The answer to one ask: the run's figure (none: it gave none), and whether it took a run (false:
+/// the point had run before, its answer is that run's).
+struct Answer {
+    std::optional<double> figure;
+    bool ran = true;
+};
+
+/// Evaluates one batch: one answer per ask. False: stop searching.
+using Evaluate = std::function<bool(const std::vector<Ask>&, std::vector<Answer>&)>;
 
 /// How many of `runs` points the sample takes: an eighth, at least one per start. A figure that is
 /// the maximum of a run (a latency) is rugged: most of what a search finds it finds near a good

@@ -210,7 +210,7 @@ std::string run_id(const std::string& stage, std::size_t n) {
 Evaluate evaluator(const Setup& st, SearchResult& result, Runner& runner) {
     auto seen = std::make_shared<std::map<std::string, std::size_t>>(); // parameters -> history index
     auto counts = std::make_shared<std::map<std::string, std::size_t>>();
-    return [&st, &result, &runner, seen, counts](const std::vector<Ask>& asks, std::vector<std::optional<double>>& out) {
+    return [&st, &result, &runner, seen, counts](const std::vector<Ask>& asks, std::vector<Answer>& out) {
         std::vector<Point> fresh;
         std::vector<std::string> keys(asks.size());
         for (std::size_t i = 0; i < asks.size(); ++i) {
@@ -220,7 +220,10 @@ Evaluate evaluator(const Setup& st, SearchResult& result, Runner& runner) {
                 p.values.push_back(st.axes[k].at(asks[i].u[k]));
                 keys[i] += st.axes[k].text(p.values.back()) + ";";
             }
-            if (seen->count(keys[i])) continue;
+            if (seen->count(keys[i])) {
+                out[i].ran = false;
+                continue;
+            }
             p.id = run_id(p.stage, ++(*counts)[p.stage]);
             (*seen)[keys[i]] = result.history.size() + fresh.size();
             fresh.push_back(std::move(p));
@@ -228,7 +231,7 @@ Evaluate evaluator(const Setup& st, SearchResult& result, Runner& runner) {
         const bool go_on = fresh.empty() || runner.run(fresh);
         for (std::size_t i = 0; i < asks.size(); ++i) {
             const std::size_t at = seen->at(keys[i]); // beyond the history: a stop kept it from running
-            out[i] = at < result.history.size() ? result.history[at].figure : std::nullopt;
+            out[i].figure = at < result.history.size() ? result.history[at].figure : std::nullopt;
         }
         return go_on;
     };

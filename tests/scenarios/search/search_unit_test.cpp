@@ -204,13 +204,13 @@ namespace {
 struct Bowl {
     std::vector<std::vector<double>> asked;
     double best = -1e9;
-    bool operator()(const std::vector<Ask>& asks, std::vector<std::optional<double>>& out) {
+    bool operator()(const std::vector<Ask>& asks, std::vector<Answer>& out) {
         for (std::size_t i = 0; i < asks.size(); ++i) {
             const auto& u = asks[i].u;
             asked.push_back(u);
             const double f = -((u[0] - 0.3) * (u[0] - 0.3) + (u[1] - 0.7) * (u[1] - 0.7));
             best = std::max(best, f);
-            out[i] = f;
+            out[i].figure = f;
         }
         return true;
     }
@@ -247,8 +247,8 @@ TEST(SearchOptimiser, TheSameSeedAsksTheSamePoints) {
 TEST(SearchOptimiser, AStopEndsTheSearchAndAnErrorComesUp) {
     std::size_t batches = 0;
     const Plan plan{"subplex", 2, 40, 4, 1, Direction::maximize, {}};
-    const bool finished = optimise(plan, [&](const std::vector<Ask>& asks, std::vector<std::optional<double>>& out) {
-        for (auto& o : out) o = 1.0;
+    const bool finished = optimise(plan, [&](const std::vector<Ask>& asks, std::vector<Answer>& out) {
+        for (auto& o : out) o.figure = 1.0;
         (void)asks;
         return ++batches < 3; // the third batch is the last
     });
@@ -256,10 +256,40 @@ TEST(SearchOptimiser, AStopEndsTheSearchAndAnErrorComesUp) {
     EXPECT_EQ(batches, 3u);
     std::size_t calls = 0;
     EXPECT_THROW(optimise(plan,
-                          [&](const std::vector<Ask>&, std::vector<std::optional<double>>& out) -> bool {
-                              for (auto& o : out) o = std::nullopt; // no figure: the worst to NLopt
+                          [&](const std::vector<Ask>&, std::vector<Answer>& out) -> bool {
+                              for (auto& o : out) o.figure = std::nullopt; // no figure: the worst to NLopt
                               if (++calls == 2) throw std::runtime_error("a run the loader refused");
                               return true;
                           }),
                  std::runtime_error);
+}
+
+TEST(SearchOptimiser, TheBudgetCountsRunsAndAConvergedStreamGoesOnFromTheNextStart) {
+    // A figure that is one value everywhere: a stream converges at once (its points all ran
+    // before, 16 cells in all), gives way to the next sample point it was dealt, and answers from
+    // earlier runs cost nothing: never more runs than the budget.
+    std::set<std::vector<double>> ran;
+    std::vector<std::vector<double>> sample;
+    std::set<std::size_t> starts_used;
+    std::size_t runs = 0;
+    const Plan plan{"subplex", 2, 40, 1, 3, Direction::maximize, {}};
+    optimise(plan, [&](const std::vector<Ask>& asks, std::vector<Answer>& out) {
+        for (std::size_t i = 0; i < asks.size(); ++i) {
+            const auto& u = asks[i].u;
+            if (asks[i].stage == "sample") sample.push_back(u);
+            else { // the sample point this one is nearest to: the start it came from
+                std::size_t nearest = 0;
+                auto d2 = [&](std::size_t k) { return std::pow(u[0] - sample[k][0], 2) + std::pow(u[1] - sample[k][1], 2); };
+                for (std::size_t k = 1; k < sample.size(); ++k)
+                    if (d2(k) < d2(nearest)) nearest = k;
+                starts_used.insert(nearest);
+            }
+            out[i].ran = ran.insert({std::floor(u[0] * 4), std::floor(u[1] * 4)}).second;
+            runs += out[i].ran ? 1 : 0;
+            out[i].figure = 1.0;
+        }
+        return true;
+    });
+    EXPECT_LE(runs, 40u);
+    EXPECT_EQ(starts_used.size(), sample.size()) << "one stream went on from every sample point";
 }
