@@ -36,8 +36,10 @@ struct Setup {
     std::string exe;
 };
 
-/// A search needs runs that end by themselves and reproduce: a tcp or pty host is a person.
+/// A search needs runs that end by themselves and reproduce, unattended: a tcp or pty host is a
+/// person, a monitor listens for one.
 void refuse_interactive(const Scenario& s) {
+    if (s.monitor) throw ConfigError(s.file, 0, "a 'monitor' section listens for a person: a search runs unattended");
     for (std::size_t p = 0; p < s.ports.size(); ++p)
         if (s.ports[p].host == PortScenario::Host::tcp || s.ports[p].host == PortScenario::Host::pty)
             throw ConfigError(s.file, 0, "port " + std::to_string(p) +
@@ -127,32 +129,33 @@ public:
     Runner(const Setup& st, SearchResult& result, sweep::Progress& progress)
         : st_(st), result_(result), progress_(progress), t0_(std::chrono::steady_clock::now()) {}
 
-    /// Runs the points (id, stage, values); false when a stop signal came.
+    /// Runs the points (id, stage, values); false when a stop signal came. A point the scenario
+    /// loader refuses is bad input (ConfigError): check_axes() has tried every axis at its ends.
     bool run(const std::vector<Point>& points) {
         const sweep::Sweep sw{st_.s.file, "search", {}};
         std::vector<sweep::Job> jobs;
+        std::vector<std::size_t> at; // each job's index in the history
         for (const Point& p : points) {
+            result_.history.push_back(p);
             const sweep::SweepRun run = make_run(st_, p.id, p.values);
             sweep::materialise(sw, run, st_.runs_dir);
             std::vector<std::string> argv = sweep::run_argv(st_.exe, st_.runs_dir, run, "");
             if (!st_.o.symbols.empty()) argv.insert(argv.end(), {"--symbols", st_.o.symbols});
             jobs.push_back({argv, (st_.runs_dir / p.id / "run.log").string()});
+            at.push_back(result_.history.size() - 1);
         }
         const unsigned parallel = st_.o.jobs ? st_.o.jobs : std::max(1u, std::thread::hardware_concurrency());
-        const std::size_t first = result_.history.size();
-        for (const Point& p : points) result_.history.push_back(p);
         const auto results = sweep::run_jobs(
             jobs, parallel,
             [&](std::size_t j, const sweep::JobResult& r, std::size_t) {
-                read_result(result_.history[first + j], r.exit_code);
+                read_result(result_.history[at[j]], r.exit_code);
                 ++done_;
                 progress_.update(done_, failed_, elapsed());
             },
             [] { return stop_signal(); });
-        // A stop leaves the points that never started out (the pool starts them in order).
-        std::size_t started = 0;
-        while (started < results.size() && results[started].started) ++started;
-        result_.history.resize(first + started);
+        // A stop leaves out the points that never started (the pool starts them in order).
+        for (std::size_t j = results.size(); j-- > 0;)
+            if (!results[j].started) result_.history.erase(result_.history.begin() + static_cast<std::ptrdiff_t>(at[j]));
         return stop_signal() == 0;
     }
 

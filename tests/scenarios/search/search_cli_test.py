@@ -10,7 +10,7 @@
   5. search.html links the witness, its report and shows two charts and the cause;
   6. bad input exits 2 with one message naming the value: a figure path (the message lists the
      ones that exist), an axis path, range, value the scenario refuses, an algorithm, --runs, a tcp
-     host, a malformed search section (file:line).
+     host, a monitor section, a malformed search section (file:line).
 
 Usage: search_cli_test.py RCSIM KAT_ROM SOURCE_DIR WORK_DIR
 """
@@ -131,6 +131,9 @@ bad("no figure", kat, "--maximize")
 with open("tcp.yaml", "w") as f:
     f.write("duration_s: 0.1\nports:\n  - {host: tcp}\n")
 bad("a tcp host", ["search", "tcp.yaml", "--out", "bad", "--maximize", FIGURE], "tcp")
+with open("monitor.yaml", "w") as f:
+    f.write(text + "monitor: {listen: '127.0.0.1:0'}\n")
+bad("a monitor section", ["search", "monitor.yaml", "--out", "bad", "--maximize", FIGURE, "--axis", AXIS], "monitor")
 with open("badsec.yaml", "w") as f:
     f.write(text + "search:\n  algorithm: simplex\n")
 bad("a search section", ["search", "badsec.yaml", "--out", "bad", "--maximize", FIGURE], "badsec.yaml:", "simplex")
