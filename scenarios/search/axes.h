@@ -32,9 +32,10 @@ struct Axis {
     std::string text(double value) const;
 };
 
-/// The host's baud tolerance the default `ports[i].baud` axis spans, as a fraction each way: the
-/// 82510's rate is exact (18.432 MHz / 32 / 60 = 9600), so the host may carry the whole of RS-232
-/// practice's +-2 % for 16x sampling (docs/search.md "Axes").
+/// The host's baud tolerance the default `ports[i].baud` axis spans, as a fraction each way. With
+/// 16x sampling the two ends may drift (0.5 - 1/16) / 10.5 = 4.2 % apart over an 8E1 character;
+/// practice keeps their sum within about 2-3 %. The 82510's rate is exact (18.432 MHz / 32 / 60 =
+/// 9600), so the host may carry all of it (docs/search.md "Axes").
 constexpr double kBaudTolerance = 0.02;
 /// The main CPU's command time varies by this fraction each way (a scenario sets one figure).
 constexpr double kCommandTimeSpread = 0.5;

@@ -7,9 +7,20 @@
 #include "tests/support/files.h"
 
 #include <fstream>
+#include <functional>
 #include <string>
 
 namespace rcsim::test {
+
+/// The message of the ConfigError `f` throws, or "" when it throws none.
+inline std::string config_error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
 
 /// The message load_scenario(path) throws, or "(no error)" when the scenario loads.
 inline std::string scenario_error(const std::string& path) {

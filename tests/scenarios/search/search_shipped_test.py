@@ -4,7 +4,8 @@
      --runs 64` finds at least the 412 us that sampling seeds found (issue #46, on c67a15e's
      firmware), and at least what sampling the first nine seeds finds on this firmware;
   2. its witness reproduces that figure byte for byte with the shipped ROM;
-  3. SIGINT stops it like a sweep: exit 130, the summary line, search.json says so.
+  3. SIGINT and SIGTERM stop it like a sweep: exit 130 / 143, the summary line, search.json says so;
+  4. the sweep's progress line on a terminal, none in CI.
 
 Usage: search_shipped_test.py RCSIM SOURCE_DIR WORK_DIR
 """
@@ -55,17 +56,29 @@ r = subprocess.run([RCSIM, "run", "shipped/worst.yaml", "--out", "rep", "--repro
 with open("shipped/runs/%s/report.json" % s["best"]["run"]) as a, open("rep/report.json") as b:
     check(r.returncode == 0 and a.read() == b.read(), "worst.yaml reproduces the witness's report.json byte for byte")
 
-# 3. SIGINT.
-proc = subprocess.Popen([RCSIM, "search", SCENARIO, "--maximize", FIGURE, "--runs", "400", "--jobs", "2", "--out", "stopped"],
-                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-started = wait_for(lambda: len(glob.glob("stopped/runs/*/report.json")) >= 4, proc, timeout=HANG_S)
-check(started, "runs complete before the signal")
-proc.send_signal(signal.SIGINT)
-out, err = proc.communicate(timeout=HANG_S)
-check(proc.returncode == 130, "SIGINT: exit 130 (%d)" % proc.returncode)
-check("search: stopped by SIGINT" in err, "the summary line: " + err.strip()[-200:])
-st = load("stopped/search.json")
-check(st["interrupted"] == "SIGINT" and st["runs"] < 400, "search.json: interrupted, %d runs" % st["runs"])
-check(st["best"] is None or os.path.exists("stopped/worst.yaml"), "a witness for what it found")
+# 3. SIGINT and SIGTERM.
+for sig, code, name in ((signal.SIGINT, 130, "SIGINT"), (signal.SIGTERM, 143, "SIGTERM")):
+    out_dir = "stopped_" + name
+    proc = subprocess.Popen([RCSIM, "search", SCENARIO, "--maximize", FIGURE, "--runs", "400", "--jobs", "2", "--out", out_dir],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    started = wait_for(lambda: len(glob.glob(out_dir + "/runs/*/report.json")) >= 4, proc, timeout=HANG_S)
+    check(started, name + ": runs complete before the signal")
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=HANG_S)
+    check(proc.returncode == code, "%s: exit %d (%d)" % (name, code, proc.returncode))
+    check("search: stopped by " + name in err, name + ": the summary line: " + err.strip()[-200:])
+    st = load(out_dir + "/search.json")
+    check(st["interrupted"] == name and st["runs"] < 400, "%s: search.json says so, %d runs" % (name, st["runs"]))
+    check(st["best"] is None or os.path.exists(out_dir + "/worst.yaml"), name + ": a witness for what it found")
+    check(all(h["verdict"] for h in st["history"]), name + ": every run in the history ran (a verdict each)")
+
+# 4. The progress line: on a terminal (script gives the search one), not in CI.
+short = [RCSIM, "search", SCENARIO, "--maximize", FIGURE, "--runs", "4", "--jobs", "2", "--out", "tty"]
+env = {k: v for k, v in os.environ.items() if k != "CI"}
+tty = subprocess.run(["script", "-qec", " ".join(short), "/dev/null"], capture_output=True, text=True, timeout=300, env=env)
+check("search 2/4" in tty.stdout and "ETA" in tty.stdout, "a progress line on a terminal")
+ci = subprocess.run(["script", "-qec", " ".join(short), "/dev/null"], capture_output=True, text=True, timeout=300,
+                    env=dict(env, CI="1"))
+check("ETA" not in ci.stdout and "search: 4 runs, 0 failed" in ci.stdout, "in CI only the last line")
 
 sys.exit(1 if failures else 0)

@@ -7,6 +7,7 @@
 #include "scenarios/search/optimiser.h"
 #include "scenarios/search/search.h"
 #include "tests/support/files.h"
+#include "tests/support/scenario_error.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 using namespace rcsim;
 using namespace rcsim::search;
 namespace fs = std::filesystem;
+using rcsim::test::config_error_of;
 
 namespace {
 
@@ -40,15 +42,6 @@ const Axis* find(const std::vector<Axis>& axes, const std::string& path) {
     for (const Axis& a : axes)
         if (a.path == path) return &a;
     return nullptr;
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 } // namespace
@@ -139,7 +132,7 @@ TEST(SearchAxis, APointBecomesAScenario) {
 TEST(SearchAxis, WrittenAxesAreCheckedAgainstTheScenario) {
     const Scenario s = scenario_of(kThreePorts);
     auto written = [&](const std::string& text) {
-        return error_of([&] { written_axes({parse_axis_text(text)}, s, "--axis"); });
+        return config_error_of([&] { written_axes({parse_axis_text(text)}, s, "--axis"); });
     };
     EXPECT_EQ(written("ports[0].char_phase_us=0..100"), "");
     EXPECT_EQ(written("ports[1].send[0].at_ms=0.5..2"), "");
@@ -160,12 +153,12 @@ TEST(SearchSection, IsReadWithTheScenarioAndErrorsNameTheLine) {
     EXPECT_TRUE(s.search->axes[0].whole);
     EXPECT_EQ(s.search->algorithm, "crs2");
     EXPECT_EQ(*s.search->starts, 2u);
-    const std::string bad_alg = error_of([] { scenario_of("search:\n  algorithm: simplex\n"); });
+    const std::string bad_alg = config_error_of([] { scenario_of("search:\n  algorithm: simplex\n"); });
     EXPECT_NE(bad_alg.find(":2:"), std::string::npos) << bad_alg;
     EXPECT_NE(bad_alg.find("subplex"), std::string::npos) << bad_alg;
-    const std::string bad_range = error_of([] { scenario_of("search:\n  axes:\n    seed: [1]\n"); });
+    const std::string bad_range = config_error_of([] { scenario_of("search:\n  axes:\n    seed: [1]\n"); });
     EXPECT_NE(bad_range.find(":3:"), std::string::npos) << bad_range;
-    EXPECT_NE(error_of([] { scenario_of("search:\n  axis: {}\n"); }).find("axis"), std::string::npos);
+    EXPECT_NE(config_error_of([] { scenario_of("search:\n  axis: {}\n"); }).find("axis"), std::string::npos);
 }
 
 TEST(SearchFigure, PathsAsTheSummaryNamesThem) {
@@ -175,12 +168,12 @@ TEST(SearchFigure, PathsAsTheSummaryNamesThem) {
     EXPECT_EQ(*figure_of(r, "interrupts.rs232_0.latency_us.max"), 402.125);
     EXPECT_EQ(*figure_of(r, "ports[1].overruns"), 2);
     EXPECT_FALSE(figure_of(r, "interrupts.dpram.latency_us.max"));
-    const std::string missing = error_of([&] { figure_of(r, "interrupts.rs232_9.latency_us.max"); });
+    const std::string missing = config_error_of([&] { figure_of(r, "interrupts.rs232_9.latency_us.max"); });
     EXPECT_NE(missing.find("under 'interrupts'"), std::string::npos) << missing;
     EXPECT_NE(missing.find("interrupts.rs232_0.latency_us.max"), std::string::npos) << missing;
     EXPECT_NE(missing.find("interrupts.dpram.latency_us.max"), std::string::npos) << missing;
     EXPECT_EQ(missing.find("ports[0]"), std::string::npos) << missing;
-    EXPECT_NE(error_of([&] { figure_of(r, "flag"); }).find("not a number"), std::string::npos);
+    EXPECT_NE(config_error_of([&] { figure_of(r, "flag"); }).find("not a number"), std::string::npos);
 }
 
 TEST(SearchInfluence, TheAxisThatDecidesTheFigureExplainsItsVariance) {
