@@ -160,6 +160,44 @@ bool drive(Rounds& r, std::vector<Stream>& streams, const Evaluate& evaluate) {
     }
 }
 
+/// The streams after the sample (`asks`, `order`: best first) with their budgets and starts.
+std::vector<Stream> deal_streams(const Plan& plan, const std::vector<Ask>& asks, const std::vector<std::size_t>& order,
+                                 Rounds& r) {
+    const std::size_t n0 = asks.size();
+    const unsigned starts = std::max(1u, plan.starts);
+    // A stream needs room to refine: about eight evaluations per simplex vertex (d + 1) for a
+    // local method to halve its step several times. Fewer, longer streams when the budget is short.
+    std::vector<std::size_t> free;
+    for (std::size_t d = 0; d < plan.dims; ++d)
+        if (d >= plan.noise.size() || !plan.noise[d]) free.push_back(d);
+    const std::size_t left = plan.runs - n0;
+    const std::size_t room = left / (kEvalsPerVertex * (free.size() + 1));
+    const std::size_t count = free.empty() ? 0 : std::min<std::size_t>(left, std::clamp<std::size_t>(room, 1, starts));
+    if (count == 0) return {};
+    std::vector<Stream> streams(count);
+    r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
+    const bool slices = r.algorithm == NLOPT_GN_DIRECT_L;
+    for (std::size_t k = 0; k < count; ++k) {
+        Stream& s = streams[k];
+        s.name = "s" + std::to_string(k + 1);
+        s.budget = left / count + (k < left % count ? 1 : 0);
+        s.seed = plan.seed * 1000 + k + 1;
+        s.free = free;
+        s.lo.assign(free.size(), 0.0);
+        s.hi.assign(free.size(), 1.0);
+        if (slices) { // DIRECT-L starts from its box's centre: each stream gets a slice of the first axis
+            s.lo[0] = static_cast<double>(k) / static_cast<double>(count);
+            s.hi[0] = static_cast<double>(k + 1) / static_cast<double>(count);
+            std::vector<double> centre = asks[order[0]].u;
+            centre[free[0]] = (s.lo[0] + s.hi[0]) / 2;
+            s.starts.push_back(centre); // DIRECT-L is global in its slice: one start
+        } else {
+            for (std::size_t j = k; j < n0; j += count) s.starts.push_back(asks[order[j]].u);
+        }
+    }
+    return streams;
+}
+
 } // namespace
 
 std::size_t sample_size(std::size_t runs, unsigned starts) {
@@ -201,36 +239,8 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
         if (!fa) return false;
         return up ? *fa > *fb : *fa < *fb;
     });
-    // A stream needs room to refine: about eight evaluations per simplex vertex (d + 1) for a
-    // local method to halve its step several times. Fewer, longer streams when the budget is short.
-    std::vector<std::size_t> free;
-    for (std::size_t d = 0; d < plan.dims; ++d)
-        if (d >= plan.noise.size() || !plan.noise[d]) free.push_back(d);
-    const std::size_t left = plan.runs - n0;
-    const std::size_t room = left / (kEvalsPerVertex * (free.size() + 1));
-    const std::size_t count = free.empty() ? 0 : std::min<std::size_t>(left, std::clamp<std::size_t>(room, 1, starts));
-    if (count == 0) return true;
-    std::vector<Stream> streams(count);
-    r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
-    const bool slices = r.algorithm == NLOPT_GN_DIRECT_L;
-    for (std::size_t k = 0; k < count; ++k) {
-        Stream& s = streams[k];
-        s.name = "s" + std::to_string(k + 1);
-        s.budget = left / count + (k < left % count ? 1 : 0);
-        s.seed = plan.seed * 1000 + k + 1;
-        s.free = free;
-        s.lo.assign(free.size(), 0.0);
-        s.hi.assign(free.size(), 1.0);
-        if (slices) { // DIRECT-L starts from its box's centre: each stream gets a slice of the first axis
-            s.lo[0] = static_cast<double>(k) / static_cast<double>(count);
-            s.hi[0] = static_cast<double>(k + 1) / static_cast<double>(count);
-            std::vector<double> centre = asks[order[0]].u;
-            centre[free[0]] = (s.lo[0] + s.hi[0]) / 2;
-            s.starts.push_back(centre); // DIRECT-L is global in its slice: one start
-        } else {
-            for (std::size_t j = k; j < n0; j += count) s.starts.push_back(asks[order[j]].u);
-        }
-    }
+    std::vector<Stream> streams = deal_streams(plan, asks, order, r);
+    if (streams.empty()) return true;
     std::vector<std::thread> threads;
     for (Stream& s : streams) threads.emplace_back(run_stream, std::ref(r), std::ref(s));
     auto join = [&] {

@@ -238,8 +238,13 @@ std::string search_html(const PageInput& in, const json& s) {
     } else {
         h << "<p><b>Not measured:</b> no run reported the figure.</p>\n";
     }
+    const auto [flo, fhi] = figure_span(r);
     h << "</div>\n<div class=\"charts\">" << progress_chart(in) << (r.axes.empty() ? "" : axes_chart(in, share))
-      << "</div>\n<h2>Axes</h2>\n<p>Influence: the share of the figure's variance over the runs that the axis explains alone "
+      << "</div>\n<p>Left: every run's figure (dots) and the best so far (line). Right: "
+      << (r.axes.size() >= 2 ? "every run at its values of the two axes that explain most of the figure's variance"
+                             : "every run's figure against the axis")
+      << ", coloured from pale (" << num(flo, 3) << ") to dark red (" << num(fhi, 3) << "); &times; marks the witness.</p>\n"
+      << "<h2>Axes</h2>\n<p>Influence: the share of the figure's variance over the runs that the axis explains alone "
          "(its correlation ratio over four equal cells).</p>\n"
       << axes_table(in, share) << "<h2>Runs</h2>\n<p>Every run's figures side by side: <a href=\"summary.html\">summary.html</a>.</p>\n"
       << runs_table(r) << "</body></html>\n";
