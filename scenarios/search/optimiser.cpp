@@ -222,7 +222,11 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
     r.direction = plan.direction;
     r.algorithm = nlopt_of(plan.algorithm);
     const unsigned starts = std::max(1u, plan.starts);
-    const std::size_t n0 = sample_size(plan.runs, starts);
+    // With only noise axes (the seed alone) no stream can move: the sample is the whole search.
+    const bool all_noise = plan.noise.size() >= plan.dims &&
+                           std::all_of(plan.noise.begin(), plan.noise.begin() + static_cast<std::ptrdiff_t>(plan.dims),
+                                       [](bool n) { return n; });
+    const std::size_t n0 = all_noise ? plan.runs : sample_size(plan.runs, starts);
     // The sample: one batch.
     std::vector<Ask> asks;
     for (auto& u : latin_hypercube(n0, plan.dims, plan.seed)) asks.push_back({std::move(u), "sample"});

@@ -286,3 +286,17 @@ TEST(SearchOptimiser, TheBudgetCountsRunsAndAConvergedStreamGoesOnFromTheNextSta
     EXPECT_LE(runs, 40u);
     EXPECT_EQ(starts_used.size(), sample.size()) << "one stream went on from every sample point";
 }
+
+TEST(SearchOptimiser, WithTheSeedAloneTheSampleIsTheWholeSearch) {
+    std::size_t asked = 0;
+    const Plan plan{"subplex", 1, 30, 4, 1, Direction::maximize, {true}};
+    optimise(plan, [&](const std::vector<Ask>& asks, std::vector<Answer>& out) {
+        for (std::size_t i = 0; i < asks.size(); ++i) {
+            EXPECT_EQ(asks[i].stage, "sample");
+            out[i].figure = asks[i].u[0];
+        }
+        asked += asks.size();
+        return true;
+    });
+    EXPECT_EQ(asked, 30u);
+}
