@@ -170,6 +170,13 @@ std::string witness_cause(const json& report, const std::string& figure) {
             worst[0].contains("text"))
             return source + "'s worst latency: " + worst[0]["text"].get<std::string>();
     }
+    if (figure.rfind("table3.", 0) == 0 && report.contains("table3") && report["table3"].is_object()) {
+        const json& t = report["table3"];
+        auto us = [&t](const char* key) { return t[key].is_number() ? num(t[key].get<double>(), 3) + " us" : std::string("not measured"); };
+        return "Table 3 of the witness: budget " + us("budget_us") + "; RS-232 receive service mean " + us("rs232_isr_us") +
+               ", longest " + us("rs232_isr_max_us") + "; DP-RAM byte " + us("dpram_byte_us") + "; margin " + us("margin_us") +
+               ", worst margin " + us("worst_margin_us");
+    }
     if (report.contains("checks") && report["checks"].is_array())
         for (const json& c : report["checks"])
             if (c.value("passed", true) == false && c.contains("why") && c["why"].is_string())

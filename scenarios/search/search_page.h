@@ -23,7 +23,8 @@ struct PageInput {
 std::string reproduce_command(const PageInput& in);
 
 /// What held the witness's figure, from its report: the worst case's cause for an interrupt
-/// figure, else the first failed check's reason, else the verdict's.
+/// latency, Table 3's terms for a Table 3 figure, else the first failed check's reason, else the
+/// verdict's.
 std::string witness_cause(const nlohmann::json& report, const std::string& figure);
 
 /// search.json.

@@ -6,6 +6,7 @@
 #include "scenarios/search/axes.h"
 #include "scenarios/search/optimiser.h"
 #include "scenarios/search/search.h"
+#include "scenarios/search/search_page.h"
 #include "tests/support/files.h"
 #include "tests/support/scenario_error.h"
 
@@ -299,4 +300,23 @@ TEST(SearchOptimiser, WithTheSeedAloneTheSampleIsTheWholeSearch) {
         return true;
     });
     EXPECT_EQ(asked, 30u);
+}
+
+TEST(SearchCause, TheWitnessSaysWhatHeldItsFigure) {
+    const nlohmann::json r = nlohmann::json::parse(R"({
+        "interrupts": {"rs232_0": {"latency_us": {"max": 418.125},
+                                   "worst": [{"text": "the rs232_1 interrupt in service for 203.9 us"}]}},
+        "table3": {"budget_us": 381.9444, "rs232_isr_us": 62.5, "rs232_isr_max_us": 218.375, "dpram_byte_us": 40.5,
+                   "margin_us": 278.9, "worst_margin_us": 123.0694},
+        "checks": [{"name": "overruns", "passed": true}, {"name": "frames_failed", "passed": false, "why": "port 1 gave up"}],
+        "verdict_reason": "a check failed"})");
+    EXPECT_EQ(witness_cause(r, "interrupts.rs232_0.latency_us.max"),
+              "rs232_0's worst latency: the rs232_1 interrupt in service for 203.9 us");
+    const std::string t3 = witness_cause(r, "table3.worst_margin_us");
+    EXPECT_NE(t3.find("longest 218.375 us"), std::string::npos) << t3;
+    EXPECT_NE(t3.find("worst margin 123.069 us"), std::string::npos) << t3;
+    EXPECT_EQ(witness_cause(r, "ports[0].overruns"), "frames_failed: port 1 gave up");
+    nlohmann::json passed = r;
+    passed["checks"] = nlohmann::json::array();
+    EXPECT_EQ(witness_cause(passed, "ports[0].overruns"), "a check failed");
 }
