@@ -12,7 +12,10 @@
      ones that exist), an axis path, range, value the scenario refuses, an algorithm, --runs, a tcp
      host, a monitor section, a malformed search section (file:line).
 
-Usage: search_cli_test.py RCSIM KAT_ROM SOURCE_DIR WORK_DIR
+  7. --symbols reaches every run: their causes name the ROM's routines, and the witness's command
+     carries it.
+
+Usage: search_cli_test.py RCSIM KAT_ROM SOURCE_DIR WORK_DIR SYMBOLS_ROM SYMBOLS_MAP
 """
 import json
 import os
@@ -23,7 +26,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 from rcsim_test import check, failures  # noqa: E402
 
-RCSIM, KAT_ROM, SRC, W = sys.argv[1:5]
+RCSIM, KAT_ROM, SRC, W, SYM_ROM, SYM_MAP = sys.argv[1:7]
 # search_kat.asm: C + 1 clocks, C = 57 + 3028 + 33 + 12 + 53 = 3183, one clock = 125 ns (8 MHz).
 ANALYTIC_MAX_US = (57 + 3028 + 33 + 12 + 53 + 1) * 0.125
 KAT_RUNS = 32  # docs/search.md "A known answer"
@@ -137,5 +140,15 @@ bad("a monitor section", ["search", "monitor.yaml", "--out", "bad", "--maximize"
 with open("badsec.yaml", "w") as f:
     f.write(text + "search:\n  algorithm: simplex\n")
 bad("a search section", ["search", "badsec.yaml", "--out", "bad", "--maximize", FIGURE], "badsec.yaml:", "simplex")
+
+# 7. --symbols (tests/scenarios/cli/symbols_rom.asm: its interrupt waits in hold_if with IF = 0).
+code, _, err = rcsim("search", os.path.join(SRC, "tests/scenarios/cli/symbols_alone.yaml"), "--rom", SYM_ROM, "--symbols", SYM_MAP,
+                     "--maximize", "interrupts.rs232_0.latency_us.max", "--axis", "seed=1..3", "--runs", "3", "--out", "sym")
+sym = load("sym/search.json")
+check(code == 0 and "--symbols " + SYM_MAP in sym["best"]["reproduce"], "--symbols: the witness's command carries it (%d %s)"
+      % (code, err.strip()[-200:]))
+check(all(load("sym/runs/%s/report.json" % h["run"])["symbols"]["file"] == os.path.basename(SYM_MAP) for h in sym["history"]),
+      "--symbols: every run read the map")
+check("hold_if" in sym["best"]["cause"], "--symbols: the cause names the routine: " + sym["best"]["cause"])
 
 sys.exit(1 if failures else 0)
