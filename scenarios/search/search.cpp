@@ -13,6 +13,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <thread>
@@ -123,6 +124,15 @@ Setup prepare(const SearchOptions& o) {
     return st;
 }
 
+/// The last line a run wrote to its log (its error message, for a run that failed).
+std::string last_line(const fs::path& log) {
+    std::ifstream f(log);
+    std::string line, last;
+    while (std::getline(f, line))
+        if (!line.empty()) last = line;
+    return last;
+}
+
 /// The runs of one batch, on the pool; what each reported.
 class Runner {
 public:
@@ -179,6 +189,10 @@ private:
             return;
         }
         if (!fs::exists(report, ec)) {
+            if (p.stage == "base") // the scenario as written does not run: every point would fail alike
+                throw ConfigError((st_.runs_dir / p.id / "run.log").string(), 0,
+                                  "the scenario as written ended without a report (exit " + std::to_string(exit_code) +
+                                      "): " + last_line(st_.runs_dir / p.id / "run.log"));
             p.verdict = "exit " + std::to_string(exit_code);
             ++failed_;
             progress_.note("run " + p.id + ": no report, exit " + std::to_string(exit_code) + " (" +
@@ -357,11 +371,10 @@ int run_search(const SearchOptions& o) {
     install_stop_handlers(); // SIGINT/SIGTERM: no more runs, the running ones stopped (stop_signal.h)
     Point base;
     base.id = base.stage = "base";
-    bool finished = runner.run({base});
-    if (finished) {
+    if (runner.run({base})) { // a stop signal ends the search where it is: stopped_by says so
         Plan plan{st.algorithm, st.axes.size(), o.runs - 1, st.starts, o.seed, o.direction, {}};
         for (const Axis& a : st.axes) plan.noise.push_back(a.path == "seed");
-        finished = optimise(plan, evaluator(st, result, runner));
+        optimise(plan, evaluator(st, result, runner));
     }
     result.stopped_by = stop_signal();
     result.best = best_of(result, o.direction);

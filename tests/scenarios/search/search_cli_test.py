@@ -10,7 +10,8 @@
   5. search.html links the witness, its report and shows two charts and the cause;
   6. bad input exits 2 with one message naming the value: a figure path (the message lists the
      ones that exist), an axis path, range, value the scenario refuses, an algorithm, --runs, a tcp
-     host, a monitor section, a malformed search section (file:line).
+     host, a monitor section, a malformed search section (file:line), a scenario that does not run
+     as written (the run's own message).
 
   7. --symbols reaches every run: their causes name the ROM's routines, and the witness's command
      carries it.
@@ -134,6 +135,11 @@ bad("no figure", kat, "--maximize")
 with open("tcp.yaml", "w") as f:
     f.write("duration_s: 0.1\nports:\n  - {host: tcp}\n")
 bad("a tcp host", ["search", "tcp.yaml", "--out", "bad", "--maximize", FIGURE], "tcp")
+with open("bad.rom", "wb") as f:
+    f.write(b"\x90\x90\x90")
+bad("a scenario that does not run", kat + ["--maximize", FIGURE, "--axis", AXIS, "--rom", "bad.rom"],
+    "the scenario as written ended without a report", "bad.rom")
+check(not os.path.exists("bad/runs/sample-001"), "nothing but the scenario as written ran")
 with open("monitor.yaml", "w") as f:
     f.write(text + "monitor: {listen: '127.0.0.1:0'}\n")
 bad("a monitor section", ["search", "monitor.yaml", "--out", "bad", "--maximize", FIGURE, "--axis", AXIS], "monitor")
