@@ -204,6 +204,20 @@ Decoded decode(const std::uint8_t* b, unsigned n) {
     return d;
 }
 
+std::optional<Target> direct_target(const std::uint8_t* b, const Decoded& d, std::uint16_t ip) {
+    if (d.length == 0) return std::nullopt;
+    const std::uint8_t* operand = b + d.prefixes + 1;
+    const auto word = [](const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); };
+    const auto after = static_cast<std::uint16_t>(ip + d.length);
+    const std::uint8_t op = d.opcode;
+    if (op == 0xEA || op == 0x9A) return Target{true, word(operand + 2), word(operand)};
+    if (op == 0xE9 || op == 0xE8) return Target{false, 0, static_cast<std::uint16_t>(after + word(operand))};
+    const bool rel8 = op == 0xEB || (op >= 0x60 && op < 0x80) || (op >= 0xE0 && op < 0xE4);
+    if (!rel8) return std::nullopt;
+    const auto displacement = static_cast<std::int8_t>(operand[0]);
+    return Target{false, 0, static_cast<std::uint16_t>(after + displacement)};
+}
+
 std::string mnemonic(const std::uint8_t* b, unsigned n) {
     static const char* const strings[] = {"MOVSB", "MOVSW", "CMPSB", "CMPSW", "", "", "STOSB", "STOSW",
                                           "LODSB", "LODSW", "SCASB", "SCASW"};

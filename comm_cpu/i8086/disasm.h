@@ -1,5 +1,6 @@
 // rcsim — the 8086 instruction decoder for people and for analyses: from an instruction's bytes
-// alone, its length, its mnemonic and what it does to the flow of control. The core executes
+// alone, its length, its mnemonic, what it does to the flow of control and where a direct transfer
+// goes. The core executes
 // without it (execution decodes as the microcode does, byte by byte from the queue); the
 // latency causes, the cycle profiler and the static bound read the firmware through it.
 //
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace rcsim::i8086 {
@@ -47,6 +49,21 @@ struct Decoded {
 
 /// Decodes the instruction that starts at `b` (`n` bytes readable).
 Decoded decode(const std::uint8_t* b, unsigned n);
+
+/// Where a direct transfer of control goes: a near one's offset in its own segment, a far one's
+/// segment and offset.
+struct Target {
+    bool far = false;
+    std::uint16_t cs = 0; ///< far only
+    std::uint16_t ip = 0;
+};
+
+/// The target written in the instruction `d` decoded at `b`, which starts at offset `ip` of its
+/// segment: JMP rel8/rel16, Jcc (and its aliases), LOOP/LOOPE/LOOPNE/JCXZ and CALL rel16 go to the
+/// offset after the whole instruction (prefixes included) plus the displacement, modulo 64 KB;
+/// JMP/CALL ptr16:16 to the pointer. None for a transfer through a register or memory (FF /2../5),
+/// returns, IRET, INT, and every instruction that falls through, or whose bytes ended early.
+std::optional<Target> direct_target(const std::uint8_t* b, const Decoded& d, std::uint16_t ip);
 
 /// The mnemonic of the instruction at `b`, prefixes included ("REP MOVSB", "CS: MOV", "INT 21h"),
 /// without its operands; "opcode D6h" for an opcode it does not name. It is the text report.json

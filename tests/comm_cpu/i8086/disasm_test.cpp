@@ -110,3 +110,62 @@ TEST(Disasm, EveryVectorDecodesToTheLengthOfItsBytes) {
     EXPECT_GT(returns, 0u);   // C0-C3, C8-CB
     EXPECT_GT(tests, 30000u);
 }
+
+TEST(Disasm, DirectTargetsOfEachEncoding) {
+    using rcsim::i8086::direct_target;
+    auto target = [](std::vector<std::uint8_t> b, std::uint16_t ip) {
+        return direct_target(b.data(), decode(b.data(), static_cast<unsigned>(b.size())), ip);
+    };
+    // rel8 from the end of the instruction: EB FE is a jump to itself.
+    EXPECT_EQ(target({0xEB, 0xFE}, 0x100)->ip, 0x100);
+    EXPECT_EQ(target({0x74, 0x10}, 0x100)->ip, 0x112);              // JZ +16
+    EXPECT_EQ(target({0x64, 0x10}, 0x100)->ip, 0x112);              // its alias 64h
+    EXPECT_EQ(target({0xE2, 0x80}, 0x100)->ip, 0x100 + 2 - 128);    // LOOP -128
+    EXPECT_EQ(target({0xE9, 0x00, 0x80}, 0xFFF0)->ip, 0x7FF3);      // rel16 wraps in the segment
+    EXPECT_EQ(target({0x2E, 0xE8, 0x01, 0x00}, 0x10)->ip, 0x15);    // a prefix counts in the length
+    const auto far = target({0xEA, 0x34, 0x12, 0x00, 0xF0}, 0);     // JMP F000:1234
+    ASSERT_TRUE(far && far->far);
+    EXPECT_EQ(far->cs, 0xF000);
+    EXPECT_EQ(far->ip, 0x1234);
+    EXPECT_FALSE(target({0xFF, 0xE0}, 0));                          // JMP AX: through a register
+    EXPECT_FALSE(target({0xC3}, 0));
+    EXPECT_FALSE(target({0x90}, 0));
+    EXPECT_FALSE(target({0xE9, 0x00}, 0));                          // the bytes end inside it
+}
+
+TEST(Disasm, EveryDirectTransferOfTheVectorsGoesWhereItsTargetSays) {
+    // Hardware-captured: a JMP/CALL goes to its target; a conditional branch either there or to
+    // the next instruction.
+    const std::string dir = rcsim::test::sst_dir();
+    if (dir.empty()) GTEST_SKIP() << "SingleStepTests 8086 vectors not present (set RCSIM_SST_DIR)";
+    std::size_t checked = 0, taken = 0;
+    for (const std::string& path : rcsim::i8086::sst::collect({dir})) {
+        const nlohmann::json all = nlohmann::json::parse(rcsim::i8086::sst::read_text(path));
+        for (const nlohmann::json& t : all) {
+            std::vector<std::uint8_t> b = t.at("bytes").get<std::vector<std::uint8_t>>();
+            b.resize(b.size() + 8, 0x90);
+            const rcsim::i8086::Decoded d = decode(b.data(), static_cast<unsigned>(b.size()));
+            const nlohmann::json& in = t.at("initial").at("regs");
+            const nlohmann::json& out = t.at("final").at("regs");
+            const auto ip = in.at("ip").get<std::uint16_t>();
+            const auto target = rcsim::i8086::direct_target(b.data(), d, ip);
+            if (!target) continue;
+            ++checked;
+            const std::string name = t.at("name").get<std::string>();
+            const auto final_ip = out.contains("ip") ? out.at("ip").get<std::uint16_t>() : ip;
+            const auto final_cs = out.contains("cs") ? out.at("cs").get<std::uint16_t>() : in.at("cs").get<std::uint16_t>();
+            if (d.flow == Flow::branch) {
+                const bool went = final_ip == target->ip;
+                taken += went ? 1 : 0;
+                EXPECT_TRUE(went || final_ip == static_cast<std::uint16_t>(ip + d.length)) << path << ": " << name;
+                continue;
+            }
+            EXPECT_EQ(final_ip, target->ip) << path << ": " << name;
+            if (target->far) {
+                EXPECT_EQ(final_cs, target->cs) << path << ": " << name;
+            }
+        }
+    }
+    EXPECT_GT(checked, 3000u); // EB, E9, E8, EA, 9A, 70-7F, 60-6F, E0-E3: 100 vectors each
+    EXPECT_GT(taken, 500u);
+}
