@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <fstream>
 #include <sstream>
 
@@ -208,7 +209,7 @@ json search_json(const PageInput& in) {
               {"starts", in.starts}, {"budget", in.options.runs}, {"runs", r.history.size()}, {"wall_s", r.wall_s},
               {"axes", axes}, {"history", history}, {"best", nullptr},
               {"base", r.history.empty() ? json() : value_or_null(r.history[0].figure)},
-              {"interrupted", r.stopped_by ? json(r.stopped_by == 2 ? "SIGINT" : "SIGTERM") : json()}};
+              {"interrupted", r.stopped_by ? json(r.stopped_by == SIGINT ? "SIGINT" : "SIGTERM") : json()}};
     if (r.best) {
         const Point& w = r.history[*r.best];
         j["best"] = {{"value", *w.figure}, {"run", w.id}, {"verdict", w.verdict}, {"parameters", history[*r.best]["parameters"]},
