@@ -162,7 +162,7 @@ bool drive(Rounds& r, std::vector<Stream>& streams, const Evaluate& evaluate) {
 
 /// The streams after the sample (`asks`, `order`: best first) with their budgets and starts.
 std::vector<Stream> deal_streams(const Plan& plan, const std::vector<Ask>& asks, const std::vector<std::size_t>& order,
-                                 Rounds& r) {
+                                 const Rounds& r) {
     const std::size_t n0 = asks.size();
     const unsigned starts = std::max(1u, plan.starts);
     // A stream needs room to refine: about eight evaluations per simplex vertex (d + 1) for a
@@ -175,7 +175,6 @@ std::vector<Stream> deal_streams(const Plan& plan, const std::vector<Ask>& asks,
     const std::size_t count = free.empty() ? 0 : std::min<std::size_t>(left, std::clamp<std::size_t>(room, 1, starts));
     if (count == 0) return {};
     std::vector<Stream> streams(count);
-    r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
     const bool slices = r.algorithm == NLOPT_GN_DIRECT_L;
     for (std::size_t k = 0; k < count; ++k) {
         Stream& s = streams[k];
@@ -243,6 +242,7 @@ bool optimise(const Plan& plan, const Evaluate& evaluate) {
         if (!fa) return false;
         return up ? *fa > *fb : *fa < *fb;
     });
+    r.step = 0.5 / static_cast<double>(n0); // about the sample's spacing: a stream refines its point
     std::vector<Stream> streams = deal_streams(plan, asks, order, r);
     if (streams.empty()) return true;
     std::vector<std::thread> threads;

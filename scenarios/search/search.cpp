@@ -144,28 +144,28 @@ public:
     bool run(const std::vector<Point>& points) {
         const sweep::Sweep sw{st_.s.file, "search", {}};
         std::vector<sweep::Job> jobs;
-        std::vector<std::size_t> at; // each job's index in the history
+        const std::size_t first = result_.history.size();
         for (const Point& p : points) {
-            result_.history.push_back(p);
             const sweep::SweepRun run = make_run(st_, p.id, p.values);
             sweep::materialise(sw, run, st_.runs_dir);
             std::vector<std::string> argv = sweep::run_argv(st_.exe, st_.runs_dir, run, "");
             if (!st_.o.symbols.empty()) argv.insert(argv.end(), {"--symbols", st_.o.symbols});
             jobs.push_back({argv, (st_.runs_dir / p.id / "run.log").string()});
-            at.push_back(result_.history.size() - 1);
+            result_.history.push_back(p);
         }
         const unsigned parallel = st_.o.jobs ? st_.o.jobs : std::max(1u, std::thread::hardware_concurrency());
         const auto results = sweep::run_jobs(
             jobs, parallel,
             [&](std::size_t j, const sweep::JobResult& r, std::size_t) {
-                read_result(result_.history[at[j]], r.exit_code);
+                read_result(result_.history[first + j], r.exit_code);
                 ++done_;
                 progress_.update(done_, failed_, elapsed());
             },
             [] { return stop_signal(); });
-        // A stop leaves out the points that never started (the pool starts them in order).
-        for (std::size_t j = results.size(); j-- > 0;)
-            if (!results[j].started) result_.history.erase(result_.history.begin() + static_cast<std::ptrdiff_t>(at[j]));
+        // A stop leaves out the points that never started: the pool starts them in order.
+        std::size_t started = 0;
+        while (started < results.size() && results[started].started) ++started;
+        result_.history.resize(first + started);
         return stop_signal() == 0;
     }
 
@@ -265,10 +265,11 @@ std::optional<std::size_t> best_of(const SearchResult& r, Direction d) {
 }
 
 /// With --as-run (a sweep's search entry): DIR holds the witness's reports as if it were the run,
-/// and its run.json says what was searched.
-void place_as_run(const Setup& st, const SearchResult& r) {
-    if (!r.best) return;
-    const fs::path from = st.runs_dir / r.history[*r.best].id;
+/// and its run.json says what was searched (from search.json, `s`).
+void place_as_run(const Setup& st, const json& s) {
+    if (s["best"].is_null()) return;
+    const json& best = s["best"];
+    const fs::path from = st.runs_dir / best["run"].get<std::string>();
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(from, ec)) {
         const std::string name = e.path().filename().string();
@@ -277,18 +278,10 @@ void place_as_run(const Setup& st, const SearchResult& r) {
     }
     json meta = fs::exists(st.dir / "run.json") ? sweep::read_json_file(st.dir / "run.json") : json::object();
     json& search = meta["search"];
-    const Point& w = r.history[*r.best];
-    search["figure"] = st.o.figure;
-    search["direction"] = st.o.direction == Direction::maximize ? "maximize" : "minimize";
-    search["seed"] = st.o.seed;
-    search["budget"] = st.o.runs;
-    search["runs"] = r.history.size();
-    search["witness"] = w.id;
-    search["value"] = *w.figure;
-    json params = json::object();
-    for (std::size_t i = 0; i < w.values.size(); ++i)
-        params[st.axes[i].path] = sweep::scalar_json(YAML::Node(st.axes[i].text(w.values[i])));
-    search["parameters"] = params;
+    for (const char* key : {"figure", "direction", "seed", "budget", "runs"}) search[key] = s[key];
+    search["witness"] = best["run"];
+    search["value"] = best["value"];
+    search["parameters"] = best["parameters"];
     write_file(st.dir / "run.json", meta.dump(2) + "\n", "the run's parameters");
 }
 
@@ -387,9 +380,9 @@ int run_search(const SearchOptions& o) {
 
     if (o.reproducible) result.wall_s = 0;
     const PageInput page{o, st.s.name, st.algorithm, st.starts, st.dir, result};
-    write_witness(page);
+    const json searched = write_witness(page);
     sweep::merge_runs({st.runs_dir.string()}, st.dir);
-    if (o.as_run) place_as_run(st, result);
+    if (o.as_run) place_as_run(st, searched);
     print_outcome(page, std::cout);
     if (result.stopped_by) return 128 + result.stopped_by;
     if (!result.best) return 4;

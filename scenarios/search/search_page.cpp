@@ -222,7 +222,8 @@ json search_json(const PageInput& in) {
 
 std::string search_html(const PageInput& in, const json& s) {
     const SearchResult& r = in.result;
-    const std::vector<double> share = influence(r);
+    std::vector<double> share;
+    for (const json& a : s["axes"]) share.push_back(a["influence"].get<double>());
     std::ostringstream h;
     h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>rcsim search: " << esc(in.options.figure)
       << "</title>\n<style>body{font:14px sans-serif;margin:24px;max-width:1180px}table{border-collapse:collapse;margin:8px 0}"
@@ -259,7 +260,7 @@ std::string search_html(const PageInput& in, const json& s) {
     return h.str();
 }
 
-void write_witness(const PageInput& in) {
+json write_witness(const PageInput& in) {
     const json s = search_json(in);
     if (in.result.best) {
         const Point& w = in.result.history[*in.result.best];
@@ -275,6 +276,7 @@ void write_witness(const PageInput& in) {
     }
     write_file(in.dir / "search.json", s.dump(2) + "\n", "the search's history");
     write_file(in.dir / "search.html", search_html(in, s), "the search's page");
+    return s;
 }
 
 void print_outcome(const PageInput& in, std::ostream& out) {

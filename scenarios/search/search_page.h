@@ -30,11 +30,13 @@ std::string witness_cause(const nlohmann::json& report, const std::string& figur
 /// search.json.
 nlohmann::json search_json(const PageInput& in);
 
-/// search.html: the page of one search (self-contained, its charts inline SVG).
+/// search.html: the page of one search (self-contained, its charts inline SVG), from the search
+/// and its search.json (`summary`: the axes' influence, the witness's cause).
 std::string search_html(const PageInput& in, const nlohmann::json& summary);
 
-/// Writes DIR/worst.yaml (when a run measured the figure), DIR/search.json and DIR/search.html.
-void write_witness(const PageInput& in);
+/// Writes DIR/worst.yaml (when a run measured the figure), DIR/search.json and DIR/search.html;
+/// returns what search.json holds.
+nlohmann::json write_witness(const PageInput& in);
 
 /// The search's last lines on stdout: best figure and run, the witness, the page.
 void print_outcome(const PageInput& in, std::ostream& out);
