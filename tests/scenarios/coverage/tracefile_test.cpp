@@ -15,8 +15,11 @@ using namespace rcsim::coverage;
 
 namespace {
 
+// Each test writes under its own folder: ctest runs the tests of this file in parallel, and a
+// file one test truncates must never be the one another test is reading.
 fs::path write(const std::string& name, const std::string& text) {
-    const fs::path dir = fs::path(RCSIM_COVERAGE_WORK) / "tracefile";
+    const fs::path dir = fs::path(RCSIM_COVERAGE_WORK) / "tracefile" /
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(dir);
     std::ofstream(dir / name, std::ios::binary) << text;
     return dir / name;
@@ -90,6 +93,6 @@ TEST(Tracefile, BadInputNamesTheFileAndLine) {
     EXPECT_EQ(error_of(zero), zero.string() + ":2: DA line '0' is not a line number 1 .. 4294967295");
     const fs::path binary = write("binary.info", std::string("\x7f" "ELF\x01\x02", 6));
     EXPECT_NE(error_of(binary).find(binary.string() + ":1: "), std::string::npos);
-    EXPECT_EQ(error_of(write("missing.info", "") .parent_path() / "none.info"),
-              (fs::path(RCSIM_COVERAGE_WORK) / "tracefile" / "none.info").string() + ": cannot read the tracefile");
+    const fs::path none = write("missing.info", "").parent_path() / "none.info";
+    EXPECT_EQ(error_of(none), none.string() + ": cannot read the tracefile");
 }
