@@ -18,6 +18,7 @@
 #   host/                                  -> host
 #   board/                                 -> board
 #   debug/                                 -> debug host
+#   bound/    the static bound             -> bound debug host
 #   config/                                -> config board host
 #   world/    the simulated world          -> world config board host
 #   verdict/  what decides PASS            -> verdict world config board host
@@ -25,7 +26,7 @@
 #   trace/ monitor/                        -> itself and the folders above but run, sweep, cli
 #   coverage/                              -> coverage trace report verdict world config board debug host
 #   modbus/                                -> modbus monitor and the folders monitor may include
-#   run/                                   -> every folder above but sweep, cli
+#   run/                                   -> every folder above but sweep, search, cli
 #   sweep/                                 -> sweep run coverage report verdict config board host
 #   search/                                -> search and the folders sweep may include
 #   cli/                                   -> every folder
@@ -54,6 +55,7 @@ set(tree_dirs models pic8259 dpram uart82510 camc_qi comm_cpu main_cpu scenarios
 set(sc_host    host)
 set(sc_board   board)
 set(sc_debug   debug host)
+set(sc_bound   bound debug host)
 set(sc_config  config board host)
 set(sc_world   world config board host)
 set(sc_verdict verdict world config board host)
@@ -62,11 +64,11 @@ set(sc_trace   trace report verdict world config board debug host)
 set(sc_monitor monitor report verdict world config board host)
 set(sc_coverage coverage trace report verdict world config board debug host)
 set(sc_modbus  modbus monitor report verdict world config board host)
-set(sc_run     run coverage trace modbus monitor report verdict world config board debug host)
+set(sc_run     run bound coverage trace modbus monitor report verdict world config board debug host)
 set(sc_sweep   sweep run coverage report verdict config board host)
 set(sc_search  search sweep run coverage report verdict config board host)
-set(sc_cli     cli search sweep run coverage trace modbus monitor report verdict world config board debug host)
-set(sc_folders host board debug config world verdict report trace monitor modbus coverage run sweep search cli)
+set(sc_cli     cli bound search sweep run coverage trace modbus monitor report verdict world config board debug host)
+set(sc_folders host board debug bound config world verdict report trace monitor modbus coverage run sweep search cli)
 
 set(violations 0)
 set(files_seen 0)

@@ -1,0 +1,73 @@
+// rcsim — the worst-case clocks of one 8086 instruction, measured on the core itself.
+//
+// The static bound (scenarios/bound/, docs/tools.md "Bound") adds up instruction times along a
+// firmware's paths. It takes them from here, and here they come from running the instruction on
+// this folder's bus-cycle-exact core (Cpu) under every condition the instruction can meet at
+// run time that changes its time: the prefetch queue and the BIU's phase at its boundary (set up
+// by preambles of other instructions before it), the alignment of its memory and stack operands,
+// the operand values its microcode's time depends on (MUL/DIV, shifts by CL, REP counts), the
+// flags a conditional transfer tests (taken and not taken), and the board's wait states per kind
+// of bus cycle. The worst of those runs is the bound, so the bound and the simulation cannot
+// disagree on what an instruction costs: a test runs every SingleStepTests vector and every
+// instruction of the shipped scenarios against it (tests/comm_cpu/i8086/worst_clocks_test.cpp,
+// tests/scenarios/bound/).
+//
+// An instruction's time is measured boundary to boundary as Cpu::step() spends it: from the
+// clock after the opcode byte was read to the clock after the next instruction's opcode byte was
+// read (for a transfer, the target's). The sum over a path is the path's time.
+#pragma once
+
+#include "comm_cpu/i8086/cpu.h"
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace rcsim::i8086 {
+
+/// The wait states an instruction's bus cycles can meet on the board, per kind of cycle: each the
+/// worst of every region that kind can reach (the analysis does not know segment values).
+struct WaitBounds {
+    unsigned code = 1; ///< code fetches (the region the code runs from: the ROM)
+    unsigned data = 1; ///< memory reads and writes, stack included (the worst data region, DP-RAM BUSY included)
+    unsigned io = 1;   ///< IN / OUT
+    unsigned inta = 0; ///< the two INTA cycles of an interrupt entry
+    bool operator<(const WaitBounds& o) const {
+        return std::tie(code, data, io, inta) < std::tie(o.code, o.data, o.io, o.inta);
+    }
+};
+
+class WorstClocks {
+public:
+    explicit WorstClocks(const WaitBounds& waits);
+    ~WorstClocks();
+    WorstClocks(const WorstClocks&) = delete;
+    WorstClocks& operator=(const WorstClocks&) = delete;
+
+    /// The worst clocks of the instruction `bytes[0 .. length)` (prefixes included) at offset
+    /// `ip` of its code segment. `cx_max` is the largest value CX can hold at it: the count of a
+    /// REP string instruction (the whole run of at most cx_max elements is one instruction) and,
+    /// by its low byte or 255 when larger, of a shift or rotate by CL. Every other operand value
+    /// is taken at its worst. A run that raises a divide error is not a time of this instruction
+    /// (the firmware's divide-error handler is another path) and is left out.
+    unsigned instruction(const std::uint8_t* bytes, unsigned length, std::uint16_t ip, std::uint32_t cx_max = 0xFFFF);
+
+    /// The worst clocks of an interrupt entry: from the boundary at which INTR is taken (the two
+    /// INTA cycles, the pushes of FLAGS, CS and IP, the vector's two words) to the boundary of
+    /// the handler's first instruction (its opcode byte read).
+    unsigned interrupt_entry();
+
+    const WaitBounds& waits() const { return waits_; }
+
+private:
+    struct Harness;
+    unsigned measure(const std::vector<std::uint8_t>& bytes, std::uint16_t ip, std::uint32_t cx_max);
+    WaitBounds waits_;
+    std::unique_ptr<Harness> harness_;
+    std::map<std::string, unsigned> cache_; // bytes, ip parity and cx_max -> clocks
+};
+
+} // namespace rcsim::i8086

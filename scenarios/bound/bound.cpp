@@ -1,0 +1,1 @@
+#include "scenarios/bound/bound.h"
