@@ -1,0 +1,50 @@
+// The static bound on the built firmwares (scenarios/bound/bound.h): the shipped ROM keeps the
+// rule on every path; the frozen all-C ROM does not, on its RS-232 handler.
+#include "models/plumbing/config_error.h"
+#include "scenarios/bound/bound.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+using namespace rcsim;
+using namespace rcsim::bound;
+
+namespace {
+
+std::vector<std::uint8_t> read(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+/// The firmware's vectors 0x20..0x23 as crt0.s installs them (CS = F000, the handlers' offsets).
+Inputs firmware(const std::string& rom, const std::string& map, const std::string& annotations) {
+    Inputs in;
+    in.rom = read(rom);
+    in.symbols = debug::SymbolTable::load_ld86_map(map);
+    if (!annotations.empty()) in.annotations = load_annotations(annotations, in.symbols);
+    const char* names[] = {"rs232_0", "rs232_1", "rs232_2", "dpram"};
+    const char* handlers[] = {"isr_port0", "isr_port1", "isr_port2", "isr_dpram"};
+    for (int n = 0; n < 4; ++n) {
+        const debug::Symbol* s = in.symbols.find(handlers[n]);
+        if (!s) throw std::runtime_error(std::string("no symbol ") + handlers[n]);
+        in.sources.push_back({names[n], std::uint8_t(0x20 + n), 0xF000, std::uint16_t(s->address - 0xF0000)});
+    }
+    in.waits = {1, 1, 1, 0};
+    in.budget_us = 381.9;
+    return in;
+}
+
+} // namespace
+
+TEST(BoundFirmware, TheShippedFirmwareKeepsTheRuleOnEveryPath) {
+    const Result r = analyse(firmware(RCSIM_COMM_FW_ROM, RCSIM_COMM_FW_MAP, RCSIM_BOUND_ANNOTATIONS));
+    if (std::getenv("RCSIM_BOUND_DUMP")) std::ofstream(std::getenv("RCSIM_BOUND_DUMP")) << to_json(r).dump(1);
+    for (const auto& [name, b] : r.sources) {
+        std::cout << name << " service " << b.service_us << " blocking " << b.blocking_us << " latency " << b.latency_us << "\n";
+        EXPECT_LE(b.blocking_us, r.budget_us) << name;
+    }
+    EXPECT_TRUE(r.fits()) << describe_over_budget(r);
+}
