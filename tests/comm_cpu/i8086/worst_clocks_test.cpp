@@ -81,3 +81,78 @@ TEST_P(WorstClocksVectors, NoVectorTakesMoreThanItsBound) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shards, WorstClocksVectors, ::testing::Range(0u, kShards));
+
+// Known answers: the iAPX 86/88 User's Manual's clock table gives each form's clocks without
+// wait states (a range where the time depends on the operands: the bound is at least its top);
+// every wait state of a bus cycle the form must run adds one clock.
+TEST(WorstClocks, AtLeastTheDatasheetFigures) {
+    WorstClocks w(WaitBounds{0, 0, 0, 0});
+    EXPECT_GE(bound(w, {0x8A, 0xC3}), 2u);             // MOV AL,BL: 2
+    EXPECT_GE(bound(w, {0xF7, 0xE3}), 133u);           // MUL BX: 118-133
+    EXPECT_GE(bound(w, {0xF6, 0xE3}), 77u);            // MUL BL: 70-77
+    EXPECT_GE(bound(w, {0xF7, 0xEB}), 154u);           // IMUL BX: 128-154
+    EXPECT_GE(bound(w, {0xF7, 0xF3}), 162u);           // DIV BX: 144-162
+    EXPECT_GE(bound(w, {0xF6, 0xF3}), 90u);            // DIV BL: 80-90
+    EXPECT_GE(bound(w, {0xF7, 0xFB}), 184u);           // IDIV BX: 165-184
+    EXPECT_GE(bound(w, {0xD4, 0x0A}), 83u);            // AAM: 83
+    EXPECT_GE(bound(w, {0xE4, 0x60}), 10u);            // IN AL,60h: 10
+    EXPECT_GE(bound(w, {0xD3, 0xE0}, 10), 8u + 4 * 10); // SHL AX,CL: 8 + 4/bit, CL up to 10
+    EXPECT_GE(bound(w, {0xE2, 0xFE}), 17u);            // LOOP: 17 taken, 5 not
+    EXPECT_GE(bound(w, {0x74, 0x10}), 16u);            // JZ: 16 taken, 4 not
+    EXPECT_GE(bound(w, {0xCD, 0x21}), 51u);            // INT 21h: 51
+    EXPECT_GE(bound(w, {0xF3, 0xA5}, 100), 9u + 17 * 100); // REP MOVSW: 9 + 17/rep, CX up to 100
+    EXPECT_GE(w.interrupt_entry(), 61u);               // INTR: 61 (two INTA cycles and the entry)
+}
+
+TEST(WorstClocks, TheCountsAndShiftsGrowWithCxMax) {
+    WorstClocks w(WaitBounds{0, 0, 0, 0});
+    // 17 clocks per MOVSW element, 4 per bit shifted: more CX, more time by at least those.
+    EXPECT_GE(bound(w, {0xF3, 0xA5}, 200), bound(w, {0xF3, 0xA5}, 100) + 17 * 100);
+    EXPECT_GE(bound(w, {0xD3, 0xE0}, 20), bound(w, {0xD3, 0xE0}, 10) + 4 * 10);
+    // A shift counts CL alone: a CX above 255 allows CL = 255 and no more.
+    EXPECT_EQ(bound(w, {0xD3, 0xE0}, 0x1234), bound(w, {0xD3, 0xE0}, 255));
+    // Without REP the count is not CX's.
+    EXPECT_EQ(bound(w, {0xA5}, 0), bound(w, {0xA5}, 0xFFFF));
+}
+
+TEST(WorstClocks, EachWaitStateRaisesTheBoundOfTheCyclesItHolds) {
+    WorstClocks none(WaitBounds{0, 0, 0, 0}), io(WaitBounds{0, 0, 1, 0}), data(WaitBounds{0, 1, 0, 0}),
+        code(WaitBounds{1, 0, 0, 0}), inta(WaitBounds{0, 0, 0, 1});
+    // IN AL,60h: one I/O read, so one clock per I/O wait state (10 + 1 with one).
+    EXPECT_GE(bound(io, {0xE4, 0x60}), 11u);
+    EXPECT_GE(bound(io, {0xE4, 0x60}), bound(none, {0xE4, 0x60}) + 1);
+    // MOV [BX],AX: one or two data writes (odd address): one more clock at least.
+    EXPECT_GE(bound(data, {0x89, 0x07}), bound(none, {0x89, 0x07}) + 1);
+    // REP MOVSW with 100 words: a read and a write each, every one a wait state later.
+    EXPECT_GE(bound(data, {0xF3, 0xA5}, 100), bound(none, {0xF3, 0xA5}, 100) + 2 * 100);
+    // A far jump refetches its target: a code wait state shows.
+    EXPECT_GT(bound(code, {0xEA, 0x00, 0x01, 0x00, 0x20}), bound(none, {0xEA, 0x00, 0x01, 0x00, 0x20}));
+    // The entry: two INTA cycles, so two clocks at least.
+    EXPECT_GE(inta.interrupt_entry(), none.interrupt_entry() + 2);
+    EXPECT_GE(data.interrupt_entry(), none.interrupt_entry() + 5); // 3 pushes, 2 vector reads
+}
+
+TEST(WorstClocks, OperandValuesAlignmentAndFlagsAreTakenAtTheirWorst) {
+    WorstClocks w(WaitBounds{0, 0, 0, 0});
+    // CWD takes a clock more for a negative AX (the vectors show 5 and 6).
+    EXPECT_GE(bound(w, {0x99}), 6u);
+    // A word at an odd address takes two bus cycles: MOV AX,[BX] and PUSH are bounded as if odd,
+    // so at least a bus cycle (4 clocks) above a byte access of the same form.
+    EXPECT_GE(bound(w, {0x8B, 0x07}), bound(w, {0x8A, 0x07}) + 4);
+    // A taken conditional jump is the worst of the two: as JMP short at the least.
+    EXPECT_GE(bound(w, {0x7F, 0x10}), bound(w, {0xEB, 0x10}));
+    // The cache answers by bytes, IP parity and cx_max: the same question, the same answer.
+    EXPECT_EQ(bound(w, {0xEB, 0x10}, 0, 0x100), bound(w, {0xEB, 0x10}, 0, 0x200));
+}
+
+TEST(WorstClocks, ARunThatDividesByZeroIsNotTheInstructionsTime) {
+    // With 10 wait states per data cycle the divide error's entry (two vector reads, three
+    // pushes: 50 clocks of waits) is far longer than any DIV BL that completes (no data cycle:
+    // 80-90 clocks). DIV AH always faults (AH / AH does not fit): its bound is what the fault
+    // takes, the only time it has. DIV BL faults for BL = 0 but its bound leaves those runs out.
+    WorstClocks w(WaitBounds{0, 10, 0, 0});
+    const unsigned fault_only = bound(w, {0xF6, 0xF4});
+    EXPECT_GE(fault_only, 90u + 5 * 10);
+    EXPECT_LT(bound(w, {0xF6, 0xF3}), 90u + 5 * 10);
+    EXPECT_GE(bound(w, {0xF6, 0xF3}), 90u);
+}
