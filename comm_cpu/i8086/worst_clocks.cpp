@@ -1,24 +1,484 @@
 // rcsim — the worst-case clocks of one 8086 instruction, measured on the core. See worst_clocks.h.
+//
+// Each measurement is one run on a private Cpu whose every bus cycle goes through the harness
+// below (no memory map), as in the SingleStepTests set-up (sst.cpp): code fetches answer a
+// preamble's bytes, then the instruction's, in fetch order, then NOPs; data reads a fill
+// pattern (or what a run wrote); I/O reads and INTA a fixed value. Every cycle gets the wait
+// states WaitBounds gives its kind. A run is (preamble, register set-up, fill pattern); the
+// worst over runs is the bound. Two stages keep the count modest: every set-up (alignment,
+// operand values, flags, counts) from a few BIU states, then the set-ups that came within a
+// bus cycle of the worst from every BIU state the preambles make.
 #include "comm_cpu/i8086/worst_clocks.h"
+
+#include "comm_cpu/i8086/disasm.h"
+
+#include <algorithm>
+#include <array>
 
 namespace rcsim::i8086 {
 
-struct WorstClocks::Harness {};
+namespace {
 
-WorstClocks::WorstClocks(const WaitBounds& waits) : waits_(waits), harness_(std::make_unique<Harness>()) {}
-WorstClocks::~WorstClocks() = default;
+constexpr std::uint8_t kNop = 0x90;
+constexpr std::uint16_t kCs = 0x4000, kDs = 0x1000, kSs = 0x2000, kEs = 0x3000;
+constexpr std::uint8_t kIntaVector = 0x08; // what the INTA cycles answer: an 8259A's IR0 type
+/// All six status flags set (CF, PF, AF, ZF, SF, OF); IF and TF stay clear in instruction runs.
+constexpr std::uint16_t kAllStatus = 0x08D5;
 
-// Placeholder until the measurement lands: a rough over-estimate.
-unsigned WorstClocks::instruction(const std::uint8_t* bytes, unsigned length, std::uint16_t ip, std::uint32_t cx_max) {
-    return measure(std::vector<std::uint8_t>(bytes, bytes + length), ip, cx_max);
+/// The memory a run sees where it did not write: a constant byte (0xFF: every pointer read
+/// from memory odd, 0x00: even) or, for CMPS/SCAS, bytes counting 80h..FFh in the order they
+/// are read, so that no two compared bytes are equal and none equals 33h: a REPNE run never
+/// finds its byte.
+enum class Fill : std::uint8_t { ones, zeros, counting };
+
+/// One register set-up of the instruction (CS and IP come from the measurement).
+struct Setup {
+    Registers regs;
+    Fill fill = Fill::ones;
+    bool operand = false;        // the first data read (a MUL/DIV memory operand) answers `value`
+    bool word = false;           // ... a word (else a byte)
+    std::uint16_t value = 0;
+};
+
+/// A preamble: instructions stepped through before the target to leave the queue and the BIU
+/// in another state at its boundary, or (queue > 0) the target's first bytes already queued.
+struct Preamble {
+    std::vector<std::uint8_t> bytes;
+    unsigned instructions = 0;
+    unsigned queue = 0;
+    bool halt = false; // (interrupt entry) ends halted
+};
+
+// Preamble instructions that change no register the target's set-up needs (the set-up is
+// written at the target's boundary anyway): NOP (1 byte, 3 clocks), CLC (1 byte, 2 clocks),
+// MOV AL,AL (2 bytes, 2 clocks: drains the queue), MUL CL (slow: the queue fills), MOV [BX],AL
+// (a data write holds the bus), JMP $+2 (flushes the queue: the target right after a jump).
+const std::uint8_t kPNop[] = {0x90}, kPClc[] = {0xF8}, kPMov[] = {0x88, 0xC0}, kPMul[] = {0xF6, 0xE1},
+                   kPWrite[] = {0x88, 0x07}, kPJmp[] = {0xEB, 0x00};
+
+void add(Preamble& p, const std::uint8_t* b, unsigned n, unsigned times = 1) {
+    for (unsigned t = 0; t < times; ++t) {
+        p.bytes.insert(p.bytes.end(), b, b + n);
+        ++p.instructions;
+    }
 }
 
-unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint16_t, std::uint32_t cx_max) {
-    unsigned c = 30 + 8 * unsigned(bytes.size());
-    if (!bytes.empty() && (bytes[0] == 0xF3 || bytes[0] == 0xF2)) c += 20 * (cx_max & 0xFFFF);
+std::vector<Preamble> all_preambles() {
+    std::vector<Preamble> out;
+    out.push_back({});
+    for (unsigned q = 1; q <= 6; ++q) out.push_back(Preamble{{}, 0, q, false});
+    for (unsigned k = 1; k <= 6; ++k) {
+        Preamble a, b;
+        add(a, kPNop, 1, k);
+        add(b, kPClc, 1, k);
+        out.push_back(a);
+        out.push_back(b);
+    }
+    for (unsigned k = 1; k <= 3; ++k) {
+        Preamble p;
+        add(p, kPMov, 2, k);
+        out.push_back(p);
+    }
+    for (const std::uint8_t* head : {kPMul, kPWrite, kPJmp}) {
+        for (unsigned k = 0; k <= 3; ++k) {
+            Preamble a, b;
+            add(a, head, 2);
+            add(b, head, 2);
+            add(a, kPNop, 1, k);
+            add(b, kPClc, 1, k);
+            out.push_back(a);
+            if (k) out.push_back(b);
+        }
+        Preamble m;
+        add(m, head, 2);
+        add(m, kPMov, 2);
+        out.push_back(m);
+    }
+    return out;
+}
+
+/// The few BIU states every set-up is tried from first: empty queue, full queue, after NOPs.
+std::vector<Preamble> first_preambles() {
+    std::vector<Preamble> out;
+    out.push_back({});
+    out.push_back(Preamble{{}, 0, 6, false});
+    Preamble p;
+    add(p, kPNop, 1, 2);
+    out.push_back(p);
+    return out;
+}
+
+/// Set-ups taken to stage 2 (at most two with the same stage-1 time).
+constexpr std::size_t kChosen = 6;
+
+bool is_string(std::uint8_t op) { return (op >= 0xA4 && op <= 0xA7) || (op >= 0xAA && op <= 0xAF); }
+
+} // namespace
+
+struct WorstClocks::Harness : BusHandler {
+    WaitBounds waits;
+    Cpu cpu;
+    std::vector<std::uint8_t> code; // preamble and instruction bytes, in fetch order
+    std::size_t code_pos = 0;
+    Fill fill = Fill::ones;
+    // RAM a run wrote: a byte is valid when its stamp is the run's
+    std::vector<std::uint8_t> ram = std::vector<std::uint8_t>(1u << 20);
+    std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(1u << 20);
+    std::uint32_t run = 1;
+    unsigned operand_bytes = 0, operand_left = 0; // the next data bytes read answer `value` (low first)
+    std::uint16_t value = 0;
+    bool vector0 = false; // a read of 00000-00003: the divide error's vector
+    std::uint8_t counter = 0; // Fill::counting's next byte
+
+    explicit Harness(const WaitBounds& w) : waits(w) { cpu.set_bus_handler(this); }
+
+    std::uint8_t read_byte(std::uint32_t a) {
+        a &= 0xFFFFF;
+        if (a < 4) vector0 = true;
+        if (operand_left) {
+            const unsigned i = operand_bytes - operand_left--;
+            return std::uint8_t(value >> (8 * i));
+        }
+        if (stamp[a] == run) return ram[a];
+        switch (fill) {
+        case Fill::ones: return 0xFF;
+        case Fill::zeros: return 0x00;
+        case Fill::counting: return std::uint8_t(0x80 | counter++);
+        }
+        return 0;
+    }
+
+    unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width, cycles_t) override {
+        switch (kind) {
+        case Bus::code_fetch: {
+            auto next = [&]() { return code_pos < code.size() ? code[code_pos++] : kNop; };
+            const std::uint8_t lo = next();
+            data = width == 2 ? std::uint16_t(lo | (next() << 8)) : lo;
+            return waits.code;
+        }
+        case Bus::mem_read: {
+            const std::uint8_t lo = read_byte(address);
+            data = width == 2 ? std::uint16_t(lo | (read_byte(address + 1) << 8)) : lo;
+            return waits.data;
+        }
+        case Bus::mem_write:
+            for (unsigned i = 0; i < width; ++i) {
+                const std::uint32_t a = (address + i) & 0xFFFFF;
+                ram[a] = std::uint8_t(data >> (8 * i));
+                stamp[a] = run;
+            }
+            return waits.data;
+        case Bus::io_read: data = 0xFFFF; return waits.io;
+        case Bus::io_write: return waits.io;
+        case Bus::int_ack: data = kIntaVector; return waits.inta;
+        default: return 0;
+        }
+    }
+
+    /// One run: the preamble, then the set-up written at the target's boundary, then the
+    /// target's step(). `fault`: a read of the divide error's vector, when the target can raise it.
+    unsigned measure(const std::vector<std::uint8_t>& target, std::uint16_t ip, const Preamble& p, const Setup& s,
+                     bool can_fault, bool& fault) {
+        begin(p, target, ip);
+        Registers& r = cpu.regs();
+        for (int i = 0; i < 8; ++i) r.r[i] = s.regs.r[i];
+        r.flags = std::uint16_t((s.regs.flags & 0x0CD5) | 0xF002); // (never IF or TF)
+        fill = s.fill;
+        value = s.value;
+        operand_bytes = operand_left = s.operand ? (s.word ? 2 : 1) : 0;
+        vector0 = false;
+        const cycles_t c0 = cpu.cycles();
+        cpu.step();
+        fault = can_fault && vector0;
+        return unsigned(cpu.cycles() - c0);
+    }
+
+    /// Puts the CPU before the preamble, with the target starting at `ip`.
+    void begin(const Preamble& p, const std::vector<std::uint8_t>& target, std::uint16_t ip) {
+        ++run;
+        vector0 = false;
+        operand_left = 0;
+        code = p.bytes;
+        code.insert(code.end(), target.begin(), target.end());
+        Registers r;
+        r.s[CS] = kCs;
+        r.s[DS] = kDs;
+        r.s[SS] = kSs;
+        r.s[ES] = kEs;
+        r.r[SP] = 0x8000;
+        r.r[BX] = 0x0100;
+        r.ip = std::uint16_t(ip - p.bytes.size());
+        std::array<std::uint8_t, 6> q{};
+        for (unsigned i = 0; i < p.queue; ++i) q[i] = i < code.size() ? code[i] : kNop;
+        code_pos = std::min<std::size_t>(p.queue, code.size());
+        cpu.load_state(r, q.data(), p.queue);
+        cpu.start();
+        for (unsigned i = 0; i < p.instructions; ++i) cpu.step();
+        if (p.halt) {
+            cpu.step(); // the HLT
+            cpu.step(); // an idle clock in the halt
+        }
+    }
+};
+
+WorstClocks::WorstClocks(const WaitBounds& waits) : waits_(waits), harness_(std::make_unique<Harness>(waits)) {}
+WorstClocks::~WorstClocks() = default;
+
+unsigned WorstClocks::instruction(const std::uint8_t* bytes, unsigned length, std::uint16_t ip, std::uint32_t cx_max) {
+    const std::vector<std::uint8_t> b(bytes, bytes + length);
+    std::string key(b.begin(), b.end());
+    key += char(ip & 1);
+    key += std::to_string(cx_max);
+    const auto it = cache_.find(key);
+    if (it != cache_.end()) return it->second;
+    const unsigned c = measure(b, ip, cx_max);
+    cache_.emplace(std::move(key), c);
     return c;
 }
 
-unsigned WorstClocks::interrupt_entry() { return 61 + 2 * waits_.data * 5; }
+namespace {
+
+// Alignment set-ups: the base and index registers and SP even and odd, so that every ModR/M
+// form's effective address, both string pointers (alone and mixed) and the stack take both
+// parities; every other general register follows the same parity (a jump through one).
+std::vector<Registers> alignments(std::uint16_t cx) {
+    static const std::uint8_t odd[6][4] = {
+        // BX BP SI DI (AX, DX follow BX): each ModR/M sum both ways, the string pointers mixed
+        {0, 0, 0, 0}, {1, 1, 1, 1}, {1, 1, 0, 0}, {0, 0, 1, 1}, {1, 0, 1, 0}, {0, 1, 0, 1},
+    };
+    std::vector<Registers> out;
+    for (unsigned sp = 0; sp < 2; ++sp) // (SP's parity apart: a displacement flips the others')
+        for (const auto& o : odd) {
+            Registers r;
+            r.r[BX] = std::uint16_t(0x0200 + o[0]);
+            r.r[AX] = std::uint16_t(0x0400 + o[0]);
+            r.r[DX] = std::uint16_t(0x0600 + o[0]);
+            r.r[BP] = std::uint16_t(0x0800 + o[1]);
+            r.r[SI] = std::uint16_t(0x0A00 + o[2]);
+            r.r[DI] = std::uint16_t(0x0C00 + o[3]);
+            r.r[SP] = std::uint16_t(0x8000 + sp);
+            r.r[CX] = cx;
+            r.flags = 0xF002;
+            out.push_back(r);
+        }
+    return out;
+}
+
+// Operand values for MUL/IMUL/DIV/IDIV (accumulator, DX, the r/m operand): CORX costs a clock
+// per one bit of the multiplier and IMUL more for negative operands; CORD a clock more per
+// quotient bit found by a trial subtraction, IDIV more for negative operands. So: many one
+// bits, every sign combination, quotients of all ones from small divisors, and a fixed
+// pseudo-random spread for what the structure misses.
+struct Values {
+    std::uint16_t ax, dx, operand;
+};
+
+std::vector<Values> muldiv_values(bool word) {
+    std::vector<Values> v;
+    const std::uint16_t many[] = {0x0000, 0x0001, 0x007F, 0x0080, 0x00FF, 0x7FFF, 0x8000, 0x8001, 0xFFFF,
+                                  0xFF80, 0xFF81, 0x5555, 0xAAAA, 0x7F7F, 0x8080, 0xFFFE, 0x0002};
+    for (std::uint16_t a : many)
+        for (std::uint16_t m : many) v.push_back({a, a, m});
+    // Division: dividend = quotient * divisor + remainder with the quotient's magnitude all ones
+    // (unsigned) or 2^(n-1) - 1 (signed), positive and negative.
+    const unsigned n = word ? 16 : 8;
+    const std::uint32_t mask = (1u << n) - 1;
+    for (std::uint32_t d : {1u, 2u, 3u, 5u, 0x7Fu, mask >> 1, mask - 1})
+        for (std::uint32_t q : {mask, mask >> 1, mask >> 2, (mask >> 1) - 1})
+            for (std::uint32_t rem : {0u, d - 1})
+                for (int sd = 0; sd < 2; ++sd)
+                    for (int sq = 0; sq < 2; ++sq) {
+                        const std::uint64_t mag = std::uint64_t(q) * d + rem;
+                        const std::uint64_t dividend = (sd ^ sq) ? (~mag + 1) : mag; // sign of the quotient * divisor
+                        const std::uint32_t dv = sd ? ((~d + 1) & mask) : d;
+                        if (word) v.push_back({std::uint16_t(dividend), std::uint16_t(dividend >> 16), std::uint16_t(dv)});
+                        else v.push_back({std::uint16_t(dividend), 0, std::uint16_t(dv * 0x101)});
+                    }
+    std::uint32_t s = 0x2545F491;
+    auto next = [&]() { return s = s * 1664525u + 1013904223u, std::uint16_t(s >> 16); };
+    for (int i = 0; i < 64; ++i) {
+        const std::uint16_t a = next(), d = next(), m = next();
+        v.push_back({a, word ? std::uint16_t(d >> (i & 15)) : d, m});
+    }
+    return v;
+}
+
+} // namespace
+
+unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint16_t ip, std::uint32_t cx_max) {
+    const Decoded d = decode(bytes.data(), unsigned(bytes.size()));
+    const std::uint8_t op = d.opcode;
+    const unsigned at = d.prefixes;
+    const bool modrm_follows = at + 1 < bytes.size();
+    const std::uint8_t modrm = modrm_follows ? bytes[at + 1] : 0;
+    const unsigned reg = (modrm >> 3) & 7;
+    const bool mem = modrm_follows && (modrm >> 6) != 3;
+    bool rep = false;
+    for (unsigned i = 0; i < at; ++i) rep = rep || bytes[i] == 0xF2 || bytes[i] == 0xF3;
+    const std::uint16_t cx = std::uint16_t(std::min<std::uint32_t>(cx_max, 0xFFFF));
+    const bool muldiv = (op == 0xF6 || op == 0xF7) && reg >= 4;
+    const bool divide = muldiv && reg >= 6;
+
+    std::vector<Setup> setups;
+    for (const Registers& r : alignments(cx))
+        for (Fill f : {Fill::ones, Fill::zeros}) setups.push_back(Setup{r, f});
+    // (CBW and CWD take a clock more for a negative accumulator)
+    for (int i = 0; i < 4; ++i) {
+        Setup s = setups[std::size_t(i)];
+        s.regs.r[AX] = s.regs.r[DX] = std::uint16_t(0xFF80 | s.regs.r[AX]);
+        setups.push_back(s);
+    }
+    const std::vector<Setup> aligned = setups;
+    auto vary = [&](auto change) {
+        std::vector<Setup> out;
+        for (const Setup& s : aligned) change(s, out);
+        setups.insert(setups.end(), out.begin(), out.end());
+    };
+    if (d.flow == Flow::branch || op == 0xCE) { // Jcc, LOOPx, JCXZ, INTO: taken and not taken
+        std::vector<Setup> out;
+        for (const Setup& a : op == 0xCE ? aligned : std::vector<Setup>{aligned[0]}) // (INTO pushes)
+            for (std::uint16_t f : {std::uint16_t(0), kAllStatus, flag::SF, flag::OF})
+                for (std::uint32_t c : {0u, 1u, 2u, cx_max})
+                    if (c <= cx_max) {
+                        Setup s = a;
+                        s.regs.flags = std::uint16_t(0xF002 | f);
+                        s.regs.r[CX] = std::uint16_t(std::min<std::uint32_t>(c, 0xFFFF));
+                        out.push_back(s);
+                    }
+        setups = out;
+    } else if ((op >= 0xD2 && op <= 0xD3)) { // shifts and rotates by CL: the most and one less
+        const std::uint16_t cl = std::min<std::uint16_t>(cx, 255);
+        for (Setup& s : setups) s.regs.r[CX] = std::uint16_t((cx & 0xFF00) | cl);
+        if (cl) vary([&](const Setup& a, std::vector<Setup>& out) {
+            Setup s = a;
+            s.regs.r[CX] = std::uint16_t((cx & 0xFF00) | (cl - 1));
+            out.push_back(s);
+        });
+    } else if (is_string(op)) { // both directions; CMPS/SCAS finding their byte or not
+        vary([&](const Setup& a, std::vector<Setup>& out) {
+            for (int df = 0; df < 2; ++df)
+                for (Fill f : {Fill::ones, Fill::zeros, Fill::counting})
+                    for (std::uint16_t acc : {std::uint16_t(0xFFFF), std::uint16_t(0x0000), std::uint16_t(0x3333)}) {
+                        Setup s = a;
+                        s.fill = f;
+                        s.regs.r[AX] = acc;
+                        if (df) s.regs.flags |= flag::DF;
+                        out.push_back(s);
+                    }
+        });
+        if (rep && cx > 0) vary([&](const Setup& a, std::vector<Setup>& out) {
+            Setup s = a;
+            s.regs.r[CX] = std::uint16_t(cx - 1);
+            out.push_back(s);
+        });
+    } else if (muldiv) {
+        const bool word = op == 0xF7;
+        setups.clear();
+        // (a memory operand answers the value itself: its address takes both parities over the
+        // first three alignments, whatever registers the ModR/M adds)
+        for (const Values& v : muldiv_values(word))
+            for (unsigned a = 0; a < (mem ? 3u : 1u); ++a) {
+                Setup s = aligned[2 * a];
+                s.regs.r[AX] = v.ax;
+                s.regs.r[DX] = word ? v.dx : v.operand;
+                if (mem) {
+                    s.operand = true;
+                    s.word = word;
+                    s.value = v.operand;
+                } else {
+                    for (int r : {CX, BX, SP, BP, SI, DI}) s.regs.r[r] = v.operand;
+                    if (word && (modrm & 7) == DX) s.regs.r[DX] = v.operand;
+                }
+                setups.push_back(s);
+            }
+    } else if (op == 0xD4) { // AAM: every AL
+        vary([&](const Setup& a, std::vector<Setup>& out) {
+            if (&a != &aligned[0] && &a != &aligned[1]) return;
+            for (unsigned al = 0; al < 256; ++al) {
+                Setup s = a;
+                s.regs.r[AX] = std::uint16_t(al);
+                out.push_back(s);
+            }
+        });
+    }
+    const bool can_fault = divide || op == 0xD4;
+
+    // Stage 1: every set-up from the first BIU states.
+    const std::vector<Preamble> first = first_preambles();
+    std::vector<std::pair<unsigned, std::size_t>> by_time; // worst over `first`, set-up
+    unsigned worst = 0, worst_fault = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < setups.size(); ++i) {
+        unsigned w = 0;
+        bool ok = false;
+        for (const Preamble& p : first) {
+            bool fault = false;
+            const unsigned c = harness_->measure(bytes, ip, p, setups[i], can_fault, fault);
+            if (fault) worst_fault = std::max(worst_fault, c);
+            else {
+                w = std::max(w, c);
+                ok = true;
+            }
+        }
+        if (ok) {
+            by_time.push_back({w, i});
+            any = true;
+        }
+    }
+    if (!any) return worst_fault; // every run divides by zero or overflows: what those cost
+    // Stage 2: the set-ups within a bus cycle of the worst (a distinct time each, at most 6),
+    // from every BIU state.
+    std::sort(by_time.begin(), by_time.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    const unsigned top = by_time.front().first;
+    std::vector<std::size_t> chosen;
+    std::vector<unsigned> seen;
+    for (const auto& [w, i] : by_time) {
+        if (w + 4 + 2 * waits_.data + 2 * waits_.code < top || chosen.size() >= kChosen) break;
+        if (std::count(seen.begin(), seen.end(), w) >= 2) continue;
+        seen.push_back(w);
+        chosen.push_back(i);
+    }
+    static const std::vector<Preamble> every = all_preambles();
+    for (std::size_t i : chosen)
+        for (const Preamble& p : every) {
+            bool fault = false;
+            const unsigned c = harness_->measure(bytes, ip, p, setups[i], can_fault, fault);
+            if (!fault) worst = std::max(worst, c);
+        }
+    return std::max(worst, top);
+}
+
+unsigned WorstClocks::interrupt_entry() {
+    if (entry_) return entry_;
+    Harness& h = *harness_;
+    std::vector<Preamble> states = all_preambles();
+    Preamble halt;
+    add(halt, kPNop, 1);
+    halt.bytes.push_back(0xF4);
+    halt.halt = true;
+    states.push_back(halt);
+    const std::vector<std::uint8_t> nop{kNop};
+    unsigned worst = 0;
+    for (Preamble p : states) {
+        // (one instruction at least, so that the entry is taken at a boundary step() checks)
+        if (p.instructions == 0 && !p.halt) {
+            p.bytes.insert(p.bytes.end(), kNop);
+            p.instructions = 1;
+        }
+        for (Fill f : {Fill::ones, Fill::zeros})
+            for (std::uint16_t sp : {std::uint16_t(0x8000), std::uint16_t(0x8001)}) {
+                h.begin(p, nop, 0x0100);
+                h.fill = f;
+                h.cpu.regs().r[SP] = sp;
+                h.cpu.regs().flags = 0xF002 | flag::IF;
+                h.cpu.set_intr(true);
+                const cycles_t c0 = h.cpu.cycles();
+                h.cpu.step();
+                h.cpu.set_intr(false);
+                worst = std::max(worst, unsigned(h.cpu.cycles() - c0));
+            }
+    }
+    return entry_ = worst;
+}
 
 } // namespace rcsim::i8086

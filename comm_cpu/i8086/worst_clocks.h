@@ -68,6 +68,7 @@ private:
     WaitBounds waits_;
     std::unique_ptr<Harness> harness_;
     std::map<std::string, unsigned> cache_; // bytes, ip parity and cx_max -> clocks
+    unsigned entry_ = 0;                    // interrupt_entry(), once measured
 };
 
 } // namespace rcsim::i8086
