@@ -32,6 +32,13 @@ nlohmann::json searched(const nlohmann::json& witness, const std::string& source
     return witness["best"].value("value", nlohmann::json(nullptr));
 }
 
+/// SEG:OFF as the vector table holds it, four upper-case hex digits each.
+std::string hex4(unsigned v) {
+    std::ostringstream os;
+    os << std::uppercase << std::hex << std::setw(4) << std::setfill('0') << v;
+    return os.str();
+}
+
 std::string us(double v) {
     std::ostringstream os;
     os << std::fixed << std::setprecision(1) << v << " us";
@@ -77,6 +84,8 @@ nlohmann::json bound_report(const bound::Result& result, const World& world, con
                          {"bound_latency_us", b.latency_us},
                          {"searched_us", searched(witness, name)},
                          {"handler", b.entry},
+                         {"vector", b.source.vector},
+                         {"handler_address", hex4(b.source.cs) + ":" + hex4(b.source.ip)},
                          {"path", a.value("path", nlohmann::json::array())},
                          {"loops", a.value("loops", nlohmann::json::array())}};
     }

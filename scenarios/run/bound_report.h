@@ -21,7 +21,8 @@ nlohmann::json read_witness(const std::string& path);
 
 /// report.json "bound": {"budget_us", "sources": {SOURCE: {"observed_service_us",
 /// "observed_blocking_us", "observed_latency_us", "bound_service_us", "bound_blocking_us",
-/// "bound_latency_us", "searched_us", "handler", "path", "loops"}}}. The observed figures are this
+/// "bound_latency_us", "searched_us", "handler", "vector", "handler_address" (SEG:OFF from the vector
+/// table), "path", "loops"}}}. The observed figures are this
 /// run's maxima (null when the source was not serviced); searched_us is the witness's best value
 /// when its figure is that source's (`interrupts.SOURCE....`), else null.
 nlohmann::json bound_report(const bound::Result& result, const World& world, const nlohmann::json& interrupts,
