@@ -165,6 +165,9 @@ public:
         if_hook_ = hook;
         if_hook_ctx_ = context;
     }
+    /// The hook set_if_hook installed, and its context: a second observer chains to it.
+    IfHook if_hook() const { return if_hook_; }
+    void* if_hook_context() const { return if_hook_ctx_; }
     /// The last instruction executed (or in progress): its boundary and CS:IP (first prefix).
     cycles_t instruction_start() const { return instr_start_; }
     std::uint16_t instruction_cs() const { return instr_cs_; }

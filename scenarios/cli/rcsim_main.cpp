@@ -20,6 +20,7 @@ void add_bench_motion(CLI::App& bench);
 void add_bench_soak(CLI::App& bench);
 void add_sweep_commands(CLI::App& app); // sweep, merge, compare
 void add_search_command(CLI::App& app);
+void add_bound_command(CLI::App& app);
 }
 
 namespace {
@@ -66,6 +67,7 @@ int sc_main(int argc, char* argv[]) {
     rcsim::add_bench_soak(*bench);
     rcsim::add_sweep_commands(app);
     rcsim::add_search_command(app);
+    rcsim::add_bound_command(app);
     auto* modbus_map = app.add_subcommand("modbus-map", "Print the Modbus TCP register map of --modbus as CSV (docs/monitor.md)");
     modbus_map->callback([] { rcsim::modbus::write_map_csv(std::cout); });
 

@@ -1,6 +1,6 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
 //           [--profile] [--coverage] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
-//           [--modbus [[HOST:]PORT]]
+//           [--modbus [[HOST:]PORT]] [--bound [--annotations FILE] [--witness SEARCH_DIR/search.json]]
 #include "models/plumbing/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
@@ -34,7 +34,8 @@ std::uint64_t parse_seed(const std::string& text) {
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
-        std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor, modbus;
+        std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor, modbus, annotations, witness;
+        bool bound = false;
         RunOptions::Rows rows = RunOptions::Rows::automatic;
         bool reproducible = false;
         bool verbose = false;
@@ -87,7 +88,15 @@ void add_run_command(CLI::App& app) {
     auto* modbus = cmd->add_option("--modbus", args->modbus,
                                    "Serve Modbus TCP on [HOST:]PORT (127.0.0.1 unless given, port 1502 unless given; docs/monitor.md)")
                        ->expected(0, 1);
-    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor, modbus] {
+    cmd->add_flag("--bound", args->bound,
+                  "The static bound of the ROM's interrupt paths beside this run's figures: report.json \"bound\", "
+                  "report.html, DIR/bound.json (docs/tools.md \"Bound\")");
+    auto* annotations = cmd->add_option("--annotations", args->annotations,
+                                        "With --bound: loop bounds and transfer targets the code does not state "
+                                        "(default: the built firmware's comm_cpu/firmware/bound.annotations)");
+    auto* witness = cmd->add_option("--witness", args->witness,
+                                    "With --bound: a search's SEARCH_DIR/search.json, its worst figure beside the bound");
+    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor, modbus, annotations, witness] {
         RunOptions opt;
         // Every run writes its files somewhere it says: without --out, a folder named after the
         // scenario under ./rcsim-out (docs/scenarios.md "Output files").
@@ -108,6 +117,9 @@ void add_run_command(CLI::App& app) {
         opt.coverage = args->coverage;
         if (*monitor) opt.monitor = args->monitor;
         if (*modbus) opt.modbus = args->modbus;
+        opt.bound = args->bound;
+        opt.annotations = args->annotations;
+        opt.witness = args->witness;
         int code = 0;
         // Model notes (SC_INFO) go to the log only with --verbose; warnings and errors always show.
         if (!args->verbose) sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
@@ -119,6 +131,8 @@ void add_run_command(CLI::App& app) {
             if (*rom_odd && !*rom) throw ConfigError("--rom-odd needs --rom (the even EPROM of the pair)");
             if (*rom_odd && args->rom_odd.empty()) throw ConfigError("--rom-odd '': an empty path");
             if (!*gdb && *gdb_wait) throw ConfigError("--gdb-wait needs --gdb");
+            if (*annotations && args->annotations.empty()) throw ConfigError("--annotations '': an empty path");
+            if (*witness && args->witness.empty()) throw ConfigError("--witness '': an empty path");
             if (*symbols && args->symbols.empty())
                 throw ConfigError("--symbols '': an empty path (leave --symbols out for the built firmware's own)");
             // Both sit on the core's one instruction-boundary hook (i8086::StepHook).

@@ -15,6 +15,11 @@ const std::vector<std::string>& communication_check_names() {
     return names;
 }
 
+const std::vector<std::string>& optional_check_names() {
+    static const std::vector<std::string> names = {"bound_service_us"};
+    return names;
+}
+
 namespace {
 
 /// The motion checks (scenarios/verdict/motion_checks.cpp, motion_figures.cpp).
@@ -45,7 +50,8 @@ bool listed(const std::vector<std::string>& names, const std::string& name) {
 
 bool is_report_check_name(const std::string& name) {
     if (name == "char_latency_max_us") return false;
-    return listed(communication_check_names(), name) || listed(motion_check_names(), name) ||
+    return listed(communication_check_names(), name) || listed(optional_check_names(), name) ||
+           listed(motion_check_names(), name) ||
            per_port_name(name, "_char_latency_max_us") || per_port_name(name, "_script_completed");
 }
 

@@ -445,6 +445,14 @@ void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
             m.fail(m.child(name), "checks." + name + ": the only value a check name takes is 'off'");
         c.off.insert(name);
     }
+    // An optional check (the static bound's) is off unless switched on; `off` says so explicitly.
+    for (const std::string& name : optional_check_names()) {
+        if (!m.has(name)) continue;
+        const std::string v = m.get<std::string>(name, "");
+        if (v != "on" && v != "off")
+            m.fail(m.child(name), "checks." + name + ": 'on' or 'off' (it is off unless switched on)");
+        if (v == "on") c.on.insert(name);
+    }
     m.finish();
 }
 

@@ -63,6 +63,7 @@ struct CheckLimits {
     std::optional<std::uint64_t> min_frames_delivered; // all ports; unset: one per port whose host
                                                        // generates commands
     std::set<std::string> off;               // checks switched off by name (`NAME: off`)
+    std::set<std::string> on;                // optional checks switched on by name (`NAME: on`)
     bool expect_motion_ok = true;
     // With main_cpu.motion (docs/scenarios.md "Motion over the serial protocol"):
     struct Circle {

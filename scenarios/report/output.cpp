@@ -12,7 +12,7 @@ namespace rcsim {
 const std::vector<std::string>& run_file_names() {
     static const std::vector<std::string> names = {
         "report.json",    "report.html",    "interrupts.csv",      "interrupts.csv.gz",    "profile.txt",
-        "profile.folded", "trajectory.csv", "trajectory.svg",      "trajectory_time.svg", "trajectory_pulses.csv"};
+        "profile.folded", "trajectory.csv", "trajectory.svg",      "trajectory_time.svg", "trajectory_pulses.csv", "bound.json"};
     // (symbols.elf is written by --gdb before the run starts: it is always the run's own.)
     return names;
 }

@@ -361,6 +361,41 @@ void exactly_once_notes(std::ostream& o, const json& r) {
       << rows.str() << "</table>\n";
 }
 
+/// rcsim run --bound: per source, this run's maxima, the searched worst (a --witness), the static
+/// bound and the budget side by side; then the bound's path, symbolised, with its clocks, and its
+/// loops with their bounds (docs/tools.md "Bound").
+void section_bound(std::ostream& o, const json& r) {
+    if (!r.contains("bound")) return;
+    const json& b = r["bound"];
+    auto cell = [](const json& x, const char* key) {
+        const json& v = jo(x, key);
+        return "<td>" + (v.is_number() ? num(v.get<double>(), 1) : std::string("-")) + "</td>";
+    };
+    const std::string budget = "<td>" + num(jd(b, "budget_us"), 1) + "</td>";
+    o << "<section id=\"bound\"><h2>The static bound</h2>\n<p class=\"note\">The longest path of every handler, from the "
+         "ROM's bytes at the core's worst clocks per instruction; the rule judges the blocking time.</p>\n";
+    for (const auto& [name, x] : jo(b, "sources").items()) {
+        o << "<h3>" << esc(name) << ": " << esc(js(x, "handler")) << "</h3>\n<table><tr><th class=\"l\">us</th>"
+          << "<th>observed</th><th>searched</th><th>bound</th><th>budget</th></tr>\n";
+        for (const char* what : {"service", "blocking", "latency"}) {
+            const std::string k = what;
+            o << "<tr><td class=\"l\">" << what << "</td>" << cell(x, ("observed_" + k + "_us").c_str())
+              << (k == "latency" ? cell(x, "searched_us") : "<td></td>") << cell(x, ("bound_" + k + "_us").c_str())
+              << (k == "blocking" ? budget : "<td></td>") << "</tr>\n";
+        }
+        o << "</table>\n<table class=\"bound-path\"><tr><th class=\"l\">where</th><th class=\"l\">instruction</th>"
+          << "<th>clocks</th><th>times</th></tr>\n";
+        for (const json& step : jo(x, "path"))
+            o << "<tr><td class=\"l\">" << esc(js(step, "where")) << "</td><td class=\"l\">" << esc(js(step, "instruction"))
+              << "</td><td>" << ju(step, "clocks") << "</td><td>" << ju(step, "times") << "</td></tr>\n";
+        o << "</table>\n";
+        for (const json& loop : jo(x, "loops"))
+            o << "<p class=\"note\">loop at " << esc(js(loop, "where")) << ": at most " << ju(loop, "iterations")
+              << " iterations (" << esc(js(loop, "reason")) << ")</p>\n";
+    }
+    o << "</section>\n";
+}
+
 void section_ports(std::ostream& o, const json& r) {
     const json& ports = jo(r, "ports");
     o << "<section id=\"ports\"><h2>Ports</h2>\n<table><tr><th>port</th><th class=\"l\">host</th>"
@@ -562,6 +597,7 @@ std::string render_html(const json& r, const InterruptLog& log, const HtmlOption
     section_table3(o, r);
     section_interrupts(o, r, log);
     section_latency_causes(o, r);
+    section_bound(o, r);
     section_timeline(o, log.timeline());
     section_failures(o, r, opt.interrupts_csv);
     section_ports(o, r);

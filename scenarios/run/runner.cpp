@@ -9,6 +9,9 @@
 #include "scenarios/verdict/measure.h"
 #include "scenarios/verdict/latency_causes.h"
 #include "scenarios/run/cause_symbols.h"
+#include "scenarios/run/bound_inputs.h"
+#include "scenarios/run/bound_report.h"
+#include "scenarios/verdict/bound_check.h"
 #include "scenarios/monitor/board_monitor.h"
 #include "scenarios/modbus/modbus_bridge.h"
 #include "scenarios/report/output.h"
@@ -187,6 +190,30 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
     }
 }
 
+/// The static bound of the run's ROM from its own vectors: report.json "bound", DIR/bound.json
+/// and, when the scenario switches it on, the check bound_service_us (docs/tools.md "Bound").
+struct BoundRun {
+    std::vector<bound::Annotation> annotations;
+    nlohmann::json witness;
+    std::unique_ptr<VectorCapture> vectors;
+};
+
+void add_bound(BoundRun& b, const RomSource& source, const debug::RomSymbols& symbols, const World& world,
+               const Scenario& s, const RunOptions& opt, Judgement& judged, nlohmann::json& report) {
+    if (!judged.budget.value)
+        throw ConfigError("the bound is judged against the budget, which is not measured: " + judged.budget.reason);
+    std::ostringstream ran;
+    ran << s.duration_s << " s";
+    const bound::Result result = bound::analyse(bound_inputs(source, symbols, std::move(b.annotations), *b.vectors,
+                                                             s.board, *judged.budget.value, ran.str()));
+    report["bound"] = bound_report(result, world, report["interrupts"], b.witness);
+    if (!opt.out_dir.empty())
+        write_file(std::filesystem::path(opt.out_dir) / "bound.json", bound::to_json(result).dump(2) + "\n", "bound.json");
+    if (!s.checks.on.count("bound_service_us")) return;
+    judged.checks.push_back(bound_service_check(bound_figures(result), judged.budget));
+    judged.verdict = judge_run(judged.checks_json(), stop_signal(), why_no_traffic(world, s));
+}
+
 // A row per interrupt is some 350 kB a simulated second of three saturated ports: plain for a run
 // of up to kPlainRowsS simulated seconds, to read at a glance; compressed for a longer run, or one
 // that lasts until its hosts end it (duration_s 0).
@@ -233,9 +260,20 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     // The probe's records as rows: interrupts.csv (streamed) and report.html's histograms and
     // timeline windows.
     report::InterruptLog interrupts;
+    // The bound's inputs that are not the run's: read first, so that bad ones are bad input at once.
+    BoundRun bounding;
+    const bool bounded = opt.bound || s.checks.on.count("bound_service_us");
+    if (!bounded && (!opt.annotations.empty() || !opt.witness.empty()))
+        throw ConfigError(std::string(opt.annotations.empty() ? "--witness" : "--annotations") +
+                          " needs --bound (or a scenario's checks: {bound_service_us: on})");
+    if (bounded) {
+        bounding.annotations = run_annotations(source, opt.annotations, symbols);
+        if (!opt.witness.empty()) bounding.witness = read_witness(opt.witness);
+    }
     World world("world", s);
     world.set_interrupt_sink(&interrupts);
     world.ctl.comm.load_rom(source);
+    if (bounded) bounding.vectors = std::make_unique<VectorCapture>(world);
     if (opt.on_world) opt.on_world(world);
     std::unique_ptr<VcdTrace> vcd; // --vcd (vcd_trace.h)
     if (!opt.vcd.empty()) vcd = std::make_unique<VcdTrace>("vcd", world, opt.vcd);
@@ -293,12 +331,13 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
                           {"quantum_us", to_us(s.board.comm.quantum)}};
     // The one judge (verdict/judge.h): the same figures and verdict the live page and Modbus show.
     const SymbolOf symbol = cause_symbols(symbols.table);
-    const Judgement judged = judge(world, s, Moment::end, stop_signal(), symbol);
+    Judgement judged = judge(world, s, Moment::end, stop_signal(), symbol);
     report["interrupts"] = judged.interrupts.interrupts;
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     report["table3"] = judged.table3;
     add_latency_causes(report["interrupts"], world, judged.budget.value, symbol);
     report_world(world, s, opt, report);
+    if (bounded) add_bound(bounding, source, symbols, world, s, opt, judged, report);
     report["checks"] = judged.checks_json();
     report["checks_off"] = s.checks.off;
     put_verdict(report, judged.verdict);

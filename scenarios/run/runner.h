@@ -43,6 +43,11 @@ struct RunOptions {
     /// The progress line on stderr while it is a terminal (scenarios/run/run_progress.h): `rcsim
     /// run` only; the commands that run scenarios for figures of their own print theirs.
     bool progress = false;
+    /// --bound: the static bound of the run's ROM (docs/tools.md "Bound") in report.json "bound",
+    /// report.html and DIR/bound.json; a scenario's `checks: {bound_service_us: on}` implies it.
+    bool bound = false;
+    std::string annotations;            // --annotations FILE ("" = the built firmware's own, or none)
+    std::string witness;                // --witness SEARCH_DIR/search.json: report.json bound.*.searched_us
 };
 
 /// Builds the system, runs it, fills `report`. Returns 0 when every check holds, 1 when one fails.

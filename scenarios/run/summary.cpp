@@ -291,6 +291,31 @@ void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
 
 } // namespace
 
+namespace {
+
+/// report.json "bound" (rcsim run --bound): per source, this run's maxima beside the bound and
+/// the budget, all in us; the searched worst when a witness gave one.
+void print_bound(const nlohmann::json& r, std::ostream& os) {
+    if (!r.contains("bound")) return;
+    const nlohmann::json& b = r["bound"];
+    auto f = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(1) << v.get<double>();
+        return s.str();
+    };
+    os << "\nbound (us)        observed service/blocking/latency     bound service/blocking/latency   searched\n";
+    for (const auto& [name, x] : b["sources"].items())
+        os << "  " << std::left << std::setw(10) << name << std::right << std::setw(10) << f(x["observed_service_us"])
+           << std::setw(10) << f(x["observed_blocking_us"]) << std::setw(10) << f(x["observed_latency_us"])
+           << std::setw(14) << f(x["bound_service_us"]) << std::setw(10) << f(x["bound_blocking_us"]) << std::setw(10)
+           << f(x["bound_latency_us"]) << std::setw(11) << f(x["searched_us"]) << "\n";
+    os << "  budget " << f(b["budget_us"]) << " us: every blocking bound "
+       << (b.value("fits", false) ? "fits" : "does not fit (bound.json names the path)") << "\n";
+}
+
+} // namespace
+
 void print_summary(const nlohmann::json& r, std::ostream& os) {
     if (!r.contains("interrupts")) return print_motion_summary(r, os);
     // A figure that was not measured is null in the report: printed as "-".
@@ -347,6 +372,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         os << "\nmain CPU control-cycle jitter: mean " << f(j["mean"]) << " us, max " << f(j["max"]) << " us\n";
     }
     print_bus_errors(r, os);
+    print_bound(r, os);
     os << "\nchecks\n";
     for (const auto& c : r["checks"]) {
         const bool unmeasured = c.value("status", "") == "not measured";
