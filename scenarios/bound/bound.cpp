@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <map>
 #include <set>
 
 namespace rcsim::bound {
@@ -39,7 +39,7 @@ std::vector<std::uint64_t> costs(const FlowGraph& g, i8086::WorstClocks& clocks,
         const Insn& i = *n.insn;
         std::uint32_t cx_max = 0xFFFF;
         if (uses_cx_count(i)) {
-            cx_max = n.in.reg[CX].hi;
+            cx_max = is_shift_by_cl(i) ? n.in.b8[CX].hi : n.in.reg[CX].hi; // a shift counts by CL alone
             if (i.rep && is_string_op(i)) {
                 if (const Annotation* a = g.annotation(i.address, Annotation::Kind::iterations))
                     cx_max = std::uint32_t(std::min<std::uint64_t>(a->iterations, 0xFFFF));
@@ -129,22 +129,27 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
             }
         }
         const std::uint32_t a = nodes[std::size_t(l.header)].address;
-        if (std::getenv("RCSIM_BOUND_DEBUG")) {
-            std::fprintf(stderr, "LOOP %s %s\n", g.where(a).c_str(), hex(a).c_str());
-            l.bound = 1;
-            return;
-        }
         throw ConfigError("bound: a loop at " + g.where(a) + " (" + hex(a) +
                           ") has no bound the code states: add `" + g.where(a) +
                           " iterations N  # why` to the annotations");
     };
 }
 
+/// The path's instructions in the order it first runs them; an instruction the path runs in
+/// several call contexts is one step with their counts added.
 std::vector<Step> steps_of(const FlowGraph& g, const Paths::Longest& p, const std::vector<std::uint64_t>& cost) {
     std::vector<Step> out;
+    std::map<std::uint32_t, std::size_t> at;
     for (auto [v, times] : p.nodes) {
         const Node& n = g.nodes()[std::size_t(v)];
-        out.push_back(Step{n.address, g.where(n.address), n.insn->text, unsigned(cost[std::size_t(v)]), times});
+        const unsigned clocks = unsigned(cost[std::size_t(v)]);
+        auto it = at.find(n.address);
+        if (it != at.end() && out[it->second].clocks == clocks) {
+            out[it->second].times += times;
+            continue;
+        }
+        at[n.address] = out.size();
+        out.push_back(Step{n.address, g.where(n.address), n.insn->text, clocks, times});
     }
     return out;
 }
@@ -173,12 +178,6 @@ void bound_main(const Inputs& in, i8086::WorstClocks& clocks, Result& r, Term& l
         running[v] = f != IfState::startup;
         member[v] = f == IfState::off || f == IfState::unknown;
     }
-    if (std::getenv("RCSIM_BOUND_DEBUG"))
-        for (std::size_t v = 0; v < nodes.size(); ++v)
-            for (const auto& e : nodes[v].out)
-            if (nodes[v].in.if_flag != IfState::unknown && nodes[std::size_t(e.to)].in.if_flag == IfState::unknown)
-                std::fprintf(stderr, "unknown IF at %s %s ctx %d saved %zu\n", g.where(nodes[v].address).c_str(),
-                             nodes[v].insn->text.c_str(), nodes[v].context, nodes[v].in.saved_if.size());
     for (std::size_t v = 0; v < nodes.size(); ++v)
         if (member[v] && std::any_of(preds[v].begin(), preds[v].end(), [&](int p) { return !member[std::size_t(p)]; }))
             sources.push_back(int(v));

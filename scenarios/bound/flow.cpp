@@ -487,19 +487,6 @@ std::string FlowGraph::where(std::uint32_t address) const {
 }
 
 void FlowGraph::fail(std::uint32_t address, const std::string& why) const {
-    if (std::getenv("RCSIM_BOUND_DEBUG")) {
-        // the way here: predecessors back to the entry
-        int at = -1;
-        for (std::size_t v = 0; v < nodes_.size(); ++v) if (nodes_[v].address == address) at = int(v);
-        for (int k = 0; k < 60 && at > 0; ++k) {
-            int p = -1;
-            for (std::size_t v = 0; v < nodes_.size() && p < 0; ++v)
-                for (const auto& e : nodes_[v].out) if (e.to == at) { p = int(v); break; }
-            if (p < 0) break;
-            std::fprintf(stderr, "  from %s %s ctx %d\n", hex(nodes_[std::size_t(p)].address).c_str(), nodes_[std::size_t(p)].insn->text.c_str(), nodes_[std::size_t(p)].context);
-            at = p;
-        }
-    }
     throw ConfigError("bound: " + entry_name_ + ": " + why + " at " + where(address) + " (" + hex(address) + ")");
 }
 
@@ -615,12 +602,6 @@ void FlowGraph::build(State entry_state) {
                 edges.push_back({to, EdgeKind::next});
             queued.resize(nodes_.size(), false);
             Node& t = nodes_[std::size_t(to)];
-            if (st.stack.size() + 2 < nodes_[std::size_t(n)].in.stack.size() && std::getenv("RCSIM_BOUND_DEBUG"))
-                std::fprintf(stderr, "drop %zu -> %zu at %s %s ctx %d\n", nodes_[std::size_t(n)].in.stack.size(), st.stack.size(),
-                             where(nodes_[std::size_t(n)].address).c_str(), nodes_[std::size_t(n)].insn->text.c_str(), nodes_[std::size_t(n)].context);
-            if (t.updates > 0 && t.in.stack.size() != st.stack.size() && std::getenv("RCSIM_BOUND_DEBUG"))
-                std::fprintf(stderr, "depths %zu/%zu meet at %s from %s ctx %d\n", t.in.stack.size(), st.stack.size(),
-                             where(t.address).c_str(), where(nodes_[std::size_t(n)].address).c_str(), t.context);
             State joined = t.updates == 0 ? st : join(t.in, st);
             if (t.updates > 0 && joined == t.in) continue;
             if (++t.updates > kWidenAfter) widen(joined, t.in);
@@ -663,8 +644,6 @@ void FlowGraph::successors(int n, std::vector<std::pair<int, State>>& out) {
         st.stack.resize(std::min<std::size_t>(st.stack.size(), c.stack_at_call));
         // irq_save: what IF was at the call, for the irq_restore that pairs with it.
         if (c.saves_if) st.saved_if.push_back(nodes_[std::size_t(index_.at({c.parent, c.call_site}))].in.if_flag);
-        if (c.restores_if && st.saved_if.empty() && std::getenv("RCSIM_BOUND_DEBUG"))
-            std::fprintf(stderr, "restore without save at %s ctx %d\n", where(i.address).c_str(), ctx);
         if (c.restores_if) {
             st.if_flag = st.saved_if.empty() ? IfState::unknown : st.saved_if.back();
             if (!st.saved_if.empty()) st.saved_if.pop_back();
@@ -672,8 +651,6 @@ void FlowGraph::successors(int n, std::vector<std::pair<int, State>>& out) {
         go(c.parent, c.return_cs, c.return_ip, std::move(st));
     };
     State st = in;
-    if (i.opcode == 0x9D && std::getenv("RCSIM_BOUND_DEBUG") && (st.stack.empty() || !st.stack.back().flags))
-        std::fprintf(stderr, "POPF of a non-flags word at %s ctx %d depth %zu IF %d\n", where(i.address).c_str(), ctx, st.stack.size(), int(st.if_flag));
     if (i.flow == Flow::next) {
         execute(i, st, in_.pic_port);
         return go(ctx, cs, next_ip, std::move(st));
