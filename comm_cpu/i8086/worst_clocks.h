@@ -51,8 +51,10 @@ public:
     /// `ip` of its code segment. `cx_max` is the largest value CX can hold at it: the count of a
     /// REP string instruction (the whole run of at most cx_max elements is one instruction) and,
     /// by its low byte or 255 when larger, of a shift or rotate by CL. Every other operand value
-    /// is taken at its worst. A run that raises a divide error is not a time of this instruction
-    /// (the firmware's divide-error handler is another path) and is left out.
+    /// is taken at its worst. A run that raises a divide error (the harness sees a read of the
+    /// type-0 vector, 00000-00003) is not a time of this instruction (the firmware's divide-error
+    /// handler is another path) and is left out; only a form that faults on every run (DIV AH)
+    /// is given what those runs took.
     unsigned instruction(const std::uint8_t* bytes, unsigned length, std::uint16_t ip, std::uint32_t cx_max = 0xFFFF);
 
     /// The worst clocks of an interrupt entry: from the boundary at which INTR is taken (the two
