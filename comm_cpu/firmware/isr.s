@@ -175,7 +175,10 @@ uart_io:                        ! I/O address of each 82510 (register 0: RXD / T
 ! ---- IR0..IR2: the per-port entry ----------------------------------------------------------
 ! ?1 = the port, ?2 = its 82510's I/O address, ?3 = its receive buffer (DS offset, = rxbuf[?1]).
 ! AH counts the sources this interrupt may still handle (ISR_VISITS, docs/firmware.md "Bounded
-! work"); AL is the GIR as read.  On TICK_PORT the tick alone (GIR "bank 1, timer", then nothing)
+! work"); AL is the GIR as read.  The entry handles one source (and on TICK_PORT a tick after it),
+! never loops: whatever is still pending goes to the general loop with the visits left.  Each
+! call of the general loop has AH constant (ISR_VISITS - 1 after a visit here, ISR_VISITS without),
+! so `rcsim bound` bounds every path by that one counter (docs/firmware.md "The bound").  On TICK_PORT the tick alone (GIR "bank 1, timer", then nothing)
 ! is counted with AX saved only, 1000 times a second.  The common case stays here: GIR reads "bank 1, Rx FIFO", the
 ! port is in step 1 and the character is a printable one at position 4 or later of a frame that
 ! is not overlong -- store it, count it, add it to the sum, note the time (the step-1 code of
@@ -192,7 +195,6 @@ _isr_port?1:
 	jne	p?1_first_other
 	push	bx
 	mov	ah,#ISR_VISITS
-p?1_rx:
 	in	al,?2+U_RXD
 	cmp	byte ptr [_step+?1],#ST_RECV
 	jne	p?1_char
@@ -223,16 +225,14 @@ p?1_eoi:
 	pop	ax
 	iret
 p?1_more:
-	or	ah,ah
-	jz	p?1_general             ! the fifth source was the last: ICM.INTA
-	cmp	al,#GIR_B1_RXF
-	je	p?1_rx
 IF ?1 = TICK_PORT
-	cmp	al,#GIR_B1_TICK
+	cmp	al,#GIR_B1_TICK         ! the tick after the first source: AX is all it needs
 	jne	p?1_general
 	in	al,?2+U_TMST            ! clears TBEx; BRGB reloads by itself
 	inc	word ptr [_ticks]
-	jmp	p?1_visited
+	in	al,?2+U_GIR
+	cmp	al,#GIR_B1_NONE
+	je	p?1_eoi
 ENDIF
 p?1_general:
 	mov	bx,#?1
@@ -260,12 +260,14 @@ IF ?1 = TICK_PORT
 p?1_after_tick:
 	push	bx
 	mov	ah,#ISR_VISITS-1
-	jmp	p?1_more
+	jmp	p?1_general
 ENDIF
-p?1_first_general:
+p?1_first_general:                      ! its own call: AH is one constant on each way in
 	push	bx
 	mov	ah,#ISR_VISITS
-	jmp	p?1_general
+	mov	bx,#?1
+	call	_rs232_isr
+	jmp	p?1_eoi
 MEND
 
 RS232_ENTRY(0,0x80,0x0C00)

@@ -30,8 +30,8 @@ std::string hex(std::uint32_t v) {
 
 double to_us(std::uint64_t clocks, double mhz) { return std::round(double(clocks) / mhz * 10.0) / 10.0; }
 
-/// The worst clocks of every node of `g` that `want` selects (the others 0).
-std::vector<std::uint64_t> costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vector<bool>& want) {
+/// The worst clocks of every node of `g` that `want` selects (the others 0), each instruction alone.
+std::vector<std::uint64_t> single_costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vector<bool>& want) {
     std::vector<std::uint64_t> c(g.nodes().size(), 0);
     for (std::size_t v = 0; v < c.size(); ++v) {
         if (!want[v]) continue;
@@ -54,11 +54,151 @@ std::vector<std::uint64_t> costs(const FlowGraph& g, i8086::WorstClocks& clocks,
     return c;
 }
 
+/// Whether the instruction can run inside a straight line measured as a whole: no choice of
+/// successor, no time that depends on a value (those are bounded alone).
+bool in_straight_line(const Insn& i) {
+    using F = i8086::Flow;
+    switch (i.flow) {
+    case F::branch: case F::ret_near: case F::ret_far: case F::iret: case F::int_sw: case F::halt: return false;
+    case F::jump: case F::call_near: case F::jump_far: case F::call_far:
+        return i8086::direct_target(i.bytes, i8086::decode(i.bytes, i.length), i.ip).has_value();
+    default: break;
+    }
+    if ((i.rep && is_string_op(i)) || is_shift_by_cl(i)) return false;
+    if ((i.opcode == 0xF6 || i.opcode == 0xF7) && i.reg >= 4) return false;
+    return i.opcode != 0xD4 && i.opcode != 0xD5;
+}
+
+constexpr unsigned kLongestLine = 16; // instructions measured as one straight line at most
+
+/// The costs a path adds up: a straight line of instructions that always run together (each the
+/// only successor of the one before and its only predecessor, of the same `kind`) is measured as
+/// one, its clocks on its first node (`line` = how many instructions they cover), 0 on the rest.
+struct Costs {
+    std::vector<std::uint64_t> clocks;
+    std::vector<unsigned> line;
+};
+
+Costs line_costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vector<bool>& want,
+                 const std::vector<std::uint64_t>& single, const std::vector<int>& kind,
+                 const std::vector<std::vector<int>>& preds) {
+    const auto& nodes = g.nodes();
+    Costs c{std::vector<std::uint64_t>(nodes.size(), 0), std::vector<unsigned>(nodes.size(), 0)};
+    auto joins = [&](int u, int v) { // v goes on u's straight line
+        return want[std::size_t(u)] && want[std::size_t(v)] && nodes[std::size_t(u)].out.size() == 1 &&
+               preds[std::size_t(v)].size() == 1 && kind[std::size_t(u)] == kind[std::size_t(v)] &&
+               in_straight_line(*nodes[std::size_t(u)].insn) && in_straight_line(*nodes[std::size_t(v)].insn);
+    };
+    for (std::size_t v = 0; v < nodes.size(); ++v) {
+        if (!want[v]) continue;
+        if (preds[v].size() == 1 && joins(preds[v][0], int(v))) continue; // not the first of its line
+        std::vector<int> line{int(v)};
+        while (line.size() < kLongestLine && nodes[std::size_t(line.back())].out.size() == 1) {
+            const int next = nodes[std::size_t(line.back())].out[0].to;
+            if (!joins(line.back(), next) || next == int(v)) break;
+            line.push_back(next);
+        }
+        std::uint64_t sum = 0;
+        for (int x : line) sum += single[std::size_t(x)];
+        c.clocks[v] = line.size() == 1 ? single[v] : sum;
+        c.line[v] = unsigned(line.size());
+    }
+    return c;
+}
+
 std::vector<std::vector<int>> predecessors(const FlowGraph& g) {
     std::vector<std::vector<int>> p(g.nodes().size());
     for (std::size_t v = 0; v < p.size(); ++v)
         for (const auto& e : g.nodes()[v].out) p[std::size_t(e.to)].push_back(int(v));
     return p;
+}
+
+/// A register counted down: one DEC r on every way round the loop (no latch is reached from the
+/// header without passing it), r >= 1 before it on every path (a test leaves at 0 first), nothing
+/// but a POP writes r between the header and it, the value every latch carries back is that
+/// DEC's (what the loop does with r after it, it undoes: a POP that restores it keeps its writer,
+/// State::writer), and the stack is balanced round the loop. Then the header runs at most (r's
+/// largest value at entry) + 1 times.
+bool counted_down(const FlowGraph& g, const std::vector<std::vector<int>>& preds, LoopFound& l) {
+    const auto& nodes = g.nodes();
+    const std::set<int> body(l.body.begin(), l.body.end());
+    for (int d : l.body) {
+        const Insn& i = *nodes[std::size_t(d)].insn;
+        int r = -1;
+        unsigned width = 2;
+        if (i.opcode >= 0x48 && i.opcode <= 0x4F) r = i.opcode & 7;
+        else if ((i.opcode == 0xFE || i.opcode == 0xFF) && i.mod == 3 && i.reg == 1)
+            r = int(i.rm), width = i.opcode == 0xFF ? 2 : 1;
+        if (r < 0 || (width == 2 && r == 4)) continue;
+        const int word = width == 2 ? r : (r & 3);
+        std::vector<int> slots;
+        if (width == 1) slots = {r};
+        else if (r < 4) slots = {r, r + 4};
+        else slots = {r + 4};
+        auto interval = [&](const State& s) { return width == 2 ? s.reg[r] : s.b8[r]; };
+        bool ok = interval(nodes[std::size_t(d)].in).lo >= 1;
+        // Between the header and d (reached from the header without d, reaching d without the
+        // header) only a POP may write r: it gives back a value saved since the header.
+        std::set<int> from_header{l.header}, to_d{d};
+        for (std::vector<int> st{l.header}; !st.empty();) {
+            const int v = st.back();
+            st.pop_back();
+            for (const auto& e : nodes[std::size_t(v)].out)
+                if (e.to != d && body.count(e.to) && from_header.insert(e.to).second) st.push_back(e.to);
+        }
+        for (std::vector<int> st{d}; !st.empty();) {
+            const int v = st.back();
+            st.pop_back();
+            for (int p : preds[std::size_t(v)])
+                if (p != l.header && body.count(p) && to_d.insert(p).second) st.push_back(p);
+        }
+        to_d.insert(l.header);
+        for (int v : from_header) {
+            if (!ok) break;
+            const Insn& w = *nodes[std::size_t(v)].insn;
+            if (!to_d.count(v) || !FlowGraph::writes(w, word)) continue;
+            const bool pop = w.opcode == 0x58 + word;
+            const bool other_byte = width == 1 && FlowGraph::writes_byte_only(w) >= 0 && FlowGraph::writes_byte_only(w) != r;
+            ok = pop || other_byte;
+        }
+        const std::size_t depth = [&] {
+            std::size_t k = ~std::size_t(0);
+            for (int p : preds[std::size_t(l.header)])
+                if (!body.count(p)) k = std::min(k, g.out_state(p, l.header).stack.size());
+            return k;
+        }();
+        for (int u : l.latches) {
+            if (!ok) break;
+            const State out = g.out_state(u, l.header);
+            for (int k : slots) ok = ok && out.writer[k] == d;
+            ok = ok && out.stack.size() == depth;
+        }
+        if (!ok) continue;
+        // No way from the header to a latch around d.
+        std::set<int> seen{l.header};
+        std::vector<int> stack{l.header};
+        while (ok && !stack.empty()) {
+            const int v = stack.back();
+            stack.pop_back();
+            if (v == d) continue;
+            for (const auto& e : nodes[std::size_t(v)].out) {
+                if (e.to == l.header && v != d) ok = false; // a latch reached without d
+                if (e.to == d || !body.count(e.to) || !seen.insert(e.to).second) continue;
+                stack.push_back(e.to);
+            }
+        }
+        if (!ok) continue;
+        std::uint32_t hi = 0;
+        bool any = false;
+        for (int p : preds[std::size_t(l.header)])
+            if (!body.count(p)) hi = std::max(hi, interval(g.out_state(p, l.header)).hi), any = true;
+        if (!any) continue;
+        l.bound = std::uint64_t(hi) + 1;
+        l.reason = "counted down by " + i.text + " at " + g.where(i.address) + " from at most " + std::to_string(hi) +
+                   ", leaving at 0";
+        return true;
+    }
+    return false;
 }
 
 /// A loop's bound: an annotation at its header or a latch; a LOOP whose CX only it changes; a
@@ -104,30 +244,7 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
                                   : "CX may be 0 at entry: " + nodes[std::size_t(l.latches[0])].insn->text + " runs 65536 times";
             return;
         }
-        if (l.latches.size() == 1) { // DEC r ; JNZ back
-            const int latch = l.latches[0];
-            const Insn& j = *nodes[std::size_t(latch)].insn;
-            const auto& lp = preds[std::size_t(latch)];
-            if ((j.opcode == 0x75 || j.opcode == 0x65) && lp.size() == 1 && body.count(lp[0])) {
-                const Insn& d = *nodes[std::size_t(lp[0])].insn;
-                int reg = -1;
-                unsigned width = 2;
-                if (d.opcode >= 0x48 && d.opcode <= 0x4F) reg = d.opcode & 7;
-                if ((d.opcode == 0xFE || d.opcode == 0xFF) && d.mod == 3 && d.reg == 1)
-                    reg = int(d.opcode == 0xFF ? d.rm : d.rm & 3), width = d.opcode == 0xFF ? 2 : 1;
-                if (reg >= 0 && only_writers(reg, {lp[0]})) {
-                    Interval v = entry_interval(reg);
-                    if (width == 1) v = d.rm >= 4 ? Interval{v.lo >> 8, v.hi >> 8, false}
-                                                  : ((v.hi >> 8) == (v.lo >> 8) ? Interval{v.lo & 0xFF, v.hi & 0xFF, false}
-                                                                                : Interval{0, 0xFF, false});
-                    if (v.lo >= 1) {
-                        l.bound = v.hi;
-                        l.reason = "counted down from <= " + std::to_string(v.hi) + " by " + d.text + " and " + j.text;
-                        return;
-                    }
-                }
-            }
-        }
+        if (counted_down(g, preds, l)) return;
         const std::uint32_t a = nodes[std::size_t(l.header)].address;
         throw ConfigError("bound: a loop at " + g.where(a) + " (" + hex(a) +
                           ") has no bound the code states: add `" + g.where(a) +
@@ -137,19 +254,20 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
 
 /// The path's instructions in the order it first runs them; an instruction the path runs in
 /// several call contexts is one step with their counts added.
-std::vector<Step> steps_of(const FlowGraph& g, const Paths::Longest& p, const std::vector<std::uint64_t>& cost) {
+std::vector<Step> steps_of(const FlowGraph& g, const Paths::Longest& p, const Costs& cost) {
     std::vector<Step> out;
     std::map<std::uint32_t, std::size_t> at;
     for (auto [v, times] : p.nodes) {
         const Node& n = g.nodes()[std::size_t(v)];
-        const unsigned clocks = unsigned(cost[std::size_t(v)]);
+        if (times == 0) continue; // a loop run once: its iteration's (bound - 1) x
+        const unsigned clocks = unsigned(cost.clocks[std::size_t(v)]), line = cost.line[std::size_t(v)];
         auto it = at.find(n.address);
-        if (it != at.end() && out[it->second].clocks == clocks) {
+        if (it != at.end() && out[it->second].clocks == clocks && out[it->second].line == line) {
             out[it->second].times += times;
             continue;
         }
         at[n.address] = out.size();
-        out.push_back(Step{n.address, g.where(n.address), n.insn->text, clocks, times});
+        out.push_back(Step{n.address, g.where(n.address), n.insn->text, clocks, times, line});
     }
     return out;
 }
@@ -181,15 +299,17 @@ void bound_main(const Inputs& in, i8086::WorstClocks& clocks, Result& r, Term& l
     for (std::size_t v = 0; v < nodes.size(); ++v)
         if (member[v] && std::any_of(preds[v].begin(), preds[v].end(), [&](int p) { return !member[std::size_t(p)]; }))
             sources.push_back(int(v));
-    const std::vector<std::uint64_t> cost = costs(g, clocks, running);
+    const std::vector<std::uint64_t> single = single_costs(g, clocks, running);
     for (std::size_t v = 0; v < nodes.size(); ++v)
-        if (running[v] && cost[v] > longest_instruction.clocks) {
-            longest_instruction.clocks = cost[v];
+        if (running[v] && single[v] > longest_instruction.clocks) {
+            longest_instruction.clocks = single[v];
             longest_instruction.what = nodes[v].insn->text + " at " + g.where(nodes[v].address);
         }
     if (sources.empty()) return;
+    const std::vector<int> kind(member.begin(), member.end());
+    const Costs cost = line_costs(g, clocks, running, single, kind, preds);
     const Paths paths(g, member, sources, bounder_for(g, preds));
-    const Paths::Longest p = paths.longest(cost);
+    const Paths::Longest p = paths.longest(cost.clocks);
     r.main_if0.clocks = p.clocks;
     r.main_if0.us = to_us(p.clocks, in.clock_mhz);
     r.main_if0.path = steps_of(g, p, cost);
@@ -203,22 +323,28 @@ SourceBound bound_source(const Inputs& in, const Source& s, i8086::WorstClocks& 
     const auto& nodes = g.nodes();
     const auto preds = predecessors(g);
     const std::vector<bool> all(nodes.size(), true);
-    const std::vector<std::uint64_t> cost = costs(g, clocks, all);
-    std::vector<std::uint64_t> blocking(nodes.size(), 0);
+    const std::vector<std::uint64_t> single = single_costs(g, clocks, all);
+    // A node keeps other requests waiting while IF = 0 or before the EOI (a straight line is one
+    // kind throughout, so its clocks count wholly or not at all).
+    std::vector<int> kind(nodes.size());
     SourceBound b;
     b.source = s;
     b.entry = g.where(nodes[0].address);
     for (std::size_t v = 0; v < nodes.size(); ++v) {
         const State& st = nodes[v].in;
-        if (st.if_flag != IfState::on || st.eoi != Eoi::yes) blocking[v] = cost[v];
+        kind[v] = st.if_flag != IfState::on || st.eoi != Eoi::yes;
         if (st.if_flag == IfState::on) b.reenables = true;
-        if (cost[v] > longest_instruction.clocks) {
-            longest_instruction.clocks = cost[v];
+        if (single[v] > longest_instruction.clocks) {
+            longest_instruction.clocks = single[v];
             longest_instruction.what = nodes[v].insn->text + " at " + g.where(nodes[v].address);
         }
     }
+    const Costs cost = line_costs(g, clocks, all, single, kind, preds);
+    std::vector<std::uint64_t> blocking(nodes.size(), 0);
+    for (std::size_t v = 0; v < nodes.size(); ++v)
+        if (kind[v]) blocking[v] = cost.clocks[v];
     const Paths paths(g, all, {0}, bounder_for(g, preds));
-    const Paths::Longest service = paths.longest(cost), block = paths.longest(blocking);
+    const Paths::Longest service = paths.longest(cost.clocks), block = paths.longest(blocking);
     b.service_clocks = service.clocks;
     b.blocking_clocks = block.clocks;
     b.service_us = to_us(service.clocks, in.clock_mhz);
@@ -289,7 +415,7 @@ nlohmann::json steps_json(const std::vector<Step>& steps) {
     nlohmann::json a = nlohmann::json::array();
     for (const Step& s : steps)
         a.push_back({{"address", hex(s.address)}, {"where", s.where}, {"instruction", s.instruction},
-                     {"clocks", s.clocks}, {"times", s.times}});
+                     {"clocks", s.clocks}, {"line", s.line}, {"times", s.times}});
     return a;
 }
 

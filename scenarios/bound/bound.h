@@ -72,12 +72,15 @@ struct Inputs {
 };
 
 /// One instruction of a worst path: where, what, its worst clocks, how often the path runs it.
+/// Instructions that always run together in a straight line are measured as one: the first
+/// carries the line's clocks and `line` = how many instructions they cover; the others 0 and 0.
 struct Step {
     std::uint32_t address = 0;
     std::string where;        // SYMBOL+0xOFF or the address
     std::string instruction;  // the mnemonic (i8086::mnemonic)
     unsigned clocks = 0;
     std::uint64_t times = 1;
+    unsigned line = 1;
 };
 
 /// A loop on a bounded path and where its bound came from.

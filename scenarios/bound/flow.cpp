@@ -91,6 +91,8 @@ State join(const State& a, const State& b) {
         s.reg_flags[r] = join_if(a.reg_flags[r], b.reg_flags[r]);
         s.b8[r] = join(a.b8[r], b.b8[r]);
     }
+    for (int k = 0; k < 12; ++k)
+        if (a.writer[k] != b.writer[k]) s.writer[k] = State::kMixed;
     s.if_flag = join_if(a.if_flag, b.if_flag);
     s.eoi = a.eoi == b.eoi ? a.eoi : Eoi::maybe;
     // Stacks of different depths meet only on unbalanced paths: keep the common bottom words.
@@ -119,13 +121,23 @@ void widen(State& s, const State& before) {
     }
     for (std::size_t i = 0; i < s.stack.size() && i < before.stack.size(); ++i)
         if (!(s.stack[i].value == before.stack[i].value)) s.stack[i].value = Interval::top();
+    for (int k = 0; k < 12; ++k)
+        if (s.writer[k] != before.writer[k]) s.writer[k] = State::kMixed;
 }
 
 // ---- register access ------------------------------------------------------------------------
 
 Interval get_reg(const State& s, unsigned r, unsigned width) { return width == 2 ? s.reg[r] : s.b8[r]; }
 
+/// The writer slots of register r of `width` (State::writer).
+void set_writer(State& s, unsigned r, unsigned width, int who) {
+    if (width == 1) s.writer[r] = who;
+    else if (r < 4) s.writer[r] = s.writer[r + 4] = who;
+    else s.writer[r + 4] = who;
+}
+
 void set_reg(State& s, unsigned r, unsigned width, const Interval& v) {
+    set_writer(s, r, width, s.now);
     if (width == 2) {
         s.reg[r] = v;
         if (r < 4) s.b8[r] = byte_of(v, false), s.b8[r + 4] = byte_of(v, true);
@@ -193,7 +205,10 @@ bool refine(State& s, unsigned cc, bool taken) {
     default: return true;
     }
     if (v.lo > v.hi) return false;
-    set_reg(s, r, byte ? 1 : 2, v);
+    int kept[12];
+    std::copy(std::begin(s.writer), std::end(s.writer), kept);
+    set_reg(s, r, byte ? 1 : 2, v); // a narrower range of the same value: no new writer
+    std::copy(std::begin(kept), std::end(kept), s.writer);
     return true;
 }
 
@@ -260,7 +275,10 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
         return note_cmp(int(r), 0, true);
     }
     if (op >= 0x50 && op <= 0x57) {
-        StackWord w{s.reg[op & 7], s.reg_is_flags[op & 7], s.reg_flags[op & 7], (op & 7) == BP ? s.bp_depth : -1};
+        const unsigned r = op & 7;
+        StackWord w{s.reg[r], s.reg_is_flags[r], s.reg_flags[r], r == BP ? s.bp_depth : -1, {-1, -1}};
+        w.writer[0] = r < 4 ? s.writer[r] : s.writer[r + 4];
+        w.writer[1] = r < 4 ? s.writer[r + 4] : s.writer[r + 4];
         return push(s, w);
     }
     if (op >= 0x58 && op <= 0x5F) {
@@ -271,6 +289,8 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
         set_reg(s, r, 2, w.value);
         s.reg_is_flags[r] = w.flags;
         s.reg_flags[r] = w.if_saved;
+        if (r < 4) s.writer[r] = w.writer[0], s.writer[r + 4] = w.writer[1];
+        else s.writer[r + 4] = w.writer[0];
         return;
     }
     if (op == 0x06 || op == 0x0E || op == 0x16 || op == 0x1E) return push(s, {});
@@ -426,6 +446,8 @@ bool State::operator==(const State& o) const {
         if (!(reg[r] == o.reg[r]) || !(b8[r] == o.b8[r]) || reg_is_flags[r] != o.reg_is_flags[r] ||
             reg_flags[r] != o.reg_flags[r])
             return false;
+    for (int k = 0; k < 12; ++k)
+        if (writer[k] != o.writer[k]) return false;
     return if_flag == o.if_flag && eoi == o.eoi && stack == o.stack && half_popped == o.half_popped &&
            saved_if == o.saved_if && bp_depth == o.bp_depth && cmp_reg == o.cmp_reg && cmp_value == o.cmp_value &&
            cmp_zero_only == o.cmp_zero_only;
@@ -499,6 +521,17 @@ const Annotation* FlowGraph::annotation(std::uint32_t address, Annotation::Kind 
     return nullptr;
 }
 
+int FlowGraph::writes_byte_only(const Insn& n) {
+    const std::uint8_t op = n.opcode;
+    if (op >= 0xB0 && op <= 0xB7) return op & 7;
+    const bool byte_form = (op < 0x40 && (op & 7) < 4 && !(op & 1)) || op == 0x80 || op == 0x82 || op == 0x88 ||
+                           op == 0x8A || op == 0xC6 || op == 0xD0 || op == 0xD2 || op == 0xFE ||
+                           (op == 0xF6 && (n.reg == 2 || n.reg == 3));
+    if (!byte_form || !n.has_modrm) return -1;
+    if (op == 0x8A || (op < 0x40 && (op & 2))) return int(n.reg);
+    return n.mod == 3 ? int(n.rm) : -1;
+}
+
 bool FlowGraph::writes(const Insn& n, int r) {
     const std::uint8_t op = n.opcode;
     const unsigned width = (op & 1) ? 2 : 1;
@@ -506,6 +539,7 @@ bool FlowGraph::writes(const Insn& n, int r) {
     auto reg_is = [&](unsigned w) { return w == 2 ? int(n.reg) == r : int(n.reg & 3) == r; };
     if (op < 0x40 && (op & 7) < 4) {
         if ((op & 0x38) == 0x38) return false; // CMP
+        if (((op & 0x38) == 0x08 || (op & 0x38) == 0x20) && n.mod == 3 && n.reg == n.rm) return false; // OR/AND r,r: flags only
         return (op & 2) ? reg_is(width) : rm_is(width);
     }
     if (op < 0x40 && ((op & 7) == 4 || (op & 7) == 5)) return (op & 0x38) != 0x38 && r == AX;
@@ -589,6 +623,7 @@ void FlowGraph::build(State entry_state) {
     nodes_[0].in = std::move(entry_state);
     std::deque<int> work{0};
     std::vector<bool> queued(1, true);
+    std::vector<int> preds_seen(1, 0);
     std::vector<std::pair<int, State>> next;
     while (!work.empty()) {
         const int n = work.front();
@@ -598,13 +633,18 @@ void FlowGraph::build(State entry_state) {
         successors(n, next);
         auto& edges = nodes_[std::size_t(n)].out;
         for (auto& [to, st] : next) {
-            if (std::none_of(edges.begin(), edges.end(), [&](const Node::Edge& e) { return e.to == to; }))
+            if (std::none_of(edges.begin(), edges.end(), [&](const Node::Edge& e) { return e.to == to; })) {
                 edges.push_back({to, EdgeKind::next});
+                preds_seen.resize(nodes_.size(), 0);
+                ++preds_seen[std::size_t(to)];
+            }
             queued.resize(nodes_.size(), false);
             Node& t = nodes_[std::size_t(to)];
             State joined = t.updates == 0 ? st : join(t.in, st);
             if (t.updates > 0 && joined == t.in) continue;
-            if (++t.updates > kWidenAfter) widen(joined, t.in);
+            // Widen where paths meet (every loop has such a node): a node with one predecessor
+            // keeps what the edge into it states (a test's narrowing of a counter).
+            if (++t.updates > kWidenAfter && preds_seen[std::size_t(to)] > 1) widen(joined, t.in);
             t.in = std::move(joined);
             if (!queued[std::size_t(to)]) {
                 queued[std::size_t(to)] = true;
@@ -651,6 +691,7 @@ void FlowGraph::successors(int n, std::vector<std::pair<int, State>>& out) {
         go(c.parent, c.return_cs, c.return_ip, std::move(st));
     };
     State st = in;
+    st.now = n;
     if (i.flow == Flow::next) {
         execute(i, st, in_.pic_port);
         return go(ctx, cs, next_ip, std::move(st));
@@ -693,12 +734,14 @@ void FlowGraph::successors(int n, std::vector<std::pair<int, State>>& out) {
             can_take = refine(taken = st, op & 0xF, true);
             can_fall = refine(fall = st, op & 0xF, false);
             taken.cmp_reg = fall.cmp_reg = -1;
-        } else if (op == 0xE3) { // JCXZ
+        } else if (op == 0xE3) { // JCXZ: narrows CX on each way, writes nothing
+            taken.now = fall.now = in.writer[CX]; // (both halves: CX's word writer, if one)
             set_reg(taken, CX, 2, Interval::constant(0));
             if (fall.reg[CX].is_constant() && fall.reg[CX].lo == 0) can_fall = false;
             Interval cx = fall.reg[CX];
             cx.lo = std::max<std::uint32_t>(cx.lo, 1);
             set_reg(fall, CX, 2, cx);
+            for (int k : {CX, CX + 4}) taken.writer[k] = fall.writer[k] = in.writer[k];
             if (in.reg[CX].lo != 0) can_take = false;
         } else { // LOOP, LOOPE, LOOPNE: CX - 1, then taken while it is not 0
             Interval cx = in.reg[CX];

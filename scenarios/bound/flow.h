@@ -42,8 +42,10 @@ struct StackWord {
     bool flags = false;
     IfState if_saved = IfState::unknown;
     int bp_depth = -1; // PUSH BP: the frame base depth BP stood for, which POP BP gives back
+    int writer[2] = {-1, -1}; // PUSH r: who last wrote r's low and high byte (or the word)
     bool operator==(const StackWord& o) const {
-        return value == o.value && flags == o.flags && if_saved == o.if_saved && bp_depth == o.bp_depth;
+        return value == o.value && flags == o.flags && if_saved == o.if_saved && bp_depth == o.bp_depth &&
+               writer[0] == o.writer[0] && writer[1] == o.writer[1];
     }
 };
 
@@ -66,6 +68,12 @@ struct State {
     int cmp_reg = -1;
     std::uint32_t cmp_value = 0;
     bool cmp_zero_only = false;       // INC/DEC/OR r,r: ZF tells r = 0, CF tells nothing
+    // Which node last wrote each register (AL CL DL BL AH CH DH BH, then SP BP SI DI): -1 before
+    // the entry, kMixed where paths with different writers meet. POP gives back the writer of
+    // the value it restores, so a counter saved and restored around a call keeps its writer.
+    static constexpr int kMixed = -2;
+    int writer[12] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+    int now = -1;                     // the node being executed (the writer it records)
     bool operator==(const State& o) const;
 };
 
@@ -126,6 +134,9 @@ public:
     State out_state(int n, int to) const;
     /// Whether the instruction writes the 16-bit register r (0..7) or a byte of it.
     static bool writes(const Insn& insn, int r);
+    /// The byte register (AL..BH) an instruction writes when that byte is all it writes of its
+    /// word, else -1.
+    static int writes_byte_only(const Insn& insn);
     /// The symbolised address: SYMBOL+0xOFF, else 0xADDRESS.
     std::string where(std::uint32_t address) const;
     const Insn& insn_at(std::uint32_t address, std::uint16_t ip) const;
