@@ -48,3 +48,27 @@ TEST(BoundFirmware, TheShippedFirmwareKeepsTheRuleOnEveryPath) {
     }
     EXPECT_TRUE(r.fits()) << describe_over_budget(r);
 }
+
+// The frozen all-C firmware (issue #45's counter-example): its RS-232 handler runs the port reset
+// itself on a BREAK (port_reset -> uart_init inside the handler), far over the budget.
+TEST(BoundFirmware, TheAllCFirmwareIsOverTheBudgetOnItsRs232Handler) {
+    const Result r = analyse(firmware(RCSIM_COMM_FW_C_ROM, RCSIM_COMM_FW_C_MAP, RCSIM_BOUND_C_ANNOTATIONS));
+    if (std::getenv("RCSIM_BOUND_DUMP")) std::ofstream(std::string(std::getenv("RCSIM_BOUND_DUMP")) + ".c") << to_json(r).dump(1);
+    EXPECT_FALSE(r.fits());
+    for (const char* port : {"rs232_0", "rs232_1", "rs232_2"}) {
+        const SourceBound& b = r.sources.at(port);
+        EXPECT_GT(b.blocking_us, r.budget_us) << port;
+    }
+    EXPECT_NE(describe_over_budget(r).find("rs232_0: blocking bound"), std::string::npos) << describe_over_budget(r);
+}
+
+// The firmware of c67a15e (issue #47): its RS-232 handler ran the port reset on a BREAK
+// (port_reset -> uart_init inside it) and was seen to keep interrupts off for 1088 us. No sample
+// showed it; the bound must.
+TEST(BoundFirmware, TheBreakPathOfC67a15eIsBoundedAtLeastAtWhatItWasSeenToTake) {
+    const std::string dir = RCSIM_BOUND_FIXTURES "/c67a15e/";
+    const Result r = analyse(firmware(dir + "comm_fw.rom", dir + "comm_fw.map", dir + "bound.annotations"));
+    if (std::getenv("RCSIM_BOUND_DUMP")) std::ofstream(std::string(std::getenv("RCSIM_BOUND_DUMP")) + ".old") << to_json(r).dump(1);
+    for (const char* port : {"rs232_0", "rs232_1", "rs232_2"}) EXPECT_GE(r.sources.at(port).blocking_us, 1088.0) << port;
+    EXPECT_FALSE(r.fits());
+}
