@@ -1,8 +1,9 @@
 // rcsim — the worst-case clocks of one 8086 instruction, measured on the core. See worst_clocks.h.
 //
 // Each measurement is one run on a private Cpu whose every bus cycle goes through the harness
-// below (no memory map), as in the SingleStepTests set-up (sst.cpp): code fetches answer a
-// preamble's bytes, then the instruction's, in fetch order, then NOPs; data reads a fill
+// below (no memory map), as in the SingleStepTests set-up (sst.cpp): code fetches answer by
+// address a preamble's bytes (while it runs), the instruction's (or a sequence's pieces' at their
+// addresses) and NOPs everywhere else; data reads a fill
 // pattern (or what a run wrote); I/O reads and INTA a fixed value. Every cycle gets the wait
 // states WaitBounds gives its kind. A run is (preamble, register set-up, fill pattern); the
 // worst over runs is the bound. Two stages keep the count modest: every set-up (alignment,
@@ -14,6 +15,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
 
 namespace rcsim::i8086 {
 
@@ -52,9 +56,10 @@ struct Preamble {
 // Preamble instructions that change no register the target's set-up needs (the set-up is
 // written at the target's boundary anyway): NOP (1 byte, 3 clocks), CLC (1 byte, 2 clocks),
 // MOV AL,AL (2 bytes, 2 clocks: drains the queue), MUL CL (slow: the queue fills), MOV [BX],AL
-// (a data write holds the bus), JMP $+2 (flushes the queue: the target right after a jump).
+// (a data write holds the bus), JMP $+2 (flushes the queue: the target right after a jump),
+// CALL $+3 (the same after the return address's write: a called function's first instruction).
 const std::uint8_t kPNop[] = {0x90}, kPClc[] = {0xF8}, kPMov[] = {0x88, 0xC0}, kPMul[] = {0xF6, 0xE1},
-                   kPWrite[] = {0x88, 0x07}, kPJmp[] = {0xEB, 0x00};
+                   kPWrite[] = {0x88, 0x07}, kPJmp[] = {0xEB, 0x00}, kPCall[] = {0xE8, 0x00, 0x00};
 
 void add(Preamble& p, const std::uint8_t* b, unsigned n, unsigned times = 1) {
     for (unsigned t = 0; t < times; ++t) {
@@ -79,18 +84,19 @@ std::vector<Preamble> all_preambles() {
         add(p, kPMov, 2, k);
         out.push_back(p);
     }
-    for (const std::uint8_t* head : {kPMul, kPWrite, kPJmp}) {
+    const std::pair<const std::uint8_t*, unsigned> heads[] = {{kPMul, 2}, {kPWrite, 2}, {kPJmp, 2}, {kPCall, 3}};
+    for (const auto& [head, n] : heads) {
         for (unsigned k = 0; k <= 3; ++k) {
             Preamble a, b;
-            add(a, head, 2);
-            add(b, head, 2);
+            add(a, head, n);
+            add(b, head, n);
             add(a, kPNop, 1, k);
             add(b, kPClc, 1, k);
             out.push_back(a);
             if (k) out.push_back(b);
         }
         Preamble m;
-        add(m, head, 2);
+        add(m, head, n);
         add(m, kPMov, 2);
         out.push_back(m);
     }
@@ -116,13 +122,40 @@ constexpr std::size_t kChosen = 6;
 
 bool is_string(std::uint8_t op) { return (op >= 0xA4 && op <= 0xA7) || (op >= 0xAA && op <= 0xAF); }
 
+std::uint32_t linear(std::uint16_t cs, std::uint16_t ip) { return ((std::uint32_t(cs) << 4) + ip) & 0xFFFFF; }
+
+/// Code bytes at cs:ip onwards (offsets wrap within the segment).
+struct Run {
+    std::uint16_t cs = 0, ip = 0;
+    std::vector<std::uint8_t> bytes;
+    /// Whether this run holds linear address `a`; its byte in `b`.
+    bool at(std::uint32_t a, std::uint8_t& b) const {
+        const std::uint32_t off = (a - (std::uint32_t(cs) << 4)) & 0xFFFFF;
+        if (off > 0xFFFF) return false;
+        const std::uint16_t i = std::uint16_t(off - ip);
+        if (i >= bytes.size()) return false;
+        b = bytes[i];
+        return true;
+    }
+};
+
 } // namespace
+
+/// What a measurement runs after its preamble: `steps` instructions from `ip` in segment kCs.
+struct WorstClocks::Code {
+    std::vector<Run> runs;           // the pieces, in flow order
+    std::vector<std::uint8_t> first; // the first piece's bytes (its form chooses the set-ups)
+    std::uint16_t ip = 0;            // the first piece's
+    unsigned steps = 1;
+    bool strings = false;            // a string instruction among the pieces
+};
 
 struct WorstClocks::Harness : BusHandler {
     WaitBounds waits;
     Cpu cpu;
-    std::vector<std::uint8_t> code; // preamble and instruction bytes, in fetch order
-    std::size_t code_pos = 0;
+    const Code* code = nullptr;
+    Run preamble;            // answers its addresses while the preamble runs (then the pieces')
+    bool in_preamble = false;
     Fill fill = Fill::ones;
     // RAM a run wrote: a byte is valid when its stamp is the run's
     std::vector<std::uint8_t> ram = std::vector<std::uint8_t>(1u << 20);
@@ -134,6 +167,14 @@ struct WorstClocks::Harness : BusHandler {
     std::uint8_t counter = 0; // Fill::counting's next byte
 
     explicit Harness(const WaitBounds& w) : waits(w) { cpu.set_bus_handler(this); }
+
+    std::uint8_t code_byte(std::uint32_t a) const {
+        std::uint8_t b = kNop;
+        if (in_preamble && preamble.at(a, b)) return b;
+        for (const Run& r : code->runs)
+            if (r.at(a, b)) return b;
+        return kNop;
+    }
 
     std::uint8_t read_byte(std::uint32_t a) {
         a &= 0xFFFFF;
@@ -154,9 +195,8 @@ struct WorstClocks::Harness : BusHandler {
     unsigned bus_access(Bus kind, std::uint32_t address, std::uint16_t& data, unsigned width, cycles_t) override {
         switch (kind) {
         case Bus::code_fetch: {
-            auto next = [&]() { return code_pos < code.size() ? code[code_pos++] : kNop; };
-            const std::uint8_t lo = next();
-            data = width == 2 ? std::uint16_t(lo | (next() << 8)) : lo;
+            const std::uint8_t lo = code_byte(address & 0xFFFFF);
+            data = width == 2 ? std::uint16_t(lo | (code_byte((address + 1) & 0xFFFFF) << 8)) : lo;
             return waits.code;
         }
         case Bus::mem_read: {
@@ -179,10 +219,9 @@ struct WorstClocks::Harness : BusHandler {
     }
 
     /// One run: the preamble, then the set-up written at the target's boundary, then the
-    /// target's step(). `fault`: a read of the divide error's vector, when the target can raise it.
-    unsigned measure(const std::vector<std::uint8_t>& target, std::uint16_t ip, const Preamble& p, const Setup& s,
-                     bool can_fault, bool& fault) {
-        begin(p, target, ip);
+    /// target's step()s. `fault`: a read of the divide error's vector, when the target can raise it.
+    unsigned measure(const Code& target, const Preamble& p, const Setup& s, bool can_fault, bool& fault) {
+        begin(p, target);
         Registers& r = cpu.regs();
         for (int i = 0; i < 8; ++i) r.r[i] = s.regs.r[i];
         r.flags = std::uint16_t((s.regs.flags & 0x0CD5) | 0xF002); // (never IF or TF)
@@ -191,18 +230,24 @@ struct WorstClocks::Harness : BusHandler {
         operand_bytes = operand_left = s.operand ? (s.word ? 2 : 1) : 0;
         vector0 = false;
         const cycles_t c0 = cpu.cycles();
-        cpu.step();
+        for (unsigned i = 0; i < target.steps; ++i) {
+            // (a POPF of the fill sets TF, which the firmware never does: no single-step trap)
+            cpu.regs().flags &= std::uint16_t(~flag::TF);
+            cpu.step();
+        }
         fault = can_fault && vector0;
         return unsigned(cpu.cycles() - c0);
     }
 
-    /// Puts the CPU before the preamble, with the target starting at `ip`.
-    void begin(const Preamble& p, const std::vector<std::uint8_t>& target, std::uint16_t ip) {
+    /// Puts the CPU before the preamble, which runs into the target at its `ip`.
+    void begin(const Preamble& p, const Code& target) {
         ++run;
         vector0 = false;
         operand_left = 0;
-        code = p.bytes;
-        code.insert(code.end(), target.begin(), target.end());
+        code = &target;
+        const std::uint16_t ip = target.ip;
+        preamble = Run{kCs, std::uint16_t(ip - p.bytes.size()), p.bytes};
+        in_preamble = true;
         Registers r;
         r.s[CS] = kCs;
         r.s[DS] = kDs;
@@ -210,10 +255,9 @@ struct WorstClocks::Harness : BusHandler {
         r.s[ES] = kEs;
         r.r[SP] = 0x8000;
         r.r[BX] = 0x0100;
-        r.ip = std::uint16_t(ip - p.bytes.size());
+        r.ip = preamble.ip;
         std::array<std::uint8_t, 6> q{};
-        for (unsigned i = 0; i < p.queue; ++i) q[i] = i < code.size() ? code[i] : kNop;
-        code_pos = std::min<std::size_t>(p.queue, code.size());
+        for (unsigned i = 0; i < p.queue; ++i) q[i] = code_byte(linear(kCs, std::uint16_t(r.ip + i)));
         cpu.load_state(r, q.data(), p.queue);
         cpu.start();
         for (unsigned i = 0; i < p.instructions; ++i) cpu.step();
@@ -221,6 +265,7 @@ struct WorstClocks::Harness : BusHandler {
             cpu.step(); // the HLT
             cpu.step(); // an idle clock in the halt
         }
+        in_preamble = false;
     }
 };
 
@@ -234,8 +279,94 @@ unsigned WorstClocks::instruction(const std::uint8_t* bytes, unsigned length, st
     key += std::to_string(cx_max);
     const auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
-    const unsigned c = measure(b, ip, cx_max);
+    Code code;
+    code.runs.push_back(Run{kCs, ip, b});
+    code.first = b;
+    code.ip = ip;
+    code.strings = is_string(decode(b.data(), length).opcode);
+    const unsigned c = measure(code, cx_max);
     cache_.emplace(std::move(key), c);
+    return c;
+}
+
+namespace {
+
+/// Why sequence() cannot take the instruction `d` at `b`, or nullptr.
+const char* excluded(const std::uint8_t* b, const Decoded& d, std::uint16_t ip) {
+    const std::uint8_t op = d.opcode;
+    const unsigned reg = d.prefixes + 1 < d.length ? (b[d.prefixes + 1] >> 3) & 7 : 0;
+    bool rep = false;
+    for (unsigned i = 0; i < d.prefixes; ++i) rep = rep || b[i] == 0xF2 || b[i] == 0xF3;
+    switch (d.flow) {
+    case Flow::branch: return "a conditional transfer";
+    case Flow::ret_near:
+    case Flow::ret_far:
+    case Flow::iret: return "a return";
+    case Flow::int_sw: return "a software interrupt";
+    case Flow::halt: return "HLT";
+    case Flow::jump:
+    case Flow::jump_far:
+    case Flow::call_near:
+    case Flow::call_far:
+        if (!direct_target(b, d, ip)) return "a transfer through a register or memory";
+        break;
+    case Flow::next: break;
+    }
+    if (rep && is_string(op)) return "a REP string instruction";
+    if (op == 0xD2 || op == 0xD3) return "a shift or rotate by CL";
+    if ((op == 0xF6 || op == 0xF7) && reg >= 4) return "MUL, IMUL, DIV or IDIV";
+    if (op == 0xD4 || op == 0xD5) return "AAM or AAD";
+    return nullptr;
+}
+
+[[noreturn]] void reject(std::size_t i, std::uint16_t ip, const std::string& why) {
+    char where[64];
+    std::snprintf(where, sizeof where, "WorstClocks::sequence: piece %zu (IP %04X): ", i, unsigned(ip));
+    throw std::invalid_argument(where + why);
+}
+
+} // namespace
+
+unsigned WorstClocks::sequence(const std::vector<Piece>& pieces) {
+    if (pieces.empty()) throw std::invalid_argument("WorstClocks::sequence: no pieces");
+    Code code;
+    std::string key;
+    std::uint16_t cs = kCs, next = pieces[0].ip; // where the flow goes
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        const Piece& p = pieces[i];
+        const Decoded d = p.bytes ? decode(p.bytes, p.length) : Decoded{};
+        if (d.length == 0) reject(i, p.ip, "its bytes end inside the instruction");
+        if (const char* why = excluded(p.bytes, d, p.ip)) reject(i, p.ip, why + std::string(" keeps its own bound"));
+        if (p.ip != next) {
+            char was[48];
+            std::snprintf(was, sizeof was, "the previous piece goes to IP %04X", unsigned(next));
+            reject(i, p.ip, was);
+        }
+        Run run{cs, p.ip, std::vector<std::uint8_t>(p.bytes, p.bytes + d.length)};
+        for (std::uint16_t j = 0; j < d.length; ++j)
+            for (const Run& r : code.runs) {
+                std::uint8_t b = 0;
+                if (r.at(linear(cs, std::uint16_t(p.ip + j)), b) && b != run.bytes[j])
+                    reject(i, p.ip, "another piece holds other bytes at its address");
+            }
+        key.append(run.bytes.begin(), run.bytes.end());
+        key += char(p.ip & 1);
+        code.strings = code.strings || is_string(d.opcode);
+        code.runs.push_back(std::move(run));
+        next = std::uint16_t(p.ip + d.length);
+        if (d.flow != Flow::next) { // (a direct JMP or CALL: excluded() left no other)
+            const Target t = *direct_target(p.bytes, d, p.ip);
+            next = t.ip;
+            if (t.far) cs = t.cs;
+        }
+    }
+    const auto it = sequences_.find(key);
+    if (it != sequences_.end()) return it->second;
+    code.first = code.runs[0].bytes;
+    code.ip = pieces[0].ip;
+    code.steps = unsigned(pieces.size());
+    const unsigned c = measure(code, 0xFFFF);
+    sequences_.emplace(std::move(key), c);
     return c;
 }
 
@@ -308,7 +439,8 @@ std::vector<Values> muldiv_values(bool word) {
 
 } // namespace
 
-unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint16_t ip, std::uint32_t cx_max) {
+unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
+    const std::vector<std::uint8_t>& bytes = code.first;
     const Decoded d = decode(bytes.data(), unsigned(bytes.size()));
     const std::uint8_t op = d.opcode;
     const unsigned at = d.prefixes;
@@ -357,7 +489,7 @@ unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint1
             s.regs.r[CX] = std::uint16_t((cx & 0xFF00) | (cl - 1));
             out.push_back(s);
         });
-    } else if (is_string(op)) { // both directions; CMPS/SCAS finding their byte or not
+    } else if (code.strings) { // both directions; CMPS/SCAS finding their byte or not
         vary([&](const Setup& a, std::vector<Setup>& out) {
             for (int df = 0; df < 2; ++df)
                 for (Fill f : {Fill::ones, Fill::zeros, Fill::counting})
@@ -425,7 +557,7 @@ unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint1
         bool ok = false;
         for (const Preamble& p : first) {
             bool fault = false;
-            const unsigned c = harness_->measure(bytes, ip, p, setups[i], can_fault, fault);
+            const unsigned c = harness_->measure(code, p, setups[i], can_fault, fault);
             if (fault) worst_fault = std::max(worst_fault, c);
             else {
                 w = std::max(w, c);
@@ -455,7 +587,7 @@ unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint1
         std::vector<std::pair<unsigned, std::size_t>> by_state; // time, preamble
         for (std::size_t k = 0; k < every.size(); ++k) {
             bool fault = false;
-            const unsigned c = harness_->measure(bytes, ip, every[k], setups[i], can_fault, fault);
+            const unsigned c = harness_->measure(code, every[k], setups[i], can_fault, fault);
             if (!fault) by_state.push_back({c, k});
         }
         if (!long_rep) {
@@ -466,7 +598,7 @@ unsigned WorstClocks::measure(const std::vector<std::uint8_t>& bytes, std::uint1
         std::sort(by_state.begin(), by_state.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
         for (std::size_t j = 0; j < by_state.size() && j < 3; ++j) {
             bool fault = false;
-            worst = std::max(worst, harness_->measure(bytes, ip, every[by_state[j].second], full[i], can_fault, fault));
+            worst = std::max(worst, harness_->measure(code, every[by_state[j].second], full[i], can_fault, fault));
         }
     }
     return long_rep ? worst : std::max(worst, top);
@@ -481,7 +613,10 @@ unsigned WorstClocks::interrupt_entry() {
     halt.bytes.push_back(0xF4);
     halt.halt = true;
     states.push_back(halt);
-    const std::vector<std::uint8_t> nop{kNop};
+    Code nop;
+    nop.runs.push_back(Run{kCs, 0x0100, {kNop}});
+    nop.first = {kNop};
+    nop.ip = 0x0100;
     unsigned worst = 0;
     for (Preamble p : states) {
         // (one instruction at least, so that the entry is taken at a boundary step() checks)
@@ -491,7 +626,7 @@ unsigned WorstClocks::interrupt_entry() {
         }
         for (Fill f : {Fill::ones, Fill::zeros})
             for (std::uint16_t sp : {std::uint16_t(0x8000), std::uint16_t(0x8001)}) {
-                h.begin(p, nop, 0x0100);
+                h.begin(p, nop);
                 h.fill = f;
                 h.cpu.regs().r[SP] = sp;
                 h.cpu.regs().flags = 0xF002 | flag::IF;

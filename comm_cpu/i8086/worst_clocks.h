@@ -15,6 +15,12 @@
 // An instruction's time is measured boundary to boundary as Cpu::step() spends it: from the
 // clock after the opcode byte was read to the clock after the next instruction's opcode byte was
 // read (for a transfer, the target's). The sum over a path is the path's time.
+//
+// That sum assumes every instruction's worst BIU state, most often an empty queue refilled
+// through the ROM's wait state, at every boundary; along a straight line the queue fills while
+// slow instructions run, so the sum of ten instructions is about twice what they ever take.
+// sequence() measures a whole straight-line run at once: the worst BIU state at its first
+// boundary only, the later ones as the run itself leaves them.
 #pragma once
 
 #include "comm_cpu/i8086/cpu.h"
@@ -40,6 +46,15 @@ struct WaitBounds {
     }
 };
 
+/// One instruction of a straight-line run given to WorstClocks::sequence(): `bytes[0 .. length)`
+/// hold it (more may follow: only the instruction decode() finds at `bytes` is taken) and it
+/// starts at offset `ip` of its code segment.
+struct Piece {
+    const std::uint8_t* bytes;
+    unsigned length;
+    std::uint16_t ip;
+};
+
 class WorstClocks {
 public:
     explicit WorstClocks(const WaitBounds& waits);
@@ -57,6 +72,22 @@ public:
     /// is given what those runs took.
     unsigned instruction(const std::uint8_t* bytes, unsigned length, std::uint16_t ip, std::uint32_t cx_max = 0xFFFF);
 
+    /// The worst clocks of running `pieces` in order: from the boundary before the first to the
+    /// boundary after the last (the next instruction's opcode read, as instruction() measures
+    /// one), under the conditions instruction() varies at the first boundary (BIU states,
+    /// alignments, fill patterns, the same wait states); the later boundaries meet what the run
+    /// leaves. One piece gives exactly instruction()'s bound.
+    ///
+    /// The pieces follow the flow: each next piece's ip is where the previous one goes (the next
+    /// instruction, or a direct JMP/CALL's target: rel8, rel16 and ptr16:16 are allowed, a far
+    /// one moving to its segment), and two pieces at one address hold the same bytes. No piece
+    /// is a form whose time depends on what this does not vary or whose flow it does not know:
+    /// a conditional transfer (Jcc, LOOP/LOOPE/LOOPNE, JCXZ), a return or IRET, a transfer
+    /// through a register or memory (FF /2../5), INT/INT3/INTO, HLT, a REP string instruction,
+    /// a shift or rotate by CL, MUL/IMUL/DIV/IDIV, AAM or AAD: those keep their own
+    /// instruction() bound. A piece that breaks any of this throws std::invalid_argument.
+    unsigned sequence(const std::vector<Piece>& pieces);
+
     /// The worst clocks of an interrupt entry: from the boundary at which INTR is taken (the two
     /// INTA cycles, the pushes of FLAGS, CS and IP, the vector's two words) to the boundary of
     /// the handler's first instruction (its opcode byte read).
@@ -66,10 +97,12 @@ public:
 
 private:
     struct Harness;
-    unsigned measure(const std::vector<std::uint8_t>& bytes, std::uint16_t ip, std::uint32_t cx_max);
+    struct Code; // the pieces as the harness lays them out, by address
+    unsigned measure(const Code& code, std::uint32_t cx_max);
     WaitBounds waits_;
     std::unique_ptr<Harness> harness_;
-    std::map<std::string, unsigned> cache_; // bytes, ip parity and cx_max -> clocks
+    std::map<std::string, unsigned> cache_;    // bytes, ip parity and cx_max -> clocks
+    std::map<std::string, unsigned> sequences_; // each piece's bytes and ip parity -> clocks
     unsigned entry_ = 0;                    // interrupt_entry(), once measured
 };
 
