@@ -25,6 +25,10 @@ using rcsim::i8086::WorstClocks;
 
 namespace {
 
+/// The board's wait states (comm_board.h's defaults: one on ROM and I/O cycles, data at the worst
+/// region's one).
+const WaitBounds kBoardWaits{1, 1, 1, 0};
+
 unsigned bound(WorstClocks& w, std::vector<std::uint8_t> b, std::uint32_t cx_max = 0xFFFF, std::uint16_t ip = 0x100) {
     return w.instruction(b.data(), static_cast<unsigned>(b.size()), ip, cx_max);
 }
@@ -151,6 +155,16 @@ TEST(WorstClocks, OperandValuesAlignmentAndFlagsAreTakenAtTheirWorst) {
     EXPECT_EQ(bound(w, {0xEB, 0x10}, 0, 0x100), bound(w, {0xEB, 0x10}, 0, 0x200));
 }
 
+TEST(WorstClocks, TheBytesAfterTheInstructionDoNotChangeItsBound) {
+    // The bound is the instruction's time, whatever follows it (the next instruction's bytes, as
+    // the scenario test passes them): a preamble that flushes the queue (JMP $+2, CALL $+3) must
+    // run the instruction itself after it, not the bytes a fetch made before the flush.
+    WorstClocks w(kBoardWaits);
+    EXPECT_EQ(bound(w, {0xFB, 0xC3, 0x00, 0x00}), bound(w, {0xFB}));             // STI; RET
+    EXPECT_EQ(bound(w, {0x8B, 0xC3, 0xF7, 0xF3}), bound(w, {0x8B, 0xC3}));       // MOV AX,BX; DIV BX
+    EXPECT_EQ(bound(w, {0x90, 0xCD, 0x21, 0x90}, 0xFFFF, 0x101), bound(w, {0x90}, 0xFFFF, 0x101)); // NOP; INT 21h
+}
+
 TEST(WorstClocks, ARunThatDividesByZeroIsNotTheInstructionsTime) {
     // With 10 wait states per data cycle the divide error's entry (two vector reads, three
     // pushes: 50 clocks of waits) is far longer than any DIV BL that completes (no data cycle:
@@ -165,9 +179,7 @@ TEST(WorstClocks, ARunThatDividesByZeroIsNotTheInstructionsTime) {
 
 namespace {
 
-/// The board's wait states (comm_board.h's defaults: one on ROM and I/O cycles, data at the worst
-/// region's one).
-const WaitBounds kBoard{1, 1, 1, 0};
+const WaitBounds kBoard = kBoardWaits;
 
 /// `n` copies of the instruction `b` laid end to end from `ip`, as sequence() pieces (which point
 /// into `b`).
