@@ -327,6 +327,11 @@ const char* excluded(const std::uint8_t* b, const Decoded& d, std::uint16_t ip) 
 
 } // namespace
 
+bool WorstClocks::sequenceable(const std::uint8_t* bytes, unsigned length, std::uint16_t ip) {
+    const Decoded d = bytes ? decode(bytes, length) : Decoded{};
+    return d.length && !excluded(bytes, d, ip);
+}
+
 unsigned WorstClocks::sequence(const std::vector<Piece>& pieces) {
     if (pieces.empty()) throw std::invalid_argument("WorstClocks::sequence: no pieces");
     Code code;

@@ -88,6 +88,10 @@ public:
     /// instruction() bound. A piece that breaks any of this throws std::invalid_argument.
     unsigned sequence(const std::vector<Piece>& pieces);
 
+    /// Whether sequence() takes the instruction at `bytes` (offset `ip`) as a piece: its bytes
+    /// hold all of it and it is none of the forms sequence() leaves to instruction().
+    static bool sequenceable(const std::uint8_t* bytes, unsigned length, std::uint16_t ip);
+
     /// The worst clocks of an interrupt entry: from the boundary at which INTR is taken (the two
     /// INTA cycles, the pushes of FLAGS, CS and IP, the vector's two words) to the boundary of
     /// the handler's first instruction (its opcode byte read).

@@ -1,7 +1,9 @@
 // The per-instruction worst clocks (comm_cpu/i8086/worst_clocks.h) against the shipped firmware
 // as the board runs it: every instruction of a shortened run of the default scenario and of the
 // BREAK case takes no more clocks than WorstClocks gives its bytes with the board's wait states
-// and CX at its boundary, and every interrupt entry no more than interrupt_entry().
+// and CX at its boundary, every interrupt entry no more than interrupt_entry(), and every straight
+// line of 2..12 consecutive instructions (no interrupt entry inside, none a form sequence() leaves
+// to instruction()) no more than sequence() gives it.
 #include "comm_cpu/i8086/worst_clocks.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/runner.h"
@@ -10,16 +12,31 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <deque>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 using namespace rcsim;
 
 namespace {
 
+/// The longest straight line checked against sequence().
+constexpr std::size_t kLongestLine = 12;
+
+/// One executed instruction of the current straight line.
+struct Done {
+    std::array<std::uint8_t, 16> bytes;
+    unsigned length;
+    std::uint16_t ip;
+    i8086::cycles_t start, end;
+};
+
 // Measures each instruction between successive boundaries of the step hook (set without a
-// SkipHook: the fast-forward is off, every boundary is seen).
+// SkipHook: the fast-forward is off, every boundary is seen), and each straight line of the
+// last 2..kLongestLine of them.
 struct Meter {
     explicit Meter(const i8086::WaitBounds& w) : worst(w) {}
     i8086::WorstClocks worst;
@@ -33,6 +50,44 @@ struct Meter {
     std::size_t checked = 0, entries = 0, over = 0;
     double tightest = 0, tightest_entry = 0;
     std::string tightest_at, first_over;
+    std::deque<Done> line; // the straight line the last instruction ends
+    std::size_t lines = 0, lines_over = 0;
+    double tightest_line = 0;
+    std::string tightest_line_at, first_line_over;
+    // 8-instruction lines: their sequence() bounds and the sums of their instructions' bounds
+    double eight_sequence = 0, eight_sum = 0, eight_taken = 0;
+
+    /// Checks every line of 2..kLongestLine instructions that ends with the one just done.
+    void check_lines() {
+        std::vector<i8086::Piece> pieces;
+        unsigned sum = 0;
+        for (std::size_t k = line.size(); k-- > 0;) { // (from the last back: lines of 1, 2, ...)
+            const Done& d = line[k];
+            pieces.insert(pieces.begin(), i8086::Piece{d.bytes.data(), d.length, d.ip});
+            sum += worst.instruction(d.bytes.data(), d.length, d.ip);
+            if (pieces.size() < 2) continue;
+            const unsigned clocks = unsigned(line.back().end - d.start), limit = worst.sequence(pieces);
+            ++lines;
+            if (pieces.size() == 8) {
+                eight_sequence += limit;
+                eight_sum += sum;
+                eight_taken += clocks;
+            }
+            const double ratio = double(clocks) / limit;
+            if (ratio > tightest_line) {
+                tightest_line = ratio;
+                char where[64];
+                std::snprintf(where, sizeof where, "%zu instructions from IP %04X", pieces.size(), d.ip);
+                tightest_line_at = where;
+            }
+            if (clocks > limit && lines_over++ == 0) {
+                char where[96];
+                std::snprintf(where, sizeof where, "%zu instructions from IP %04X: %u clocks, bound %u", pieces.size(),
+                              d.ip, clocks, limit);
+                first_line_over = where;
+            }
+        }
+    }
 
     void check(unsigned clocks, unsigned limit, const std::string& what) {
         const double ratio = double(clocks) / limit;
@@ -46,9 +101,11 @@ struct Meter {
 
     void boundary(const i8086::Cpu& cpu) {
         const i8086::cycles_t now = cpu.cycles();
+        bool entry_followed = false;
         if (have && !(length && bytes[0] == 0xF4) && !cpu.interrupt_from_halt()) { // (HLT waits)
             i8086::cycles_t end = now;
             if (cpu.interrupt_boundary() > at) { // an interrupt entry followed the instruction
+                entry_followed = true;
                 end = cpu.interrupt_boundary();
                 const unsigned entry = unsigned(now - end), limit = worst.interrupt_entry();
                 ++entries;
@@ -60,7 +117,19 @@ struct Meter {
             char where[48];
             std::snprintf(where, sizeof where, "IP %04X bytes %02X %02X %02X CX %u", ip, bytes[0], bytes[1], bytes[2], cx);
             check(unsigned(end - at), worst.instruction(bytes, length, ip, cx), where);
+            if (i8086::WorstClocks::sequenceable(bytes, length, ip)) {
+                Done d{{}, length, ip, at, end};
+                std::copy(bytes, bytes + length, d.bytes.begin());
+                line.push_back(d);
+                if (line.size() > kLongestLine) line.pop_front();
+                check_lines();
+            } else {
+                line.clear();
+            }
+        } else {
+            line.clear();
         }
+        if (entry_followed) line.clear(); // (the next instruction is the handler's)
         // The next instruction: its bytes from the memory it runs from (the ROM).
         have = false;
         const std::uint32_t pc = cpu.pc();
@@ -117,9 +186,15 @@ void expect_within_bounds(const std::string& file, double duration_s) {
     EXPECT_EQ(meter->over, 0u) << file << ": first " << meter->first_over;
     EXPECT_GT(meter->checked, 100000u) << file;
     EXPECT_GT(meter->entries, 100u) << file;
+    EXPECT_EQ(meter->lines_over, 0u) << file << ": first " << meter->first_line_over;
+    EXPECT_GT(meter->lines, 100000u) << file;
     std::cout << file << ": " << meter->checked << " instructions, tightest " << meter->tightest << " ("
               << meter->tightest_at << "); " << meter->entries << " interrupt entries, tightest "
-              << meter->tightest_entry << "\n";
+              << meter->tightest_entry << "; " << meter->lines << " straight lines of 2.." << kLongestLine
+              << ", tightest " << meter->tightest_line << " (" << meter->tightest_line_at
+              << "); 8-instruction lines take " << meter->eight_taken / meter->eight_sequence
+              << " of their bound, bounded at " << meter->eight_sequence / meter->eight_sum
+              << " of their instructions' bounds summed\n";
 }
 
 } // namespace
@@ -140,4 +215,6 @@ TEST(InstructionBound, BoundsWithoutTheBoardsWaitStatesAreExceeded) {
     const std::unique_ptr<Meter> meter = measured("scenarios/three_ports_9600.yaml", 0.1, &none);
     EXPECT_GT(meter->over, 1000u);
     EXPECT_GT(meter->tightest, 1.1);
+    EXPECT_GT(meter->lines_over, 1000u);
+    EXPECT_GT(meter->tightest_line, 1.1);
 }
