@@ -148,6 +148,10 @@ struct WorstClocks::Code {
     std::uint16_t ip = 0;            // the first piece's
     unsigned steps = 1;
     bool strings = false;            // a string instruction among the pieces
+    std::uint8_t branch = 0;         // the last piece's opcode when it is a conditional transfer (branch())
+    // branch(): the status flags and CX written at the last piece's boundary to force its outcome
+    bool forced = false;
+    std::uint16_t force_flags = 0, force_cx = 0;
 };
 
 struct WorstClocks::Harness : BusHandler {
@@ -233,6 +237,11 @@ struct WorstClocks::Harness : BusHandler {
         for (unsigned i = 0; i < target.steps; ++i) {
             // (a POPF of the fill sets TF, which the firmware never does: no single-step trap)
             cpu.regs().flags &= std::uint16_t(~flag::TF);
+            if (target.forced && i + 1 == target.steps) {
+                Registers& f = cpu.regs();
+                f.flags = std::uint16_t((f.flags & ~kAllStatus) | target.force_flags);
+                f.r[CX] = target.force_cx;
+            }
             cpu.step();
         }
         fault = can_fault && vector0;
@@ -319,10 +328,38 @@ const char* excluded(const std::uint8_t* b, const Decoded& d, std::uint16_t ip) 
     return nullptr;
 }
 
-[[noreturn]] void reject(std::size_t i, std::uint16_t ip, const std::string& why) {
+[[noreturn]] void reject(bool branch, std::size_t i, std::uint16_t ip, const std::string& why) {
     char where[64];
-    std::snprintf(where, sizeof where, "WorstClocks::sequence: piece %zu (IP %04X): ", i, unsigned(ip));
+    std::snprintf(where, sizeof where, "WorstClocks::%s: piece %zu (IP %04X): ", branch ? "branch" : "sequence", i,
+                  unsigned(ip));
     throw std::invalid_argument(where + why);
+}
+
+/// Whether the conditional transfer `op` (70-7F and the aliases 60-6F, E0-E3) is taken with the
+/// status flags `f` and CX = `cx` before it (the iAPX 86/88 User's Manual: LOOP* decrement CX
+/// first and test the result; JCXZ tests CX as it is).
+bool taken(std::uint8_t op, std::uint16_t f, std::uint16_t cx) {
+    const bool cf = f & flag::CF, pf = f & flag::PF, zf = f & flag::ZF, sf = f & flag::SF, of = f & flag::OF;
+    const bool counted = cx != 1; // CX - 1 != 0
+    switch (op) {
+    case 0xE0: return counted && !zf; // LOOPNE
+    case 0xE1: return counted && zf;  // LOOPE
+    case 0xE2: return counted;        // LOOP
+    case 0xE3: return cx == 0;        // JCXZ
+    default: break;
+    }
+    bool c = false;
+    switch ((op >> 1) & 7) {
+    case 0: c = of; break;              // JO / JNO
+    case 1: c = cf; break;              // JB / JNB
+    case 2: c = zf; break;              // JZ / JNZ
+    case 3: c = cf || zf; break;        // JBE / JA
+    case 4: c = sf; break;              // JS / JNS
+    case 5: c = pf; break;              // JP / JNP
+    case 6: c = sf != of; break;        // JL / JGE
+    case 7: c = zf || sf != of; break;  // JLE / JG
+    }
+    return (op & 1) ? !c : c;
 }
 
 } // namespace
@@ -332,47 +369,86 @@ bool WorstClocks::sequenceable(const std::uint8_t* bytes, unsigned length, std::
     return d.length && !excluded(bytes, d, ip);
 }
 
-unsigned WorstClocks::sequence(const std::vector<Piece>& pieces) {
-    if (pieces.empty()) throw std::invalid_argument("WorstClocks::sequence: no pieces");
+WorstClocks::Code WorstClocks::lay_out(const std::vector<Piece>& pieces, bool branch, std::string& key) const {
+    if (pieces.empty()) throw std::invalid_argument(branch ? "WorstClocks::branch: no pieces" : "WorstClocks::sequence: no pieces");
     Code code;
-    std::string key;
     std::uint16_t cs = kCs, next = pieces[0].ip; // where the flow goes
     for (std::size_t i = 0; i < pieces.size(); ++i) {
         const Piece& p = pieces[i];
+        const bool last = i + 1 == pieces.size();
         const Decoded d = p.bytes ? decode(p.bytes, p.length) : Decoded{};
-        if (d.length == 0) reject(i, p.ip, "its bytes end inside the instruction");
-        if (const char* why = excluded(p.bytes, d, p.ip)) reject(i, p.ip, why + std::string(" keeps its own bound"));
+        if (d.length == 0) reject(branch, i, p.ip, "its bytes end inside the instruction");
+        const bool ret = d.flow == Flow::ret_near || d.flow == Flow::ret_far || d.flow == Flow::iret;
+        if (branch && last && d.flow != Flow::branch) reject(branch, i, p.ip, "the last piece is not a conditional transfer");
+        if (!(last && (branch ? d.flow == Flow::branch : ret)))
+            if (const char* why = excluded(p.bytes, d, p.ip))
+                reject(branch, i, p.ip,
+                       why + std::string(ret || d.flow == Flow::branch ? " can only end a line" : " keeps its own bound"));
         if (p.ip != next) {
             char was[48];
             std::snprintf(was, sizeof was, "the previous piece goes to IP %04X", unsigned(next));
-            reject(i, p.ip, was);
+            reject(branch, i, p.ip, was);
         }
         Run run{cs, p.ip, std::vector<std::uint8_t>(p.bytes, p.bytes + d.length)};
         for (std::uint16_t j = 0; j < d.length; ++j)
             for (const Run& r : code.runs) {
                 std::uint8_t b = 0;
                 if (r.at(linear(cs, std::uint16_t(p.ip + j)), b) && b != run.bytes[j])
-                    reject(i, p.ip, "another piece holds other bytes at its address");
+                    reject(branch, i, p.ip, "another piece holds other bytes at its address");
             }
         key.append(run.bytes.begin(), run.bytes.end());
         key += char(p.ip & 1);
         code.strings = code.strings || is_string(d.opcode);
         code.runs.push_back(std::move(run));
         next = std::uint16_t(p.ip + d.length);
-        if (d.flow != Flow::next) { // (a direct JMP or CALL: excluded() left no other)
+        if (d.flow == Flow::branch) code.branch = d.opcode;
+        else if (d.flow != Flow::next && !ret) { // (a direct JMP or CALL: excluded() left no other)
             const Target t = *direct_target(p.bytes, d, p.ip);
             next = t.ip;
             if (t.far) cs = t.cs;
         }
     }
-    const auto it = sequences_.find(key);
-    if (it != sequences_.end()) return it->second;
     code.first = code.runs[0].bytes;
     code.ip = pieces[0].ip;
     code.steps = unsigned(pieces.size());
+    return code;
+}
+
+unsigned WorstClocks::sequence(const std::vector<Piece>& pieces) {
+    std::string key;
+    const Code code = lay_out(pieces, false, key);
+    const auto it = sequences_.find(key);
+    if (it != sequences_.end()) return it->second;
     const unsigned c = measure(code, 0xFFFF);
     sequences_.emplace(std::move(key), c);
     return c;
+}
+
+Outcomes WorstClocks::branch(const std::vector<Piece>& pieces) {
+    std::string key;
+    Code code = lay_out(pieces, true, key);
+    const auto it = branches_.find(key);
+    if (it != branches_.end()) return it->second;
+    // The first status flags and CX (1, 2, 0: LOOP falls through, loops, JCXZ jumps) that give
+    // each outcome.
+    Outcomes o;
+    for (bool want : {true, false}) {
+        bool found = false;
+        for (std::uint16_t cx : {1, 2, 0})
+            for (unsigned bits = 0; bits < 32 && !found; ++bits) {
+                const std::uint16_t f = std::uint16_t(((bits & 1) ? flag::CF : 0) | ((bits & 2) ? flag::PF : 0) |
+                                                      ((bits & 4) ? flag::ZF : 0) | ((bits & 8) ? flag::SF : 0) |
+                                                      ((bits & 16) ? flag::OF : 0));
+                if (taken(code.branch, f, cx) != want) continue;
+                found = true;
+                code.forced = true;
+                code.force_flags = f;
+                code.force_cx = cx;
+            }
+        (want ? o.taken : o.not_taken) = measure(code, 0xFFFF);
+    }
+    branches_.emplace(std::move(key), o);
+    return o;
 }
 
 namespace {
@@ -474,7 +550,9 @@ unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
         for (const Setup& s : aligned) change(s, out);
         setups.insert(setups.end(), out.begin(), out.end());
     };
-    if (d.flow == Flow::branch || op == 0xCE) { // Jcc, LOOPx, JCXZ, INTO: taken and not taken
+    if (d.flow == Flow::branch && code.forced) { // (branch() writes the outcome's flags and CX)
+        setups = {aligned[0]};
+    } else if (d.flow == Flow::branch || op == 0xCE) { // Jcc, LOOPx, JCXZ, INTO: taken and not taken
         std::vector<Setup> out;
         for (const Setup& a : op == 0xCE ? aligned : std::vector<Setup>{aligned[0]}) // (INTO pushes)
             for (std::uint16_t f : {std::uint16_t(0), kAllStatus, flag::SF, flag::OF})

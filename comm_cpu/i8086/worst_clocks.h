@@ -55,6 +55,13 @@ struct Piece {
     std::uint16_t ip;
 };
 
+/// The worst clocks of a line that ends in a conditional transfer, each outcome apart
+/// (WorstClocks::branch()).
+struct Outcomes {
+    unsigned taken = 0;     ///< to the target's opcode read
+    unsigned not_taken = 0; ///< to the next instruction's opcode read
+};
+
 class WorstClocks {
 public:
     explicit WorstClocks(const WaitBounds& waits);
@@ -85,8 +92,21 @@ public:
     /// a conditional transfer (Jcc, LOOP/LOOPE/LOOPNE, JCXZ), a return or IRET, a transfer
     /// through a register or memory (FF /2../5), INT/INT3/INTO, HLT, a REP string instruction,
     /// a shift or rotate by CL, MUL/IMUL/DIV/IDIV, AAM or AAD: those keep their own
-    /// instruction() bound. A piece that breaks any of this throws std::invalid_argument.
+    /// instruction() bound. The exception is the LAST piece, which may be a return (RET, RETF,
+    /// with or without an immediate, their aliases C0/C1/C8/C9) or IRET: where it returns to
+    /// is what the stack holds, the fill (FFFF or 0000: an odd and an even target, which fetch
+    /// differently) or what the earlier pieces pushed there. A piece that breaks any of this
+    /// throws std::invalid_argument.
     unsigned sequence(const std::vector<Piece>& pieces);
+
+    /// The worst clocks of a line whose LAST piece is a conditional transfer (Jcc 70-7F and its
+    /// aliases 60-6F, LOOPNE/LOOPE/LOOP E0-E2, JCXZ E3), each outcome measured apart: the
+    /// outcome is forced at the branch's boundary by writing FLAGS and CX there (a register
+    /// write changes no bus timing), so `taken` runs to the target's opcode read and
+    /// `not_taken` to the next instruction's. The pieces before it follow sequence()'s rules
+    /// (none may be a return); one piece, the branch alone, is allowed, and then the larger
+    /// outcome is instruction()'s bound. Anything else throws std::invalid_argument.
+    Outcomes branch(const std::vector<Piece>& pieces);
 
     /// Whether sequence() takes the instruction at `bytes` (offset `ip`) as a piece: its bytes
     /// hold all of it and it is none of the forms sequence() leaves to instruction().
@@ -102,11 +122,13 @@ public:
 private:
     struct Harness;
     struct Code; // the pieces as the harness lays them out, by address
+    Code lay_out(const std::vector<Piece>& pieces, bool branch, std::string& key) const;
     unsigned measure(const Code& code, std::uint32_t cx_max);
     WaitBounds waits_;
     std::unique_ptr<Harness> harness_;
     std::map<std::string, unsigned> cache_;    // bytes, ip parity and cx_max -> clocks
     std::map<std::string, unsigned> sequences_; // each piece's bytes and ip parity -> clocks
+    std::map<std::string, Outcomes> branches_;  // the same, for branch()
     unsigned entry_ = 0;                    // interrupt_entry(), once measured
 };
 

@@ -3,7 +3,10 @@
 // BREAK case takes no more clocks than WorstClocks gives its bytes with the board's wait states
 // and CX at its boundary, every interrupt entry no more than interrupt_entry(), and every straight
 // line of 2..12 consecutive instructions (no interrupt entry inside, none a form sequence() leaves
-// to instruction()) no more than sequence() gives it.
+// to instruction()) no more than sequence() gives it. The lines of 1..12 that end in a conditional
+// transfer take no more than branch() gives the outcome the run took (the next boundary's
+// address says which), and those that end in a return or IRET no more than sequence().
+#include "comm_cpu/i8086/disasm.h"
 #include "comm_cpu/i8086/worst_clocks.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/runner.h"
@@ -25,6 +28,25 @@ namespace {
 
 /// The longest straight line checked against sequence().
 constexpr std::size_t kLongestLine = 12;
+
+/// The windows of one kind checked against their bound: how many, how many over, the tightest.
+struct Tally {
+    std::size_t count = 0, over = 0;
+    double tightest = 0;
+    std::string tightest_at, first_over;
+
+    void add(unsigned clocks, unsigned limit, std::size_t n, std::uint16_t ip) {
+        ++count;
+        char where[96];
+        std::snprintf(where, sizeof where, "%zu instructions from IP %04X: %u clocks, bound %u", n, ip, clocks, limit);
+        const double ratio = double(clocks) / limit;
+        if (ratio > tightest) {
+            tightest = ratio;
+            tightest_at = where;
+        }
+        if (clocks > limit && over++ == 0) first_over = where;
+    }
+};
 
 /// One executed instruction of the current straight line.
 struct Done {
@@ -56,6 +78,42 @@ struct Meter {
     std::string tightest_line_at, first_line_over;
     // 8-instruction lines: their sequence() bounds and the sums of their instructions' bounds
     double eight_sequence = 0, eight_sum = 0, eight_taken = 0;
+    // Lines that end in a conditional transfer, by the outcome the run took, and in a return;
+    // the taken ones against the not-taken bound (the check can fail: the outcome matters).
+    Tally taken, not_taken, returns;
+    std::size_t taken_over_not = 0;
+    // Two-instruction lines ending in a conditional transfer (CMP; Jcc): their outcome's bound
+    // and the sum of the two instructions' bounds, per outcome.
+    double pair_bound[2] = {}, pair_sum[2] = {};
+    std::size_t pairs[2] = {};
+
+    /// Checks every line of 1..kLongestLine instructions that ends with `last`, a conditional
+    /// transfer (`outcome` 1 taken, 0 not taken) or a return (`outcome` -1).
+    void check_ending(const Done& last, int outcome) {
+        std::vector<i8086::Piece> pieces{i8086::Piece{last.bytes.data(), last.length, last.ip}};
+        unsigned sum = worst.instruction(last.bytes.data(), last.length, last.ip);
+        for (std::size_t k = line.size() + 1; k-- > 0 && pieces.size() <= kLongestLine;) {
+            if (k < line.size()) {
+                const Done& d = line[k];
+                pieces.insert(pieces.begin(), i8086::Piece{d.bytes.data(), d.length, d.ip});
+                sum += worst.instruction(d.bytes.data(), d.length, d.ip);
+            }
+            const Done& first = k < line.size() ? line[k] : last;
+            const unsigned clocks = unsigned(last.end - first.start);
+            if (outcome < 0) {
+                returns.add(clocks, worst.sequence(pieces), pieces.size(), first.ip);
+                continue;
+            }
+            const i8086::Outcomes o = worst.branch(pieces);
+            (outcome ? taken : not_taken).add(clocks, outcome ? o.taken : o.not_taken, pieces.size(), first.ip);
+            if (outcome && clocks > o.not_taken) ++taken_over_not;
+            if (pieces.size() == 2) {
+                pair_bound[outcome] += outcome ? o.taken : o.not_taken;
+                pair_sum[outcome] += sum;
+                ++pairs[outcome];
+            }
+        }
+    }
 
     /// Checks every line of 2..kLongestLine instructions that ends with the one just done.
     void check_lines() {
@@ -117,13 +175,22 @@ struct Meter {
             char where[48];
             std::snprintf(where, sizeof where, "IP %04X bytes %02X %02X %02X CX %u", ip, bytes[0], bytes[1], bytes[2], cx);
             check(unsigned(end - at), worst.instruction(bytes, length, ip, cx), where);
+            Done d{{}, length, ip, at, end};
+            std::copy(bytes, bytes + length, d.bytes.begin());
+            const i8086::Decoded dec = i8086::decode(bytes, length);
             if (i8086::WorstClocks::sequenceable(bytes, length, ip)) {
-                Done d{{}, length, ip, at, end};
-                std::copy(bytes, bytes + length, d.bytes.begin());
                 line.push_back(d);
                 if (line.size() > kLongestLine) line.pop_front();
                 check_lines();
             } else {
+                if (dec.flow == i8086::Flow::branch && !entry_followed) {
+                    // (the outcome from where the run went: the boundary's IP is the next instruction's)
+                    const std::uint16_t target = i8086::direct_target(bytes, dec, ip)->ip;
+                    if (target != std::uint16_t(ip + dec.length)) check_ending(d, cpu.regs().ip == target ? 1 : 0);
+                } else if (dec.flow == i8086::Flow::ret_near || dec.flow == i8086::Flow::ret_far ||
+                           dec.flow == i8086::Flow::iret) {
+                    check_ending(d, -1);
+                }
                 line.clear();
             }
         } else {
@@ -188,6 +255,20 @@ void expect_within_bounds(const std::string& file, double duration_s) {
     EXPECT_GT(meter->entries, 100u) << file;
     EXPECT_EQ(meter->lines_over, 0u) << file << ": first " << meter->first_line_over;
     EXPECT_GT(meter->lines, 100000u) << file;
+    const std::pair<const char*, const Tally*> endings[] = {
+        {"taken", &meter->taken}, {"not taken", &meter->not_taken}, {"return", &meter->returns}};
+    for (const auto& [what, t] : endings) {
+        EXPECT_EQ(t->over, 0u) << file << ": lines ending " << what << ", first " << t->first_over;
+        EXPECT_GT(t->count, 10000u) << file << ": lines ending " << what;
+        std::cout << file << ": " << t->count << " lines of 1.." << kLongestLine << " ending " << what << ", tightest "
+                  << t->tightest << " (" << t->tightest_at << ")\n";
+    }
+    // The outcome matters: lines whose branch was taken exceed the bound of not taking it.
+    EXPECT_GT(meter->taken_over_not, 1000u) << file;
+    for (int o : {1, 0})
+        std::cout << file << ": " << meter->pairs[o] << " two-instruction lines ending " << (o ? "taken" : "not taken")
+                  << ": their bound is " << meter->pair_bound[o] / meter->pair_sum[o]
+                  << " of their instructions' bounds summed\n";
     std::cout << file << ": " << meter->checked << " instructions, tightest " << meter->tightest << " ("
               << meter->tightest_at << "); " << meter->entries << " interrupt entries, tightest "
               << meter->tightest_entry << "; " << meter->lines << " straight lines of 2.." << kLongestLine
@@ -217,4 +298,9 @@ TEST(InstructionBound, BoundsWithoutTheBoardsWaitStatesAreExceeded) {
     EXPECT_GT(meter->tightest, 1.1);
     EXPECT_GT(meter->lines_over, 1000u);
     EXPECT_GT(meter->tightest_line, 1.1);
+    for (const Tally* t : {&meter->taken, &meter->not_taken, &meter->returns}) {
+        EXPECT_GT(t->over, 100u);
+        std::cout << "without wait states: " << t->over << " of " << t->count << " lines over, tightest " << t->tightest
+                  << "\n";
+    }
 }
