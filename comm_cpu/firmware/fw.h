@@ -110,7 +110,7 @@
 #define FLR_RFL_SHIFT 4
 #define TXFIFO_DEPTH  4
 #define RXFIFO_DEPTH  4
-#define ISR_VISITS    5               /* sources handled per RS-232 interrupt, at most */
+#define ISR_VISITS    1               /* sources handled per RS-232 interrupt, at most */
 #define CLCF_BRGA16   0x50            /* RX and TX clocks from BRGA, 16x */
 #define BACF_BRG      0x04            /* BRGA is a baud-rate generator */
 #define BBCF_TIMER    0x00            /* BRGB is a timer, system clock */

@@ -66,7 +66,7 @@ RCM_START     = 0xB0
 ICM_INTA      = 0x08
 FLR_TFL       = 0x07
 TXFIFO_DEPTH  = 4
-ISR_VISITS    = 5
+ISR_VISITS    = 1
 DP_SEG        = 0xD000
 CHUNK         = 339
 INT2EXT       = 0x3FE
@@ -227,13 +227,20 @@ p?1_eoi:
 p?1_more:
 IF ?1 = TICK_PORT
 	cmp	al,#GIR_B1_TICK         ! the tick after the first source: AX is all it needs
-	jne	p?1_general
+	jne	p?1_left
 	in	al,?2+U_TMST            ! clears TBEx; BRGB reloads by itself
 	inc	word ptr [_ticks]
 	in	al,?2+U_GIR
 	cmp	al,#GIR_B1_NONE
 	je	p?1_eoi
 ENDIF
+p?1_left:
+	or	ah,ah                   ! visits left: the general loop takes the rest
+	jnz	p?1_general
+	mov	al,#ICM_INTA            ! none left: ICM.INTA here (INT falls and rises again, the
+	out	?2+U_ICM,al             ! rest in the next interrupt), without the general loop's
+	jmp	p?1_eoi                 ! entry and exit.  Bank 1 is selected: the entry's GIR said
+	                                ! so, and only _rs232_isr selects banks (it restores them)
 p?1_general:
 	mov	bx,#?1
 	call	_rs232_isr
@@ -432,8 +439,8 @@ rc_11a:
 	jne	rc_nak
 	mov	word ptr _tx_pos[si],*0
 	mov	byte ptr _step[bx],#ST_SEND
-	call	ger_update_r
-	br	tx_fill_r
+	br	ger_update_r            ! the Tx FIFO interrupt on: the FIFO is empty, so it asks at
+	                                ! once, and its own visit fills it (one visit, one fill)
 rc_nak:
 	cmp	al,#NAK
 	jne	rc_ret

@@ -242,8 +242,13 @@ Paths::Longest Paths::longest(const std::vector<std::uint64_t>& weight, const st
             x.fell = fell;
             live.push_back(a.add(std::move(x)));
         }
-        // Every node may end a path (weights are never negative: a longer path weighs no less).
-        live.push_back(a.add(edge(int(v), kSink, std::max(weight[v], w_fall), int(v))));
+        // A path ends where the part ends: an IRET or HLT (no successor), or an edge out of the
+        // part (the main code's IF = 0 stretch ends where IF = 1 again). Nowhere else: a loop
+        // whose count is spent must leave by one of its exits.
+        const bool ends = nodes[v].out.empty() ||
+                          std::any_of(nodes[v].out.begin(), nodes[v].out.end(),
+                                      [&](const Node::Edge& e) { return !member_[std::size_t(e.to)]; });
+        if (ends) live.push_back(a.add(edge(int(v), kSink, std::max(weight[v], w_fall), int(v))));
     }
     std::vector<int> rep(nodes.size());
     for (std::size_t v = 0; v < nodes.size(); ++v) rep[v] = int(v);

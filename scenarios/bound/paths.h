@@ -49,7 +49,7 @@ public:
     };
     /// The longest path: a path weighs the sum over the nodes it runs of `weight`, or of `fall`
     /// where a conditional transfer falls through to the next instruction (nullptr: `weight`
-    /// there too). A path may end at any node (weights are never negative).
+    /// there too). A path ends at a node without successors or with an edge out of the part.
     Longest longest(const std::vector<std::uint64_t>& weight, const std::vector<std::uint64_t>* fall = nullptr) const;
     const std::vector<LoopFound>& loops() const { return loops_; }
 
