@@ -30,27 +30,30 @@ std::string hex(std::uint32_t v) {
 
 double to_us(std::uint64_t clocks, double mhz) { return std::round(double(clocks) / mhz * 10.0) / 10.0; }
 
-/// The worst clocks of every node of `g` that `want` selects (the others 0), each instruction alone.
+/// The worst clocks of one instruction alone, with the count CX gives a REP string instruction
+/// or a shift by CL (an annotation's for a REP whose count the code does not state).
+std::uint64_t single_cost(const FlowGraph& g, i8086::WorstClocks& clocks, const Node& n) {
+    const Insn& i = *n.insn;
+    std::uint32_t cx_max = 0xFFFF;
+    if (uses_cx_count(i)) {
+        cx_max = is_shift_by_cl(i) ? n.in.b8[CX].hi : n.in.reg[CX].hi; // a shift counts by CL alone
+        if (i.rep && is_string_op(i)) {
+            if (const Annotation* a = g.annotation(i.address, Annotation::Kind::iterations))
+                cx_max = std::uint32_t(std::min<std::uint64_t>(a->iterations, 0xFFFF));
+            else if (n.in.reg[CX].lo == 0 && n.in.reg[CX].hi == 0xFFFF)
+                throw ConfigError("bound: a " + i.text + " at " + g.where(i.address) + " (" + hex(i.address) +
+                                  ") whose count CX the code does not state: add `" + g.where(i.address) +
+                                  " iterations N  # why` to the annotations");
+        }
+    }
+    return clocks.instruction(i.bytes, i.length, n.ip, cx_max);
+}
+
+/// single_cost() of every node `want` selects (the others 0).
 std::vector<std::uint64_t> single_costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vector<bool>& want) {
     std::vector<std::uint64_t> c(g.nodes().size(), 0);
-    for (std::size_t v = 0; v < c.size(); ++v) {
-        if (!want[v]) continue;
-        const Node& n = g.nodes()[v];
-        const Insn& i = *n.insn;
-        std::uint32_t cx_max = 0xFFFF;
-        if (uses_cx_count(i)) {
-            cx_max = is_shift_by_cl(i) ? n.in.b8[CX].hi : n.in.reg[CX].hi; // a shift counts by CL alone
-            if (i.rep && is_string_op(i)) {
-                if (const Annotation* a = g.annotation(i.address, Annotation::Kind::iterations))
-                    cx_max = std::uint32_t(std::min<std::uint64_t>(a->iterations, 0xFFFF));
-                else if (n.in.reg[CX].lo == 0 && n.in.reg[CX].hi == 0xFFFF)
-                    throw ConfigError("bound: a " + i.text + " at " + g.where(i.address) + " (" + hex(i.address) +
-                                      ") whose count CX the code does not state: add `" + g.where(i.address) +
-                                      " iterations N  # why` to the annotations");
-            }
-        }
-        c[v] = clocks.instruction(i.bytes, i.length, n.ip, cx_max);
-    }
+    for (std::size_t v = 0; v < c.size(); ++v)
+        if (want[v]) c[v] = single_cost(g, clocks, g.nodes()[v]);
     return c;
 }
 
@@ -71,36 +74,60 @@ bool in_straight_line(const Insn& i) {
 
 constexpr unsigned kLongestLine = 16; // instructions measured as one straight line at most
 
-/// The costs a path adds up: a straight line of instructions that always run together (each the
-/// only successor of the one before and its only predecessor, of the same `kind`) is measured as
-/// one, its clocks on its first node (`line` = how many instructions they cover), 0 on the rest.
+/// A conditional transfer or a return: the last instruction a straight line can hold.
+bool ends_line(const Insn& i) {
+    using F = i8086::Flow;
+    return i.flow == F::branch || i.flow == F::ret_near || i.flow == F::ret_far || i.flow == F::iret;
+}
+
+/// The costs a path adds up. A straight line of instructions that always run together (each the
+/// only successor of the one before and its only predecessor, of the same `kind`), perhaps ended
+/// by a conditional transfer or a return, is measured as one on the core
+/// (i8086::WorstClocks::sequence, ::branch): its clocks on its first node (`line` = how many
+/// instructions they cover), 0 on the rest. A line ending in a conditional transfer costs
+/// `clocks` when it is taken and `fall` when it falls through; elsewhere the two are equal.
 struct Costs {
-    std::vector<std::uint64_t> clocks;
+    std::vector<std::uint64_t> clocks, fall;
     std::vector<unsigned> line;
 };
 
 Costs line_costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vector<bool>& want,
-                 const std::vector<std::uint64_t>& single, const std::vector<int>& kind,
-                 const std::vector<std::vector<int>>& preds) {
+                 const std::vector<int>& kind, const std::vector<std::vector<int>>& preds) {
     const auto& nodes = g.nodes();
-    Costs c{std::vector<std::uint64_t>(nodes.size(), 0), std::vector<unsigned>(nodes.size(), 0)};
+    const std::size_t n = nodes.size();
+    Costs c{std::vector<std::uint64_t>(n, 0), std::vector<std::uint64_t>(n, 0), std::vector<unsigned>(n, 0)};
     auto joins = [&](int u, int v) { // v goes on u's straight line
+        const Insn& a = *nodes[std::size_t(u)].insn;
+        const Insn& b = *nodes[std::size_t(v)].insn;
         return want[std::size_t(u)] && want[std::size_t(v)] && nodes[std::size_t(u)].out.size() == 1 &&
                preds[std::size_t(v)].size() == 1 && kind[std::size_t(u)] == kind[std::size_t(v)] &&
-               in_straight_line(*nodes[std::size_t(u)].insn) && in_straight_line(*nodes[std::size_t(v)].insn);
+               in_straight_line(a) && (in_straight_line(b) || ends_line(b));
     };
-    for (std::size_t v = 0; v < nodes.size(); ++v) {
+    for (std::size_t v = 0; v < n; ++v) {
         if (!want[v]) continue;
         if (preds[v].size() == 1 && joins(preds[v][0], int(v))) continue; // not the first of its line
         std::vector<int> line{int(v)};
-        while (line.size() < kLongestLine && nodes[std::size_t(line.back())].out.size() == 1) {
+        while (line.size() < kLongestLine && !ends_line(*nodes[std::size_t(line.back())].insn) &&
+               nodes[std::size_t(line.back())].out.size() == 1) {
             const int next = nodes[std::size_t(line.back())].out[0].to;
             if (!joins(line.back(), next) || next == int(v)) break;
             line.push_back(next);
         }
-        std::uint64_t sum = 0;
-        for (int x : line) sum += single[std::size_t(x)];
-        c.clocks[v] = line.size() == 1 ? single[v] : sum;
+        const Insn& last = *nodes[std::size_t(line.back())].insn;
+        std::vector<i8086::Piece> pieces;
+        for (int x : line) {
+            const Node& m = nodes[std::size_t(x)];
+            pieces.push_back({m.insn->bytes, m.insn->length, m.ip});
+        }
+        if (last.flow == i8086::Flow::branch) {
+            const i8086::Outcomes o = clocks.branch(pieces);
+            c.clocks[v] = o.taken;
+            c.fall[v] = o.not_taken;
+        } else if (line.size() == 1 && !in_straight_line(last) && !ends_line(last)) {
+            c.clocks[v] = c.fall[v] = single_cost(g, clocks, nodes[v]); // its time depends on values
+        } else {
+            c.clocks[v] = c.fall[v] = clocks.sequence(pieces);
+        }
         c.line[v] = unsigned(line.size());
     }
     return c;
@@ -256,18 +283,20 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
 /// several call contexts is one step with their counts added.
 std::vector<Step> steps_of(const FlowGraph& g, const Paths::Longest& p, const Costs& cost) {
     std::vector<Step> out;
-    std::map<std::uint32_t, std::size_t> at;
-    for (auto [v, times] : p.nodes) {
-        const Node& n = g.nodes()[std::size_t(v)];
-        if (times == 0) continue; // a loop run once: its iteration's (bound - 1) x
-        const unsigned clocks = unsigned(cost.clocks[std::size_t(v)]), line = cost.line[std::size_t(v)];
-        auto it = at.find(n.address);
+    std::map<std::pair<std::uint32_t, bool>, std::size_t> at;
+    for (const auto& ran : p.nodes) {
+        if (ran.times == 0) continue; // a loop run once: its iteration's (bound - 1) x
+        const Node& n = g.nodes()[std::size_t(ran.node)];
+        const unsigned clocks = unsigned(ran.fell ? cost.fall[std::size_t(ran.node)] : cost.clocks[std::size_t(ran.node)]);
+        const unsigned line = cost.line[std::size_t(ran.node)];
+        const auto key = std::make_pair(n.address, ran.fell);
+        auto it = at.find(key);
         if (it != at.end() && out[it->second].clocks == clocks && out[it->second].line == line) {
-            out[it->second].times += times;
+            out[it->second].times += ran.times;
             continue;
         }
-        at[n.address] = out.size();
-        out.push_back(Step{n.address, g.where(n.address), n.insn->text, clocks, times, line});
+        at[key] = out.size();
+        out.push_back(Step{n.address, g.where(n.address), n.insn->text, clocks, ran.times, line});
     }
     return out;
 }
@@ -307,9 +336,9 @@ void bound_main(const Inputs& in, i8086::WorstClocks& clocks, Result& r, Term& l
         }
     if (sources.empty()) return;
     const std::vector<int> kind(member.begin(), member.end());
-    const Costs cost = line_costs(g, clocks, running, single, kind, preds);
+    const Costs cost = line_costs(g, clocks, running, kind, preds);
     const Paths paths(g, member, sources, bounder_for(g, preds));
-    const Paths::Longest p = paths.longest(cost.clocks);
+    const Paths::Longest p = paths.longest(cost.clocks, &cost.fall);
     r.main_if0.clocks = p.clocks;
     r.main_if0.us = to_us(p.clocks, in.clock_mhz);
     r.main_if0.path = steps_of(g, p, cost);
@@ -339,18 +368,22 @@ SourceBound bound_source(const Inputs& in, const Source& s, i8086::WorstClocks& 
             longest_instruction.what = nodes[v].insn->text + " at " + g.where(nodes[v].address);
         }
     }
-    const Costs cost = line_costs(g, clocks, all, single, kind, preds);
-    std::vector<std::uint64_t> blocking(nodes.size(), 0);
+    const Costs cost = line_costs(g, clocks, all, kind, preds);
+    Costs blocking{std::vector<std::uint64_t>(nodes.size(), 0), std::vector<std::uint64_t>(nodes.size(), 0), cost.line};
     for (std::size_t v = 0; v < nodes.size(); ++v)
-        if (kind[v]) blocking[v] = cost.clocks[v];
+        if (kind[v]) blocking.clocks[v] = cost.clocks[v], blocking.fall[v] = cost.fall[v];
     const Paths paths(g, all, {0}, bounder_for(g, preds));
-    const Paths::Longest service = paths.longest(cost.clocks), block = paths.longest(blocking);
-    b.service_clocks = service.clocks;
-    b.blocking_clocks = block.clocks;
+    const Paths::Longest service = paths.longest(cost.clocks, &cost.fall);
+    const Paths::Longest block = paths.longest(blocking.clocks, &blocking.fall);
+    // A service is measured from the handler's first fetch (interrupt_probe.h: first_isr), which
+    // the entry's bound ends with: one code fetch more than the path from the first boundary.
+    const std::uint64_t first_fetch = 4 + in.waits.code;
+    b.service_clocks = service.clocks + first_fetch;
+    b.blocking_clocks = block.clocks + first_fetch;
     b.service_us = to_us(service.clocks, in.clock_mhz);
     b.blocking_us = to_us(block.clocks, in.clock_mhz);
     b.path = steps_of(g, service, cost);
-    b.blocking_path = steps_of(g, block, cost);
+    b.blocking_path = steps_of(g, block, blocking);
     add_loops(g, paths, service, b.loops);
     add_loops(g, paths, block, b.loops);
     return b;

@@ -22,6 +22,7 @@ struct Edge {
     std::uint64_t times = 0; // bound - 1
     std::vector<int> iteration, way_out;
     int from_node = -1;      // the original edge's node
+    bool fell = false;       // ... a conditional transfer's fall-through
 };
 
 Edge edge(int from, int to, std::uint64_t w, int from_node = -1) {
@@ -39,13 +40,15 @@ struct Arena {
         edges.push_back(std::move(e));
         return int(edges.size() - 1);
     }
-    void expand(int e, std::uint64_t mult, std::map<int, std::uint64_t>& times, std::vector<int>& order,
+    using Key = std::pair<int, bool>; // node, fell through
+    void expand(int e, std::uint64_t mult, std::map<Key, std::uint64_t>& times, std::vector<Key>& order,
                 std::set<int>& loops) const {
         const Edge& x = edges[std::size_t(e)];
-        if (x.loop < 0) {
+        if (x.loop == -1) {
             if (x.from_node < 0) return;
-            if (times[x.from_node] == 0) order.push_back(x.from_node);
-            times[x.from_node] += mult;
+            const Key k{x.from_node, x.fell};
+            if (times[k] == 0) order.push_back(k);
+            times[k] += mult;
             return;
         }
         if (x.loop >= 0) loops.insert(x.loop);
@@ -221,20 +224,26 @@ void Paths::find_loops(const LoopBounder& bounder) {
     for (LoopFound& l : loops_) bounder(l);
 }
 
-Paths::Longest Paths::longest(const std::vector<std::uint64_t>& weight) const {
+Paths::Longest Paths::longest(const std::vector<std::uint64_t>& weight, const std::vector<std::uint64_t>* fall) const {
     const auto& nodes = g_.nodes();
     Arena a;
     std::vector<int> live; // edge indexes of the current graph
     for (int s : sources_) live.push_back(a.add(edge(kRoot, s, 0)));
     for (std::size_t v = 0; v < nodes.size(); ++v) {
         if (!member_[v]) continue;
+        const Insn& i = *nodes[v].insn;
+        const bool branch = i.flow == i8086::Flow::branch;
+        const std::uint64_t w_fall = fall ? (*fall)[v] : weight[v];
         for (const auto& e : nodes[v].out) {
-            if (member_[std::size_t(e.to)]) {
-                live.push_back(a.add(edge(int(v), e.to, weight[v], int(v))));
-            }
+            if (!member_[std::size_t(e.to)]) continue;
+            const bool fell = branch && nodes[std::size_t(e.to)].address == nodes[v].address + i.length &&
+                              nodes[std::size_t(e.to)].context == nodes[v].context;
+            Edge x = edge(int(v), e.to, fell ? w_fall : weight[v], int(v));
+            x.fell = fell;
+            live.push_back(a.add(std::move(x)));
         }
         // Every node may end a path (weights are never negative: a longer path weighs no less).
-        live.push_back(a.add(edge(int(v), kSink, weight[v], int(v))));
+        live.push_back(a.add(edge(int(v), kSink, std::max(weight[v], w_fall), int(v))));
     }
     std::vector<int> rep(nodes.size());
     for (std::size_t v = 0; v < nodes.size(); ++v) rep[v] = int(v);
@@ -321,11 +330,11 @@ Paths::Longest Paths::longest(const std::vector<std::uint64_t>& weight) const {
     Longest out;
     if (!dist.count(kSink)) return out;
     out.clocks = dist[kSink];
-    std::map<int, std::uint64_t> times;
-    std::vector<int> order;
+    std::map<Arena::Key, std::uint64_t> times;
+    std::vector<Arena::Key> order;
     std::set<int> loops;
     for (int e : chain_to(kSink, kRoot, via, a)) a.expand(e, 1, times, order, loops);
-    for (int v : order) out.nodes.emplace_back(v, times[v]);
+    for (const auto& k : order) out.nodes.push_back({k.first, times[k], k.second});
     out.loops.assign(loops.begin(), loops.end());
     return out;
 }

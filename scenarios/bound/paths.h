@@ -37,11 +37,20 @@ public:
     Paths(const FlowGraph& graph, std::vector<bool> member, std::vector<int> sources, const LoopBounder& bounder);
     struct Longest {
         std::uint64_t clocks = 0;
-        std::vector<std::pair<int, std::uint64_t>> nodes; // (node, times) in path order
-        std::vector<int> loops;                            // indexes into loops() on the path
+        /// (node, times, fell through) in path order: a conditional transfer the path runs both
+        /// ways is listed once per way, as its weight differs.
+        struct Ran {
+            int node;
+            std::uint64_t times;
+            bool fell;
+        };
+        std::vector<Ran> nodes;
+        std::vector<int> loops; // indexes into loops() on the path
     };
-    /// The longest path by `weight` (per node; a path's weight is the sum over the nodes it runs).
-    Longest longest(const std::vector<std::uint64_t>& weight) const;
+    /// The longest path: a path weighs the sum over the nodes it runs of `weight`, or of `fall`
+    /// where a conditional transfer falls through to the next instruction (nullptr: `weight`
+    /// there too). A path may end at any node (weights are never negative).
+    Longest longest(const std::vector<std::uint64_t>& weight, const std::vector<std::uint64_t>* fall = nullptr) const;
     const std::vector<LoopFound>& loops() const { return loops_; }
 
 private:
