@@ -20,7 +20,9 @@
 // through the ROM's wait state, at every boundary; along a straight line the queue fills while
 // slow instructions run, so the sum of ten instructions is about twice what they ever take.
 // sequence() measures a whole straight-line run at once: the worst BIU state at its first
-// boundary only, the later ones as the run itself leaves them.
+// boundary only, the later ones as the run itself leaves them. branch() does the same for a run
+// that ends in a conditional transfer, each outcome apart (a compare chain's fall-through edges
+// cost about half the taken ones).
 #pragma once
 
 #include "comm_cpu/i8086/cpu.h"
@@ -108,8 +110,9 @@ public:
     /// outcome is instruction()'s bound. Anything else throws std::invalid_argument.
     Outcomes branch(const std::vector<Piece>& pieces);
 
-    /// Whether sequence() takes the instruction at `bytes` (offset `ip`) as a piece: its bytes
-    /// hold all of it and it is none of the forms sequence() leaves to instruction().
+    /// Whether sequence() and branch() take the instruction at `bytes` (offset `ip`) as a piece
+    /// anywhere in a line: its bytes hold all of it and it is none of the forms sequence()
+    /// leaves to instruction() or lets only end a line (a return, a conditional transfer).
     static bool sequenceable(const std::uint8_t* bytes, unsigned length, std::uint16_t ip);
 
     /// The worst clocks of an interrupt entry: from the boundary at which INTR is taken (the two
