@@ -16,6 +16,9 @@ import tempfile
 
 RCSIM, ROM, MAP, ROM_C, MAP_C, HERE = sys.argv[1:7]
 BUDGET_US = 11 / 9600 / 3 * 1e6
+# The frozen all-C firmware's annotations, shipped beside its sources (it is not the built firmware,
+# so nothing gives them by default).
+ANNOTATIONS_C = os.path.join(HERE, "..", "..", "..", "comm_cpu", "firmware", "frozen_all_c", "bound.annotations")
 HANDLERS = {"rs232_0": "_isr_port0", "rs232_1": "_isr_port1", "rs232_2": "_isr_port2", "dpram": "_isr_dpram"}
 
 
@@ -66,7 +69,7 @@ def bound_command(w):
     check(p.stdout.startswith("bound: budget 381.9 us"), f"bound's output starts {p.stdout[:40]!r}")
 
     out_c = os.path.join(w, "all_c")
-    p = rcsim("bound", ROM_C, "--symbols", MAP_C, "--out", out_c)
+    p = rcsim("bound", ROM_C, "--symbols", MAP_C, "--annotations", ANNOTATIONS_C, "--out", out_c)
     check(p.returncode == 1, f"bound all-C ROM: exit {p.returncode}, expected 1: {p.stderr.strip()}")
     if p.returncode == 1:
         b = load(os.path.join(out_c, "bound.json"))
@@ -140,7 +143,8 @@ def check_on(w):
     c = [c for c in r["checks"] if c["name"] == "bound_service_us"]
     check(p.returncode == 0 and c and c[0]["status"] == "passed", f"check on, shipped ROM: exit {p.returncode}, {c}")
     check("bound" in r, "the check on did not imply --bound")
-    p = rcsim("run", scenario, "--rom", ROM_C, "--symbols", MAP_C, "--out", os.path.join(w, "on_c"), "--reproducible")
+    p = rcsim("run", scenario, "--rom", ROM_C, "--symbols", MAP_C, "--annotations", ANNOTATIONS_C,
+              "--out", os.path.join(w, "on_c"), "--reproducible")
     r = load(os.path.join(w, "on_c", "report.json"))
     c = [c for c in r["checks"] if c["name"] == "bound_service_us"]
     check(p.returncode == 1 and c and c[0]["status"] == "failed", f"check on, all-C ROM: exit {p.returncode}, {c}")
