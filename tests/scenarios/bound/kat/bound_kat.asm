@@ -29,6 +29,63 @@ PIC_A1  equ     0xC2
 U0_RXD  equ     0x80                ; 82510 #0, RXD (bank 0)
 U0_LSR  equ     0x8A                ; 82510 #0, register 5 (the FIFO/line status the loops read)
 
+; `rcsim bound ROM` runs the ROM to read its vector table and takes the budget from the character
+; time the start-up programs: the ports are set up as tests/scenarios/search/search_kat.asm does (from
+; there).
+; 82510 register offsets (x 2: the low byte lane, docs/system.md §3.2) and values, as the
+; firmware's fw.h / hw.c uart_init
+R_RXD   equ     0                   ; bank 0 (DLAB = 0) and bank 1
+R_BAL   equ     0                   ; bank 0, DLAB = 1
+R_BAH   equ     2                   ; bank 0, DLAB = 1
+R_GER   equ     2                   ; bank 0, DLAB = 0
+R_BANK  equ     4                   ; write, every bank
+R_LCR   equ     6                   ; bank 0
+R_IMD   equ     8                   ; bank 2
+R_CLCF  equ     0                   ; bank 3
+R_BACF  equ     2                   ; bank 3
+R_RCM   equ     10                  ; bank 1
+R_ICM   equ     14                  ; bank 1
+
+; One 82510 at %1 for 9600,8E1 with the Rx FIFO interrupt (one character) on, bank 0 left
+; selected: the firmware's uart_init sequence, without what this ROM does not use (BRGB timer,
+; modem and Tx set-up, the Rx machine's error interrupt).
+%macro  UART_INIT 1
+        mov     al, 0x20            ; BANK <- 1 (WORK)
+        out     %1 + R_BANK, al
+        mov     al, 0x10            ; ICM: software reset (leaves bank 0 selected)
+        out     %1 + R_ICM, al
+        mov     al, 0x00            ; BANK <- 0 (NAS)
+        out     %1 + R_BANK, al
+        mov     al, 0x9B            ; LCR: DLAB | 8 bits, even parity, 1 stop (0x1B)
+        out     %1 + R_LCR, al
+        mov     al, 60              ; BRGA divisor 60: 18.432 MHz / (32 x 60) = 9600 bps
+        out     %1 + R_BAL, al
+        mov     al, 0
+        out     %1 + R_BAH, al
+        mov     al, 0x1B            ; LCR: 8E1, DLAB = 0
+        out     %1 + R_LCR, al
+        mov     al, 0x40            ; BANK <- 2 (GEN)
+        out     %1 + R_BANK, al
+        mov     al, 0x00            ; IMD: 4-byte Rx FIFO, automatic INT (FMD stays 0: threshold 1)
+        out     %1 + R_IMD, al
+        mov     al, 0x60            ; BANK <- 3 (MODM)
+        out     %1 + R_BANK, al
+        mov     al, 0x50            ; CLCF: Rx and Tx clocks from BRGA, 16x
+        out     %1 + R_CLCF, al
+        mov     al, 0x04            ; BACF: BRGA is a baud-rate generator
+        out     %1 + R_BACF, al
+        mov     al, 0x20            ; BANK <- 1 (WORK)
+        out     %1 + R_BANK, al
+        mov     al, 0xB0            ; RCM: receiver enable, flush the Rx FIFO and machine
+        out     %1 + R_RCM, al
+        mov     al, 0x04            ; ICM: status clear
+        out     %1 + R_ICM, al
+        mov     al, 0x00            ; BANK <- 0 (NAS): GER and RXD
+        out     %1 + R_BANK, al
+        mov     al, 0x01            ; GER: Rx FIFO interrupt only
+        out     %1 + R_GER, al
+%endmacro
+
 start:  cli
         xor     ax, ax
         mov     ss, ax
@@ -36,6 +93,9 @@ start:  cli
         mov     ds, ax
         mov     word [0x20 * 4], IR0_HANDLER
         mov     word [0x20 * 4 + 2], 0xF000
+        UART_INIT 0x80              ; the three 82510s (0x80, 0x90, 0xA0): the budget is the
+        UART_INIT 0x90              ; character time of the fastest port the start-up sets
+        UART_INIT 0xA0
         mov     al, 0x13            ; ICW1: edge, single, ICW4
         out     PIC_A0, al
         mov     al, 0x20            ; ICW2: IR n -> vector 20h + n
