@@ -83,7 +83,7 @@ bool ends_line(const Insn& i) {
 /// The costs a path adds up. A straight line of instructions that always run together (each the
 /// only successor of the one before and its only predecessor, of the same `kind`), perhaps ended
 /// by a conditional transfer or a return, is measured as one on the core
-/// (i8086::WorstClocks::sequence, ::branch): its clocks on its first node (`line` = how many
+/// (i8086::WorstClocks::sequence, ::branch): its clocks on its last node (`line` = how many
 /// instructions they cover), 0 on the rest. A line ending in a conditional transfer costs
 /// `clocks` when it is taken and `fall` when it falls through; elsewhere the two are equal.
 struct Costs {
@@ -119,16 +119,18 @@ Costs line_costs(const FlowGraph& g, i8086::WorstClocks& clocks, const std::vect
             const Node& m = nodes[std::size_t(x)];
             pieces.push_back({m.insn->bytes, m.insn->length, m.ip});
         }
+        // The line's clocks go on its last node: where a conditional transfer chooses its way.
+        const std::size_t end = std::size_t(line.back());
         if (last.flow == i8086::Flow::branch) {
             const i8086::Outcomes o = clocks.branch(pieces);
-            c.clocks[v] = o.taken;
-            c.fall[v] = o.not_taken;
+            c.clocks[end] = o.taken;
+            c.fall[end] = o.not_taken;
         } else if (line.size() == 1 && !in_straight_line(last) && !ends_line(last)) {
-            c.clocks[v] = c.fall[v] = single_cost(g, clocks, nodes[v]); // its time depends on values
+            c.clocks[end] = c.fall[end] = single_cost(g, clocks, nodes[v]); // its time depends on values
         } else {
-            c.clocks[v] = c.fall[v] = clocks.sequence(pieces);
+            c.clocks[end] = c.fall[end] = clocks.sequence(pieces);
         }
-        c.line[v] = unsigned(line.size());
+        c.line[end] = unsigned(line.size());
     }
     return c;
 }

@@ -72,7 +72,7 @@ struct Inputs {
 };
 
 /// One instruction of a worst path: where, what, its worst clocks, how often the path runs it.
-/// Instructions that always run together in a straight line are measured as one: the first
+/// Instructions that always run together in a straight line are measured as one: the last
 /// carries the line's clocks and `line` = how many instructions they cover; the others 0 and 0.
 struct Step {
     std::uint32_t address = 0;
