@@ -229,7 +229,7 @@ void FlowGraph::build(State entry_state) {
         auto& edges = nodes_[std::size_t(n)].out;
         for (auto& [to, st] : next) {
             if (std::none_of(edges.begin(), edges.end(), [&](const Node::Edge& e) { return e.to == to; })) {
-                edges.push_back({to, EdgeKind::next});
+                edges.push_back({to});
                 preds_seen.resize(nodes_.size(), 0);
                 ++preds_seen[std::size_t(to)];
             }

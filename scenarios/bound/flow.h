@@ -26,7 +26,6 @@ struct Interval {
     bool even = false;
     static Interval top() { return {}; }
     static Interval constant(std::uint32_t v) { return {v & 0xFFFF, v & 0xFFFF, (v & 1) == 0}; }
-    bool is_top() const { return lo == 0 && hi == 0xFFFF && !even; }
     bool is_constant() const { return lo == hi; }
     bool operator==(const Interval& o) const { return lo == o.lo && hi == o.hi && even == o.even; }
 };
@@ -96,8 +95,6 @@ struct Insn {
     std::string text;       // the mnemonic
 };
 
-enum class EdgeKind : std::uint8_t { next, taken, call, ret };
-
 struct Node {
     std::uint32_t address = 0;
     std::uint16_t cs = 0, ip = 0;
@@ -107,7 +104,6 @@ struct Node {
     unsigned updates = 0;
     struct Edge {
         int to;
-        EdgeKind kind;
     };
     std::vector<Edge> out;
     bool exit = false; // IRET of the entry's context (or HLT): a path ends here
