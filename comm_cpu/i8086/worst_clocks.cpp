@@ -456,8 +456,12 @@ Outcomes WorstClocks::branch(const std::vector<Piece>& pieces) {
     return o;
 }
 
-unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
-    const std::vector<std::uint8_t>& bytes = code.first;
+/// The register set-ups an instruction is measured with: every alignment, and for the forms
+/// whose time depends on values (conditional transfers, shifts by CL, string instructions,
+/// MUL/IMUL/DIV/IDIV, AAM) the values that can make it longest. `forced`: a line's last branch
+/// whose outcome branch() forces (one set-up is enough then).
+static std::vector<Setup> setups_for(const std::vector<std::uint8_t>& bytes, bool forced, bool strings,
+                                     std::uint32_t cx_max) {
     const Decoded d = decode(bytes.data(), unsigned(bytes.size()));
     const std::uint8_t op = d.opcode;
     const unsigned at = d.prefixes;
@@ -469,7 +473,6 @@ unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
     for (unsigned i = 0; i < at; ++i) rep = rep || bytes[i] == 0xF2 || bytes[i] == 0xF3;
     const std::uint16_t cx = std::uint16_t(std::min<std::uint32_t>(cx_max, 0xFFFF));
     const bool muldiv = (op == 0xF6 || op == 0xF7) && reg >= 4;
-    const bool divide = muldiv && reg >= 6;
 
     std::vector<Setup> setups;
     for (const Registers& r : alignments(cx))
@@ -486,7 +489,7 @@ unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
         for (const Setup& s : aligned) change(s, out);
         setups.insert(setups.end(), out.begin(), out.end());
     };
-    if (d.flow == Flow::branch && code.forced) { // (branch() writes the outcome's flags and CX)
+    if (d.flow == Flow::branch && forced) { // (branch() writes the outcome's flags and CX)
         setups = {aligned[0]};
     } else if (d.flow == Flow::branch || op == 0xCE) { // Jcc, LOOPx, JCXZ, INTO: taken and not taken
         std::vector<Setup> out;
@@ -508,7 +511,7 @@ unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
             s.regs.r[CX] = std::uint16_t((cx & 0xFF00) | (cl - 1));
             out.push_back(s);
         });
-    } else if (code.strings) { // both directions; CMPS/SCAS finding their byte or not
+    } else if (strings) { // both directions; CMPS/SCAS finding their byte or not
         vary([&](const Setup& a, std::vector<Setup>& out) {
             for (int df = 0; df < 2; ++df)
                 for (Fill f : {Fill::ones, Fill::zeros, Fill::counting})
@@ -555,6 +558,19 @@ unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
             }
         });
     }
+    return setups;
+}
+
+unsigned WorstClocks::measure(const Code& code, std::uint32_t cx_max) {
+    const std::vector<std::uint8_t>& bytes = code.first;
+    const Decoded d = decode(bytes.data(), unsigned(bytes.size()));
+    const std::uint8_t op = d.opcode;
+    bool rep = false;
+    for (unsigned i = 0; i < d.prefixes; ++i) rep = rep || bytes[i] == 0xF2 || bytes[i] == 0xF3;
+    const std::uint16_t cx = std::uint16_t(std::min<std::uint32_t>(cx_max, 0xFFFF));
+    const unsigned reg = d.prefixes + 1 < bytes.size() ? (bytes[d.prefixes + 1] >> 3) & 7 : 0;
+    const bool divide = (op == 0xF6 || op == 0xF7) && reg >= 6;
+    std::vector<Setup> setups = setups_for(bytes, code.forced, code.strings, cx_max);
     const bool can_fault = divide || op == 0xD4;
 
     // A long REP run (a ROM's unknown CX is 65535: 17 clocks an element) would make every run

@@ -109,6 +109,93 @@ std::vector<int> chain_to(int node, int start, const std::map<int, int>& via, co
     return chain;
 }
 
+/// A loop entered elsewhere than at its header h (hand-written assembly jumps into the middle of
+/// a loop): each such entry becomes the way from it to the header (then the loop runs as usual)
+/// and each way from it straight out, as edges of their own.
+void enter_elsewhere(const std::vector<int>& entering, const std::vector<int>& inside, const std::vector<int>& backs,
+                     const std::vector<int>& exits, int h, Arena& a, std::vector<int>& rest) {
+for (int e : entering) {
+    const Edge x = a.edges[std::size_t(e)];
+    std::map<int, std::uint64_t> dm;
+    std::map<int, int> vm;
+    dag_longest(x.to, inside, a, dm, vm);
+    for (int b : backs) {
+        const Edge& y = a.edges[std::size_t(b)];
+        if (!dm.count(y.from)) continue;
+        Edge z = edge(x.from, h, x.w + dm[y.from] + y.w);
+        z.loop = -2;
+        z.way_out.push_back(e);
+        for (int c : chain_to(y.from, x.to, vm, a)) z.way_out.push_back(c);
+        z.way_out.push_back(b);
+        rest.push_back(a.add(std::move(z)));
+    }
+    for (int o : exits) {
+        const Edge& y = a.edges[std::size_t(o)];
+        if (!dm.count(y.from)) continue;
+        Edge z = edge(x.from, y.to, x.w + dm[y.from] + y.w);
+        z.loop = -2;
+        z.way_out.push_back(e);
+        for (int c : chain_to(y.from, x.to, vm, a)) z.way_out.push_back(c);
+        z.way_out.push_back(o);
+        rest.push_back(a.add(std::move(z)));
+    }
+}
+}
+
+/// Collapses loop `li` (its nodes by their current representatives) into its header: the edges
+/// out of it become one per target, each costing (bound - 1) x the longest round plus the longest
+/// way from the header to that exit.
+void collapse_loop(const LoopFound& l, int li, Arena& a, std::vector<int>& live, std::vector<int>& rep) {
+    std::set<int> body;
+    for (int v : l.body) body.insert(rep[std::size_t(v)]);
+    const int h = rep[std::size_t(l.header)];
+    std::set<int> entries;
+    for (int v : l.entries) entries.insert(rep[std::size_t(v)]);
+    entries.erase(h);
+    std::vector<int> inside, backs, exits, rest, entering;
+    for (int e : live) {
+        const Edge& x = a.edges[std::size_t(e)];
+        if (!body.count(x.from) && entries.count(x.to)) entering.push_back(e);
+        else if (!body.count(x.from)) rest.push_back(e);
+        else if (x.to == h) backs.push_back(e);
+        else if (body.count(x.to)) inside.push_back(e);
+        else exits.push_back(e);
+    }
+    std::map<int, std::uint64_t> dist;
+    std::map<int, int> via;
+    dag_longest(h, inside, a, dist, via);
+    std::uint64_t iter = 0;
+    std::vector<int> iter_chain;
+    for (int e : backs) {
+        const Edge& x = a.edges[std::size_t(e)];
+        if (!dist.count(x.from)) continue;
+        if (dist[x.from] + x.w >= iter) {
+            iter = dist[x.from] + x.w;
+            iter_chain = chain_to(x.from, h, via, a);
+            iter_chain.push_back(e);
+        }
+    }
+    std::map<int, int> best_exit; // target -> new edge
+    for (int e : exits) {
+        const Edge x = a.edges[std::size_t(e)];
+        if (!dist.count(x.from)) continue;
+        Edge y = edge(h, x.to, (l.bound - 1) * iter + dist[x.from] + x.w);
+        y.loop = li;
+        y.times = l.bound - 1;
+        y.iteration = iter_chain;
+        y.way_out = chain_to(x.from, h, via, a);
+        y.way_out.push_back(e);
+        auto it = best_exit.find(x.to);
+        if (it == best_exit.end() || a.edges[std::size_t(it->second)].w < y.w) best_exit[x.to] = a.add(std::move(y));
+    }
+    enter_elsewhere(entering, inside, backs, exits, h, a, rest);
+    live = rest;
+    for (auto& [t, e] : best_exit) live.push_back(e);
+    for (int v : l.body) rep[std::size_t(v)] = h;
+    for (auto& r : rep)
+        if (body.count(r)) r = h;
+}
+
 } // namespace
 
 Paths::Paths(const FlowGraph& graph, std::vector<bool> member, std::vector<int> sources, const LoopBounder& bounder)
@@ -252,83 +339,7 @@ Paths::Longest Paths::longest(const std::vector<std::uint64_t>& weight, const st
     }
     std::vector<int> rep(nodes.size());
     for (std::size_t v = 0; v < nodes.size(); ++v) rep[v] = int(v);
-    for (std::size_t li = 0; li < loops_.size(); ++li) {
-        const LoopFound& l = loops_[li];
-        std::set<int> body;
-        for (int v : l.body) body.insert(rep[std::size_t(v)]);
-        const int h = rep[std::size_t(l.header)];
-        std::set<int> entries;
-        for (int v : l.entries) entries.insert(rep[std::size_t(v)]);
-        entries.erase(h);
-        std::vector<int> inside, backs, exits, rest, entering;
-        for (int e : live) {
-            const Edge& x = a.edges[std::size_t(e)];
-            if (!body.count(x.from) && entries.count(x.to)) entering.push_back(e);
-            else if (!body.count(x.from)) rest.push_back(e);
-            else if (x.to == h) backs.push_back(e);
-            else if (body.count(x.to)) inside.push_back(e);
-            else exits.push_back(e);
-        }
-        std::map<int, std::uint64_t> dist;
-        std::map<int, int> via;
-        dag_longest(h, inside, a, dist, via);
-        std::uint64_t iter = 0;
-        std::vector<int> iter_chain;
-        for (int e : backs) {
-            const Edge& x = a.edges[std::size_t(e)];
-            if (!dist.count(x.from)) continue;
-            if (dist[x.from] + x.w >= iter) {
-                iter = dist[x.from] + x.w;
-                iter_chain = chain_to(x.from, h, via, a);
-                iter_chain.push_back(e);
-            }
-        }
-        std::map<int, int> best_exit; // target -> new edge
-        for (int e : exits) {
-            const Edge x = a.edges[std::size_t(e)];
-            if (!dist.count(x.from)) continue;
-            Edge y = edge(h, x.to, (l.bound - 1) * iter + dist[x.from] + x.w);
-            y.loop = int(li);
-            y.times = l.bound - 1;
-            y.iteration = iter_chain;
-            y.way_out = chain_to(x.from, h, via, a);
-            y.way_out.push_back(e);
-            auto it = best_exit.find(x.to);
-            if (it == best_exit.end() || a.edges[std::size_t(it->second)].w < y.w) best_exit[x.to] = a.add(std::move(y));
-        }
-        // An entry elsewhere: its way to the header (then the loop), or straight out.
-        for (int e : entering) {
-            const Edge x = a.edges[std::size_t(e)];
-            std::map<int, std::uint64_t> dm;
-            std::map<int, int> vm;
-            dag_longest(x.to, inside, a, dm, vm);
-            for (int b : backs) {
-                const Edge& y = a.edges[std::size_t(b)];
-                if (!dm.count(y.from)) continue;
-                Edge z = edge(x.from, h, x.w + dm[y.from] + y.w);
-                z.loop = -2;
-                z.way_out = {e};
-                for (int c : chain_to(y.from, x.to, vm, a)) z.way_out.push_back(c);
-                z.way_out.push_back(b);
-                rest.push_back(a.add(std::move(z)));
-            }
-            for (int o : exits) {
-                const Edge& y = a.edges[std::size_t(o)];
-                if (!dm.count(y.from)) continue;
-                Edge z = edge(x.from, y.to, x.w + dm[y.from] + y.w);
-                z.loop = -2;
-                z.way_out = {e};
-                for (int c : chain_to(y.from, x.to, vm, a)) z.way_out.push_back(c);
-                z.way_out.push_back(o);
-                rest.push_back(a.add(std::move(z)));
-            }
-        }
-        live = rest;
-        for (auto& [t, e] : best_exit) live.push_back(e);
-        for (int v : l.body) rep[std::size_t(v)] = h;
-        for (auto& r : rep)
-            if (body.count(r)) r = h;
-    }
+    for (std::size_t li = 0; li < loops_.size(); ++li) collapse_loop(loops_[li], int(li), a, live, rep);
     std::map<int, std::uint64_t> dist;
     std::map<int, int> via;
     dag_longest(kRoot, live, a, dist, via);

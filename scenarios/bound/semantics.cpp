@@ -192,18 +192,20 @@ bool refine(State& s, unsigned cc, bool taken) {
     return true;
 }
 
-/// What an instruction that is not a transfer of control does to the state.
-void execute(const Insn& n, State& s, std::uint8_t pic_port) {
+namespace {
+
+void note_cmp(State& s, int reg, std::uint32_t value, bool zero_only) {
+    s.cmp_reg = reg;
+    s.cmp_value = value;
+    s.cmp_zero_only = zero_only;
+}
+
+int reg_index(unsigned r, unsigned w) { return w == 2 ? int(r) : int(r) + 8; } // bytes 8..15
+
+/// The arithmetic and logic forms: ALU, INC/DEC r16: false when `n` is not one of them.
+bool alu_forms(const Insn& n, State& s) {
     const std::uint8_t op = n.opcode;
     const unsigned width = (op & 1) ? 2 : 1;
-    s.cmp_reg = -1;
-    s.cmp_zero_only = false;
-    auto note_cmp = [&](int reg, std::uint32_t value, bool zero_only) {
-        s.cmp_reg = reg;
-        s.cmp_value = value;
-        s.cmp_zero_only = zero_only;
-    };
-    auto reg_index = [](unsigned r, unsigned w) { return w == 2 ? int(r) : int(r) + 8; };
     if (op < 0x40 && (op & 7) < 4) { // ALU r/m,reg or reg,r/m
         const unsigned alu_op = op >> 3;
         const bool to_reg = op & 2;
@@ -211,32 +213,32 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
             const unsigned d = to_reg ? n.reg : n.rm, src = to_reg ? n.rm : n.reg;
             if ((alu_op == 6 || alu_op == 5) && n.reg == n.rm) { // XOR r,r / SUB r,r
                 set_reg(s, d, width, Interval::constant(0));
-                return;
+                return true;
             }
             if (alu_op == 0 && n.reg == n.rm) { // ADD r,r: doubles, and the result is even
                 const Interval v = get_reg(s, d, width);
                 set_reg(s, d, width, v.hi * 2 <= mask_of(width) ? Interval{v.lo * 2, v.hi * 2, true}
                                                                  : Interval{0, mask_of(width) - 1, true});
-                return;
+                return true;
             }
             if ((alu_op == 1 || alu_op == 4) && n.reg == n.rm) { // OR r,r / AND r,r: flags only
-                note_cmp(reg_index(d, width), 0, true);
-                return;
+                note_cmp(s, reg_index(d, width), 0, true);
+                return true;
             }
-            if (alu_op == 7) return;
+            if (alu_op == 7) return true;
             set_reg(s, d, width, alu(alu_op, get_reg(s, d, width), get_reg(s, src, width), width));
         } else if (to_reg && alu_op != 7) {
             set_reg(s, n.reg, width, Interval{0, mask_of(width), false});
         }
-        return;
+        return true;
     }
     if (op < 0x40 && ((op & 7) == 4 || (op & 7) == 5)) { // ALU AL/AX,imm
         const unsigned alu_op = op >> 3;
-        if (alu_op == 7) return note_cmp(reg_index(0, width), n.imm, false);
+        if (alu_op == 7) { note_cmp(s, reg_index(0, width), n.imm, false); return true; }
         set_reg(s, 0, width, alu(alu_op, get_reg(s, 0, width), Interval::constant(n.imm), width));
-        return;
+        return true;
     }
-    if (op < 0x40 && (op & 7) == 7) return set_reg(s, AX, 2, Interval::top());
+    if (op < 0x40 && (op & 7) == 7) { set_reg(s, AX, 2, Interval::top()); return true; }
     if (op >= 0x40 && op <= 0x4F) { // INC/DEC r16
         const unsigned r = op & 7;
         if (r == SP) { // INC SP twice pops a word, DEC SP twice pushes one (bcc drops arguments so)
@@ -246,60 +248,83 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
             } else {
                 s.half_popped = true;
             }
-            return;
+            return true;
         }
         Interval v = s.reg[r];
         if (op < 0x48) v = v.hi < 0xFFFF ? Interval{v.lo + 1, v.hi + 1, false} : Interval::top();
         else v = v.lo > 0 ? Interval{v.lo - 1, v.hi - 1, false} : Interval::top();
         set_reg(s, r, 2, v);
-        return note_cmp(int(r), 0, true);
+        note_cmp(s, int(r), 0, true);
+        return true;
     }
+    return false;
+}
+
+/// PUSH and POP of registers and segments: false when `n` is not one of them.
+bool stack_forms(const Insn& n, State& s) {
+    const std::uint8_t op = n.opcode;
     if (op >= 0x50 && op <= 0x57) {
         const unsigned r = op & 7;
         StackWord w{s.reg[r], s.reg_is_flags[r], s.reg_flags[r], r == BP ? s.bp_depth : -1, {-1, -1}};
         w.writer[0] = r < 4 ? s.writer[r] : s.writer[r + 4];
         w.writer[1] = r < 4 ? s.writer[r + 4] : s.writer[r + 4];
-        return push(s, w);
+        push(s, w);
+        return true;
     }
     if (op >= 0x58 && op <= 0x5F) {
         const StackWord w = pop(s);
         const unsigned r = op & 7;
-        if (r == SP) return;
+        if (r == SP) return true;
         if (r == BP) s.bp_depth = w.bp_depth;
         set_reg(s, r, 2, w.value);
         s.reg_is_flags[r] = w.flags;
         s.reg_flags[r] = w.if_saved;
         if (r < 4) s.writer[r] = w.writer[0], s.writer[r + 4] = w.writer[1];
         else s.writer[r + 4] = w.writer[0];
-        return;
+        return true;
     }
-    if (op == 0x06 || op == 0x0E || op == 0x16 || op == 0x1E) return push(s, {});
-    if (op == 0x07 || op == 0x17 || op == 0x1F) return (void)pop(s);
+    if (op == 0x06 || op == 0x0E || op == 0x16 || op == 0x1E) { push(s, {}); return true; }
+    if (op == 0x07 || op == 0x17 || op == 0x1F) { (void)pop(s); return true; }
+    return false;
+}
+
+/// ALU r/m,imm and TEST: false when `n` is not one of them.
+bool immediate_forms(const Insn& n, State& s) {
+    const std::uint8_t op = n.opcode;
+    const unsigned width = (op & 1) ? 2 : 1;
     if (op >= 0x80 && op <= 0x83) {
         const unsigned w = (op == 0x81 || op == 0x83) ? 2 : 1;
-        if (n.mod != 3) return;
-        if (n.reg == 7) return note_cmp(reg_index(n.rm, w), n.imm, false);
+        if (n.mod != 3) return true;
+        if (n.reg == 7) { note_cmp(s, reg_index(n.rm, w), n.imm, false); return true; }
         if (n.rm == SP && w == 2 && (n.reg == 0 || n.reg == 5)) { // ADD/SUB SP,imm: words popped/pushed
             const int delta = std::int16_t(n.imm) * (n.reg == 0 ? 1 : -1); // bcc writes ADD SP,-6
             for (int i = 0; i < std::abs(delta) / 2; ++i) delta > 0 ? (void)pop(s) : push(s, {});
-            return;
+            return true;
         }
         set_reg(s, n.rm, w, alu(n.reg, get_reg(s, n.rm, w), Interval::constant(n.imm), w));
-        return;
+        return true;
     }
     if (op == 0x84 || op == 0x85) {
-        if (n.mod == 3 && n.reg == n.rm) note_cmp(reg_index(n.rm, width), 0, true);
-        return;
+        if (n.mod == 3 && n.reg == n.rm) note_cmp(s, reg_index(n.rm, width), 0, true);
+        return true;
     }
+    return false;
+}
+
+/// Moves, exchanges, PUSHF/POPF, string instructions, loads of constants: false when `n` is not one of them.
+bool move_forms(const Insn& n, State& s) {
+    const std::uint8_t op = n.opcode;
+    const unsigned width = (op & 1) ? 2 : 1;
     if (op == 0x86 || op == 0x87) {
-        if (n.mod != 3) return set_reg(s, n.reg, width, Interval{0, mask_of(width), false});
+        if (n.mod != 3) { set_reg(s, n.reg, width, Interval{0, mask_of(width), false}); return true; }
         const Interval a = get_reg(s, n.reg, width), b = get_reg(s, n.rm, width);
         set_reg(s, n.reg, width, b);
-        return set_reg(s, n.rm, width, a);
+        set_reg(s, n.rm, width, a);
+        return true;
     }
     if (op == 0x88 || op == 0x89) {
         if (n.mod == 3) set_reg(s, n.rm, width, get_reg(s, n.reg, width));
-        return;
+        return true;
     }
     if (op == 0x8A || op == 0x8B) {
         if (n.mod == 3) {
@@ -307,11 +332,12 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
                 if (n.rm == BP && s.bp_depth >= 0 && std::size_t(s.bp_depth) <= s.stack.size())
                     s.stack.resize(std::size_t(s.bp_depth));
                 s.half_popped = false;
-                return;
+                return true;
             }
             if (width == 2 && n.rm == SP && n.reg == BP) { // MOV BP,SP: a frame's base
                 s.bp_depth = int(s.stack.size());
-                return set_reg(s, BP, 2, Interval::top());
+                set_reg(s, BP, 2, Interval::top());
+                return true;
             }
             set_reg(s, n.reg, width, get_reg(s, n.rm, width));
             if (width == 2) {
@@ -321,102 +347,129 @@ void execute(const Insn& n, State& s, std::uint8_t pic_port) {
         } else {
             set_reg(s, n.reg, width, Interval{0, mask_of(width), false});
         }
-        return;
+        return true;
     }
     if (op == 0x8C) {
         if (n.mod == 3) set_reg(s, n.rm, 2, Interval::top());
-        return;
+        return true;
     }
-    if (op == 0x8D || op == 0xC4 || op == 0xC5) return set_reg(s, n.reg, 2, Interval::top());
+    if (op == 0x8D || op == 0xC4 || op == 0xC5) { set_reg(s, n.reg, 2, Interval::top()); return true; }
     if (op == 0x8F) {
         pop(s);
         if (n.mod == 3) set_reg(s, n.rm, 2, Interval::top());
-        return;
+        return true;
     }
     if (op >= 0x91 && op <= 0x97) {
         const Interval a = s.reg[AX];
         set_reg(s, AX, 2, s.reg[op & 7]);
-        return set_reg(s, op & 7, 2, a);
+        set_reg(s, op & 7, 2, a);
+        return true;
     }
     if (op == 0x98) {
         const Interval al = get_reg(s, 0, 1);
-        return set_reg(s, AX, 2, al.hi < 0x80 ? al : Interval::top());
+        set_reg(s, AX, 2, al.hi < 0x80 ? al : Interval::top());
+        return true;
     }
-    if (op == 0x99) return set_reg(s, DX, 2, s.reg[AX].hi < 0x8000 ? Interval::constant(0) : Interval::top());
-    if (op == 0x9C) return push(s, StackWord{Interval::top(), true, s.if_flag});
+    if (op == 0x99) { set_reg(s, DX, 2, s.reg[AX].hi < 0x8000 ? Interval::constant(0) : Interval::top()); return true; }
+    if (op == 0x9C) { push(s, StackWord{Interval::top(), true, s.if_flag}); return true; }
     if (op == 0x9D) {
         const StackWord w = pop(s);
         if (w.flags) s.if_flag = w.if_saved;
         else if (s.if_flag != IfState::startup) s.if_flag = IfState::unknown; // a FLAGS image we did not see saved
-        return;
+        return true;
     }
-    if (op == 0x9F) return set_reg(s, 4, 1, Interval{0, 0xFF, false});
-    if (op == 0xA0 || op == 0xA1) return set_reg(s, 0, width, Interval{0, mask_of(width), false});
+    if (op == 0x9F) { set_reg(s, 4, 1, Interval{0, 0xFF, false}); return true; }
+    if (op == 0xA0 || op == 0xA1) { set_reg(s, 0, width, Interval{0, mask_of(width), false}); return true; }
     if (op >= 0xA4 && op <= 0xAF) {
         set_reg(s, 6, 2, Interval::top());
         set_reg(s, 7, 2, Interval::top());
         if (op == 0xAC || op == 0xAD) set_reg(s, 0, width, Interval{0, mask_of(width), false});
         if (n.rep) set_reg(s, CX, 2, Interval{0, s.reg[CX].hi, false});
-        return;
+        return true;
     }
-    if (op >= 0xB0 && op <= 0xB7) return set_reg(s, op & 7, 1, Interval::constant(n.imm & 0xFF));
-    if (op >= 0xB8 && op <= 0xBF) return set_reg(s, op & 7, 2, Interval::constant(n.imm));
+    if (op >= 0xB0 && op <= 0xB7) { set_reg(s, op & 7, 1, Interval::constant(n.imm & 0xFF)); return true; }
+    if (op >= 0xB8 && op <= 0xBF) { set_reg(s, op & 7, 2, Interval::constant(n.imm)); return true; }
     if (op == 0xC6 || op == 0xC7) {
         if (n.mod == 3) set_reg(s, n.rm, width, Interval::constant(n.imm));
-        return;
+        return true;
     }
+    return false;
+}
+
+/// Shifts, AAM/AAD/XLAT, IN/OUT (the EOI), group 3, CLI/STI: false when `n` is not one of them.
+bool other_forms(const Insn& n, State& s, std::uint8_t pic_port) {
+    const std::uint8_t op = n.opcode;
+    const unsigned width = (op & 1) ? 2 : 1;
     if (op >= 0xD0 && op <= 0xD3) {
-        if (n.mod != 3) return;
+        if (n.mod != 3) return true;
         const Interval v = get_reg(s, n.rm, width);
         const std::uint32_t m = mask_of(width);
-        if (op <= 0xD1 && n.reg == 4 && v.hi * 2 <= m) return set_reg(s, n.rm, width, {v.lo * 2, v.hi * 2, true});
-        if (op <= 0xD1 && n.reg == 5) return set_reg(s, n.rm, width, {v.lo / 2, v.hi / 2, false});
-        return set_reg(s, n.rm, width, Interval{0, m, false});
+        if (op <= 0xD1 && n.reg == 4 && v.hi * 2 <= m) { set_reg(s, n.rm, width, {v.lo * 2, v.hi * 2, true}); return true; }
+        if (op <= 0xD1 && n.reg == 5) { set_reg(s, n.rm, width, {v.lo / 2, v.hi / 2, false}); return true; }
+        { set_reg(s, n.rm, width, Interval{0, m, false}); return true; }
     }
-    if (op == 0xD4 || op == 0xD5 || op == 0xD7) return set_reg(s, AX, 2, Interval::top());
-    if (op == 0xE4 || op == 0xEC) return set_reg(s, 0, 1, Interval{0, 0xFF, false});
-    if (op == 0xE5 || op == 0xED) return set_reg(s, AX, 2, Interval::top());
+    if (op == 0xD4 || op == 0xD5 || op == 0xD7) { set_reg(s, AX, 2, Interval::top()); return true; }
+    if (op == 0xE4 || op == 0xEC) { set_reg(s, 0, 1, Interval{0, 0xFF, false}); return true; }
+    if (op == 0xE5 || op == 0xED) { set_reg(s, AX, 2, Interval::top()); return true; }
     if (op == 0xE6 || op == 0xEE) { // OUT: an OCW2 EOI (D4 D3 = 00, EOI bit set) to the 8259A
         const Interval port = op == 0xE6 ? Interval::constant(n.imm) : s.reg[DX];
         const Interval al = get_reg(s, 0, 1);
         if (port.is_constant() && port.lo == pic_port && al.is_constant() && (al.lo & 0x18) == 0 && (al.lo & 0x20))
             s.eoi = Eoi::yes;
-        return;
+        return true;
     }
     if (op == 0xF6 || op == 0xF7) {
-        if (n.reg < 2) return;
+        if (n.reg < 2) return true;
         if (n.reg < 4) {
             if (n.mod == 3) set_reg(s, n.rm, width, Interval{0, mask_of(width), false});
-            return;
+            return true;
         }
         set_reg(s, AX, 2, Interval::top());
         if (op == 0xF7) set_reg(s, DX, 2, Interval::top());
-        return;
+        return true;
     }
     if (op == 0xFA) {
         if (s.if_flag != IfState::startup) s.if_flag = IfState::off;
-        return;
+        return true;
     }
     if (op == 0xFB) {
         s.if_flag = IfState::on;
-        return;
+        return true;
     }
+    return false;
+}
+
+/// INC/DEC r/m and PUSH r/m (groups FE, FF): false when `n` is not one of them.
+bool group_fe_ff(const Insn& n, State& s) {
+    const std::uint8_t op = n.opcode;
     if (op == 0xFE || op == 0xFF) {
         const unsigned w = op == 0xFF ? 2 : 1;
-        if (op == 0xFF && n.reg == 6) return push(s, {});
-        if (n.reg > 1 || n.mod != 3) return;
+        if (op == 0xFF && n.reg == 6) { push(s, {}); return true; }
+        if (n.reg > 1 || n.mod != 3) return true;
         Interval v = get_reg(s, n.rm, w);
         const std::uint32_t m = mask_of(w);
         if (n.reg == 0) v = v.hi < m ? Interval{v.lo + 1, v.hi + 1, false} : Interval{0, m, false};
         else v = v.lo > 0 ? Interval{v.lo - 1, v.hi - 1, false} : Interval{0, m, false};
         set_reg(s, n.rm, w, v);
-        return note_cmp(reg_index(n.rm, w), 0, true);
+        note_cmp(s, reg_index(n.rm, w), 0, true);
+        return true;
     }
+    return false;
+}
+} // namespace
+
+/// What an instruction that is not a transfer of control does to the state.
+void execute(const Insn& n, State& s, std::uint8_t pic_port) {
+    s.cmp_reg = -1;
+    s.cmp_zero_only = false;
+    if (alu_forms(n, s) || stack_forms(n, s) || immediate_forms(n, s) || move_forms(n, s) ||
+        other_forms(n, s, pic_port) || group_fe_ff(n, s))
+        return;
     // Flags, HLT, WAIT, ESC, segment moves, stores: no general register changes. Anything else
     // this list does not know changes everything it might.
     static const std::uint8_t kNoRegs[] = {0x26, 0x2E, 0x36, 0x3E, 0x8E, 0x90, 0x9B, 0x9E, 0xA2, 0xA3, 0xF4, 0xF5,
                                            0xF8, 0xF9, 0xFC, 0xFD, 0xD8, 0xD9, 0xDA, 0xDB, 0xDC, 0xDD, 0xDE, 0xDF};
-    if (std::find(std::begin(kNoRegs), std::end(kNoRegs), op) == std::end(kNoRegs)) clobber_all(s);
+    if (std::find(std::begin(kNoRegs), std::end(kNoRegs), n.opcode) == std::end(kNoRegs)) clobber_all(s);
 }
 
 
