@@ -178,8 +178,9 @@ uart_io:                        ! I/O address of each 82510 (register 0: RXD / T
 ! work"); AL is the GIR as read.  The entry handles one source (and on TICK_PORT a tick after it),
 ! never loops: whatever is still pending goes to the general loop with the visits left.  Each
 ! call of the general loop has AH constant (ISR_VISITS - 1 after a visit here, ISR_VISITS without),
-! so `rcsim bound` bounds every path by that one counter (docs/firmware.md "The bound").  On TICK_PORT the tick alone (GIR "bank 1, timer", then nothing)
-! is counted with AX saved only, 1000 times a second.  The common case stays here: GIR reads "bank 1, Rx FIFO", the
+! so `rcsim bound` bounds every path by that one counter (docs/firmware.md "The bound").
+! On TICK_PORT the tick alone (GIR "bank 1, timer", then nothing) is counted with AX saved only,
+! 1000 times a second.  The common case stays here: GIR reads "bank 1, Rx FIFO", the
 ! port is in step 1 and the character is a printable one at position 4 or later of a frame that
 ! is not overlong -- store it, count it, add it to the sum, note the time (the step-1 code of
 ! rx_store, without the checks it cannot need).  Anything else -- another GIR value (another
