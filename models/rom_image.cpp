@@ -137,6 +137,7 @@ std::vector<std::uint8_t> parse_intel_hex(const std::string& text, const std::st
     std::vector<std::uint8_t> out(window, 0xFF); // an erased EPROM
     std::vector<int> line_of(window, 0);           // which line wrote each byte: 0 none
     std::uint32_t upper = 0;                       // from the last 02 or 04 record
+    bool linear = false;                           // ... an 04: 32-bit addresses, no 64 KB wrap
     bool cpu_addresses = false, placed = false, ended = false;
     std::size_t count = 0;
     int n = 0;
@@ -157,8 +158,9 @@ std::vector<std::uint8_t> parse_intel_hex(const std::string& text, const std::st
         case 0x00:
             if (!placed) cpu_addresses = base != 0 && upper + offset >= base, placed = true;
             for (unsigned i = 0; i < length; ++i) {
-                // Addresses wrap within their 64 KB segment (the Intel HEX specification).
-                const std::uint32_t a = upper + ((offset + i) & 0xFFFF);
+                // After a segment record (02) addresses wrap within their 64 KB segment; after a
+                // linear one (04) they are 32-bit and run on past it (the Intel HEX specification).
+                const std::uint32_t a = linear ? upper + offset + i : upper + ((offset + i) & 0xFFFF);
                 const std::uint32_t o = cpu_addresses ? a - base : a;
                 if (cpu_addresses ? a < base || o >= window : o >= window)
                     throw ConfigError(file, n, "address " + hex(a, 5) + " is outside the ROM (" +
@@ -177,6 +179,7 @@ std::vector<std::uint8_t> parse_intel_hex(const std::string& text, const std::st
         case 0x04:
             if (length != 2) throw ConfigError(file, n, "an address record (type " + hex(type) + ") holds 2 bytes");
             upper = type == 0x02 ? value << 4 : value << 16;
+            linear = type == 0x04;
             break;
         case 0x03:
         case 0x05: break; // a start address: the 8086 starts at FFFF:0000 whatever the file says

@@ -110,6 +110,30 @@ TEST(IntelHex, SegmentAndLinearAddressRecordsGiveCpuAddresses) {
     }
 }
 
+// The specification: after an extended linear address record (04) a data record's addresses are
+// 32-bit, ULBA x 65536 + offset + i, and do not wrap at its 64 KB; after an extended segment
+// address record (02) they wrap within the segment. A linear record running past FFFFF leaves the
+// ROM (issue #48: it was wrapped to F0000, and overwrote it when that was free).
+TEST(IntelHex, LinearAddressesRunPastTheir64KbAndSegmentAddressesWrap) {
+    auto error = [](const std::string& text) {
+        try {
+            parse_intel_hex(text, "l.hex", kBase, kWindow);
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    EXPECT_EQ(error(record(0x04, 0, {0x00, 0x0F}) + record(0, 0xFFFE, {1, 2, 3, 4}) + kEof),
+              "l.hex:2: address 100000 is outside the ROM (F0000..FFFFF)");
+    EXPECT_EQ(error(record(0x04, 0, {0x00, 0x0F}) + record(0, 0x0000, {9}) + record(0, 0xFFFF, {1, 2}) + kEof),
+              "l.hex:3: address 100000 is outside the ROM (F0000..FFFFF)");
+    // The same bytes after a segment record F000: FFFF then 0000 of the segment, F0000.
+    const std::vector<std::uint8_t> rom =
+        parse_intel_hex(record(0x02, 0, {0xF0, 0x00}) + record(0, 0xFFFF, {1, 2}) + kEof, "s.hex", kBase, kWindow);
+    EXPECT_EQ(rom[0xFFFF], 1);
+    EXPECT_EQ(rom[0x0000], 2);
+}
+
 TEST(IntelHex, BadRecordsAreRefusedNamingTheLine) {
     auto error = [](const std::string& text) {
         try {

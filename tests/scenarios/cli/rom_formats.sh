@@ -113,6 +113,10 @@ bad "text" "text.rom:1: text that is not Intel HEX" --rom text.rom
 head -n 5 segment.hex > cut.hex
 bad "a cut HEX file" "cut.hex:5: no end-of-file record" --rom cut.hex
 bad "--rom-odd alone" "--rom-odd needs --rom" --rom-odd odd.bin
+# A linear (04) record's addresses are 32-bit: one running past FFFFF leaves the ROM (issue #48:
+# it wrapped to F0000). ULBA 000F, 4 bytes at FFFE: FFFFE, FFFFF, 100000, 100001.
+printf ':02000004000FEB\n:04FFFE0001020304F5\n:00000001FF\n' > past_end.hex
+bad "a linear record past FFFFF" "past_end.hex:2: address 100000 is outside the ROM (F0000..FFFFF)" --rom past_end.hex
 
 [ "$failures" -eq 0 ] && echo "rom formats: raw, Intel HEX (02 and 04), even/odd pair give one report"
 [ "$failures" -eq 0 ]
