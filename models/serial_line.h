@@ -175,6 +175,8 @@ public:
     /// transmit(); next_index() is the next one). `bit` is the data bit or cell for the flips.
     void inject(Side from, std::uint64_t index, FaultKind kind, unsigned bit = 0);
     std::uint64_t next_index(Side from) const { return dir_[from].sent; }
+    /// Faults injected for characters from `from` not yet sent (an idle side keeps them all).
+    std::size_t pending_faults(Side from) const { return dir_[from].faults.size(); }
     /// Holds the line from `from` at SPACE for `duration`, starting now.
     void insert_break(Side from, const sc_core::sc_time& duration);
     /// Every cell of every character in both directions is inverted with probability

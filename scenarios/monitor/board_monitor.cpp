@@ -28,6 +28,7 @@ constexpr auto kPublishEvery = std::chrono::milliseconds(50); // GET /api/v1/sna
 constexpr double kMaxStepMs = 60'000;
 constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in the next ones
 constexpr std::size_t kMaxQueuedFrames = 64; // send_frame: commands waiting at a protocol host
+constexpr std::size_t kMaxPendingFaults = 64; // inject_fault: faults waiting for a side's next characters
 
 } // namespace
 
@@ -358,6 +359,11 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
                 from + ")");
         return {};
     }
+    // Bounded as the frames are: on an idle side every fault waits for the same next character,
+    // and a client injecting in a loop would grow the line's list without end.
+    if (line.pending_faults(side) >= kMaxPendingFaults)
+        return a.refuse("port " + std::to_string(port) + "'s line already has " + std::to_string(kMaxPendingFaults) +
+                        " faults waiting for characters from the " + from + "; inject more once they went out");
     const std::uint64_t index = line.next_index(side);
     line.inject(side, index, *fault, bit);
     return {{"port", port}, {"index", index}};

@@ -183,6 +183,16 @@ def body_checks(run):
     check(d["ports"][0]["uart"]["parity_errors"] == pe + 1,
           "the 82510 counted exactly one parity error (%d -> %d)" % (pe, d["ports"][0]["uart"]["parity_errors"]))
 
+    # Faults wait for the side's next characters; port 1's host sends none, so they would pile up
+    # without end (issue #48): 64 are taken, the 65th is refused with the reason, the run goes on.
+    replies = [a.request({"op": "inject_fault", "port": 1, "kind": "drop"}) for _ in range(65)]
+    check(all(r["type"] == "ok" for r in replies[:64]), "64 faults waiting on port 1 are taken")
+    check(replies[64]["type"] == "error" and
+          "port 1's line already has 64 faults waiting for characters from the host" in replies[64]["error"],
+          "the 65th is refused naming the bound (%s)" % replies[64])
+    check(a.request({"op": "inject_fault", "port": 1, "kind": "drop", "from": "controller"})["type"] == "ok",
+          "the other side of the line has its own 64")
+
     # Clients the server must drop; the run and the first client go on.
     for name, payload in (("garbage", b"this is not json"), ("huge", b'"' + b"x" * 100000 + b'"')):
         c = run.ws()
