@@ -2,6 +2,7 @@
 #include "scenarios/bound/bound.h"
 
 #include "models/plumbing/config_error.h"
+#include "models/plumbing/hex.h"
 #include "scenarios/bound/flow.h"
 #include "scenarios/bound/paths.h"
 
@@ -22,11 +23,7 @@ bool uses_cx_count(const Insn& i) {
     return (i.rep && is_string_op(i)) || is_shift_by_cl(i) || (i.opcode >= 0xE0 && i.opcode <= 0xE3);
 }
 
-std::string hex(std::uint32_t v) {
-    char b[16];
-    std::snprintf(b, sizeof b, "0x%05X", unsigned(v));
-    return b;
-}
+std::string address_hex(std::uint32_t v) { return "0x" + hex(v, 5); }
 
 double to_us(std::uint64_t clocks, double mhz) { return std::round(double(clocks) / mhz * 10.0) / 10.0; }
 
@@ -41,7 +38,7 @@ std::uint64_t single_cost(const FlowGraph& g, i8086::WorstClocks& clocks, const 
             if (const Annotation* a = g.annotation(i.address, Annotation::Kind::iterations))
                 cx_max = std::uint32_t(std::min<std::uint64_t>(a->iterations, 0xFFFF));
             else if (n.in.reg[CX].lo == 0 && n.in.reg[CX].hi == 0xFFFF)
-                throw ConfigError("bound: a " + i.text + " at " + g.where(i.address) + " (" + hex(i.address) +
+                throw ConfigError("bound: a " + i.text + " at " + g.where(i.address) + " (" + address_hex(i.address) +
                                   ") whose count CX the code does not state: add `" + g.where(i.address) +
                                   " iterations N  # why` to the annotations");
         }
@@ -142,6 +139,15 @@ std::vector<std::vector<int>> predecessors(const FlowGraph& g) {
     return p;
 }
 
+/// The states loop `l` is entered with: what each edge into its header from outside it carries.
+std::vector<State> entry_states(const FlowGraph& g, const std::vector<std::vector<int>>& preds, const LoopFound& l) {
+    const std::set<int> body(l.body.begin(), l.body.end());
+    std::vector<State> out;
+    for (int p : preds[std::size_t(l.header)])
+        if (!body.count(p)) out.push_back(g.out_state(p, l.header));
+    return out;
+}
+
 /// A register counted down: one DEC r on every way round the loop (no latch is reached from the
 /// header without passing it), r >= 1 before it on every path (a test leaves at 0 first), nothing
 /// but a POP writes r between the header and it, the value every latch carries back is that
@@ -151,6 +157,10 @@ std::vector<std::vector<int>> predecessors(const FlowGraph& g) {
 bool counted_down(const FlowGraph& g, const std::vector<std::vector<int>>& preds, LoopFound& l) {
     const auto& nodes = g.nodes();
     const std::set<int> body(l.body.begin(), l.body.end());
+    const std::vector<State> entries = entry_states(g, preds, l);
+    if (entries.empty()) return false;
+    std::size_t depth = ~std::size_t(0);
+    for (const State& e : entries) depth = std::min(depth, e.stack.size());
     for (int d : l.body) {
         const Insn& i = *nodes[std::size_t(d)].insn;
         int r = -1;
@@ -190,12 +200,6 @@ bool counted_down(const FlowGraph& g, const std::vector<std::vector<int>>& preds
             const bool other_byte = width == 1 && FlowGraph::writes_byte_only(w) >= 0 && FlowGraph::writes_byte_only(w) != r;
             ok = pop || other_byte;
         }
-        const std::size_t depth = [&] {
-            std::size_t k = ~std::size_t(0);
-            for (int p : preds[std::size_t(l.header)])
-                if (!body.count(p)) k = std::min(k, g.out_state(p, l.header).stack.size());
-            return k;
-        }();
         for (int u : l.latches) {
             if (!ok) break;
             const State out = g.out_state(u, l.header);
@@ -204,24 +208,10 @@ bool counted_down(const FlowGraph& g, const std::vector<std::vector<int>>& preds
         }
         if (!ok) continue;
         // No way from the header to a latch around d.
-        std::set<int> seen{l.header};
-        std::vector<int> stack{l.header};
-        while (ok && !stack.empty()) {
-            const int v = stack.back();
-            stack.pop_back();
-            if (v == d) continue;
-            for (const auto& e : nodes[std::size_t(v)].out) {
-                if (e.to == l.header && v != d) ok = false; // a latch reached without d
-                if (e.to == d || !body.count(e.to) || !seen.insert(e.to).second) continue;
-                stack.push_back(e.to);
-            }
-        }
+        for (int u : l.latches) ok = ok && (u == d || !from_header.count(u));
         if (!ok) continue;
         std::uint32_t hi = 0;
-        bool any = false;
-        for (int p : preds[std::size_t(l.header)])
-            if (!body.count(p)) hi = std::max(hi, interval(g.out_state(p, l.header)).hi), any = true;
-        if (!any) continue;
+        for (const State& e : entries) hi = std::max(hi, interval(e).hi);
         l.bound = std::uint64_t(hi) + 1;
         l.reason = "counted down by " + i.text + " at " + g.where(i.address) + " from at most " + std::to_string(hi) +
                    ", leaving at 0";
@@ -231,7 +221,7 @@ bool counted_down(const FlowGraph& g, const std::vector<std::vector<int>>& preds
 }
 
 /// A loop's bound: an annotation at its header or a latch; a LOOP whose CX only it changes; a
-/// register counted down by one DEC on every way round, tested by the JNZ after it.
+/// register counted down (counted_down).
 LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>& preds) {
     return [&g, &preds](LoopFound& l) {
         const auto& nodes = g.nodes();
@@ -245,15 +235,11 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
                 return;
             }
         auto entry_interval = [&](int reg) {
-            Interval v{0xFFFF, 0, true};
-            bool any = false;
-            for (int p : preds[std::size_t(l.header)]) {
-                if (body.count(p)) continue;
-                const Interval e = g.out_state(p, l.header).reg[reg];
-                v = {std::min(v.lo, e.lo), std::max(v.hi, e.hi), false};
-                any = true;
-            }
-            return any ? v : Interval::top();
+            const std::vector<State> entries = entry_states(g, preds, l);
+            if (entries.empty()) return Interval::top();
+            Interval v{0xFFFF, 0, false};
+            for (const State& e : entries) v = {std::min(v.lo, e.reg[reg].lo), std::max(v.hi, e.reg[reg].hi), false};
+            return v;
         };
         auto only_writers = [&](int reg, const std::set<int>& allowed) {
             for (int v : l.body)
@@ -275,7 +261,7 @@ LoopBounder bounder_for(const FlowGraph& g, const std::vector<std::vector<int>>&
         }
         if (counted_down(g, preds, l)) return;
         const std::uint32_t a = nodes[std::size_t(l.header)].address;
-        throw ConfigError("bound: a loop at " + g.where(a) + " (" + hex(a) +
+        throw ConfigError("bound: a loop at " + g.where(a) + " (" + address_hex(a) +
                           ") has no bound the code states: add `" + g.where(a) +
                           " iterations N  # why` to the annotations");
     };
@@ -439,7 +425,7 @@ Result analyse(const Inputs& in) {
     }
     for (const Annotation& a : in.annotations)
         if (!a.used && a.kind == Annotation::Kind::iterations)
-            throw ConfigError(a.where + ": no loop or REP of the bounded code is at " + hex(a.address) +
+            throw ConfigError(a.where + ": no loop or REP of the bounded code is at " + address_hex(a.address) +
                               " (the code changed? remove or move the line)");
     return r;
 }
@@ -449,7 +435,7 @@ namespace {
 nlohmann::json steps_json(const std::vector<Step>& steps) {
     nlohmann::json a = nlohmann::json::array();
     for (const Step& s : steps)
-        a.push_back({{"address", hex(s.address)}, {"where", s.where}, {"instruction", s.instruction},
+        a.push_back({{"address", address_hex(s.address)}, {"where", s.where}, {"instruction", s.instruction},
                      {"clocks", s.clocks}, {"line", s.line}, {"times", s.times}});
     return a;
 }
@@ -457,7 +443,7 @@ nlohmann::json steps_json(const std::vector<Step>& steps) {
 nlohmann::json loops_json(const std::vector<Loop>& loops) {
     nlohmann::json a = nlohmann::json::array();
     for (const Loop& l : loops)
-        a.push_back({{"address", hex(l.header)}, {"where", l.where}, {"iterations", l.iterations}, {"reason", l.reason}});
+        a.push_back({{"address", address_hex(l.header)}, {"where", l.where}, {"iterations", l.iterations}, {"reason", l.reason}});
     return a;
 }
 
@@ -477,9 +463,7 @@ nlohmann::json to_json(const Result& r) {
     j["sources"] = nlohmann::json::object();
     for (const auto& [name, b] : r.sources) {
         nlohmann::json s;
-        char vec[8];
-        std::snprintf(vec, sizeof vec, "0x%02X", unsigned(b.source.vector));
-        s["vector"] = vec;
+        s["vector"] = "0x" + hex(b.source.vector, 2);
         s["entry"] = b.entry;
         s["service_us"] = b.service_us;
         s["blocking_us"] = b.blocking_us;

@@ -5,6 +5,7 @@
 
 #include "comm_cpu/i8086/disasm.h"
 #include "models/plumbing/config_error.h"
+#include "models/plumbing/hex.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -21,11 +22,7 @@ constexpr std::size_t kMaxNodes = 400000;   // a graph this large is a ROM the a
 constexpr unsigned kMaxDepth = 32;          // calls nested deeper than this: recursion in effect
 constexpr unsigned kWidenAfter = 6;         // updates of a node's state before its intervals widen
 
-std::string hex(std::uint32_t v, int digits = 5) {
-    char b[16];
-    std::snprintf(b, sizeof b, "0x%0*X", digits, unsigned(v));
-    return b;
-}
+std::string address_hex(std::uint32_t v) { return "0x" + hex(v, 5); }
 
 bool has_modrm(std::uint8_t op) {
     if (op < 0x40) return (op & 7) < 4;
@@ -100,11 +97,11 @@ std::string FlowGraph::where(std::uint32_t address) const {
         std::snprintf(b, sizeof b, "+0x%X", unsigned(address - s->address));
         return s->name + b;
     }
-    return hex(address);
+    return address_hex(address);
 }
 
 void FlowGraph::fail(std::uint32_t address, const std::string& why) const {
-    throw ConfigError("bound: " + entry_name_ + ": " + why + " at " + where(address) + " (" + hex(address) + ")");
+    throw ConfigError("bound: " + entry_name_ + ": " + why + " at " + where(address) + " (" + address_hex(address) + ")");
 }
 
 const Annotation* FlowGraph::annotation(std::uint32_t address, Annotation::Kind kind) const {
@@ -373,7 +370,7 @@ std::vector<std::uint16_t> FlowGraph::indirect_targets(int n) {
     std::vector<std::uint16_t> out;
     if (const Annotation* a = annotation(i.address, Annotation::Kind::targets)) {
         for (std::uint32_t l : a->targets) {
-            if (l - cs_base > 0xFFFF) fail(i.address, "annotated target " + hex(l) + " is outside this code segment");
+            if (l - cs_base > 0xFFFF) fail(i.address, "annotated target " + address_hex(l) + " is outside this code segment");
             out.push_back(std::uint16_t(l - cs_base));
         }
         return out;
@@ -387,7 +384,7 @@ std::vector<std::uint16_t> FlowGraph::indirect_targets(int n) {
             for (std::uint32_t k = v.lo; k <= v.hi; k += 2) {
                 const std::uint32_t at = cs_base + ((std::uint32_t(i.disp) + k) & 0xFFFF);
                 if (at < in_.rom_base || at + 1 - in_.rom_base >= in_.rom.size())
-                    fail(i.address, "a jump table entry at " + hex(at) + " outside the ROM");
+                    fail(i.address, "a jump table entry at " + address_hex(at) + " outside the ROM");
                 const std::size_t o = at - in_.rom_base;
                 out.push_back(std::uint16_t(in_.rom[o] | (in_.rom[o + 1] << 8)));
             }

@@ -50,6 +50,16 @@ std::string record(unsigned type, unsigned address, const std::vector<unsigned>&
 
 const std::string kEof = ":00000001FF\n"; // the specification's end-of-file record
 
+/// The message parse_intel_hex throws for `text` read as `file` ("(no error)" if it takes it).
+std::string hex_error(const std::string& text, const std::string& file) {
+    try {
+        parse_intel_hex(text, file, kBase, kWindow);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
 std::string error_of(const RomSource& src) {
     try {
         read_rom_image(src, kBase, kWindow);
@@ -115,14 +125,7 @@ TEST(IntelHex, SegmentAndLinearAddressRecordsGiveCpuAddresses) {
 // address record (02) they wrap within the segment. A linear record running past FFFFF leaves the
 // ROM (issue #48: it was wrapped to F0000, and overwrote it when that was free).
 TEST(IntelHex, LinearAddressesRunPastTheir64KbAndSegmentAddressesWrap) {
-    auto error = [](const std::string& text) {
-        try {
-            parse_intel_hex(text, "l.hex", kBase, kWindow);
-        } catch (const ConfigError& e) {
-            return std::string(e.what());
-        }
-        return std::string("(no error)");
-    };
+    auto error = [](const std::string& text) { return hex_error(text, "l.hex"); };
     EXPECT_EQ(error(record(0x04, 0, {0x00, 0x0F}) + record(0, 0xFFFE, {1, 2, 3, 4}) + kEof),
               "l.hex:2: address 100000 is outside the ROM (F0000..FFFFF)");
     EXPECT_EQ(error(record(0x04, 0, {0x00, 0x0F}) + record(0, 0x0000, {9}) + record(0, 0xFFFF, {1, 2}) + kEof),
@@ -135,14 +138,7 @@ TEST(IntelHex, LinearAddressesRunPastTheir64KbAndSegmentAddressesWrap) {
 }
 
 TEST(IntelHex, BadRecordsAreRefusedNamingTheLine) {
-    auto error = [](const std::string& text) {
-        try {
-            parse_intel_hex(text, "x.hex", kBase, kWindow);
-        } catch (const ConfigError& e) {
-            return std::string(e.what());
-        }
-        return std::string("(no error)");
-    };
+    auto error = [](const std::string& text) { return hex_error(text, "x.hex"); };
     EXPECT_EQ(error(":0B0010006164647265737320676170A8\n" + kEof), "x.hex:1: bad checksum A8, the record's bytes give A7");
     EXPECT_EQ(error(record(0, 0x100, {1, 2}) + record(0, 0x101, {3}) + kEof),
               "x.hex:2: address 00101 again: line 1 wrote it (overlapping records)");
