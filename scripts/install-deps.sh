@@ -19,6 +19,9 @@ PACKAGES=(
   libnlopt-dev             # rcsim search: the derivative-free optimisers (scenarios/search)
   python3-pymodbus         # its tests' client (tests/scenarios/modbus)
   python3-serial-asyncio   # pymodbus 3.0's client package imports it (Debian only recommends it)
+  mbpoll                   # docs/monitor.md's Modbus command lines, run by tests/scenarios/modbus
+  srecord                  # srec_cat writes the Motorola S-record images rcsim loads (tests/models)
+  slurmctld slurmd slurm-client munge  # the one-node Slurm cluster the sweep recipe runs on (label cluster)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
