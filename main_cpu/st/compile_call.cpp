@@ -4,7 +4,10 @@
 #include "main_cpu/st/grammar.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <sstream>
+#include <utility>
 
 namespace rcsim::st::detail {
 
@@ -46,13 +49,59 @@ Value fn_limit(const Type& t, const std::vector<Value>& a, const SourcePos&) { /
     return a[1];
 }
 
-template <double (*F)(double)> Value real_fn(const Type&, const std::vector<Value>& a, const SourcePos&) {
-    return Value{0, F(a[0].r)};
+/// The REAL functions of IEC 61131-3 Table 22 (and EXPT of Table 24): each evaluates in double
+/// and stops the program where the result is not a finite real (LN(0), ASIN(2), EXPT(-8.0, 0.5)),
+/// as SQRT of a negative number always did, instead of carrying a NaN into a set-point.
+struct RealFunction {
+    const char* name;
+    unsigned arity;
+    double (*one)(double);         // arity 1
+    double (*two)(double, double); // arity 2: ATAN2(Y, X), EXPT(IN1, IN2)
+};
+double sqrt_(double x) { return std::sqrt(x); }
+constexpr std::size_t kSqrt = 0; // its own message, as before the table
+constexpr RealFunction kRealFunctions[] = {
+    {"SQRT", 1, sqrt_, nullptr},
+    {"LN", 1, [](double x) { return std::log(x); }, nullptr},
+    {"LOG", 1, [](double x) { return std::log10(x); }, nullptr},
+    {"EXP", 1, [](double x) { return std::exp(x); }, nullptr},
+    {"SIN", 1, [](double x) { return std::sin(x); }, nullptr},
+    {"COS", 1, [](double x) { return std::cos(x); }, nullptr},
+    {"TAN", 1, [](double x) { return std::tan(x); }, nullptr},
+    {"ASIN", 1, [](double x) { return std::asin(x); }, nullptr},
+    {"ACOS", 1, [](double x) { return std::acos(x); }, nullptr},
+    {"ATAN", 1, [](double x) { return std::atan(x); }, nullptr},
+    {"ATAN2", 2, nullptr, [](double y, double x) { return std::atan2(y, x); }},
+    {"EXPT", 2, nullptr, [](double b, double e) { return std::pow(b, e); }},
+};
+
+std::string real_text(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
 }
 
-Value fn_sqrt(const Type&, const std::vector<Value>& a, const SourcePos& at) {
-    if (a[0].r < 0) throw RuntimeError(at.str() + ": SQRT of the negative number " + std::to_string(a[0].r));
-    return Value{0, std::sqrt(a[0].r)};
+template <std::size_t I> Value real_fn(const Type&, const std::vector<Value>& a, const SourcePos& at) {
+    const RealFunction& f = kRealFunctions[I];
+    if (I == kSqrt && a[0].r < 0) throw RuntimeError(at.str() + ": SQRT of the negative number " + std::to_string(a[0].r));
+    const double r = f.arity == 1 ? f.one(a[0].r) : f.two(a[0].r, a[1].r);
+    if (!std::isfinite(r))
+        throw RuntimeError(at.str() + ": " + f.name + "(" + real_text(a[0].r) + (f.arity == 2 ? ", " + real_text(a[1].r) : "") +
+                           ") has no finite real result");
+    return Value{0, r};
+}
+
+using BuiltinFn = Value (*)(const Type&, const std::vector<Value>&, const SourcePos&);
+template <std::size_t... I> constexpr std::array<BuiltinFn, sizeof...(I)> real_fns(std::index_sequence<I...>) {
+    return {real_fn<I>...};
+}
+constexpr auto kRealFns = real_fns(std::make_index_sequence<std::size(kRealFunctions)>());
+
+/// The index of NAME in kRealFunctions, or -1.
+int real_function(const std::string& name) {
+    for (std::size_t i = 0; i < std::size(kRealFunctions); ++i)
+        if (name == kRealFunctions[i].name) return static_cast<int>(i);
+    return -1;
 }
 
 /// SHL, SHR, ROL, ROR (IEC 61131-3 Table 29) on the width of IN's type: SHL on a WORD drops the
@@ -128,10 +177,6 @@ std::string fn_replace(const std::vector<std::string>& s, const std::vector<std:
     return std::string(s[0]).replace(p - 1, l, s[1]);
 }
 
-double sin_(double x) { return std::sin(x); }
-double cos_(double x) { return std::cos(x); }
-double atan_(double x) { return std::atan(x); }
-
 } // namespace
 
 Type Compiler::common_of(const std::vector<ExprPtr>& args, std::size_t from, const std::string& name,
@@ -190,11 +235,21 @@ ExprPtr Compiler::builtin(const std::string& name, std::vector<ExprPtr> args, co
         if (!args[0]->type.numeric()) fail(n, "type mismatch: ABS needs a number, not " + args[0]->type.name());
         b->type = args[0]->type;
         b->fn = fn_abs;
-    } else if (name == "SQRT" || name == "SIN" || name == "COS" || name == "ATAN") {
-        count(1, 1);
-        b->type = args[0]->type.kind == Kind::Real ? Type::of(Kind::Real) : Type::of(Kind::Lreal);
-        args[0] = coerce(std::move(args[0]), b->type, "the argument of " + name);
-        b->fn = name == "SQRT" ? fn_sqrt : name == "SIN" ? real_fn<sin_> : name == "COS" ? real_fn<cos_> : real_fn<atan_>;
+    } else if (const int r = real_function(name); r >= 0) {
+        // One type for the arguments and the result: REAL when every typed argument is a REAL,
+        // else LREAL (EXPT's exponent may be any number: it is converted as the base is).
+        const unsigned arity = kRealFunctions[r].arity;
+        count(arity, arity);
+        bool real = false, lreal = false;
+        for (const ExprPtr& a : args) {
+            if (!untyped(*a) && !a->type.numeric())
+                fail(n, "type mismatch: " + name + " needs numbers, not " + a->type.name());
+            real = real || a->type.kind == Kind::Real;
+            lreal = lreal || (!untyped(*a) && a->type.kind != Kind::Real);
+        }
+        b->type = real && !lreal ? Type::of(Kind::Real) : Type::of(Kind::Lreal);
+        for (ExprPtr& a : args) a = coerce(std::move(a), b->type, "an argument of " + name);
+        b->fn = kRealFns[static_cast<std::size_t>(r)];
     } else {
         // MIN, MAX (two or more), LIMIT(MN, IN, MX): one common type for all arguments.
         if (name == "LIMIT") count(3, 3);
@@ -210,7 +265,7 @@ ExprPtr Compiler::builtin(const std::string& name, std::vector<ExprPtr> args, co
     bool k = true;
     for (const ExprPtr& a : args) k = k && a->constant();
     // ABS, MIN, MAX, LIMIT of literals stay literals (ABS(-5) may still be an INT).
-    const bool keeps_literal = name != "SQRT" && name != "SIN" && name != "COS" && name != "ATAN";
+    const bool keeps_literal = real_function(name) < 0;
     if (!k) {
         b->args = std::move(args);
         return b;
@@ -366,9 +421,10 @@ ExprPtr Compiler::call(const ParseNode& n) {
             return conversion(Kind::Real, Kind::Dint, std::move(positional), n, true);
         return conversion(Kind::Lreal, Kind::Dint, std::move(positional), n, true);
     }
-    static const char* const builtins[] = {"ABS", "SQRT", "SIN", "COS", "ATAN", "MIN", "MAX", "LIMIT"};
+    static const char* const builtins[] = {"ABS", "MIN", "MAX", "LIMIT"};
     for (const char* b : builtins)
         if (name == b) return builtin(name, std::move(positional), n);
+    if (real_function(name) >= 0) return builtin(name, std::move(positional), n);
     if (name == "SHL" || name == "SHR" || name == "ROL" || name == "ROR") return shift(name, std::move(positional), n);
     if (name == "SEL" || name == "MUX") return select(name, std::move(positional), n);
     static const char* const strings[] = {"LEN", "FIND", "CONCAT", "LEFT", "RIGHT", "MID", "INSERT", "DELETE", "REPLACE"};

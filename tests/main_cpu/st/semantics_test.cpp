@@ -227,7 +227,48 @@ TEST(StPou, StandardFunctions) {
     EXPECT_DOUBLE_EQ(R(*p, "f"), 2.5);
 }
 
+// The rest of IEC 61131-3 Table 22's numeric functions and EXPT (Table 24): values from their
+// mathematical definitions (LOG is base 10; ATAN2(Y, X) is the angle of the point (X, Y)).
+TEST(StPou, TheRealFunctionsOfTable22AndExpt) {
+    auto p = run_body("a, b, c, d, e, f, g, h, i : LREAL; r : REAL;",
+                      "a := EXP(0.0); b := LN(1.0); c := LOG(1000.0); d := TAN(0.0); e := ASIN(1.0);"
+                      "f := ACOS(1.0); g := ATAN2(1.0, -1.0); h := EXPT(2.0, 10); i := EXP(LN(7.5));"
+                      "r := EXPT(REAL#3.0, 2);");
+    EXPECT_DOUBLE_EQ(R(*p, "a"), 1.0);
+    EXPECT_DOUBLE_EQ(R(*p, "b"), 0.0);
+    EXPECT_DOUBLE_EQ(R(*p, "c"), 3.0);
+    EXPECT_DOUBLE_EQ(R(*p, "d"), 0.0);
+    EXPECT_DOUBLE_EQ(R(*p, "e"), M_PI / 2);
+    EXPECT_DOUBLE_EQ(R(*p, "f"), 0.0);
+    EXPECT_DOUBLE_EQ(R(*p, "g"), 3 * M_PI / 4);
+    EXPECT_DOUBLE_EQ(R(*p, "h"), 1024.0);
+    EXPECT_NEAR(R(*p, "i"), 7.5, 1e-12);
+    EXPECT_DOUBLE_EQ(R(*p, "r"), 9.0);
+    EXPECT_EQ(compile_error("PROGRAM T\nVAR x : LREAL; END_VAR\nx := ATAN2(1.0);\nEND_PROGRAM"),
+              "t.st:3:6: ATAN2 takes 2 arguments, not 1");
+    EXPECT_NE(compile_error("PROGRAM T\nVAR x : LREAL; s : STRING; END_VAR\nx := LN(s);\nEND_PROGRAM")
+                  .find("type mismatch: LN needs numbers, not STRING"),
+              std::string::npos);
+}
+
 // ---- runtime errors ------------------------------------------------------------------------------
+
+// Outside its domain a function has no real value: the program stops as for a division by zero,
+// rather than carry a NaN or an infinity into a set-point.
+TEST(StRuntime, ARealFunctionWithoutAFiniteResultStopsTheProgramNamingTheCall) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"LN(z)", "t.st:3:6: LN(0) has no finite real result"},
+        {"ASIN(z + 2.0)", "t.st:3:6: ASIN(2) has no finite real result"},
+        {"EXPT(z - 8.0, 0.5)", "t.st:3:6: EXPT(-8, 0.5) has no finite real result"},
+        {"EXP(z + 1000.0)", "t.st:3:6: EXP(1000) has no finite real result"},
+    };
+    for (const auto& [call, message] : cases) {
+        auto p = started(std::string("PROGRAM T\nVAR x, z : LREAL; END_VAR\nx := ") + call + ";\nEND_PROGRAM");
+        p->run_once(0);
+        EXPECT_FALSE(p->running()) << call;
+        EXPECT_EQ(p->error(), message);
+    }
+}
 
 TEST(StRuntime, DivisionByZeroStopsTheProgramNamingThePosition) {
     auto p = started("PROGRAM T\nVAR a : INT := 1; z : INT; after : BOOL; END_VAR\na := a / z;\nafter := TRUE;\nEND_PROGRAM");
