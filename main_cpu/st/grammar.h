@@ -344,8 +344,9 @@ struct type_spec : pg::sor<array_type, string_type, refused<no_pointer>, refused
                            pg::seq<type_name, pg::opt<refused<no_subrange>>>> {
     static constexpr const char* expected = "a type";
 };
-struct array_init : pg::if_must<lbracket, expr_expected, pg::star<comma, pg::must<expr_expected>>, rbracket> {};
 struct initializer;
+// [1, 2, 3] or [(x := 1), (x := 2)]: an element may itself be a list or a STRUCT's initial value.
+struct array_init : pg::if_must<lbracket, initializer, pg::star<comma, pg::must<initializer>>, rbracket> {};
 // (x := 1, y := 2): a STRUCT's initial value by member (§6.4.4.4).
 struct member_init : pg::seq<ident, _, pg::must<assign_op>, pg::must<initializer>> {
     static constexpr const char* expected = "a member's initial value 'name := value'";

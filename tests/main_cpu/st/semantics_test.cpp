@@ -251,6 +251,23 @@ TEST(StPou, TheRealFunctionsOfTable22AndExpt) {
               std::string::npos);
 }
 
+// §6.4.4.4: an ARRAY OF a STRUCT starts from a list of the STRUCTs' initial values; elements left
+// out keep the type's own initial values.
+TEST(StPou, AnArrayOfStructsTakesAListOfMemberInitialValues) {
+    auto p = started("TYPE P : STRUCT x : INT; y : INT := 9; END_STRUCT; END_TYPE\n"
+                     "PROGRAM T\nVAR pts : ARRAY[1..3] OF P := [(x := 1, y := 2), (x := 3)]; a, b, c, d, e : INT; END_VAR\n"
+                     "a := pts[1].x; b := pts[1].y; c := pts[2].x; d := pts[2].y; e := pts[3].y;\nEND_PROGRAM");
+    p->run_once(0);
+    EXPECT_EQ(I(*p, "a"), 1);
+    EXPECT_EQ(I(*p, "b"), 2);
+    EXPECT_EQ(I(*p, "c"), 3);
+    EXPECT_EQ(I(*p, "d"), 9);
+    EXPECT_EQ(I(*p, "e"), 9);
+    EXPECT_EQ(compile_error("TYPE P : STRUCT x : INT; END_STRUCT; END_TYPE\n"
+                            "PROGRAM T\nVAR pts : ARRAY[1..2] OF P := [(z := 1)]; END_VAR\nEND_PROGRAM"),
+              "t.st:3:33: 'z' is not a member of P");
+}
+
 // ---- runtime errors ------------------------------------------------------------------------------
 
 // Outside its domain a function has no real value: the program stops as for a division by zero,
