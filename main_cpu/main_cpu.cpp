@@ -391,11 +391,15 @@ void MainCpu::cycle_thread() {
     sc_time ideal = sc_core::SC_ZERO_TIME;
     for (;;) {
         if (ideal > sc_time_stamp()) sc_core::wait(ideal - sc_time_stamp());
+        const std::string held_by = cpu_.busy() ? Processor::activity(cpu_.owner()) : "";
         cpu_.acquire(Processor::Priority::control_cycle);
         const sc_time start = sc_time_stamp();
         cycle_jitter_us_.add(to_us(start - ideal));
         ++control_cycles_;
-        if (MotionInterface* m = dispatcher_.motion()) m->control_cycle(start);
+        if (MotionInterface* m = dispatcher_.motion()) {
+            m->cycle_context(ideal, held_by);
+            m->control_cycle(start);
+        }
         // A motion layer with a cost model spends its work inside control_cycle (wait()).
         if (ProgramInterface* p = dispatcher_.program()) run_program(*p, start);
         if (config_.cycle_time > sc_core::SC_ZERO_TIME) sc_core::wait(config_.cycle_time);

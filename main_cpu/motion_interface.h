@@ -56,6 +56,13 @@ public:
     /// Called by the main CPU at the start of every control cycle (default 1 ms) at simulated time
     /// `now`; runs the function blocks and the drives.
     virtual void control_cycle(const sc_core::sc_time& now) = 0;
+    /// Called just before control_cycle: the cycle's ideal start and, when it had to wait for the
+    /// processor, the activity that held it then ("" when it was free), for the causes of a late
+    /// cycle's effects (a missed CSP SYNC).
+    virtual void cycle_context(const sc_core::sc_time& ideal, const std::string& held_by) {
+        (void)ideal;
+        (void)held_by;
+    }
     /// Actual positions of the axes in pulses (for the ST token's response).
     virtual std::vector<std::int64_t> positions() const = 0;
     /// A short state text for the ST token (e.g. "STANDSTILL", "ERRORSTOP").

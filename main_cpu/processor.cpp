@@ -51,8 +51,19 @@ void Processor::choose() {
     owned_ = true;
     busy_since_ = sc_core::sc_time_stamp();
     owner_ticket_ = best->ticket;
+    owner_prio_ = static_cast<Priority>(best->prio);
     waiters_.erase(best);
     granted_.notify(sc_core::SC_ZERO_TIME);
+}
+
+const char* Processor::activity(Priority p) {
+    switch (p) {
+    case Priority::control_cycle: return "the control cycle";
+    case Priority::interrupt: return "the INT_R handler";
+    case Priority::command: return "command processing";
+    case Priority::transmit: return "response transmission";
+    }
+    return "?";
 }
 
 sc_core::sc_time Processor::busy_time() const {

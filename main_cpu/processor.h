@@ -34,6 +34,10 @@ public:
     void release();
 
     bool busy() const { return owned_; }
+    /// The activity that holds the processor (meaningful while busy()).
+    Priority owner() const { return owner_prio_; }
+    /// The activity in words, for a verdict's cause ("the INT_R handler").
+    static const char* activity(Priority p);
     /// Total simulated time the processor was owned, up to now.
     sc_core::sc_time busy_time() const;
 
@@ -48,6 +52,7 @@ private:
     bool owned_ = false;
     bool choosing_ = false; // choose_ is notified
     std::uint64_t owner_ticket_ = 0; // ticket of the owner, or of the waiter just granted
+    Priority owner_prio_ = Priority::control_cycle;
     std::uint64_t next_ticket_ = 1;
     std::vector<Waiter> waiters_;
     sc_core::sc_event granted_, choose_;

@@ -146,16 +146,27 @@ void MotionController::csp_cycle() {
     ++csp_stats_.setpoints;
     // At its SYNC the drive takes what 0x607A holds: this set-point, or if it came too late the
     // one written in the cycle before.
-    if (sc_core::sc_time_stamp() <= sync) csp_latched_ = sp;
+    const bool missed = sc_core::sc_time_stamp() > sync;
+    if (!missed) csp_latched_ = sp;
     else csp_latched_ = csp_written_, ++csp_stats_.missed;
     csp_written_ = sp;
+    double error = 0;
     for (unsigned i = 0; i < 2; ++i) {
         drives_[i == 0 ? c.axis_x : c.axis_y].target_position = csp_latched_[i];
-        csp_stats_.max_setpoint_error = std::max(csp_stats_.max_setpoint_error, std::abs(csp_latched_[i] - want[i]));
+        error = std::max(error, std::abs(csp_latched_[i] - want[i]));
     }
+    csp_stats_.max_setpoint_error = std::max(csp_stats_.max_setpoint_error, error);
+    if (missed && !csp_stats_.first_miss)
+        csp_stats_.first_miss = CspStats::Miss{sync, sc_core::sc_time_stamp(), cycle_ideal_, cycle_start_, cycle_held_by_, error};
     const double ax = double(drives_[c.axis_x].actual_position()), ay = double(drives_[c.axis_y].actual_position());
     csp_stats_.max_actual_radial_error =
         std::max(csp_stats_.max_actual_radial_error, std::abs(std::hypot(ax + c.radius, ay) - c.radius));
+}
+
+void MotionController::cycle_context(const sc_core::sc_time& ideal, const std::string& held_by) {
+    cycle_ideal_ = ideal;
+    cycle_held_by_ = held_by;
+    context_given_ = true;
 }
 
 MotionSnapshot MotionController::snapshot() const {
@@ -181,6 +192,9 @@ void MotionController::update_mechanism() {
 }
 
 void MotionController::control_cycle(const sc_core::sc_time& now) {
+    if (!context_given_) cycle_ideal_ = now, cycle_held_by_.clear(); // called without the main CPU
+    context_given_ = false;
+    cycle_start_ = now;
     if (deferred_cost_ > sc_core::SC_ZERO_TIME) {
         const sc_core::sc_time t = deferred_cost_;
         deferred_cost_ = sc_core::SC_ZERO_TIME;
@@ -197,8 +211,11 @@ void MotionController::control_cycle(const sc_core::sc_time& now) {
     }
     update_mechanism();
     for (auto& ax : axes_) ax->cycle();
-    run_blocks();
+    // The set-point first: it is due at this period's SYNC, the blocks' work is not. Written after
+    // them it missed the SYNC whenever a late start (the INT_R handler holding the processor) and
+    // the cycle's block calls together passed the SYNC offset.
     if (cfg_.csp) csp_cycle();
+    run_blocks();
     if (circle_record_ && !circle_record_->outcome_at && (circle_.Done || circle_.Error || circle_.CommandAborted))
         circle_record_->outcome_at = sc_core::sc_time_stamp();
     if (cfg_.record) {

@@ -82,6 +82,14 @@ struct MotionSnapshot {
 /// What the CSP path did: set-points written, SYNC instants missed, and how far the set-point
 /// the drive took was from the path at its SYNC instant.
 struct CspStats {
+    /// A SYNC the set-point came too late for, and why: the cycle's start against its ideal one,
+    /// and who held the processor then.
+    struct Miss {
+        sc_core::sc_time sync, written, cycle_ideal, cycle_start;
+        std::string held_by; // "" when the processor was free at the ideal start
+        double setpoint_error = 0; // pulses: the set-point taken against the path at this SYNC
+    };
+    std::optional<Miss> first_miss;
     std::uint64_t setpoints = 0, missed = 0;
     double max_setpoint_error = 0; // pulses, per axis
     double max_actual_radial_error = 0; // pulses: the drives' actual path from the circle
@@ -113,6 +121,7 @@ public:
     // MotionInterface
     MotionReply command(const std::string& token, const std::string& data) override;
     void control_cycle(const sc_core::sc_time& now) override;
+    void cycle_context(const sc_core::sc_time& ideal, const std::string& held_by) override;
     std::vector<std::int64_t> positions() const override;
     std::string state() const override;
 
@@ -184,6 +193,9 @@ private:
     std::array<std::int32_t, 2> csp_written_{}; // the last set-points written
     bool csp_running_ = false;
     void csp_cycle();
+    sc_core::sc_time cycle_ideal_, cycle_start_; // this control cycle's (cycle_context)
+    std::string cycle_held_by_;
+    bool context_given_ = false;
     /// The CSP circle's set-point at `t` (before the start: the start point).
     std::array<double, 2> csp_point(const sc_core::sc_time& t) const;
 

@@ -27,7 +27,7 @@ const std::vector<std::string>& motion_check_names() {
     static const std::vector<std::string> names = {
         "fb_outcomes_as_expected", "final_state", "st_program_error_free", "final_positions",
         "circle_radial_error_pulses", "circle_swept_angle_rad", "circle_end_error_pulses",
-        "control_cycle_jitter_max_us", "command_latency_max_us"};
+        "control_cycle_jitter_max_us", "command_latency_max_us", "csp_missed_sync"};
     return names;
 }
 

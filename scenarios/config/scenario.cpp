@@ -412,7 +412,7 @@ void read_main_cpu(YamlMap m, MainCpuConfig& c, bool& motion, std::optional<Scen
 }
 
 void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
-    for (const char* k : {"circle", "final_state", "max_cycle_jitter_us", "max_command_latency_us"})
+    for (const char* k : {"circle", "final_state", "max_cycle_jitter_us", "max_command_latency_us", "max_csp_missed_sync"})
         if (m.has(k) && !main_motion)
             m.fail(m.child(k), "'checks." + std::string(k) + "' judges the motion layer: it needs 'main_cpu: {motion: true}'");
     c.max_overruns = m.integer("max_overruns", 0, 0, 1000000000000000);
@@ -438,6 +438,7 @@ void read_checks(YamlMap m, CheckLimits& c, bool main_motion) {
     c.motion_final_state = m.get<std::string>("final_state", "");
     if (m.has("max_cycle_jitter_us")) c.max_cycle_jitter_us = m.number("max_cycle_jitter_us", 0, 0, 1e9);
     if (m.has("max_command_latency_us")) c.max_command_latency_us = m.number("max_command_latency_us", 0, 0, 1e9);
+    c.max_csp_missed_sync = m.integer("max_csp_missed_sync", 0, 0, 1000000000000000);
     // `NAME: off` switches a check off; any other value for a check's name is an error.
     for (const std::string& name : communication_check_names()) {
         if (!m.has(name)) continue;

@@ -73,6 +73,7 @@ struct CheckLimits {
     std::string motion_final_state;           // "" = no check
     std::optional<double> max_cycle_jitter_us; // control-cycle start jitter; no check if unset
     std::optional<double> max_command_latency_us; // host ETX -> first pulse; no check if unset
+    std::uint64_t max_csp_missed_sync = 0;        // with main_cpu.csp: SYNCs whose set-point came late
 };
 
 struct Scenario {

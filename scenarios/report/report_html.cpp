@@ -529,6 +529,8 @@ void section_motion(std::ostream& o, const json& r, const HtmlOptions& opt) {
               << ju(k, "missed_sync") << " missed the drive's SYNC; set-point error max "
               << num(jd(k, "max_setpoint_error_pulses"), 2) << " pulses, actual path from the circle max "
               << num(jd(k, "max_actual_radial_error_pulses"), 2) << " pulses</p>\n";
+            if (k.contains("first_miss"))
+                o << "<p class=\"note\">First missed SYNC: " << esc(k["first_miss"].value("why", "")) << "</p>\n";
         }
     }
     motion_outcomes(o, m);

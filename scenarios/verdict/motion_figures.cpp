@@ -7,6 +7,8 @@
 #include "scenarios/verdict/checks.h"
 #include "scenarios/verdict/motion_checks.h"
 
+#include <iomanip>
+#include <sstream>
 #include <string>
 
 namespace rcsim {
@@ -16,6 +18,27 @@ namespace {
 double ms(const sc_core::sc_time& t) { return to_us(t) / 1000.0; }
 
 const char* const kNoLatency = "no scripted move command reached its first pulse";
+
+/// A simulated time as the checks' explanations print it (scenarios/verdict/checks.cpp).
+std::string at_us(const sc_core::sc_time& t) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << to_us(t) << " us";
+    return os.str();
+}
+
+/// The first missed SYNC in words: when, how late the set-point was, and what made it late.
+std::string why_csp_missed(const motion::CspStats& c) {
+    const motion::CspStats::Miss& m = *c.first_miss;
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1);
+    os << c.missed << " of " << c.setpoints << " set-points came after their drive's SYNC; the first, for the SYNC at "
+       << at_us(m.sync) << ", was written " << to_us(m.written - m.sync) << " us after it: the control cycle started "
+       << to_us(m.cycle_start - m.cycle_ideal) << " us after its ideal start "
+       << (m.held_by.empty() ? std::string("") : "(the processor held by " + m.held_by + ") ") << "and wrote it "
+       << to_us(m.written - m.cycle_start) << " us into the cycle; the drives took the set-point before, "
+       << std::setprecision(2) << m.setpoint_error << " pulses from the path";
+    return os.str();
+}
 
 /// Host ETX to first pulse, over the scripted hosts' moves (one host may script moves).
 Samples command_latency(const World& w) {
@@ -73,6 +96,14 @@ nlohmann::json motion_system_json(const World& w) {
                     {"missed_sync", c.missed},
                     {"max_setpoint_error_pulses", c.max_setpoint_error},
                     {"max_actual_radial_error_pulses", c.max_actual_radial_error}};
+        if (c.first_miss)
+            j["csp"]["first_miss"] = {{"sync_us", to_us(c.first_miss->sync)},
+                                      {"written_us", to_us(c.first_miss->written)},
+                                      {"cycle_ideal_us", to_us(c.first_miss->cycle_ideal)},
+                                      {"cycle_start_us", to_us(c.first_miss->cycle_start)},
+                                      {"held_by", c.first_miss->held_by},
+                                      {"setpoint_error_pulses", c.first_miss->setpoint_error},
+                                      {"why", why_csp_missed(c)}};
     }
     if (const auto& c = mc.last_circle()) {
         j["circle"] = {{"at_ms", ms(c->at)},
@@ -125,6 +156,20 @@ std::vector<Check> system_motion_checks(const World& w, const Scenario& s) {
         out.push_back(Check::at_most("control_cycle_jitter_max_us",
                                      j.empty() ? Figure::none("no control cycle ran") : Figure::of(j.summary().max),
                                      *L.max_cycle_jitter_us));
+    }
+    if (s.csp) {
+        // Judged by default: a set-point the drive did not take is a step in the path.
+        const motion::CspStats& c = mc.csp_stats();
+        Check k = Check::at_most("csp_missed_sync",
+                                 c.setpoints == 0 ? Figure::none("the CSP path never started")
+                                                  : Figure::of(double(c.missed)),
+                                 double(L.max_csp_missed_sync));
+        k.detail = {{"setpoints", c.setpoints}, {"max_setpoint_error_pulses", c.max_setpoint_error}};
+        if (c.first_miss) {
+            k.at = c.first_miss->sync;
+            if (k.status == Check::Status::failed) k.why = why_csp_missed(c);
+        }
+        out.push_back(std::move(k));
     }
     if (L.max_command_latency_us) {
         const Samples lat = command_latency(w);

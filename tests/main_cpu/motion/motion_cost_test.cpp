@@ -207,29 +207,51 @@ MotionConfig csp_config(double fb_us) {
 
 } // namespace
 
-// The set-point is written after the cycle's 30 block calls and the CSP computation (31 calls):
-// at 5 us a call that is 155 us into the cycle, before a SYNC at 250 us. The second controller
-// (10 us a call) starts when the first is done and writes 310 us later, at 465 us, after it:
-// every SYNC is missed and the drive takes the set-point of the cycle before, one
-// cycle of path behind: v T = 10000 pulses/s x 1 ms = 10 pulses (rounding: +-1).
-TEST(MotionCost, CspSetPointWrittenAfterTheSyncIsMissed) {
+// The set-point is the cycle's first work: written one block call (the CSP computation) into the
+// cycle, before the cycle's 30 block calls. At 10 us a call those take 300 us, past the SYNC at
+// 250 us, yet every set-point is in time (written after them, every one missed its SYNC).
+TEST(MotionCost, CspSetPointIsWrittenBeforeTheCyclesBlockCalls) {
     std::vector<CspStats> st;
-    run_many({csp_config(5), csp_config(10)}, [&](std::vector<MotionController*>& mcs) {
-        for (MotionController* mc : mcs) mc->command("SV", "1");
-        // Cycles at k x 1 ms (the ideal starts), whatever the work took; the two controllers one
-        // after the other.
-        for (int k = 0; k < 300; ++k)
-            for (MotionController* mc : mcs) {
-                const sc_time ideal(k, sc_core::SC_MS);
-                if (sc_core::sc_time_stamp() < ideal) sc_core::wait(ideal - sc_core::sc_time_stamp());
-                mc->control_cycle(sc_core::sc_time_stamp());
-            }
-        for (MotionController* mc : mcs) st.push_back(mc->csp_stats());
+    run_many({csp_config(10)}, [&](std::vector<MotionController*>& mcs) {
+        mcs[0]->command("SV", "1");
+        for (int k = 0; k < 300; ++k) {
+            const sc_time ideal(k, sc_core::SC_MS);
+            if (sc_core::sc_time_stamp() < ideal) sc_core::wait(ideal - sc_core::sc_time_stamp());
+            mcs[0]->control_cycle(sc_core::sc_time_stamp());
+        }
+        st.push_back(mcs[0]->csp_stats());
     });
-    ASSERT_EQ(st.size(), 2u);
+    ASSERT_EQ(st.size(), 1u);
     EXPECT_GT(st[0].setpoints, 280u);
     EXPECT_EQ(st[0].missed, 0u);
+    EXPECT_FALSE(st[0].first_miss);
     EXPECT_LE(st[0].max_setpoint_error, 0.5);
-    EXPECT_EQ(st[1].missed, st[1].setpoints);
-    EXPECT_NEAR(st[1].max_setpoint_error, 10.0, 1.0);
+}
+
+// A cycle that gets the processor 245 us after its ideal start writes its set-point 10 us later,
+// 5 us after the SYNC at 250 us: the drive takes the set-point of the cycle before, one cycle of
+// path behind: v T = 10000 pulses/s x 1 ms = 10 pulses (rounding: +-1). The first miss keeps
+// its SYNC, the cycle's late start and who held the processor.
+TEST(MotionCost, CspSetPointOfALateCycleMissesTheSync) {
+    std::vector<CspStats> st;
+    run_many({csp_config(10)}, [&](std::vector<MotionController*>& mcs) {
+        mcs[0]->command("SV", "1");
+        for (int k = 0; k < 300; ++k) {
+            const sc_time ideal(k, sc_core::SC_MS), start = ideal + us_(245);
+            if (sc_core::sc_time_stamp() < start) sc_core::wait(start - sc_core::sc_time_stamp());
+            mcs[0]->cycle_context(ideal, "the INT_R handler");
+            mcs[0]->control_cycle(sc_core::sc_time_stamp());
+        }
+        st.push_back(mcs[0]->csp_stats());
+    });
+    ASSERT_EQ(st.size(), 1u);
+    EXPECT_EQ(st[0].missed, st[0].setpoints);
+    EXPECT_NEAR(st[0].max_setpoint_error, 10.0, 1.0);
+    ASSERT_TRUE(st[0].first_miss);
+    const CspStats::Miss& m = *st[0].first_miss;
+    EXPECT_EQ(m.sync, sc_time(10, sc_core::SC_MS) + us_(250)); // the first cycle of the path (start 10 ms)
+    EXPECT_EQ(m.cycle_ideal, sc_time(10, sc_core::SC_MS));
+    EXPECT_EQ(m.cycle_start - m.cycle_ideal, us_(245));
+    EXPECT_EQ(m.written - m.sync, us_(5));
+    EXPECT_EQ(m.held_by, "the INT_R handler");
 }
