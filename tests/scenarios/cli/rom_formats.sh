@@ -72,6 +72,12 @@ symbols_are raw "built firmware" "$(basename "$MAP")"
 run segment --rom segment.hex || fail "segment.hex: exit $?"
 same_as_raw segment
 format_is segment "Intel HEX, 65536 bytes"
+# A UTF-8 byte order mark, as an editor writes it, before the records (issue #48: "a raw image of
+# the wrong size"): skipped, the same ROM.
+{ printf '\xEF\xBB\xBF'; cat segment.hex; } > bom.hex
+run bom --rom bom.hex || fail "bom.hex: exit $?"
+same_as_raw bom
+format_is bom "Intel HEX, 65536 bytes"
 run linear --rom linear.hex || fail "linear.hex: exit $?"
 same_as_raw linear
 # Motorola S-records as Debian's srec_cat writes them (issue #51 item 5; its default format was
