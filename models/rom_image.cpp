@@ -126,7 +126,8 @@ std::vector<std::uint8_t> one_image(const std::string& file, std::uint32_t base,
     // A text format, by its first record: Intel HEX (':') or Motorola S-records ("S0".."S9"),
     // after a UTF-8 byte order mark if an editor wrote one (it is not part of the text).
     const std::size_t bom = starts_with(b, {0xEF, 0xBB, 0xBF}) ? 3 : 0;
-    const auto first = std::find_if(b.begin() + bom, b.end(), [](std::uint8_t c) { return c != ' ' && c != '\t' && c != '\r' && c != '\n'; });
+    const auto first = std::find_if(b.begin() + bom, b.end(),
+                                    [](std::uint8_t c) { return c != ' ' && c != '\t' && c != '\r' && c != '\n'; });
     const bool intel = first != b.end() && *first == ':';
     const bool motorola = first != b.end() && *first == 'S' && first + 1 != b.end() && first[1] >= '0' && first[1] <= '9';
     // Text, or a record-like start in a file no raw image could be: a damaged text file, whose

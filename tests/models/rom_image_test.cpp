@@ -250,7 +250,8 @@ TEST(SRecord, BadRecordsAreRefusedNamingTheLineAsIntelHexOnesAre) {
     // Checksum: count 04, address 0010, data 01 sum to 15, its complement EA.
     EXPECT_EQ(error("S104001001EA\n"), "(no error)");
     EXPECT_EQ(error("S104001001EC\n"), "x.s19:1: bad checksum EC, the record's bytes give EA");
-    EXPECT_EQ(error("S105001001EA\n"), "x.s19:1: the record says 5 bytes follow and 4 do (an S1 record: 2 address bytes, data, checksum)");
+    EXPECT_EQ(error("S105001001EA\n"),
+              "x.s19:1: the record says 5 bytes follow and 4 do (an S1 record: 2 address bytes, data, checksum)");
     EXPECT_EQ(error("S10400100GEA\n"), "x.s19:1: '0G' is not a hex byte");
     EXPECT_EQ(error("S104001001E\n"), "x.s19:1: an odd number of hex digits after S1: 'S104001001E'");
     EXPECT_EQ(error("X104001001EA\n"), "x.s19:1: not an S-record (S0..S9 then pairs of hex digits): 'X104001001EA'");
@@ -264,5 +265,6 @@ TEST(SRecord, BadRecordsAreRefusedNamingTheLineAsIntelHexOnesAre) {
               "x.s19:3: the record count (S5) says 3 data records and 2 came before it");
     EXPECT_EQ(error(srecord(1, 2, 0, {1}) + srecord(9, 2, 0, {}) + srecord(1, 2, 1, {1})),
               "x.s19:3: a record after the termination record (S7, S8 or S9)");
-    EXPECT_EQ(error(srecord(0, 2, 0, {'x'}) + srecord(5, 2, 0, {})), "x.s19:2: no data record (S1, S2, S3): nothing to put in the ROM");
+    EXPECT_EQ(error(srecord(0, 2, 0, {'x'}) + srecord(5, 2, 0, {})),
+              "x.s19:2: no data record (S1, S2, S3): nothing to put in the ROM");
 }

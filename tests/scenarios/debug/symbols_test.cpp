@@ -380,9 +380,12 @@ TEST(Symbols, PublicsMapErrorsNameTheLine) {
     const std::string segments = " Start  Stop   Length Name  Class\n";
     EXPECT_THAT(error_of(segments + " FFFF0H 1000EFH 00100H _TEXT CODE\n" + head, &load_any),
                 HasSubstr(":2: segment '_TEXT' FFFF0H 1000EFH 00100H does not fit in the 8086's 1 MB"));
-    EXPECT_THAT(error_of(segments + " FFFFFFF0H FFFFFFFFH 00010H _TEXT CODE\n" + head, &load_any), HasSubstr(":2: segment '_TEXT' FFFFFFF0H"));
-    EXPECT_THAT(error_of(segments + " 00010H 0000FH FFFFFFF0H _DATA DATA\n" + head, &load_any), HasSubstr(":2: segment '_DATA' 00010H"));
-    EXPECT_THAT(error_of(segments + " F0000H FFFFFH 10000H _TEXT CODE\n" + head + " F000:0010 _x\n", &load_any), HasSubstr("(no error)"));
+    EXPECT_THAT(error_of(segments + " FFFFFFF0H FFFFFFFFH 00010H _TEXT CODE\n" + head, &load_any),
+                HasSubstr(":2: segment '_TEXT' FFFFFFF0H"));
+    EXPECT_THAT(error_of(segments + " 00010H 0000FH FFFFFFF0H _DATA DATA\n" + head, &load_any),
+                HasSubstr(":2: segment '_DATA' 00010H"));
+    EXPECT_THAT(error_of(segments + " F0000H FFFFFH 10000H _TEXT CODE\n" + head + " F000:0010 _x\n", &load_any),
+                HasSubstr("(no error)"));
     const std::string high = write(head + " F000:0010  _x\n");
     try {
         SymbolTable::load(high + "@1000");
