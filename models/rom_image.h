@@ -9,16 +9,22 @@
 //     or above the ROM's base they are the CPU's (a locator's output, F0000..FFFFF), below it they
 //     are offsets into the ROM (an EPROM programmer's view, 0000..FFFF). Bytes no record writes
 //     read 0xFF, as an erased EPROM does;
+//   - Motorola S-records: text whose first non-blank characters are S0..S9. S1/S2/S3 data at
+//     16-, 24- and 32-bit addresses, placed as Intel HEX's are; S0 ignored, S5/S6 checked
+//     against the data records before them, S7/S8/S9 end the file (their start address ignored).
+//     A text format may start with a UTF-8 byte order mark (skipped); a NUL or another binary
+//     byte in it is refused naming its line and column;
 //   - a raw image of 8, 16, 32 or 64 KB (for one EPROM of a pair: 4 .. 32 KB). A smaller image is
 //     mirrored across the ROM window, as a board that decodes only the address lines the chip
 //     has does (a 27256's 32 KB appear at F0000 and at F8000; the reset vector at FFFF0 reads the
 //     image's last 16 bytes but for the mirror);
 //   - anything else is refused, naming the file and what was found: an ELF file or a DOS .EXE
-//     (with the command that converts it), text that is not Intel HEX, another size.
+//     (with the command that converts it), text that is not Intel HEX or S-records, another size.
 //
 // An even/odd pair is two 8-bit EPROMs on the 16-bit bus: the even one on D0-D7 holds the bytes at
-// even addresses, the odd one on D8-D15 those at odd addresses. Each is read as above (raw or
-// Intel HEX, device offsets) for half the window, and they are interleaved.
+// even addresses, the odd one on D8-D15 those at odd addresses. Each is read as above (raw, Intel
+// HEX or S-records, device offsets) for half the window, and they are interleaved; two raw images
+// must be of one size (a 32 KB and a 16 KB one would be mirrored differently).
 //
 // Plain C++ (no SystemC): bad input throws ConfigError naming the file and the line or offset.
 #pragma once
@@ -49,5 +55,10 @@ RomImage read_rom_image(const RomSource& src, std::uint32_t base, std::size_t wi
 /// `file` names the text in errors. Throws ConfigError naming the line.
 std::vector<std::uint8_t> parse_intel_hex(const std::string& text, const std::string& file, std::uint32_t base,
                                           std::size_t window, std::size_t* written = nullptr);
+
+/// The same for Motorola S-records (S19, S28, S37): S1/S2/S3 data records at 16-, 24- and 32-bit
+/// addresses, S0 (header) and S7/S8/S9 (start address) ignored, S5/S6 (record count) checked.
+std::vector<std::uint8_t> parse_srecord(const std::string& text, const std::string& file, std::uint32_t base,
+                                        std::size_t window, std::size_t* written = nullptr);
 
 } // namespace rcsim

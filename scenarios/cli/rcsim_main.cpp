@@ -46,6 +46,8 @@ int sc_main(int argc, char* argv[]) {
     CLI::App app{"rcsim — cycle-accurate co-simulation of a two-CPU robot controller"};
     app.require_subcommand(1);
     app.footer(rcsim::kExitCodesHelp);
+    // One line per error (issue #48): CLI11's own adds "Run with --help for more information."
+    app.failure_message([](const CLI::App*, const CLI::Error& e) { return "rcsim: " + std::string(e.what()) + "\n"; });
 
     auto* version = app.add_subcommand("version", "Print the rcsim and SystemC versions");
     version->callback([] {

@@ -1,6 +1,8 @@
 // rcsim — symbol tables from ld86, nasm and "Publics by Value" maps and from the simple text format (symbols.h).
 #include "scenarios/debug/symbols.h"
 
+#include "models/plumbing/hex.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -47,9 +49,28 @@ bool valid_name(const std::string& s) {
 /// nasm's identifiers (letters, digits and _ $ # @ ~ . ?; a digit, $ or # not first), which also
 /// covers the C and assembler names of a linker's map.
 bool valid_map_name(const std::string& s) {
-    auto first = [](unsigned char c) { return std::isalpha(c) || std::strchr("_.?@", c) != nullptr; };
-    auto rest = [](unsigned char c) { return std::isalnum(c) || std::strchr("_$#@~.?", c) != nullptr; };
+    // (strchr finds a NUL too: the terminator.)
+    auto first = [](unsigned char c) { return std::isalpha(c) || (c != 0 && std::strchr("_.?@", c) != nullptr); };
+    auto rest = [](unsigned char c) { return std::isalnum(c) || (c != 0 && std::strchr("_$#@~.?", c) != nullptr); };
     return !s.empty() && first(s[0]) && std::all_of(s.begin() + 1, s.end(), rest);
+}
+
+/// `s` with control bytes as \xNN: a NUL in a message would cut what() short.
+std::string shown(const std::string& s) {
+    std::string out;
+    for (const unsigned char c : s) out += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : "\\x" + rcsim::hex(c);
+    return out;
+}
+
+/// A line of a map or symbol file holds text: a NUL or another control byte (but the white space
+/// of a text file) is refused where it is, not taken into a name (issue #48).
+void check_text(const std::string& line, const std::string& where) {
+    const auto bad = std::find_if(line.begin(), line.end(), [](unsigned char c) {
+        return (c < 0x20 && c != '\t' && c != '\r' && c != '\v' && c != '\f') || c == 0x7F;
+    });
+    if (bad != line.end())
+        throw SymbolError(where + ": byte " + rcsim::hex(static_cast<unsigned char>(*bad)) + (*bad == 0 ? " (NUL)" : "") +
+                          " at column " + std::to_string(bad - line.begin() + 1) + ": a map or symbol file is text");
 }
 
 std::string plain(const std::string& name) { return name.size() > 1 && name[0] == '_' ? name.substr(1) : name; }
@@ -87,19 +108,29 @@ void SymbolTable::sort() {
     }
 }
 
+// One walk from the last symbol back: for each kind, the address of the nearest symbol after
+// the one at hand and the next higher address after that one, so aliases (many names at one
+// address) find their end without a scan each (issue #48: 100 000 aliases took 27 s).
 void SymbolTable::fill_sizes(std::uint32_t code_end, std::uint32_t data_end) {
     sort(); // (the symbols a loader appended)
-    for (std::size_t i = 0; i < symbols_.size(); ++i) {
+    struct Ahead {
+        bool seen = false;
+        std::uint32_t nearest = 0; // the address of the closest symbol of the kind after this one
+        std::uint32_t above = 0;   // the lowest address of the kind above `nearest`, if `higher`
+        bool higher = false;
+    };
+    Ahead ahead[2];
+    for (std::size_t i = symbols_.size(); i-- > 0;) {
         Symbol& s = symbols_[i];
-        if (s.size != 0) continue;
-        std::uint32_t end = s.kind == Symbol::Kind::code ? code_end : data_end;
-        for (std::size_t j = i + 1; j < symbols_.size(); ++j) {
-            if (symbols_[j].kind == s.kind && symbols_[j].address > s.address) {
-                end = symbols_[j].address;
-                break;
-            }
+        Ahead& k = ahead[s.kind == Symbol::Kind::code ? 0 : 1];
+        if (s.size == 0) {
+            std::uint32_t end = s.kind == Symbol::Kind::code ? code_end : data_end;
+            if (k.seen && k.nearest > s.address) end = k.nearest;
+            else if (k.seen && k.higher) end = k.above; // k.nearest == s.address: an alias
+            s.size = end > s.address ? end - s.address : 0;
         }
-        s.size = end > s.address ? end - s.address : 0;
+        if (k.seen && k.nearest != s.address) k.above = k.nearest, k.higher = true;
+        k.nearest = s.address, k.seen = true;
     }
     sort();
 }
@@ -150,6 +181,7 @@ SymbolTable SymbolTable::load_ld86_map(const std::string& path, const Ld86Layout
     int n = 0;
     while (std::getline(in, line)) {
         ++n;
+        check_text(line, at(path, n));
         const auto t = tokens(line);
         if (t.empty() || (t.size() >= 3 && t[0] == "Total" && t[1] == "memory")) continue;
         if (t.size() < 5 || t.size() > 6 || (t.size() == 6 && t[5] != "C"))
@@ -224,6 +256,7 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
     std::uint32_t code_end = 0, data_end = 0;
     while (std::getline(in, line)) {
         ++n;
+        check_text(line, at(path, n));
         const auto t = tokens(line);
         if (t.empty()) continue;
         if (!header_seen) {
@@ -256,13 +289,13 @@ SymbolTable SymbolTable::load_nasm_map(const std::string& path, std::uint32_t ba
             if (t.size() != 2) throw SymbolError(at(path, n) + ": not a 'Value Name' constant line");
             // 16 hex digits for a negative one (-1 is FFFFFFFFFFFFFFFF).
             if (!is_hex(t[0]) || t[0].size() > 16) throw SymbolError(at(path, n) + ": bad value '" + t[0] + "' (hex digits)");
-            if (!valid_map_name(t[1])) throw SymbolError(at(path, n) + ": bad constant name '" + t[1] + "'");
+            if (!valid_map_name(t[1])) throw SymbolError(at(path, n) + ": bad constant name '" + shown(t[1]) + "'");
             table.add_constant({t[1], std::stoull(t[0], nullptr, 16)}, at(path, n));
         } else if (part.rfind("Symbols ", 0) == 0 && t[0] != "Real") {
             if (t.size() != 3) throw SymbolError(at(path, n) + ": not a 'Real Virtual Name' symbol line");
             const std::uint32_t real = parse_hex(t[0], at(path, n), "address");
             const std::uint32_t virt = parse_hex(t[1], at(path, n), "address");
-            if (!valid_map_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + t[2] + "'");
+            if (!valid_map_name(t[2])) throw SymbolError(at(path, n) + ": bad symbol name '" + shown(t[2]) + "'");
             auto sec = sections.find(section);
             const bool nobits = sec != sections.end() && sec->second.nobits;
             Symbol s;
@@ -303,11 +336,17 @@ bool parse_hex_h(const std::string& s, std::uint32_t& value) {
     return true;
 }
 
-bool read_segment_row(const std::vector<std::string>& t, MapSegment& segment) {
+bool read_segment_row(const std::vector<std::string>& t, MapSegment& segment, const std::string& where) {
     std::uint32_t stop = 0;
     if (t.size() < 4 || !parse_hex_h(t[0], segment.start) || !parse_hex_h(t[1], stop) ||
         !parse_hex_h(t[2], segment.length))
         return false;
+    // Start, stop and length are linear addresses and a size in the 8086's 1 MB: more does not fit
+    // (and start + length would wrap the arithmetic of the regions' ends).
+    if (segment.start > 0xFFFFF || stop > 0xFFFFF || segment.length > 0x100000 ||
+        segment.start + segment.length > 0x100000)
+        throw SymbolError(where + ": segment '" + shown(t[3]) + "' " + t[0] + " " + t[1] + " " + t[2] +
+                          " does not fit in the 8086's 1 MB (start + length at most 100000H)");
     std::string cls = t.size() >= 5 ? t[4] : "";
     std::transform(cls.begin(), cls.end(), cls.begin(), [](unsigned char c) { return char(std::toupper(c)); });
     segment.code = cls.size() >= 4 && cls.compare(cls.size() - 4, 4, "CODE") == 0;
@@ -336,7 +375,7 @@ PublicRow read_public_row(const std::vector<std::string>& t, const std::string& 
     row.segment = std::uint32_t(std::stoul(seg, nullptr, 16));
     row.offset = std::uint32_t(std::stoul(off, nullptr, 16));
     row.name = t.back();
-    if (!valid_map_name(row.name)) throw SymbolError(where + ": bad symbol name '" + row.name + "'");
+    if (!valid_map_name(row.name)) throw SymbolError(where + ": bad symbol name '" + shown(row.name) + "'");
     // Between address and name, a linker's remarks: Abs (an absolute value), Idle, Res, a type.
     for (std::size_t i = 1; i + 1 < t.size(); ++i)
         if (t[i] == "Abs" || t[i] == "ABS" || t[i] == "abs") row.absolute = true;
@@ -358,6 +397,7 @@ SymbolTable SymbolTable::load_publics_map(const std::string& path, std::uint16_t
     bool in_publics = false, heading_seen = false;
     while (std::getline(in, line)) {
         ++n;
+        check_text(line, at(path, n));
         const auto t = tokens(line);
         if (t.empty()) continue;
         if (is_publics_heading(t)) {
@@ -366,7 +406,7 @@ SymbolTable SymbolTable::load_publics_map(const std::string& path, std::uint16_t
         }
         MapSegment segment;
         if (!in_publics) {
-            if (read_segment_row(t, segment)) segments.push_back(segment);
+            if (read_segment_row(t, segment, at(path, n))) segments.push_back(segment);
             continue;
         }
         if (!std::isxdigit(static_cast<unsigned char>(t[0][0])) ||
@@ -430,13 +470,14 @@ SymbolTable SymbolTable::load_text(const std::string& path) {
     int n = 0;
     while (std::getline(in, line)) {
         ++n;
+        check_text(line, at(path, n));
         const auto hash = line.find('#');
         const auto t = tokens(hash == std::string::npos ? line : line.substr(0, hash));
         if (t.empty()) continue;
         const std::string where = at(path, n);
         if (t.size() > 4) throw SymbolError(where + ": too many fields (NAME ADDRESS [SIZE [code|data]])");
         if (t.size() < 2) throw SymbolError(where + ": missing ADDRESS (NAME ADDRESS [SIZE [code|data]])");
-        if (!valid_name(t[0])) throw SymbolError(where + ": bad symbol name '" + t[0] + "'");
+        if (!valid_name(t[0])) throw SymbolError(where + ": bad symbol name '" + shown(t[0]) + "'");
         Symbol s;
         s.name = t[0];
         const std::string& a = t[1];

@@ -69,6 +69,31 @@ std::string error_of(const RomSource& src) {
     return "(no error)";
 }
 
+/// One Motorola S-record: "S" TYPE, the count of the bytes after it, the address in `address_bytes`
+/// bytes, the data and the checksum, the ones' complement of the low byte of the sum of the count,
+/// address and data bytes (the format's definition, as srec_cat writes it).
+std::string srecord(unsigned type, unsigned address_bytes, std::uint32_t address, const std::vector<unsigned>& data) {
+    std::vector<unsigned> b = {static_cast<unsigned>(address_bytes + data.size() + 1)};
+    for (unsigned i = address_bytes; i-- > 0;) b.push_back(address >> (8 * i) & 0xFF);
+    b.insert(b.end(), data.begin(), data.end());
+    unsigned sum = 0;
+    for (unsigned x : b) sum += x;
+    b.push_back(~sum & 0xFF);
+    std::string s = "S" + std::to_string(type);
+    char hex[3];
+    for (unsigned x : b) std::snprintf(hex, sizeof hex, "%02X", x), s += hex;
+    return s + "\n";
+}
+
+std::string srec_error(const std::string& text, const std::string& file) {
+    try {
+        parse_srecord(text, file, kBase, kWindow);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
 } // namespace
 
 TEST(RomImage, ARaw64KbImageIsTheRom) {
@@ -171,4 +196,75 @@ TEST(RomImage, APairOfSmallerEpromsIsMirroredEachWithinItsHalf) {
     // Byte address 2i comes from even[i mod 8K]: F0000 + 0xFFF0 reads even[0x7FF8 mod 0x2000].
     EXPECT_EQ(img.bytes[0xFFF0], static_cast<std::uint8_t>(even[0x7FF8 % 0x2000]));
     EXPECT_EQ(img.bytes[0xFFF1], static_cast<std::uint8_t>(odd[0x7FF8 % 0x2000]));
+}
+
+// Issue #48: pairs of EPROMs of different sizes were mirrored each in its own way, silently.
+TEST(RomImage, APairOfDifferentSizesIsRefusedNamingBothFilesAndSizes) {
+    const std::string e32 = file_with("e32.bin", binary(0x8000)), o16 = file_with("o16.bin", binary(0x4000)),
+                      o8 = file_with("o8.bin", binary(0x2000));
+    EXPECT_EQ(error_of({e32, o16}), "even/odd EPROM pair of different sizes: " + e32 + " (even) is 32 KB, " + o16 +
+                                        " (odd) is 16 KB; an even/odd pair is two EPROMs of one size");
+    EXPECT_EQ(error_of({o8, e32}), "even/odd EPROM pair of different sizes: " + o8 + " (even) is 8 KB, " + e32 +
+                                       " (odd) is 32 KB; an even/odd pair is two EPROMs of one size");
+}
+
+// Issue #48: a HEX file with a byte order mark or a NUL was "a raw image of the wrong size". The
+// mark an editor writes is not part of the text and is skipped; a NUL is named where it is.
+TEST(IntelHex, AByteOrderMarkIsSkippedAndANulIsNamedByLineAndColumn) {
+    const std::string text = record(0x00, 0x0010, {0xAB}) + kEof;
+    const RomImage img = read_rom_image({file_with("bom.hex", "\xEF\xBB\xBF" + text), {}}, kBase, kWindow);
+    EXPECT_EQ(img.format, "Intel HEX, 1 bytes");
+    EXPECT_EQ(img.bytes[0x10], 0xAB);
+    const std::string nul = file_with("nul.hex", text + std::string(":0000\0", 6) + "0001FF\n");
+    EXPECT_EQ(error_of({nul, {}}), nul + ":3: byte 00 (NUL) at column 6: Intel HEX is text");
+    const std::string first = file_with("nul1.hex", ":1000\x01" + text);
+    EXPECT_EQ(error_of({first, {}}), first + ":1: byte 01 at column 6: Intel HEX is text");
+    // A raw image of a raw size whose first byte happens to be ':' is still a raw image.
+    std::string raw = binary(0x2000);
+    raw[0] = ':';
+    EXPECT_EQ(read_rom_image({file_with("colon.bin", raw), {}}, kBase, kWindow).format, "raw 8 KB, mirrored 8x across 64 KB");
+}
+
+// S-records as srec_cat writes them (S0 header, S1/S2/S3 data, S5 count, S7/S8/S9 optional).
+TEST(SRecord, S19S28AndS37ArePlacedByTheirAddresses) {
+    const std::string s0 = srecord(0, 2, 0, {'r', 'c'}), s5 = srecord(5, 2, 1, {});
+    // S1: 16-bit device offsets; S2 and S3: the CPU's F0000..FFFFF.
+    for (const std::string& text : {s0 + srecord(1, 2, 0xFFF0, {0xEA, 0x00}) + s5 + srecord(9, 2, 0, {}),
+                                    s0 + srecord(2, 3, 0xFFFF0, {0xEA, 0x00}) + s5 + srecord(8, 3, 0xFFFF0, {}),
+                                    s0 + srecord(3, 4, 0xFFFF0, {0xEA, 0x00}) + s5 + srecord(7, 4, 0xFFFF0, {}),
+                                    srecord(3, 4, 0xFFFF0, {0xEA, 0x00})}) {
+        std::size_t written = 0;
+        const std::vector<std::uint8_t> rom = parse_srecord(text, "s.srec", kBase, kWindow, &written);
+        EXPECT_EQ(written, 2u) << text;
+        EXPECT_EQ(rom[0xFFF0], 0xEA) << text;
+        EXPECT_EQ(rom[0xFFF1], 0x00) << text;
+        EXPECT_EQ(rom[0xFFEF], 0xFF) << text; // unwritten: erased
+    }
+    const RomImage img = read_rom_image({file_with("fw.s19", s0 + srecord(1, 2, 0x10, {1, 2, 3}) + s5), {}}, kBase, kWindow);
+    EXPECT_EQ(img.format, "Motorola S-records, 3 bytes");
+    EXPECT_EQ(img.bytes[0x12], 3);
+}
+
+TEST(SRecord, BadRecordsAreRefusedNamingTheLineAsIntelHexOnesAre) {
+    auto error = [](const std::string& text) { return srec_error(text, "x.s19"); };
+    // Checksum: count 04, address 0010, data 01 sum to 15, its complement EA.
+    EXPECT_EQ(error("S104001001EA\n"), "(no error)");
+    EXPECT_EQ(error("S104001001EC\n"), "x.s19:1: bad checksum EC, the record's bytes give EA");
+    EXPECT_EQ(error("S105001001EA\n"),
+              "x.s19:1: the record says 5 bytes follow and 4 do (an S1 record: 2 address bytes, data, checksum)");
+    EXPECT_EQ(error("S10400100GEA\n"), "x.s19:1: '0G' is not a hex byte");
+    EXPECT_EQ(error("S104001001E\n"), "x.s19:1: an odd number of hex digits after S1: 'S104001001E'");
+    EXPECT_EQ(error("X104001001EA\n"), "x.s19:1: not an S-record (S0..S9 then pairs of hex digits): 'X104001001EA'");
+    EXPECT_EQ(error(srecord(4, 2, 0, {1})), "x.s19:1: record type S4 is reserved, not one of S0..S3, S5..S9");
+    EXPECT_EQ(error(srecord(1, 2, 0x100, {1, 2}) + srecord(1, 2, 0x101, {3})),
+              "x.s19:2: address 00101 again: line 1 wrote it (overlapping records)");
+    EXPECT_EQ(error(srecord(2, 3, 0xE0000, {1})), "x.s19:1: address E0000 is outside the ROM (offsets 0..FFFF)");
+    EXPECT_EQ(error(srecord(2, 3, 0xF0000, {1}) + srecord(2, 3, 0xFFFFF, {1, 2})),
+              "x.s19:2: address 100000 is outside the ROM (F0000..FFFFF)");
+    EXPECT_EQ(error(srecord(1, 2, 0, {1}) + srecord(1, 2, 1, {1}) + srecord(5, 2, 3, {})),
+              "x.s19:3: the record count (S5) says 3 data records and 2 came before it");
+    EXPECT_EQ(error(srecord(1, 2, 0, {1}) + srecord(9, 2, 0, {}) + srecord(1, 2, 1, {1})),
+              "x.s19:3: a record after the termination record (S7, S8 or S9)");
+    EXPECT_EQ(error(srecord(0, 2, 0, {'x'}) + srecord(5, 2, 0, {})),
+              "x.s19:2: no data record (S1, S2, S3): nothing to put in the ROM");
 }

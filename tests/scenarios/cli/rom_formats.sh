@@ -2,7 +2,7 @@
 # The shipped ROM as a firmware team has it (docs/tools.md "ROM images"): a raw 64 KB image, Intel
 # HEX with segment (02) records as Debian's objcopy writes it, Intel HEX with linear (04) records
 # written here from the specification's layout, and an even/odd EPROM pair; each run gives the same
-# report, but for the ROM's name and format. A 32 KB image runs mirrored and says so; the scenario's
+# report, but for the ROM's name and format; so do srec_cat's S19, S28 and S37. A 32 KB image runs mirrored and says so; the scenario's
 # `rom: {even, odd}` is the pair; each is the built firmware by its bytes and gets its map; an ELF, text and a lone --rom-odd are bad input (exit 2).
 #
 # Usage: rom_formats.sh RCSIM ROM SCENARIO MAP (MAP: the built ROM's ld86 map)
@@ -72,8 +72,28 @@ symbols_are raw "built firmware" "$(basename "$MAP")"
 run segment --rom segment.hex || fail "segment.hex: exit $?"
 same_as_raw segment
 format_is segment "Intel HEX, 65536 bytes"
+# A UTF-8 byte order mark, as an editor writes it, before the records (issue #48: "a raw image of
+# the wrong size"): skipped, the same ROM.
+{ printf '\xEF\xBB\xBF'; cat segment.hex; } > bom.hex
+run bom --rom bom.hex || fail "bom.hex: exit $?"
+same_as_raw bom
+format_is bom "Intel HEX, 65536 bytes"
 run linear --rom linear.hex || fail "linear.hex: exit $?"
 same_as_raw linear
+# Motorola S-records as Debian's srec_cat writes them (issue #51 item 5; its default format was
+# refused as a raw image of the wrong size): S19 with the EPROM's offsets 0000..FFFF, S28 and S37
+# with the CPU's F0000..FFFFF; srec_cat's S0 header and S5 record count come with each.
+srec_cat raw.rom -binary -o fw.s19 -motorola -address-length=2 || fail "srec_cat S19"
+srec_cat raw.rom -binary -offset 0xF0000 -o fw.s28 -motorola -address-length=3 || fail "srec_cat S28"
+srec_cat raw.rom -binary -offset 0xF0000 -o fw.s37 -motorola -address-length=4 -execution-start-address=0xFFFF0 || fail "srec_cat S37"
+for f in s19:S1 s28:S2 s37:S3; do
+    grep -q "^${f#*:}" "fw.${f%:*}" && grep -q '^S0' "fw.${f%:*}" && grep -q '^S5' "fw.${f%:*}" || fail "srec_cat wrote no ${f#*:} records with S0 and S5 in fw.${f%:*}"
+    run "${f%:*}" --rom "fw.${f%:*}" || fail "fw.${f%:*}: exit $?"
+    same_as_raw "${f%:*}"
+    format_is "${f%:*}" "Motorola S-records, 65536 bytes"
+    symbols_are "${f%:*}" "built firmware" "$(basename "$MAP")"
+done
+grep -q '^S7' fw.s37 || fail "srec_cat wrote no S7 (start address) record"
 run pair --rom even.bin --rom-odd odd.bin || fail "the pair: exit $?"
 same_as_raw pair
 symbols_are pair "built firmware" "$(basename "$MAP")"
@@ -118,5 +138,17 @@ bad "--rom-odd alone" "--rom-odd needs --rom" --rom-odd odd.bin
 printf ':02000004000FEB\n:04FFFE0001020304F5\n:00000001FF\n' > past_end.hex
 bad "a linear record past FFFFF" "past_end.hex:2: address 100000 is outside the ROM (F0000..FFFFF)" --rom past_end.hex
 
-[ "$failures" -eq 0 ] && echo "rom formats: raw, Intel HEX (02 and 04), even/odd pair give one report"
+# S-records with the errors of Intel HEX, naming the line (the second record of each file here).
+sed '2s/..$/00/' fw.s19 > badsum.s19
+grep -q '^S1.*00$' badsum.s19 && ! cmp -s fw.s19 badsum.s19 || fail "sed did not break line 2's checksum"
+bad "an S-record with a bad checksum" "badsum.s19:2: bad checksum 00, the record's bytes give" --rom badsum.s19
+{ sed -n 1,2p fw.s37; sed -n 2p fw.s37; } > overlap.s37
+bad "overlapping S-records" "overlap.s37:3: address F0000 again: line 2 wrote it (overlapping records)" --rom overlap.s37
+# Issue #48: a NUL in a HEX file is named where it is; EPROMs of two sizes are not a pair.
+{ head -n 2 segment.hex; printf ':00000001\0FF\n'; } > nul.hex
+bad "a NUL in Intel HEX" "nul.hex:3: byte 00 (NUL) at column 10: Intel HEX is text" --rom nul.hex
+head -c 16384 odd.bin > odd16.bin
+bad "a 32/16 KB pair" "even/odd EPROM pair of different sizes: even.bin (even) is 32 KB, odd16.bin (odd) is 16 KB" --rom even.bin --rom-odd odd16.bin
+
+[ "$failures" -eq 0 ] && echo "rom formats: raw, Intel HEX (02 and 04), S19/S28/S37, even/odd pair give one report"
 [ "$failures" -eq 0 ]
