@@ -6,6 +6,7 @@
 #include "scenarios/host/tcp_host.h"
 #include "models/plumbing/stop_signal.h"
 
+#include <csignal>
 #include <cstdarg>
 #include <cstdio>
 #include <ostream>
@@ -510,7 +511,13 @@ void GdbStub::serve(const RspDecoder::Event& e) {
     case GdbSession::Resume::step: stepping_ = true; break;
     case GdbSession::Resume::cont: break;
     case GdbSession::Resume::detach: drop_client("the debugger detached"); break;
-    case GdbSession::Resume::kill: drop_client("the debugger killed the target (the simulation is not ended by gdb)"); break;
+    case GdbSession::Resume::kill:
+        // gdb's `kill`: the run ends here as on SIGTERM (stop_signal.h: every report written,
+        // `interrupted`, exit 143). The handler rcsim run installed takes it.
+        log_ << "gdb: the debugger killed the target: the run ends (as on SIGTERM)" << std::endl;
+        drop_client("");
+        std::raise(SIGTERM);
+        break;
     }
     resume_ = true;
 }

@@ -36,7 +36,9 @@
 //   * Connection lines on stderr (attached, dropped, disconnected) are rate-limited: at most
 //     kMaxConnectionLines per kConnectionLogWindow, the rest counted in one line.
 //   * Garbage from an attached debugger is answered with '-' and a note on stderr; a disconnect
-//     drops the breakpoints and lets the run go on; the next debugger may connect.
+//     drops the breakpoints and lets the run go on; the next debugger may connect. gdb's `kill`
+//     ends the run as SIGTERM does (reports written, `interrupted`, exit 143); `detach` leaves it
+//     running.
 #pragma once
 
 #include "scenarios/debug/gdb_protocol.h"
