@@ -19,8 +19,10 @@ struct GdbOptions {
 };
 
 /// Set up before run_scenario(): reads the ROM's symbols (debug::rom_symbols: the file named, or
-/// the built firmware's map when the run's ROM is the built firmware), writes them as OUT/symbols.elf for gdb's `symbol-file`, and
-/// makes `options.on_world` start the stub on the assembled board. Keep it alive across
+/// the built firmware's map when the run's ROM is the built firmware), writes them as
+/// OUT/symbols.elf (its data symbols typed from the C declarations), the unwinder as
+/// OUT/rcsim-gdb.py, and makes `options.on_world` start the stub on the assembled board and write
+/// OUT/rcsim.gdb, the command file `gdb -x` reads: it loads both and connects. Keep it alive across
 /// run_scenario() and call finish() with its exit code. Throws ConfigError on bad input.
 class GdbRun {
 public:
@@ -28,8 +30,11 @@ public:
            std::ostream& log);
     void finish(int exit_code);
     const SymbolTable& symbols() const { return symbols_; }
+    static constexpr const char* kCommandFile = "rcsim.gdb";
 
 private:
+    void write_command_file(const std::string& dir) const;
+
     GdbStubConfig config_;
     SymbolTable symbols_;
     std::unique_ptr<GdbStub> stub_;

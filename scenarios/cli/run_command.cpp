@@ -82,7 +82,8 @@ void add_run_command(CLI::App& app) {
     cmd->add_flag("-v,--verbose", args->verbose, "Print the models' informational notes");
     auto* gdb = cmd->add_option("--gdb", args->gdb.listen,
                                 "Serve gdb's remote protocol on [HOST:]PORT (127.0.0.1 unless HOST; docs/tools.md)");
-    auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait, "With --gdb: hold the board before the first instruction until gdb connects");
+    auto* gdb_wait = cmd->add_flag("--gdb-wait", args->gdb.wait,
+                                   "With --gdb: hold the board before the first instruction until a debugger attaches");
     auto* monitor = cmd->add_option("--monitor", args->monitor,
                                     "Serve the live page and JSON API on [HOST:]PORT (127.0.0.1 unless given; docs/monitor.md)");
     auto* modbus = cmd->add_option("--modbus", args->modbus,

@@ -2,6 +2,8 @@
 // Files" (ELF32 header, section header, symbol table entry).
 #include "scenarios/debug/elf_symbols.h"
 
+#include "scenarios/debug/dwarf_types.h"
+
 #include <fstream>
 
 namespace rcsim::debug {
@@ -10,12 +12,12 @@ namespace {
 
 // ELF constants used here (System V ABI).
 constexpr std::uint16_t ET_EXEC = 2, EM_NONE = 0; // EM_NONE: elf_symbols.h says why
-constexpr std::uint32_t SHT_SYMTAB = 2, SHT_STRTAB = 3, SHT_NOBITS = 8;
+constexpr std::uint32_t SHT_PROGBITS = 1, SHT_SYMTAB = 2, SHT_STRTAB = 3, SHT_NOBITS = 8;
 constexpr std::uint32_t SHF_WRITE = 1, SHF_ALLOC = 2, SHF_EXECINSTR = 4;
 constexpr std::uint8_t STB_LOCAL = 0, STB_GLOBAL = 1, STT_OBJECT = 1, STT_FUNC = 2;
 constexpr unsigned kEhdr = 52, kShdr = 40, kSym = 16;
 
-enum Section : std::uint16_t { s_null, s_text, s_data, s_symtab, s_strtab, s_shstrtab, s_count };
+enum Section : std::uint16_t { s_null, s_text, s_data, s_symtab, s_strtab, s_shstrtab, s_abbrev, s_info, s_count };
 
 class Out {
 public:
@@ -48,7 +50,7 @@ struct SectionHeader {
 
 } // namespace
 
-std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
+std::vector<std::uint8_t> elf_image(const SymbolTable& table, const std::map<std::string, CType>& declarations) {
     StringTable shstr, str;
     SectionHeader sh[s_count];
     sh[s_text] = {shstr.add(".text"), SHT_NOBITS, SHF_ALLOC | SHF_EXECINSTR, SymbolTable::rom_base, 0,
@@ -57,6 +59,9 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     sh[s_symtab].name = shstr.add(".symtab");
     sh[s_strtab].name = shstr.add(".strtab");
     sh[s_shstrtab].name = shstr.add(".shstrtab");
+    sh[s_abbrev].name = shstr.add(".debug_abbrev");
+    sh[s_info].name = shstr.add(".debug_info");
+    const DwarfSections dwarf = dwarf_variables(table, declarations);
 
     // The symbol table: the null entry, the local symbols (C statics), then the globals: the ABI
     // wants every STB_LOCAL entry before the first global, whose index is the table's sh_info.
@@ -79,7 +84,8 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     }
     const auto symtab = syms.take();
 
-    // File layout: header, .symtab, .strtab, .shstrtab, section headers (4-byte aligned).
+    // File layout: header, .symtab, .strtab, .shstrtab, .debug_abbrev, .debug_info, section
+    // headers (4-byte aligned).
     std::uint32_t at = kEhdr;
     sh[s_symtab] = {sh[s_symtab].name, SHT_SYMTAB, 0, 0, at, std::uint32_t(symtab.size()), s_strtab, first_global, 4, kSym};
     at += sh[s_symtab].size;
@@ -87,6 +93,10 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     at += sh[s_strtab].size;
     sh[s_shstrtab] = {sh[s_shstrtab].name, SHT_STRTAB, 0, 0, at, std::uint32_t(shstr.text.size()), 0, 0, 1, 0};
     at += sh[s_shstrtab].size;
+    sh[s_abbrev] = {sh[s_abbrev].name, SHT_PROGBITS, 0, 0, at, std::uint32_t(dwarf.abbrev.size()), 0, 0, 1, 0};
+    at += sh[s_abbrev].size;
+    sh[s_info] = {sh[s_info].name, SHT_PROGBITS, 0, 0, at, std::uint32_t(dwarf.info.size()), 0, 0, 1, 0};
+    at += sh[s_info].size;
     const std::uint32_t shoff = (at + 3) & ~3u;
 
     Out f;
@@ -111,6 +121,8 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     for (auto b : symtab) f.u8(b);
     f.bytes(str.text);
     f.bytes(shstr.text);
+    for (auto b : dwarf.abbrev) f.u8(b);
+    for (auto b : dwarf.info) f.u8(b);
     while (f.size() < shoff) f.u8(0);
     for (const SectionHeader& h : sh) {
         for (std::uint32_t v : {h.name, h.type, h.flags, h.addr, h.offset, h.size, h.link, h.info, h.align, h.entsize})
@@ -119,8 +131,8 @@ std::vector<std::uint8_t> elf_image(const SymbolTable& table) {
     return f.take();
 }
 
-void write_elf(const SymbolTable& table, const std::string& path) {
-    const auto image = elf_image(table);
+void write_elf(const SymbolTable& table, const std::string& path, const std::map<std::string, CType>& declarations) {
+    const auto image = elf_image(table, declarations);
     std::ofstream out(path, std::ios::binary);
     out.write(reinterpret_cast<const char*>(image.data()), std::streamsize(image.size()));
     out.close();

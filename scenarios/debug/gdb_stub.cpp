@@ -6,6 +6,7 @@
 #include "scenarios/host/tcp_host.h"
 #include "models/plumbing/stop_signal.h"
 
+#include <csignal>
 #include <cstdarg>
 #include <cstdio>
 #include <ostream>
@@ -155,7 +156,9 @@ GdbStub::GdbStub(const GdbStubConfig& config, CommBoard& board, RealtimePacer* p
     acceptor_.open(ep.protocol(), ec);
     if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
     if (!ec) acceptor_.bind(ep, ec);
-    if (!ec) acceptor_.listen(1, ec);
+    // One debugger at a time, but a backlog of a few: peers that are no debuggers, each dropped
+    // at once, queue instead of waiting a second for the kernel's SYN-ACK retries.
+    if (!ec) acceptor_.listen(8, ec);
     if (ec) throw ConfigError("--gdb " + config_.address + ":" + std::to_string(config_.port) + ": cannot listen: " + ec.message());
     arm_accept();
     waiting_first_ = config_.wait;
@@ -185,9 +188,12 @@ void GdbStub::arm_accept() {
         boost::system::error_code ignore;
         socket_->set_option(tcp::no_delay(true), ignore);
         closed_ = false;
-        fresh_client_ = true;
+        fresh_client_ = true; // not yet a debugger: the board runs on (gdb_stub.h)
+        connected_at_ = std::chrono::steady_clock::now();
+        greeting_bytes_ = 0;
+        greeting_started_ = false;
+        not_debugger_.clear();
         decoder_ = RspDecoder();
-        log_ << "gdb: debugger connected" << std::endl;
         arm_read();
     });
 }
@@ -209,10 +215,19 @@ void GdbStub::arm_read() {
 }
 
 void GdbStub::received(std::size_t n) {
+    if (fresh_client_) check_greeting(rx_.data(), n);
     decoded_.clear();
     decoder_.feed(rx_.data(), n, decoded_);
     const bool serving = held_ || fresh_client_; // a new client's first packets wait for its stop
     if (!held_) running_input_ += n;
+    if (fresh_client_ && not_debugger_.empty() && pending_.empty()) {
+        if (!decoded_.empty() && decoded_.front().kind != RspDecoder::Event::Kind::packet)
+            not_debugger_ = decoded_.front().kind == RspDecoder::Event::Kind::bad_packet
+                                ? "its first packet has " + decoded_.front().payload
+                                : "it sent Ctrl-C before any packet";
+        else if (decoded_.empty() && greeting_bytes_ > kMaxGreeting)
+            not_debugger_ = "it sent " + std::to_string(greeting_bytes_) + " bytes without finishing a packet";
+    }
     for (auto& e : decoded_) {
         if (e.kind == RspDecoder::Event::Kind::interrupt) {
             if (!held_) interrupt_ = true; // while held it is stopped already
@@ -224,6 +239,71 @@ void GdbStub::received(std::size_t n) {
     }
 }
 
+namespace {
+/// Up to 24 bytes of what a peer sent, quoted, unprintable bytes as \xNN.
+std::string quoted(const char* data, std::size_t n) {
+    std::string s = "\"";
+    for (std::size_t i = 0; i < n && i < 24; ++i) {
+        const auto c = static_cast<unsigned char>(data[i]);
+        s += c >= 0x20 && c < 0x7F && c != '"' && c != '\\' ? std::string(1, char(c)) : fmt("\\x%02X", c);
+    }
+    return s + (n > 24 ? "\"..." : "\"");
+}
+} // namespace
+
+// A debugger's first bytes: '+' acknowledgements, then '$' (a packet). Anything else, an HTTP
+// request or noise, is no debugger.
+void GdbStub::check_greeting(const char* data, std::size_t n) {
+    for (std::size_t i = 0; i < n && !greeting_started_ && not_debugger_.empty(); ++i) {
+        if (data[i] == '+') continue;
+        if (data[i] == '$') greeting_started_ = true;
+        else not_debugger_ = "its first bytes are no gdb packet: " + quoted(data + i, n - i);
+    }
+    greeting_bytes_ += n;
+}
+
+// Whether the newcomer has attached (its first packet is in); drops it when it is no debugger,
+// has gone, or has sent nothing for kFirstPacketWait.
+bool GdbStub::newcomer_attached() {
+    if (!not_debugger_.empty()) {
+        drop_client("dropped a peer that is not a debugger (" + not_debugger_ + ")");
+        return false;
+    }
+    if (!pending_.empty()) return true;
+    if (closed_) {
+        drop_client("a peer closed its connection before any packet");
+    } else if (std::chrono::steady_clock::now() - connected_at_ > kFirstPacketWait) {
+        drop_client("dropped a peer that sent no packet within " + std::to_string(kFirstPacketWait.count()) +
+                    " s (not a debugger)");
+    }
+    return false;
+}
+
+// Connection lines (attached, dropped, gone): at most kMaxConnectionLines per window, so that a
+// flood of peers cannot flood the log; the rest are counted in one line when the window ends.
+void GdbStub::connection_line(const std::string& line) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - log_window_start_ >= kConnectionLogWindow) {
+        flush_connection_lines(false);
+        log_window_start_ = now;
+        log_lines_ = 0;
+    }
+    if (log_lines_ < kMaxConnectionLines) {
+        ++log_lines_;
+        log_ << line << std::endl;
+    } else {
+        ++log_suppressed_;
+    }
+}
+
+void GdbStub::flush_connection_lines(bool at_end) {
+    if (log_suppressed_ == 0) return;
+    if (!at_end && std::chrono::steady_clock::now() - log_window_start_ < kConnectionLogWindow) return;
+    log_ << "gdb: " << log_suppressed_ << " more connection lines not shown (peers dropped, debuggers attached or gone; "
+         << kMaxConnectionLines << " are shown every " << kConnectionLogWindow.count() << " s)" << std::endl;
+    log_suppressed_ = 0;
+}
+
 void GdbStub::note_ignored() {
     if (ignored_)
         log_ << "gdb: ignored " << ignored_ << " packets sent while the board ran (only Ctrl-C is read then)"
@@ -233,6 +313,7 @@ void GdbStub::note_ignored() {
 }
 
 void GdbStub::poll() {
+    if (log_suppressed_) flush_connection_lines(false);
     arm_read();
     io_.restart();
     io_.poll();
@@ -246,7 +327,7 @@ void GdbStub::wait_for(std::chrono::milliseconds timeout) {
 }
 
 void GdbStub::drop_client(const std::string& why) {
-    log_ << "gdb: " << why << "; the run continues" << std::endl;
+    if (!why.empty()) connection_line("gdb: " + why + "; the run continues");
     boost::system::error_code ec;
     socket_->close(ec);
     poll(); // lets the cancelled read and write finish before the socket goes
@@ -255,6 +336,7 @@ void GdbStub::drop_client(const std::string& why) {
     stepping_ = false;
     watch_hit_.reset();
     pending_.clear();
+    fresh_client_ = false;
     interrupt_ = false;
     ignored_ = 0;
     running_input_ = 0;
@@ -315,8 +397,12 @@ void GdbStub::on_bus(void* self, const i8086::BusRecord& r) {
 
 void GdbStub::boundary(const i8086::Cpu& cpu) {
     if (waiting_first_) {
+        // --gdb-wait: held until a debugger attaches; peers that are none are dropped meanwhile.
         log_ << "gdb: waiting for the debugger on " << endpoint() << std::endl;
-        while (!socket_ && stop_signal() == 0) wait_for(std::chrono::milliseconds(100));
+        while (stop_signal() == 0 && !(socket_ && fresh_client_ && newcomer_attached())) {
+            arm_read();
+            wait_for(std::chrono::milliseconds(100));
+        }
         waiting_first_ = false;
         if (pacer_) pacer_->rebase();
     }
@@ -325,6 +411,13 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
         poll();
     }
     if (!socket_) return;
+    if (fresh_client_) {
+        if (!newcomer_attached()) return;
+        fresh_client_ = false;
+        connection_line("gdb: debugger attached");
+        halt(StopReason{StopReason::Kind::step}, false); // gdb expects a stopped target: its packets are served there
+        return;
+    }
     if (closed_) {
         drop_client("the debugger disconnected");
         return;
@@ -332,11 +425,6 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
     if (running_input_ > kMaxRunningInput) {
         drop_client("dropped the debugger: it sent more than " + std::to_string(kMaxRunningInput) +
                     " bytes while the board ran (a debugger sends only Ctrl-C then)");
-        return;
-    }
-    if (fresh_client_) { // gdb expects a stopped target when it connects
-        fresh_client_ = false;
-        halt(StopReason{StopReason::Kind::step}, false);
         return;
     }
     std::optional<StopReason> why;
@@ -423,14 +511,21 @@ void GdbStub::serve(const RspDecoder::Event& e) {
     case GdbSession::Resume::step: stepping_ = true; break;
     case GdbSession::Resume::cont: break;
     case GdbSession::Resume::detach: drop_client("the debugger detached"); break;
-    case GdbSession::Resume::kill: drop_client("the debugger killed the target (the simulation is not ended by gdb)"); break;
+    case GdbSession::Resume::kill:
+        // gdb's `kill`: the run ends here as on SIGTERM (stop_signal.h: every report written,
+        // `interrupted`, exit 143). The handler rcsim run installed takes it.
+        log_ << "gdb: the debugger killed the target: the run ends (as on SIGTERM)" << std::endl;
+        drop_client("");
+        std::raise(SIGTERM);
+        break;
     }
     resume_ = true;
 }
 
 void GdbStub::finish(int exit_code) {
+    flush_connection_lines(true);
     if (!socket_) return;
-    if (!closed_) {
+    if (!closed_ && !fresh_client_) { // a peer that has not attached is no debugger to tell
         StopReason end;
         end.kind = StopReason::Kind::exited;
         end.exit_code = exit_code;

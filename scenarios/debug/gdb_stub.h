@@ -26,8 +26,19 @@
 //   * Watchpoints are on physical addresses and data bus cycles (memory reads and writes, not
 //     code fetches): the bus observer notes the hit; the stop is reported at the next boundary,
 //     after the instruction that made the access, as on a hardware debug register.
-//   * Garbage on the socket is answered with '-' and a note on stderr; a disconnect drops the
-//     breakpoints and lets the run go on; the next debugger may connect.
+//   * A peer attaches as a debugger with its first packet, not its connection (issue #48): the
+//     board runs on while a newcomer has sent nothing, and stops for it once its first bytes are
+//     a well-formed packet ('+' acknowledgements, then "$...#xx" with a good checksum, as gdb's
+//     qSupported). A peer whose first bytes are anything else (an HTTP request, noise), that
+//     sends nothing for kFirstPacketWait, or more than kMaxGreeting bytes without finishing a
+//     packet, is no debugger: it is dropped without ever stopping the board. `--gdb-wait` holds
+//     the board before its first instruction until a debugger has attached, not a connection.
+//   * Connection lines on stderr (attached, dropped, disconnected) are rate-limited: at most
+//     kMaxConnectionLines per kConnectionLogWindow, the rest counted in one line.
+//   * Garbage from an attached debugger is answered with '-' and a note on stderr; a disconnect
+//     drops the breakpoints and lets the run go on; the next debugger may connect. gdb's `kill`
+//     ends the run as SIGTERM does (reports written, `interrupted`, exit 143); `detach` leaves it
+//     running.
 #pragma once
 
 #include "scenarios/debug/gdb_protocol.h"
@@ -79,6 +90,13 @@ public:
     static constexpr std::chrono::seconds kMaxWriteStall{2};
     static constexpr std::chrono::milliseconds kDrainAtEnd{200}; // for a detach's OK, the W at the end
     static constexpr std::size_t kMaxNotes = 10; // bad packets noted on stderr per hold; the rest counted
+    /// A newcomer that has not sent its first packet within this (wall time) is dropped.
+    static constexpr std::chrono::seconds kFirstPacketWait{2};
+    /// A first packet is a few hundred bytes (gdb's qSupported); a newcomer that sent more without
+    /// finishing one is dropped.
+    static constexpr std::size_t kMaxGreeting = 4096;
+    static constexpr unsigned kMaxConnectionLines = 8;
+    static constexpr std::chrono::seconds kConnectionLogWindow{10};
 
 private:
     class BoardTarget;
@@ -99,7 +117,11 @@ private:
     void note_ignored();
     void poll();
     void wait_for(std::chrono::milliseconds timeout);
-    void drop_client(const std::string& why);
+    void drop_client(const std::string& why); // why: the log line, "" for none
+    void check_greeting(const char* data, std::size_t n);
+    bool newcomer_attached();
+    void connection_line(const std::string& line);
+    void flush_connection_lines(bool at_end);
 
     GdbStubConfig config_;
     CommBoard& board_;
@@ -113,7 +135,14 @@ private:
     std::optional<boost::asio::ip::tcp::socket> socket_;
     bool accepting_ = false;
     bool closed_ = false;      // the peer closed or the socket failed
-    bool fresh_client_ = false; // connected, not yet stopped for it
+    bool fresh_client_ = false; // connected, its first packet not yet received (not attached)
+    std::chrono::steady_clock::time_point connected_at_;
+    std::size_t greeting_bytes_ = 0;  // received from the newcomer so far
+    bool greeting_started_ = false;   // its first byte other than '+' was '$'
+    std::string not_debugger_;        // why the newcomer is no debugger ("" while it may be one)
+    std::chrono::steady_clock::time_point log_window_start_;
+    unsigned log_lines_ = 0;          // connection lines printed in this window
+    std::size_t log_suppressed_ = 0;  // and not printed
     std::array<char, kReadChunk> rx_{};
     bool reading_ = false;                    // a read is pending
     RspDecoder decoder_;

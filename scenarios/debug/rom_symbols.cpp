@@ -11,6 +11,9 @@
 #ifndef RCSIM_COMM_FW_MAP
 #define RCSIM_COMM_FW_MAP ""
 #endif
+#ifndef RCSIM_COMM_FW_SOURCES
+#define RCSIM_COMM_FW_SOURCES ""
+#endif
 
 namespace rcsim::debug {
 
@@ -59,6 +62,9 @@ RomSymbols rom_symbols(const RomSource& rom, const std::string& symbols) {
     } catch (const SymbolError& e) {
         throw ConfigError(std::string("the built firmware's map: ") + e.what());
     }
+    const std::filesystem::path src = RCSIM_COMM_FW_SOURCES;
+    if (!src.empty())
+        r.declarations = read_c_declarations({(src / "fw.h").string(), (src / "main.c").string(), (src / "hw.c").string()});
     return r;
 }
 

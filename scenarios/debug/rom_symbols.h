@@ -9,6 +9,7 @@
 #pragma once
 
 #include "models/rom_image.h"
+#include "scenarios/debug/c_declarations.h"
 #include "scenarios/debug/symbols.h"
 
 #include <string>
@@ -20,6 +21,9 @@ struct RomSymbols {
     Origin origin = Origin::none;
     std::string file; // what was read: the --symbols argument, or the built firmware's map
     SymbolTable table;
+    /// The types of the C variables, for gdb (dwarf_types.h): the built firmware's, from its
+    /// sources (fw.h, main.c, hw.c); none for a user's map.
+    std::map<std::string, CType> declarations;
     /// The ROM is the built firmware and these are its map's symbols: coverage can add the
     /// firmware's listings and C sources to them.
     bool built_firmware() const { return origin == Origin::built_firmware; }

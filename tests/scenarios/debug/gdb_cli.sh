@@ -44,8 +44,10 @@ kill "$sleeper" 2>/dev/null
 printf '# my ROM\nmy_entry F000:0000 16\nmy_counter 0x400 2\n' > "$work/good.sym"
 if ! "$rcsim" run "$scenario" --gdb 127.0.0.1:0 --symbols "$work/good.sym" --out "$work/o" > "$work/out" 2> "$work/err"; then
   echo "FAIL: a run with --gdb and nobody connecting did not pass:"; cat "$work/err"; failed=1
-elif ! grep -q "^gdb: symbols in $work/o/symbols.elf" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
+elif ! grep -q "^gdb: to debug: gdb -x $work/o/rcsim.gdb$" "$work/out" || ! grep -aq my_counter "$work/o/symbols.elf"; then
   echo "FAIL: --symbols did not become $work/o/symbols.elf"; cat "$work/out"; failed=1
+elif ! grep -q "^file $work/o/symbols.elf$" "$work/o/rcsim.gdb"; then
+  echo "FAIL: $work/o/rcsim.gdb does not load $work/o/symbols.elf"; cat "$work/o/rcsim.gdb"; failed=1
 fi
 # An .EXE's map at its load segment: gdb gets C's names without the underscore.
 printf ' Start  Stop   Length Name    Class\n 00000H 000FFH 00100H _TEXT   CODE\n\n  Address         Publics by Value\n\n 0000:0010       _my_main\n' > "$work/exe.map"

@@ -3,7 +3,7 @@
 
 usage: gdb_garbage.py RCSIM SCENARIO FW_JSON WORKDIR
 
-1. A client sends line noise and a packet with a bad checksum: the stub answers '-' (appendix E:
+1. A client attaches ('?'), sends line noise and a packet with a bad checksum: the stub answers '-' (appendix E:
    a retransmission request) and still answers the next good packet ('?': the stop reply T05).
    It sets a breakpoint at rs232_isr and drops the connection while the board is stopped.
 2. A third of the run later a second client connects (the board stops for it), holds the board
@@ -82,9 +82,13 @@ def main():
                 {"gdb": GDB_LISTENING}, stderr=err)
     proc, port = run.proc, int(run.found["gdb"].group(1))
 
-    # 1: noise, a bad checksum, then good packets; disconnect while stopped.
+    # 1: a first packet (a debugger attaches with it, gdb_peers.py), noise, a bad checksum, then
+    # good packets; disconnect while stopped.
     s = connect(port)
     t0 = time.time()
+    s.sendall(frame(b"?"))
+    got = read_for(s, 5, until=b"#")
+    assert got.startswith(b"+$T05#"), "FAIL: no stop reply to the first packet: %r" % got
     s.sendall(b"hello\r\n" + b"$g#00")
     got = read_for(s, 5, until=b"-")
     assert b"-" in got, "FAIL: no '-' for a bad checksum: %r" % got

@@ -26,8 +26,8 @@ fail() { echo "FAIL: $*"; echo "--- gdb output"; cat "$work/gdb.log" 2>/dev/null
 pid=$!
 trap 'kill $pid 2>/dev/null || true' EXIT
 port=$(gdb_port "$work/dbg.out" $pid) || fail "rcsim ended before printing its gdb port"
-grep -q "^gdb: symbols in $work/dbg/symbols.elf (in gdb: file $work/dbg/symbols.elf, then source $work/dbg/rcsim-gdb.py)" \
-  "$work/dbg.out" || fail "rcsim does not say how to load the symbols and the unwinder"
+grep -q "^source $work/dbg/rcsim-gdb.py$" "$work/dbg/rcsim.gdb" ||
+  fail "the gdb command file rcsim writes does not load the unwinder"
 
 cat > "$work/script.gdb" <<GDB
 set pagination off
