@@ -138,7 +138,7 @@ class Renewer(threading.Thread):
                         self.renewed += 1
                     except OSError:
                         pass
-            time.sleep(0.01)
+            time.sleep(0.02)  # with 16 kept per address, 48 are closed and renewed every round
         for s in self.socks:
             s.close()
 
