@@ -8,6 +8,9 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <sys/ioctl.h>
+#include <linux/sockios.h>
+
 #include <algorithm>
 #include <atomic>
 #include <map>
@@ -22,13 +25,19 @@ namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
 
 class WsSession;
+class HttpSession;
 
 class MonitorServer::Impl {
 public:
     Impl(std::ostream& log, std::string page) : log_(log), page_(std::move(page)) {}
 
-    // Before ioc: the sessions its destructor frees count themselves out of it.
-    std::size_t http_sessions = 0; // io thread only
+    // Before ioc: the sessions its destructor frees take themselves out of it. io thread only.
+    struct OpenHttp {
+        std::weak_ptr<HttpSession> session;
+        std::string addr; // the peer's address, without the port
+    };
+    std::map<std::uint64_t, OpenHttp> http_open; // plain HTTP connections, in accept order
+    std::uint64_t next_http_seq = 0;
     net::io_context ioc;
     tcp::acceptor acceptor{ioc};
     std::thread thread;
@@ -58,6 +67,10 @@ public:
     }
     const std::string& page() const { return page_; }
     void start_accept();
+    /// Room for one more plain HTTP connection from `addr` (kMaxHttpSessionsPerPeer from one
+    /// address, kMaxHttpSessions in all): free, made by closing an idle connection, or none.
+    enum class Room { free, evicted, evicted_peer, none };
+    Room make_room(const std::string& addr);
 
     std::mutex req_mu;
     std::condition_variable req_cv;
@@ -110,13 +123,56 @@ std::string peer_of(const tcp::socket& s) {
     return ec ? std::string("?") : ep.address().to_string() + ":" + std::to_string(ep.port());
 }
 
+/// Bytes written to a socket that its peer has not taken yet (Linux SIOCOUTQ: the send queue,
+/// unsent or unacknowledged; on loopback, what the peer's full receive buffer holds back).
+std::size_t unsent_bytes(tcp::socket& s) {
+    int n = 0;
+    return ::ioctl(s.native_handle(), SIOCOUTQ, &n) == 0 && n > 0 ? static_cast<std::size_t>(n) : 0;
+}
+
+/// A tcp_stream that first hands out `prefix`: the bytes the HTTP parser read past the upgrade
+/// request (a client may send its first WebSocket frames in the same segment), which the
+/// WebSocket stream then reads as its own.
+class PrefixedStream {
+public:
+    using executor_type = beast::tcp_stream::executor_type;
+    PrefixedStream(tcp::socket&& s, std::string prefix) : next_(std::move(s)), prefix_(std::move(prefix)) {}
+
+    executor_type get_executor() { return next_.get_executor(); }
+    beast::tcp_stream& next_layer() { return next_; }
+
+    template <class MutableBuffers, class Handler>
+    void async_read_some(const MutableBuffers& buffers, Handler&& handler) {
+        if (prefix_.empty()) return next_.async_read_some(buffers, std::forward<Handler>(handler));
+        const std::size_t n = net::buffer_copy(buffers, net::buffer(prefix_));
+        prefix_.erase(0, n);
+        net::post(get_executor(), beast::bind_front_handler(std::forward<Handler>(handler), beast::error_code{}, n));
+    }
+    template <class ConstBuffers, class Handler>
+    void async_write_some(const ConstBuffers& buffers, Handler&& handler) {
+        next_.async_write_some(buffers, std::forward<Handler>(handler));
+    }
+
+private:
+    beast::tcp_stream next_;
+    std::string prefix_;
+};
+
+// How the WebSocket stream closes its next layer (found by argument-dependent lookup; the
+// sessions use only the asynchronous operations).
+template <class Handler>
+void async_teardown(beast::role_type role, PrefixedStream& s, Handler&& handler) {
+    beast::websocket::async_teardown(role, s.next_layer().socket(), std::forward<Handler>(handler));
+}
+
 } // namespace
 
 // One WebSocket client: reads requests, writes the messages queued for it one at a time.
 class WsSession : public std::enable_shared_from_this<WsSession> {
 public:
-    WsSession(MonitorServer::Impl& srv, tcp::socket&& s, std::uint64_t id)
-        : srv_(srv), id_(id), peer_(peer_of(s)), ws_(std::move(s)) {}
+    /// `early`: what the client sent after its upgrade request, read with it (its first frames).
+    WsSession(MonitorServer::Impl& srv, tcp::socket&& s, std::string early, std::uint64_t id)
+        : srv_(srv), id_(id), peer_(peer_of(s)), ws_(std::move(s), std::move(early)) {}
 
     void run(http::request<http::string_body> req) {
         ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -129,13 +185,16 @@ public:
         ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) { self->on_accept(ec); });
     }
 
-    /// Queues one message; a client that lets kMaxQueuedMessages or kMaxQueuedBytes pile up is
-    /// dropped.
+    /// Queues one message. What counts is what the client has not read: the messages waiting
+    /// here and the bytes in the socket's send queue, not how many one slice produced (a client
+    /// that pipelines 256 requests gets 256 replies at once, and reads them). A client that lets
+    /// kMaxQueuedBytes or kMaxQueuedMessages pile up is dropped.
     void queue(std::shared_ptr<const std::string> text) {
         if (closed_) return;
-        if (out_.size() >= MonitorServer::kMaxQueuedMessages || queued_bytes_ + text->size() > MonitorServer::kMaxQueuedBytes) {
-            drop("too slow: " + std::to_string(out_.size()) + " messages (" + std::to_string(queued_bytes_) +
-                 " bytes) not yet read");
+        const std::size_t unread = queued_bytes_ + unsent_bytes(beast::get_lowest_layer(ws_).socket());
+        if (out_.size() >= MonitorServer::kMaxQueuedMessages || unread + text->size() > MonitorServer::kMaxQueuedBytes) {
+            drop("too slow: " + std::to_string(unread) + " bytes not yet read (" + std::to_string(out_.size()) +
+                 " messages waiting)");
             return;
         }
         queued_bytes_ += text->size();
@@ -147,7 +206,7 @@ private:
     MonitorServer::Impl& srv_;
     std::uint64_t id_;
     std::string peer_;
-    websocket::stream<beast::tcp_stream> ws_;
+    websocket::stream<PrefixedStream> ws_;
     beast::flat_buffer buf_;
     std::deque<std::shared_ptr<const std::string>> out_;
     std::size_t queued_bytes_ = 0; // in out_
@@ -215,34 +274,54 @@ private:
     }
 };
 
-// One HTTP request: the page, the snapshot, or the upgrade to a WebSocket.
+// One HTTP request: the page, the snapshot, or the upgrade to a WebSocket. Registered in
+// Impl::http_open while it lives, so that a new connection can take an idle one's place.
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
 public:
-    HttpSession(MonitorServer::Impl& srv, tcp::socket&& s) : srv_(srv), stream_(std::move(s)) { ++srv_.http_sessions; }
-    ~HttpSession() { --srv_.http_sessions; }
+    HttpSession(MonitorServer::Impl& srv, tcp::socket&& s, std::uint64_t seq) : srv_(srv), seq_(seq), stream_(std::move(s)) {}
+    ~HttpSession() { srv_.http_open.erase(seq_); }
 
     void run() {
         parser_.emplace();
         parser_->body_limit(MonitorServer::kMaxMessageBytes);
         parser_->header_limit(16 * 1024);
-        stream_.expires_after(std::chrono::seconds(10));
+        stream_.expires_after(MonitorServer::kRequestTimeout);
         http::async_read(stream_, buf_, *parser_,
                          [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
     }
 
+    /// Its whole request is in: it is being answered (or became a WebSocket).
+    bool answering() const { return answering_; }
+    /// It has sent nothing yet: no byte read, none waiting in its socket.
+    bool idle() {
+        boost::system::error_code ec;
+        return !answering_ && buf_.size() == 0 && stream_.socket().available(ec) == 0 && !ec;
+    }
+    /// Closed to make room for a new connection (Impl::make_room); it logs nothing.
+    void evict() {
+        evicted_ = true;
+        srv_.http_open.erase(seq_);
+        stream_.close();
+    }
+
 private:
     MonitorServer::Impl& srv_;
+    std::uint64_t seq_;
     beast::tcp_stream stream_;
     beast::flat_buffer buf_;
     std::optional<http::request_parser<http::string_body>> parser_;
     std::shared_ptr<http::response<http::string_body>> res_;
+    bool answering_ = false, evicted_ = false;
 
     void on_read(beast::error_code ec) {
+        if (evicted_) return;
         if (ec) {
             // A browser's idle spare connection ends by a close or the timeout: nothing to log.
             if (ec != http::error::end_of_stream && ec != beast::error::timeout) srv_.note("HTTP request from " + peer_of(stream_.socket()) + " dropped: " + ec.message());
             return;
         }
+        answering_ = true;
+        stream_.expires_after(MonitorServer::kAnswerTimeout);
         http::request<http::string_body> req = parser_->release();
         if (websocket::is_upgrade(req)) return upgrade(std::move(req));
         respond(req);
@@ -254,7 +333,9 @@ private:
             return reply(req, http::status::service_unavailable, "text/plain", "too many monitor clients\n");
         srv_.open_clients++;
         stream_.expires_never();
-        std::make_shared<WsSession>(srv_, stream_.release_socket(), srv_.next_id++)->run(std::move(req));
+        // What the parser read past the request is the client's first WebSocket frames.
+        std::string early = beast::buffers_to_string(buf_.data());
+        std::make_shared<WsSession>(srv_, stream_.release_socket(), std::move(early), srv_.next_id++)->run(std::move(req));
     }
 
     void respond(const http::request<http::string_body>& req) {
@@ -287,6 +368,29 @@ private:
     }
 };
 
+MonitorServer::Impl::Room MonitorServer::Impl::make_room(const std::string& addr) {
+    std::size_t mine = 0;
+    for (const auto& open : http_open) mine += open.second.addr == addr;
+    const bool peer_full = mine >= kMaxHttpSessionsPerPeer;
+    if (!peer_full && http_open.size() < kMaxHttpSessions) return Room::free;
+    // Oldest first (http_open is in accept order): the one that sent nothing, else the one still
+    // sending its request; one being answered is never closed. A full peer gives up its own.
+    std::shared_ptr<HttpSession> victim;
+    for (int pass = 0; pass < 2 && !victim; ++pass) {
+        for (const auto& open : http_open) {
+            if (peer_full && open.second.addr != addr) continue;
+            auto s = open.second.session.lock();
+            if (s && !s->answering() && (pass == 1 || s->idle())) {
+                victim = std::move(s);
+                break;
+            }
+        }
+    }
+    if (!victim) return Room::none;
+    victim->evict();
+    return peer_full ? Room::evicted_peer : Room::evicted;
+}
+
 void MonitorServer::Impl::start_accept() {
     acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket s) {
         if (ec == net::error::operation_aborted) return;
@@ -297,16 +401,25 @@ void MonitorServer::Impl::start_accept() {
             retry->async_wait([this, retry](beast::error_code) { start_accept(); });
             return;
         }
-        if (http_sessions >= kMaxHttpSessions) {
-            // Closed at once: a flood of idle connections cannot hold every descriptor.
-            if (!http_full_noted) note("HTTP connection from " + peer_of(s) + " refused: " +
-                                       std::to_string(kMaxHttpSessions) + " already open");
-            http_full_noted = true;
+        boost::system::error_code addr_ec;
+        const auto ep = s.remote_endpoint(addr_ec);
+        const std::string addr = addr_ec ? std::string("?") : ep.address().to_string();
+        const Room room = make_room(addr);
+        if (room != Room::free && !http_full_noted) { // one log line per burst
+            const std::string full = room == Room::evicted_peer ? std::to_string(kMaxHttpSessionsPerPeer) + " already open from " + addr
+                                                                : std::to_string(kMaxHttpSessions) + " already open";
+            note("HTTP connection from " + peer_of(s) + ": " + full +
+                 (room == Room::none ? ", every one being answered: refused" : ": the oldest idle one closed to make room"));
+        }
+        http_full_noted = room != Room::free;
+        if (room == Room::none) {
             boost::system::error_code ignored;
             s.close(ignored);
         } else {
-            http_full_noted = false;
-            std::make_shared<HttpSession>(*this, std::move(s))->run();
+            const std::uint64_t seq = next_http_seq++;
+            auto session = std::make_shared<HttpSession>(*this, std::move(s), seq);
+            http_open[seq] = {session, addr};
+            session->run();
         }
         start_accept();
     });

@@ -6,13 +6,17 @@
 //   - requests: every message a client sends is parsed on the io thread and queued (mutex-guarded,
 //     bounded); the simulation thread takes them between two slices of simulated time;
 //   - replies and updates: the simulation thread hands a serialised message to a client with
-//     send(), which only posts it to the io thread; each client has a bounded queue of messages
-//     not yet written, and a client whose queue is full (it reads too slowly) is dropped;
+//     send(), which only posts it to the io thread; what a client has not read (the messages
+//     not yet written and the bytes in its socket's send queue) is bounded, and a client that
+//     lets it fill (it does not read) is dropped;
 //   - the latest snapshot text, which plain HTTP GETs are answered with (mutex-guarded).
 // A client that disconnects, sends something that is not a JSON object with an "op" (or nested
 // deeper than kMaxJsonDepth), a message over kMaxMessageBytes, or more than kMaxClientRequests
 // requests the simulation has not yet taken, is dropped with one log line; the others and the
-// run go on. Plain HTTP connections are capped at kMaxHttpSessions and get 10 s in all.
+// run go on. Plain HTTP connections are capped at kMaxHttpSessions, kMaxHttpSessionsPerPeer from
+// one address; past a cap a new connection takes the place of the oldest one that has sent nothing
+// (or not yet its whole request), so idle sockets cannot lock the page out. A connection gets
+// kRequestTimeout for its request and kAnswerTimeout for the answer.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -36,13 +40,19 @@ constexpr int kApiVersion = 1;
 class MonitorServer {
 public:
     static constexpr std::size_t kMaxMessageBytes = 64 * 1024; // one client message, WebSocket or HTTP
-    static constexpr std::size_t kMaxQueuedMessages = 64;      // per client, not yet written
-    static constexpr std::size_t kMaxQueuedBytes = 8u << 20;   // per client, not yet written
+    // Per client, not yet read: messages waiting to be written, and their bytes with those in
+    // the socket's send queue. A slice answers up to kMaxClientRequests of a client's requests
+    // at once: the message bound leaves room for them and the updates.
+    static constexpr std::size_t kMaxQueuedMessages = 4096;
+    static constexpr std::size_t kMaxQueuedBytes = 8u << 20;
     static constexpr int kSocketSendBuffer = 256 * 1024;       // per client, the kernel's share
     static constexpr std::size_t kMaxClients = 16;
     static constexpr std::size_t kMaxPendingRequests = 1024;   // all clients, not yet taken
     static constexpr std::size_t kMaxClientRequests = 256;     // one client's, not yet taken
     static constexpr std::size_t kMaxHttpSessions = 64;        // plain HTTP connections at once
+    static constexpr std::size_t kMaxHttpSessionsPerPeer = 16; // the same, from one address
+    static constexpr std::chrono::seconds kRequestTimeout{2};  // from accept to a whole request
+    static constexpr std::chrono::seconds kAnswerTimeout{10};  // writing the answer
     static constexpr std::size_t kMaxJsonDepth = 32;           // nesting of a client's message
 
     /// A client's message, parsed. `client` 0 with `op` "closed": client `closed_client` is gone.
