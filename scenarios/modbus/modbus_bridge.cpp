@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <sstream>
 
 namespace rcsim::modbus {
 
@@ -16,17 +17,50 @@ constexpr auto kPublishEvery = std::chrono::milliseconds(20);
 constexpr std::uint16_t kNoResult = 0xFFFF;
 } // namespace
 
+void WriteLog::line(const std::string& text) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - window_ >= std::chrono::seconds(1)) {
+        flush(true);
+        window_ = now;
+    }
+    if (lines_ < kLinesPerSecond) {
+        out_ << "modbus: " << text << std::endl;
+        ++lines_;
+    } else ++left_out_;
+}
+
+void WriteLog::flush(bool now) {
+    if (left_out_ == 0 && lines_ == 0) return;
+    if (!now && std::chrono::steady_clock::now() - window_ < std::chrono::seconds(1)) return;
+    if (left_out_ > 0)
+        out_ << "modbus: ... and " << left_out_ << " more writes in that second, not logged (at most " << kLinesPerSecond
+             << " lines a second)" << std::endl;
+    left_out_ = 0;
+    lines_ = 0;
+}
+
 ModbusBridge::ModbusBridge(monitor::BoardMonitor& mon, const std::string& host, unsigned port, std::ostream& log)
     : mon_(mon), server_(host, port, log), log_(log), holding_(table_size(Table::holding_register), 0) {
     holding_[address_of("mailbox.result")] = kNoResult;
     holding_[address_of("step_ms")] = 10;
     publish();
     mon_.between_slices([this] { serve(); });
+    // A step takes no write (one could step again) but keeps the reads fresh.
+    mon_.while_stepping([this] {
+        if (std::chrono::steady_clock::now() - last_publish_ >= kPublishEvery) publish();
+    });
+}
+
+std::string ModbusBridge::now_text() const {
+    std::ostringstream os;
+    os << sc_core::sc_time_stamp().to_seconds() << " s";
+    return os.str();
 }
 
 void ModbusBridge::serve() {
     const std::vector<ModbusServer::Write> writes = server_.take_writes(taken_);
     for (const ModbusServer::Write& w : writes) apply(w);
+    log_.flush();
     if (!writes.empty() || std::chrono::steady_clock::now() - last_publish_ >= kPublishEvery) publish();
 }
 
@@ -34,13 +68,16 @@ void ModbusBridge::apply(const ModbusServer::Write& w) {
     if (w.table == Table::coil) {
         if (w.address == address_of("pause")) {
             if (!w.value) {
-                mon_.resume();
+                if (mon_.resume(false)) log_.line("resumed at " + now_text());
                 release_held();
-            } else mon_.pause();
+            } else if (mon_.pause(false)) log_.line("paused at " + now_text());
         } else if (w.address == address_of("step")) {
             if (!w.value) return;
             release_held();
-            mon_.step(us(holding_[address_of("step_ms")] * std::uint64_t{1000}));
+            const unsigned ms = holding_[address_of("step_ms")];
+            const std::string from = now_text();
+            mon_.step(us(ms * std::uint64_t{1000}), "modbus");
+            log_.line("step of " + std::to_string(ms) + " ms: " + from + " -> " + now_text());
         } else act(w); // a servo coil
         return;
     }
@@ -84,8 +121,10 @@ void ModbusBridge::execute_mailbox() {
         (o.bch == 2 || o.bch == 5) && numeric ? static_cast<std::uint16_t>(std::min(65535L, std::atol(o.data.c_str()))) : 0;
     ++holding_[address_of("mailbox.sequence")];
     holding_[address_of("mailbox.go")] = 0;
-    log_ << "modbus: at " << sc_core::sc_time_stamp().to_seconds() * 1e3 << " ms: mailbox " << token << " " << data
-         << " -> BCH " << static_cast<unsigned>(o.bch) << (o.note.empty() ? "" : " (" + o.note + ")") << std::endl;
+    std::ostringstream os;
+    os << "at " << sc_core::sc_time_stamp().to_seconds() * 1e3 << " ms: mailbox " << token << " " << data << " -> BCH "
+       << static_cast<unsigned>(o.bch) << (o.note.empty() ? "" : " (" + o.note + ")");
+    log_.line(os.str());
 }
 
 void ModbusBridge::publish() {

@@ -19,6 +19,27 @@
 
 namespace rcsim::modbus {
 
+/// The log of what the clients' writes did, as "modbus: ..." lines: at most kLinesPerSecond in a
+/// second of wall time (a client writing the pause coil in a loop would flood stderr); the lines
+/// left out are counted and summed up in one line once the second is over.
+class WriteLog {
+public:
+    static constexpr unsigned kLinesPerSecond = 10;
+    explicit WriteLog(std::ostream& out) : out_(out) {}
+    ~WriteLog() { flush(true); }
+    WriteLog(const WriteLog&) = delete;
+    WriteLog& operator=(const WriteLog&) = delete;
+    void line(const std::string& text);
+    /// The summary of a second that is over (`now`: whatever the second).
+    void flush(bool now = false);
+
+private:
+    std::ostream& out_;
+    std::chrono::steady_clock::time_point window_; // the start of the current second
+    unsigned lines_ = 0;                           // written in it
+    std::uint64_t left_out_ = 0;                   // not written in it
+};
+
 class ModbusBridge {
 public:
     /// Starts the server on HOST:PORT and attaches to `mon`'s slices.
@@ -28,7 +49,7 @@ public:
 private:
     monitor::BoardMonitor& mon_;
     ModbusServer server_;
-    std::ostream& log_;
+    WriteLog log_;
     std::vector<std::uint16_t> holding_;      // as the clients wrote them, and the mailbox's results
     std::vector<ModbusServer::Write> held_;   // servo coils and "go" written while paused
     std::uint64_t taken_ = 0;
@@ -41,6 +62,7 @@ private:
     void release_held();
     void execute_mailbox();
     void publish();
+    std::string now_text() const;
 };
 
 } // namespace rcsim::modbus

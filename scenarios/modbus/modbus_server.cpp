@@ -62,10 +62,14 @@ public:
         if (!ctx_ || !map_) throw ConfigError("modbus: libmodbus could not allocate its context");
         for (Table t : {Table::coil, Table::discrete_input, Table::input_register, Table::holding_register})
             size_[static_cast<unsigned>(t)] = table_size(t);
+        for (Table t : {Table::coil, Table::discrete_input, Table::input_register, Table::holding_register})
+            mapped_[static_cast<unsigned>(t)].assign(table_size(t), false);
         for (const Row& r : map_rows())
-            if (r.entry->access == Access::read_write)
-                for (unsigned w = 0; w < words(r.entry->type); ++w)
-                    writable_[static_cast<unsigned>(r.entry->table)].push_back(static_cast<std::uint16_t>(r.address + w));
+            for (unsigned w = 0; w < words(r.entry->type); ++w) {
+                const auto cell = static_cast<std::uint16_t>(r.address + w);
+                mapped_[static_cast<unsigned>(r.entry->table)][cell] = true;
+                if (r.entry->access == Access::read_write) writable_[static_cast<unsigned>(r.entry->table)].push_back(cell);
+            }
         thread_ = std::thread([this] { loop(); });
     }
     ~Impl() {
@@ -98,6 +102,7 @@ private:
     modbus_mapping_t* map_ = nullptr;
     std::array<std::vector<std::uint16_t>, 4> writable_; // per table, the cells a client may write
     std::array<unsigned, 4> size_{};                     // per table, one past its last address
+    std::array<std::vector<bool>, 4> mapped_;            // per table, the cells the map names (the gaps are not)
     std::vector<Connection> conns_;
     std::atomic<bool> stop_{false};
     bool refusing_ = false; // one log line per burst of refused connections
@@ -207,7 +212,10 @@ private:
         }
         if (addr + qty > size_[static_cast<unsigned>(t)]) return kIllegalAddress;
         if (fc == MODBUS_FC_WRITE_SINGLE_COIL && qty_or_value != 0xFF00 && qty_or_value != 0) return kIllegalValue;
-        if (!single && !multiple) return 0;
+        if (!single && !multiple) { // a read: every cell must be one the map names, as a write's must
+            const auto& m = mapped_[static_cast<unsigned>(t)];
+            return std::all_of(m.begin() + addr, m.begin() + addr + qty, [](bool b) { return b; }) ? 0 : kIllegalAddress;
+        }
         const auto& w = writable_[static_cast<unsigned>(t)];
         for (unsigned k = 0; k < qty; ++k) {
             const auto cell = static_cast<std::uint16_t>(addr + k);
@@ -266,8 +274,16 @@ private:
                 issued_ += w.size();
             }
         }
-        if (exception != 0) return modbus_reply_exception(ctx_, req, static_cast<unsigned>(exception)) >= 0;
+        if (exception != 0) return send_exception(fd, req, static_cast<std::uint8_t>(exception));
         return modbus_reply(ctx_, req, static_cast<int>(len), map_) >= 0;
+    }
+
+    // An exception response: the request's function code with its high bit set. A request whose
+    // code has it already (0x80..0xFF: the codes of exception responses, no request's) gets
+    // exception 01 with its code as it came; libmodbus adds 0x80 and a byte wraps it (0x80 -> 0x00).
+    static bool send_exception(int fd, const std::uint8_t* req, std::uint8_t code) {
+        const std::uint8_t rsp[9] = {req[0], req[1], 0, 0, 0, 3, req[6], static_cast<std::uint8_t>(req[7] | 0x80), code};
+        return ::send(fd, rsp, sizeof rsp, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof rsp);
     }
 };
 

@@ -26,6 +26,9 @@ const sc_time kMinSlice = sc_core::sc_time(10, sc_core::SC_US);
 const sc_time kMaxSlice = sc_core::sc_time(100, sc_core::SC_MS);
 constexpr auto kPublishEvery = std::chrono::milliseconds(50); // GET /api/v1/snapshot freshness
 constexpr double kMaxStepMs = 60'000;
+// An hour is the longest run (docs/scenarios.md "Limits"): a monitored run, and any step in it,
+// stops there whatever its duration_s (0: until a host ends the session).
+const sc_time kLongestRun = sc_core::sc_time(3600, sc_core::SC_SEC);
 constexpr std::size_t kMaxPathPoints = 4000; // per update; the rest follows in the next ones
 constexpr std::size_t kMaxQueuedFrames = 64; // send_frame: commands waiting at a protocol host
 constexpr std::size_t kMaxPendingFaults = 64; // inject_fault: faults waiting for a side's next characters
@@ -155,7 +158,7 @@ std::string printable_frame_data(const std::string& s) {
 // ---------------------------------------------------------------------------------------------
 
 BoardMonitor::BoardMonitor(World& world, const MonitorOptions& opt, std::ostream& log, bool http)
-    : world_(world), log_(log), commands_(opt.commands) {
+    : world_(world), log_(log), commands_(opt.commands), end_(kLongestRun) {
     if (http) server_ = std::make_unique<MonitorServer>(opt.host, opt.port, kMonitorPage, log);
     if (!world_.pacer) {
         world_.pacer = std::make_unique<RealtimePacer>("monitor_pacer", 1.0);
@@ -185,30 +188,43 @@ void BoardMonitor::hook_bench() {
 }
 
 bool BoardMonitor::run_until(const sc_time& end) {
-    sc_time slice(1, sc_core::SC_MS);
+    end_ = std::min(end, kLongestRun);
+    end_reason_ = end <= kLongestRun ? "the scenario's end (duration_s)" : "the one-hour cap on a run";
     for (;;) {
         serve();
+        if (host_ended_) return true;
         if (stop_signal() != 0) return false;
         const sc_time now = sc_core::sc_time_stamp();
-        if (now >= end) return false;
+        if (now >= end_) return false; // reached by running or by a step
         if (paused_) {
             if (server_) server_->wait_for_request(std::chrono::milliseconds(10));
             else std::this_thread::sleep_for(std::chrono::milliseconds(10));
             continue;
         }
-        // Stop exactly where a scripted command or a simulated-time subscription is due.
-        sc_time run = std::min(slice, end - now);
-        if (next_command_ < commands_.size() && commands_[next_command_].at > now)
-            run = std::min(run, commands_[next_command_].at - now);
+        if (!advance(end_ - now)) return true;
+    }
+}
+
+// One slice of at most `most`, cut short where a scripted command or (running) a simulated-time
+// subscription is due; adapts the slice to 2..8 ms of wall time. False: a host ended the session.
+bool BoardMonitor::advance(const sc_time& most) {
+    const sc_time now = sc_core::sc_time_stamp();
+    sc_time run = std::min(slice_, most);
+    if (next_command_ < commands_.size() && commands_[next_command_].at > now)
+        run = std::min(run, commands_[next_command_].at - now);
+    if (!paused_)
         for (const auto& [id, s] : subs_)
             if (s.sim_clock && s.next_sim > now) run = std::min(run, s.next_sim - now);
-        const auto w0 = Clock::now();
-        world_.start_for(run);
-        const auto wall = Clock::now() - w0;
-        if (sc_core::sc_time_stamp() < now + run && stop_signal() == 0) return true; // sc_pause: a host ended it
-        if (wall < std::chrono::milliseconds(2)) slice = std::min(slice * 2, kMaxSlice);
-        else if (wall > std::chrono::milliseconds(8)) slice = std::max(slice / 2, kMinSlice);
+    const auto w0 = Clock::now();
+    world_.start_for(run);
+    const auto wall = Clock::now() - w0;
+    if (sc_core::sc_time_stamp() < now + run && stop_signal() == 0) { // sc_pause
+        host_ended_ = true;
+        return false;
     }
+    if (wall < std::chrono::milliseconds(2)) slice_ = std::min(slice_ * 2, kMaxSlice);
+    else if (wall > std::chrono::milliseconds(8)) slice_ = std::max(slice_ / 2, kMinSlice);
+    return true;
 }
 
 // Between two slices: requests first (they may pause), then scripted commands, then updates.
@@ -292,8 +308,10 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     if (op == "step") {
         const double ms = a.number("ms", 0.001, kMaxStepMs);
         if (!a.ok()) return {};
-        step(ms_time(ms));
-        return {{"sim_time_s", sc_core::sc_time_stamp().to_seconds()}};
+        const StepResult r = step(ms_time(ms));
+        nlohmann::json out = {{"sim_time_s", r.at.to_seconds()}, {"at_end", r.at_end}};
+        if (r.at_end) out["note"] = "stopped at " + end_reason_ + ": the run ends";
+        return out;
     }
     if (op == "set_rtf") {
         const double rtf = a.number("rtf", 0, 1e6);
@@ -369,38 +387,50 @@ nlohmann::json BoardMonitor::execute(std::uint64_t client, const std::string& op
     return {{"port", port}, {"index", index}};
 }
 
-void BoardMonitor::pause() {
-    if (!paused_) log_ << "monitor: paused at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
+bool BoardMonitor::pause(bool announce) {
+    const bool was_running = !paused_;
+    if (was_running && announce) log_ << "monitor: paused at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
     paused_ = true;
+    return was_running;
 }
 
 Outcome BoardMonitor::motion(const std::string& token, const std::string& data) {
     return world_.ctl.main.execute_local(token, data);
 }
 
-// Stepping runs unpaced (as a debugger's step does) and leaves the run paused.
-void BoardMonitor::step(const sc_time& t) {
+// Stepping runs unpaced (as a debugger's step does) and leaves the run paused. It runs in the
+// monitor's slices so that what the clients read stays fresh (a 60 s step takes minutes of wall
+// time), but takes no request meanwhile: they wait, in order, for the step's end.
+BoardMonitor::StepResult BoardMonitor::step(const sc_time& t, const char* who) {
     paused_ = true;
-    const sc_time end = sc_core::sc_time_stamp() + t;
+    const sc_time from = sc_core::sc_time_stamp();
+    const sc_time asked = from + t, target = std::min(asked, end_);
     world_.pacer->set_rtf(0);
-    while (sc_core::sc_time_stamp() < end && stop_signal() == 0) {
-        const sc_time now = sc_core::sc_time_stamp();
-        sc_time run = end - now;
-        if (next_command_ < commands_.size() && commands_[next_command_].at > now)
-            run = std::min(run, commands_[next_command_].at - now);
-        world_.start_for(run);
+    while (sc_core::sc_time_stamp() < target && stop_signal() == 0) {
+        if (!advance(target - sc_core::sc_time_stamp())) break;
         run_due_commands();
-        if (sc_core::sc_time_stamp() < now + run) break; // sc_pause
+        update_rates();
+        send_updates();
+        if (while_stepping_) while_stepping_();
     }
     world_.pacer->set_rtf(rtf_target_);
+    const StepResult r{sc_core::sc_time_stamp(), asked > end_ && sc_core::sc_time_stamp() >= end_};
+    if (r.at_end && !end_announced_) {
+        log_ << who << ": a step of " << t.to_seconds() * 1e3 << " ms from " << from.to_seconds() << " s stopped at "
+             << r.at.to_seconds() << " s, " << end_reason_ << "; the run ends there" << std::endl;
+        end_announced_ = true;
+    }
+    return r;
 }
 
-void BoardMonitor::resume() {
-    if (paused_) log_ << "monitor: resumed at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
+bool BoardMonitor::resume(bool announce) {
+    const bool was_paused = paused_;
+    if (was_paused && announce) log_ << "monitor: resumed at " << sc_core::sc_time_stamp().to_seconds() << " s" << std::endl;
     paused_ = false;
     world_.pacer->rebase(); // wall time went on while simulated time stood still
     rtf_base_wall_ = Clock::now();
     rtf_base_sim_ = sc_core::sc_time_stamp();
+    return was_paused;
 }
 
 // Interrupt rates over windows of at least 100 ms simulated; RTF over 0.5 s of running wall time.

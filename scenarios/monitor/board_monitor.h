@@ -51,18 +51,33 @@ public:
     // ---- control, for the requests of any endpoint (simulation thread, between slices) ----
     World& world() { return world_; }
     bool paused() const { return paused_; }
-    void pause();
-    void resume();
-    /// Runs exactly `t` of simulated time, unpaced, and leaves the run paused.
-    void step(const sc_core::sc_time& t);
+    /// True when the run was not paused (resume: was paused). `announce`: logs it as "monitor:";
+    /// another endpoint logs in its own words (scenarios/modbus) and passes false.
+    bool pause(bool announce = true);
+    bool resume(bool announce = true);
+    /// What a step did: where it stopped, and whether the run's end cut it short.
+    struct StepResult {
+        sc_core::sc_time at;
+        bool at_end = false;
+    };
+    /// Runs `t` of simulated time, unpaced, and leaves the run paused; never past the run's end
+    /// (the scenario's duration_s, at most the one-hour cap): a step asked to go further stops
+    /// there and says so on the log as `who` (once), and run_until() then ends the run. Between
+    /// its slices no request is taken (one could step again) but what clients read is refreshed
+    /// (snapshot, wall-time updates, while_stepping()).
+    StepResult step(const sc_core::sc_time& t, const char* who = "monitor");
+    /// Called between two slices of a step, in place of between_slices(): the endpoint refreshes
+    /// what its clients read, and takes no request.
+    void while_stepping(std::function<void()> refresh) { while_stepping_ = std::move(refresh); }
     /// A motion command as the main CPU's token dispatcher executes it (the "motion" op).
     Outcome motion(const std::string& token, const std::string& data);
     /// The measured real-time factor (0 while paused) and the pacer's target (0 = unpaced).
     double rtf() const { return rtf_measured_; }
     double rtf_target() const { return rtf_target_; }
 
-    /// Runs simulated time up to `end`, serving the clients, until `end` is reached, a stop
-    /// signal came, or a host ended the session (sc_pause from a tcp or replay host; true).
+    /// Runs simulated time up to `end` (at most the one-hour cap), serving the clients, until
+    /// `end` is reached (by running or by a step), a stop signal came, or a host ended the
+    /// session (sc_pause from a tcp or replay host; true).
     bool run_until(const sc_core::sc_time& end);
 
     /// The state as the API's "snapshot" (docs/monitor.md "Snapshot").
@@ -90,13 +105,19 @@ private:
 
     World& world_;
     std::unique_ptr<MonitorServer> server_; // none without http
-    std::function<void()> between_slices_;
+    std::function<void()> between_slices_, while_stepping_;
     std::ostream& log_;
     std::vector<ScriptedCommand> commands_;
     std::size_t next_command_ = 0;
     std::map<std::uint64_t, Subscription> subs_;
     bool paused_ = false;
     double rtf_target_ = 0; // 0 = as fast as the host goes
+    // The run's end (run_until's, capped) and what sets it, in the words of the step's log line.
+    sc_core::sc_time end_;
+    std::string end_reason_;
+    bool end_announced_ = false;  // the step cut at the end is logged once
+    bool host_ended_ = false;     // sc_pause: a tcp or replay host ended the session
+    sc_core::sc_time slice_{1, sc_core::SC_MS}; // adapted: one slice takes 2..8 ms of wall time
 
     // What the hooks collect.
     std::array<LastFrame, World::kPorts> last_rx_, last_tx_;
@@ -113,6 +134,7 @@ private:
 
     void hook_bench();
     void serve();
+    bool advance(const sc_core::sc_time& most);
     void handle(std::uint64_t client, const nlohmann::json& m);
     nlohmann::json execute(std::uint64_t client, const std::string& op, Args& a);
     void run_due_commands();

@@ -2,7 +2,8 @@
 run of tests/scenarios/modbus/board.yaml with --modbus and --monitor: time, counters and Table 3 read and
 compared with the monitor's JSON snapshot of the same paused instant; the pause and step coils;
 a servo coil and motion commands through the mailbox moving axis 0 to its target; a mailbox
-"go" written while paused, taking effect on the step; exception responses to bad requests.
+"go" written while paused, taking effect on the step; exception responses to bad requests (function
+codes 0x80..0xFF: 01 with the code unchanged; reads of the map's gaps: 02).
 
 usage: client_test.py RCSIM SCENARIO"""
 import csv
@@ -187,6 +188,25 @@ def body(c, m, run):
     for fc in (0x07, 0x11, 0x16, 0x17, 0x2B, 0x64):
         resp = raw(run.port, adu(9, 1, bytes([fc, 0, 0, 0, 1])))
         check(resp[7:9] == bytes([fc | 0x80, 1]), "function 0x%02X: exception 01 (%s)" % (fc, resp.hex()))
+    # 0x80..0xFF are the codes of exception responses, no request's: exception 01 with the code as
+    # it came (it has the high bit already; adding 0x80 to a byte wrapped 0x80 to 0x00).
+    for fc in (0x80, 0x81, 0x84, 0xFF):
+        resp = raw(run.port, adu(10, 1, bytes([fc, 0, 0, 0, 1])))
+        check(resp[:9] == adu(10, 1, bytes([fc, 1])), "function 0x%02X: exception 01, function 0x%02X (%s)"
+              % (fc, fc, resp.hex()))
+    # Addresses inside a table that the map does not name (docs/monitor.md: the gaps) are illegal,
+    # alone or in a read that spans one; what the map names around them reads as before.
+    for a in (5, 20, 50, 99, 160, 208):
+        r = c.read_input_registers(a, 1, slave=1)
+        check(r.isError() and r.exception_code == 2, "input register %d, unmapped: exception 02" % a)
+    r = c.read_input_registers(m.addr("latency_over_budget"), 3, slave=1)
+    check(r.isError() and r.exception_code == 2, "a read of input registers 18..20 (20 unmapped): exception 02")
+    r = c.read_input_registers(m.addr("verdict"), 2, slave=1)
+    check(r.isError() and r.exception_code == 2, "a read of input registers 4..5 (5 unmapped): exception 02")
+    r = c.read_input_registers(m.addr("rs232_isr_mean"), 14, slave=1)
+    check(not r.isError() and len(r.registers) == 14, "a read of the mapped input registers 6..19: served")
+    r = c.read_holding_registers(0, 23, slave=1)
+    check(not r.isError() and len(r.registers) == 23, "the whole mailbox, holding registers 0..22: served")
     # One axis's servo coil: MC_Power.Enable of that axis only.
     c.write_coil(m.addr("axis2.servo_on"), False, slave=1)
     check(wait(lambda: m.read(c, "axis2.state") == 0), "axis 2's servo coil 0: axis 2 Disabled (0)")
