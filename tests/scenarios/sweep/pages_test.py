@@ -34,7 +34,7 @@ const delta = (run, key) => {
       r.cells[0].textContent === key);
   return rows.length ? getComputedStyle(rows[0].cells[3]).color : null;
 };
-const runs = document.getElementById("runs");
+const runs = document.getElementById("runs") || document.querySelector("table"); // the runs table comes first
 const probe = {
   scroll_width: document.documentElement.scrollWidth,
   client_width: document.documentElement.clientWidth,
