@@ -74,6 +74,24 @@ std::vector<Tolerance> load_tolerances(const std::string& path) {
     return out;
 }
 
+Tolerance::Better figure_direction(const std::string& key) {
+    using B = Tolerance::Better;
+    // First match wins; the same directions as scenarios/regress/tolerances.yaml.
+    static const std::pair<const char*, B> kKnown[] = {
+        {"table3.budget_us", B::none},         {"table3.paper_*", B::none},
+        {"table3.margin_us", B::higher},       {"table3.worst_margin_us", B::higher}, // table3_*margin_us >=
+        {"table3.*_us", B::lower},             {"interrupts.*_us.count", B::none},
+        {"interrupts.*_us.*", B::lower},       {"ports[*].char_latency_us.count", B::none},
+        {"ports[*].char_latency_us.*", B::lower}, // port<n>_char_latency_max_us <=
+        {"ports[*].frames_delivered", B::higher}, // frames_delivered >=
+        {"ports[*].frames_failed", B::lower},  {"ports[*].overruns", B::lower},
+        {"bus_errors", B::lower},
+    };
+    for (const auto& [pattern, better] : kKnown)
+        if (glob_match(pattern, key)) return better;
+    return B::none;
+}
+
 std::string figure_family(const std::string& key) {
     const std::size_t first = key.find_first_of(".[");
     if (first == std::string::npos) return key;
@@ -147,6 +165,7 @@ const Tolerance& rule_for(const std::vector<Tolerance>& rules, const std::string
 
 void judge(FigureDiff& f, const Tolerance& t) {
     f.rule = t.origin;
+    f.better = t.better != Tolerance::Better::none ? t.better : figure_direction(f.key);
     if (t.ignore) f.change = Change::ignored;
     else if (!f.has_current) f.change = Change::regression; // a figure the report no longer has
     else if (!f.has_baseline) f.change = Change::added;
@@ -222,7 +241,7 @@ Comparison compare_runs(const std::map<std::string, RunRecord>& baseline, const 
                         const std::vector<Tolerance>& rules, bool allow_missing) {
     Comparison c;
     c.allow_missing = allow_missing;
-    std::set<std::string> ids;
+    std::set<std::string, decltype(&run_id_less)> ids(&run_id_less); // seed=2 before seed=10
     for (const auto& [k, v] : baseline) ids.insert(k);
     for (const auto& [k, v] : current) ids.insert(k);
     for (const std::string& id : ids) {

@@ -36,6 +36,11 @@ std::vector<Tolerance> load_tolerances(const std::string& path);
 /// The default rules alone: host-dependent figures ignored, everything else exact.
 std::vector<Tolerance> default_tolerances();
 
+/// Which way a figure is better when no tolerance says: the direction of the check that limits it
+/// (scenarios/verdict/checks.cpp: `<=` lower, `>=` higher) or of the time it measures (a Table 3
+/// time, a latency, a service time: lower; a margin: higher); none for every other figure.
+Tolerance::Better figure_direction(const std::string& key);
+
 /// `*` matches any run of characters (dots and brackets too), `?` one; everything else itself.
 bool glob_match(const std::string& pattern, const std::string& text);
 
@@ -51,6 +56,8 @@ struct FigureDiff {
     std::optional<double> delta, rel; // numbers on both sides; rel when baseline != 0
     Change change = Change::same;
     std::string rule; // where the tolerance came from
+    // Which way is better, for colouring the delta: the rule's `better`, else figure_direction().
+    Tolerance::Better better = Tolerance::Better::none;
 };
 
 struct CheckDiff {

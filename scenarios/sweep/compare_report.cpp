@@ -140,8 +140,19 @@ const char* row_class(Change v) {
     }
 }
 
+/// The delta's colour: which way the figure is better (FigureDiff::better), not the delta's sign; a
+/// figure of unknown direction stays neutral.
+std::string delta_class(const FigureDiff& f) {
+    if (!f.delta || *f.delta == 0) return "";
+    if (f.better == Tolerance::Better::none) return " title=\"direction unknown\"";
+    const bool lower = f.better == Tolerance::Better::lower;
+    const bool worse = lower ? *f.delta > 0 : *f.delta < 0;
+    return std::string(worse ? " class=\"worse\"" : " class=\"better\"") +
+           (lower ? " title=\"lower is better\"" : " title=\"higher is better\"");
+}
+
 void figure_row(std::ostringstream& o, const std::string& run, const FigureDiff& f) {
-    const char* sign = !f.delta ? "" : *f.delta > 0 ? " class=\"pos\"" : " class=\"neg\"";
+    const std::string sign = delta_class(f);
     o << "<tr" << row_class(f.change) << ">";
     if (!run.empty()) o << "<td class=\"k\">" << esc(run) << "</td>";
     o << "<td class=\"k\">" << esc(f.key) << "</td><td>" << esc(text_of(f.baseline, f.has_baseline)) << "</td><td>"

@@ -6,6 +6,7 @@
 #include "scenarios/sweep/expectation.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -95,7 +96,44 @@ std::vector<std::string> union_keys(const json& runs, const char* field) {
     return keys;
 }
 
+/// The length of the number that starts at `s[i]` (0: none): a sign only right after '=' (a '-'
+/// elsewhere separates the parts of an id), digits, a fraction, an exponent.
+std::size_t number_at(const std::string& s, std::size_t i) {
+    const auto digit = [&](std::size_t k) { return k < s.size() && s[k] >= '0' && s[k] <= '9'; };
+    std::size_t k = i;
+    if ((s[k] == '-' || s[k] == '+') && k > 0 && s[k - 1] == '=') ++k;
+    if (!digit(k)) return 0;
+    while (digit(k)) ++k;
+    if (k < s.size() && s[k] == '.' && digit(k + 1))
+        for (++k; digit(k);) ++k;
+    if (k < s.size() && (s[k] == 'e' || s[k] == 'E')) {
+        std::size_t e = k + 1;
+        if (e < s.size() && (s[e] == '-' || s[e] == '+')) ++e;
+        if (digit(e))
+            for (k = e; digit(k);) ++k;
+    }
+    return k - i;
+}
+
 } // namespace
+
+bool run_id_less(const std::string& a, const std::string& b) {
+    std::size_t i = 0, j = 0;
+    while (i < a.size() && j < b.size()) {
+        const std::size_t na = number_at(a, i), nb = number_at(b, j);
+        if (na && nb) {
+            const std::string ta = a.substr(i, na), tb = b.substr(j, nb);
+            const double va = std::strtod(ta.c_str(), nullptr), vb = std::strtod(tb.c_str(), nullptr);
+            if (va != vb) return va < vb;
+            if (ta != tb) return ta < tb; // 1 and 1.0: still one order
+            i += na, j += nb;
+            continue;
+        }
+        if (a[i] != b[j]) return a[i] < b[j];
+        ++i, ++j;
+    }
+    return a.size() - i < b.size() - j;
+}
 
 std::vector<RunRecord> collect_runs(const std::vector<std::string>& dirs) {
     std::vector<RunRecord> runs;
@@ -117,7 +155,7 @@ std::vector<RunRecord> collect_runs(const std::vector<std::string>& dirs) {
             runs.push_back(std::move(r));
         }
     }
-    std::sort(runs.begin(), runs.end(), [](const RunRecord& a, const RunRecord& b) { return a.id < b.id; });
+    std::sort(runs.begin(), runs.end(), [](const RunRecord& a, const RunRecord& b) { return run_id_less(a.id, b.id); });
     return runs;
 }
 

@@ -31,6 +31,11 @@ nlohmann::json read_json_file(const std::filesystem::path& file);
 /// sorted by id. The same id twice is a ConfigError naming both directories.
 std::vector<RunRecord> collect_runs(const std::vector<std::string>& dirs);
 
+/// The order of runs in every summary and comparison: ids compared as text, except that where
+/// both have a number at the same place (`seed=2`, `x=-0.5`: digits with an optional sign after
+/// `=`, fraction and exponent) the numbers compare by value: seed=1, 2, 10, 11; text axes as text.
+bool run_id_less(const std::string& a, const std::string& b);
+
 /// One figure: its path in report.json ("table3.margin_us", "ports[0].overruns") and value.
 using Figures = std::vector<std::pair<std::string, nlohmann::json>>;
 

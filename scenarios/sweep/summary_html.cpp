@@ -25,9 +25,10 @@ const char* const kCss =
     "h1{font-size:22px}h2{font-size:18px;margin-top:32px;border-bottom:1px solid #ccc}"
     "table{border-collapse:collapse;font-size:12px;margin:8px 0}"
     "th,td{border:1px solid #ddd;padding:2px 6px;text-align:right;white-space:nowrap}"
-    "th{background:#f2f2f2}td.k,th.k{text-align:left}"
-    "tr.fail td{background:#fbe3e4}tr.reg td{background:#fbe3e4}tr.imp td{background:#e3f6e6}"
-    "tr.within td{background:#fff8e0}tr.ign td{color:#999}td.neg{color:#0a7a28}td.pos{color:#b3141d}"
+    "th{background:#f2f2f2;white-space:normal;overflow-wrap:anywhere}td.k,th.k{text-align:left}"
+    "td.w{white-space:normal;overflow-wrap:anywhere;min-width:14em}pre{font-size:12px;overflow-x:auto}"
+    "tr.fail td{background:#fbe3e4}tr.stopped td{background:#eee;color:#555}tr.reg td{background:#fbe3e4}tr.imp td{background:#e3f6e6}"
+    "tr.within td{background:#fff8e0}tr.ign td{color:#999}td.better{color:#0a7a28}td.worse{color:#b3141d}"
     ".banner{padding:10px 14px;border-radius:4px;font-weight:bold}.pass{background:#e3f6e6}"
     ".fail{background:#fbe3e4}.charts{display:flex;flex-wrap:wrap;gap:8px}"
     "details{margin:4px 0}summary{cursor:pointer}";
@@ -94,7 +95,12 @@ std::string xy_chart(const std::string& title, const std::string& xlabel, const 
             d.with_title("<circle cx=\"" + num(sx(p.x)) + "\" cy=\"" + num(sy(p.y)) + "\" r=\"3.5\" fill=\"" + colour +
                              "\"",
                          p.tip);
-            if (p.failed) d.marker(sx(p.x), sy(p.y), svg::Marker::cross, "#c82333", 11);
+            if (p.stopped)
+                d.with_title("<circle class=\"stopped\" cx=\"" + num(sx(p.x)) + "\" cy=\"" + num(sy(p.y)) +
+                                 "\" r=\"7\" fill=\"none\" stroke=\"#777\" stroke-dasharray=\"2 2\"",
+                             p.tip);
+            else if (p.failed)
+                d.marker(sx(p.x), sy(p.y), svg::Marker::cross, "#c82333", 11);
         }
     }
     if (legend) {
@@ -184,6 +190,12 @@ double headline(const json& run, const std::string& key) {
     return any ? sum : NAN;
 }
 
+/// A run the sweep stopped: interrupted (its report holds the figures so far) or never run.
+bool stopped_run(const json& run) {
+    const std::string status = run.value("status", std::string());
+    return status == "interrupted" || status == "not run";
+}
+
 /// The checks a summary run failed, comma-separated ("" when none).
 std::string failed_checks(const json& run) {
     std::string failed;
@@ -222,8 +234,11 @@ std::vector<html::XySeries> series_of(const json& runs, const std::string& axis,
         s.label = label;
         // A failed run's point says which checks failed.
         const std::string failed = failed_checks(r);
+        const bool stopped = stopped_run(r);
         s.points.push_back({p[axis].get<double>(), y, r["status"] != "passed",
-                            r["id"].get<std::string>() + ": " + html::cell(y) + (failed.empty() ? "" : "; failed: " + failed)});
+                            r["id"].get<std::string>() + ": " + html::cell(y) +
+                                (stopped ? "; interrupted (figures so far)" : failed.empty() ? "" : "; failed: " + failed),
+                            stopped});
     }
     std::vector<html::XySeries> out;
     for (auto& [k, s] : by) {
@@ -239,35 +254,55 @@ void runs_table(const json& runs, std::ostringstream& o) {
     for (const auto& r : runs)
         for (const auto& [k, v] : r["parameters"].items())
             if (seen.insert(k).second) params.push_back(k);
-    o << "<table>\n<tr><th class=\"k\">run</th><th class=\"k\">status</th>";
+    // A headline no run has (the motion figure of a serial sweep) would be a column of dashes: left
+    // out, and named under the table, so that the table fits 1280 px.
+    std::vector<const Headline*> shown;
+    std::string absent;
+    for (const Headline& h : kHeadlines) {
+        const bool any = std::any_of(runs.begin(), runs.end(), [&](const json& r) { return !std::isnan(headline(r, h.key)); });
+        if (any) shown.push_back(&h);
+        else absent += (absent.empty() ? "" : ", ") + std::string(h.key);
+    }
+    o << "<table id=\"runs\">\n<tr><th class=\"k\">run</th><th class=\"k\">status</th>";
     for (const auto& p : params) o << "<th>" << esc(p) << "</th>";
-    for (const Headline& h : kHeadlines) o << "<th>" << esc(h.title) << "</th>";
-    o << "<th class=\"k\">failed checks</th><th class=\"k\">expected to fail</th><th class=\"k\">outcome</th></tr>\n";
+    for (const Headline* h : shown) o << "<th>" << esc(h->title) << "</th>";
+    // The checks and the sweep's judgement in one wrapping column (three were wider than 1280 px).
+    o << "<th class=\"k\">outcome: failed checks, expected to fail, why</th></tr>\n";
     for (const auto& r : runs) {
         // Red is what fails the sweep: a run not as expected, not a by-design failure.
         const std::string judged = r.value("outcome", std::string("?"));
         const bool ok = judged == "passed" || judged == "inconclusive";
-        o << "<tr" << (ok ? "" : " class=\"fail\"") << "><td class=\"k\">" << esc(r["id"].get<std::string>())
+        o << "<tr" << (stopped_run(r) ? " class=\"stopped\"" : ok ? "" : " class=\"fail\"") << "><td class=\"k\">" << esc(r["id"].get<std::string>())
           << "</td><td class=\"k\">" << esc(r["status"].get<std::string>()) << "</td>";
         for (const auto& p : params)
             o << "<td>" << (r["parameters"].contains(p) ? esc(number_text(r["parameters"][p])) : "") << "</td>";
-        for (const Headline& h : kHeadlines) o << "<td>" << html::cell(headline(r, h.key)) << "</td>";
+        for (const Headline* h : shown) o << "<td>" << html::cell(headline(r, h->key)) << "</td>";
         const std::string failed = failed_checks(r);
-        std::string expected, outcome = judged;
+        std::string expected;
         for (const auto& name : r.value("expected_failures", json::array())) expected += (expected.empty() ? "" : ", ") + name.get<std::string>();
-        for (const auto& why : r.value("outcome_why", json::array())) outcome += "; " + why.get<std::string>();
-        o << "<td class=\"k\">" << esc(failed) << "</td><td class=\"k\">" << esc(expected) << "</td><td class=\"k\">"
-          << esc(outcome) << "</td></tr>\n";
+        o << "<td class=\"k w\">" << esc(judged);
+        if (!failed.empty()) o << "<br>failed: " << esc(failed);
+        if (!expected.empty()) o << "<br>expected to fail: " << esc(expected);
+        for (const auto& why : r.value("outcome_why", json::array())) o << "<br>" << esc(why.get<std::string>());
+        o << "</td></tr>\n";
     }
     o << "</table>\n";
+    if (!absent.empty()) o << "<p>In no run: " << esc(absent) << ".</p>\n";
 }
 
 } // namespace
 
 std::string summary_html(const nlohmann::json& summary) {
     const json& runs = summary["results"];
-    const json outcomes = summary.value("outcomes", json::object());
-    const std::size_t failed = outcomes.value("failed", 0u) + outcomes.value("no report", 0u);
+    // The sweep's judgement, run by run: as expected, not, or stopped (interrupted, not run), which
+    // is neither (issue #51: stopped runs were counted as "not" as expected).
+    std::size_t expected = 0, not_expected = 0, stopped_runs = 0;
+    for (const auto& r : runs) {
+        const std::string outcome = r.value("outcome", std::string("?"));
+        if (stopped_run(r)) ++stopped_runs;
+        else if (outcome == "passed" || outcome == "inconclusive") ++expected;
+        else ++not_expected;
+    }
     // Only an interrupted sweep has these: a complete one's page stays as it was.
     const std::size_t interrupted = summary.value("interrupted", 0u), not_run = summary.value("not run", 0u);
     std::string stopped;
@@ -275,16 +310,17 @@ std::string summary_html(const nlohmann::json& summary) {
     if (not_run) stopped += ", " + std::to_string(not_run) + " not run (the sweep was interrupted)";
     std::ostringstream o;
     o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rcsim sweep: "
-      << runs.size() << " runs, " << failed << " failed</title>\n<style>" << html::kCss
+      << runs.size() << " runs, " << not_expected << " not as expected</title>\n<style>" << html::kCss
       << "</style>\n</head>\n<body>\n<h1>rcsim sweep summary</h1>\n<div class=\"banner "
-      << (failed || !stopped.empty() ? "fail" : "pass") << "\">" << runs.size() << " runs: " << summary.value("passed", 0u)
-      << " passed, " << summary.value("failed", 0u) << " failed a check, " << summary.value("no report", 0u)
-      << " without a report" << stopped << "; " << outcomes.value("passed", 0u) + outcomes.value("inconclusive", 0u)
-      << " as expected, " << failed << " not</div>\n<h2>Runs</h2>\n";
+      << (not_expected || stopped_runs ? "fail" : "pass") << "\" id=\"banner\">" << runs.size() << " runs: "
+      << summary.value("passed", 0u) << " passed, " << summary.value("failed", 0u) << " failed a check, "
+      << summary.value("no report", 0u) << " without a report" << stopped << "; " << expected << " as expected, "
+      << not_expected << " not" << (stopped_runs ? ", " + std::to_string(stopped_runs) + " interrupted/not run" : "")
+      << "</div>\n<h2>Runs</h2>\n";
     runs_table(runs, o);
     for (const std::string& axis : numeric_axes(runs)) {
         o << "<h2>Against " << esc(axis) << "</h2>\n<p>One line per combination of the other parameters; "
-             "a red cross marks a run that failed.</p>\n<div class=\"charts\">\n";
+             "a red cross marks a run that failed, a dashed grey ring one interrupted (its figures so far).</p>\n<div class=\"charts\">\n";
         std::string constant;
         for (const Headline& h : kHeadlines) {
             const auto series = series_of(runs, axis, h.key);

@@ -12,8 +12,9 @@ extern const char* const kCss;
 
 struct XyPoint {
     double x = 0, y = 0;
-    bool failed = false; // drawn as a red cross
-    std::string tip;     // hover text
+    bool failed = false;  // drawn as a red cross
+    std::string tip;      // hover text
+    bool stopped = false; // interrupted before its end: drawn as a dashed grey ring, not a cross
 };
 
 struct XySeries {

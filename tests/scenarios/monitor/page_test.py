@@ -4,8 +4,9 @@ checked from its DOM and geometry (not pixel by pixel); a screenshot is saved.
   motion: it draws the X-Y plot of the circle the scenario commands (tests/scenarios/monitor/plot.yaml),
           shows the same axis positions as the API and the function blocks as readable states.
   comm:   a communication-only run (tests/scenarios/monitor/comm.yaml) shows no motion panel; per interrupt
-          source the latency and service max / p99 as the API has them, against the budget, and
-          the worst case's cause; the margin strip; the ports table fits 1280 px.
+          source the latency and service max / p99 as the API has them, each red only over its own
+          limit (issue #51), the worst case, its time and its cause each in a cell of one unit; the
+          verdict so far; the margin strip; the ports table fits 1280 px; no empty log box.
 
 usage: page_test.py RCSIM SCENARIO SCREENSHOT.png [motion|comm]
 Exit 77 (skipped) when Chromium is not installed."""
@@ -24,6 +25,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from rcsim_test import check, failures  # noqa: E402
 from wsclient import HANG_S, Rcsim, WebSocket, http_get  # noqa: E402
 
+
+# report.json's names of the interrupt sources, by level (the blocking check's detail).
+SOURCE_KEYS = ["rs232_0", "rs232_1", "rs232_2", "dpram"]
 
 # The circle of tests/scenarios/monitor/plot.yaml: centre (-5000, 0), radius 5000 pulses.
 CX, CY, R = -5000, 0, 5000
@@ -54,6 +58,10 @@ DOM_LAYOUT = """JSON.stringify({
   verdict: document.getElementById("verdict").textContent,
   irq: [0, 1, 2, 3].map(l => { const r = document.getElementById("irq-" + l);
                                return r ? Array.from(r.cells).map(c => c.textContent) : null; }),
+  irq_red: [0, 1, 2, 3].map(l => { const r = document.getElementById("irq-" + l);
+                                   return r ? Array.from(r.cells).map(c => c.classList.contains("over") ||
+                                                                      c.querySelector(".over") !== null) : null; }),
+  log_height: document.getElementById("log").getBoundingClientRect().height,
   strip: Number(document.getElementById("margin-strip").dataset.points),
   worst_margin: document.getElementById("worst-margin") ? document.getElementById("worst-margin").textContent : null,
   margin: document.getElementById("margin") ? document.getElementById("margin").textContent : null,
@@ -150,7 +158,7 @@ def shown(text, value):
 
 def comm_checks(check, dt, run, api):
     """A communication-only run: no motion panels; interrupts against the budget as the API has them."""
-    lay = wait_dom(dt, lambda d: d["strip"] >= 3 and all(r and "us at" in r[8] for r in d["irq"][:3]),
+    lay = wait_dom(dt, lambda d: d["strip"] >= 3 and all(r and r[11] for r in d["irq"][:3]),
                    timeout=HANG_S, expression=DOM_LAYOUT)
     check(not lay["motion_shown"] and lay["motion_height"] == 0, "no motion panel on a communication-only run")
     check(lay["strip"] >= 3, "the margin strip has %d points" % lay["strip"])
@@ -167,16 +175,34 @@ def comm_checks(check, dt, run, api):
     words = {"passed": "PASSING", "failed": "FAILING", "inconclusive": "NOT MEASURED YET"}
     check(lay["verdict"] == words[snap["verdict"]["verdict"]],
           "the page's verdict %r is the API's %r" % (lay["verdict"], snap["verdict"]["verdict"]))
-    for src in snap["interrupts"][:3]:
+    blocking = next(c for c in snap["verdict"]["checks"] if c["name"] == "interrupt_blocking_max_us")
+    dpram = snap["interrupts"][3]
+    print("DP-RAM service max %.1f us, budget %.1f us, its latencies over budget %d" % (
+        dpram["service_us"]["max"], budget, dpram["over_budget"]))
+    check(lay["log_height"] == 0, "no empty log box under the buttons (%.0f px high)" % lay["log_height"])
+    for src in snap["interrupts"]:
         row = lay["irq"][src["level"]]
         lat, svc = src["latency_us"], src["service_us"]
         check(row is not None and lat is not None and shown(row[3], lat["max"]) and shown(row[4], lat["p99"])
               and shown(row[5], svc["max"]) and shown(row[6], svc["p99"]),
               "%s: latency max/p99 %s/%s, service max/p99 %s/%s as the API's (%s, %s)" % (
                   src["name"], row and row[3], row and row[4], row and row[5], row and row[6], lat, svc))
-        check(row is not None and src["worst"] is not None and src["worst"]["cause"] in row[8] and
-              shown(row[8].split(" us at")[0], src["worst"]["latency_us"]),
-              "%s: the worst case and its cause: %s" % (src["name"], row and row[8][:90]))
+        # One unit per cell (issue #51: "at 5.1470 s" and "since 5146975.500 us" in one cell).
+        worst = src["worst"]
+        check(row is not None and worst is not None and row[11] == worst["cause"] and
+              shown(row[9], worst["latency_us"]) and re.fullmatch(r"\d+\.\d{4}", row[10]) is not None and
+              abs(float(row[10]) - worst["t_s"]) <= 0.00005 + 1e-9,
+              "%s: the worst latency %s us, at %s s and its cause, each in its own cell: %s" % (
+                  src["name"], row and row[9], row and row[10], row and row[11][:90]))
+        # Red only over its own limit: latency over the budget, blocking over the rule's limit; a
+        # service time never (the DP-RAM's service is longer than the budget by design).
+        red = lay["irq_red"][src["level"]]
+        limit = blocking["limit"]
+        blocked = blocking["detail"][SOURCE_KEYS[src["level"]]]["blocking_us"]
+        want = [lat["max"] > budget, lat["p99"] > budget, False, False, blocked > limit, src["over_budget"] > 0]
+        check(red[3:9] == want and shown(row[7], blocked),
+              "%s: red cells latency max/p99, service max/p99, blocking %s (limit %.1f), over budget: %s, want %s" % (
+                  src["name"], row[7], limit, red[3:9], want))
     check(shown(lay["worst_margin"], snap["table3"]["worst_margin_us"]),
           "the worst-case margin %s us, the API's" % lay["worst_margin"])
     check_layout(check, lay)

@@ -301,6 +301,51 @@ TEST(Compare, HtmlHasTheRegressionTableAndOverlaidHistogram) {
     EXPECT_EQ(h.find("src=\"http"), std::string::npos);             // self-contained
 }
 
+// Issue #51 item 3: which way a figure is better comes from the check that limits it or the time
+// it measures (scenarios/verdict/checks.cpp: table3_margin_us >=, frames_delivered >=, overruns <=).
+TEST(Compare, AFiguresDirectionComesFromItsCheckOrWhatItMeasures) {
+    using B = Tolerance::Better;
+    EXPECT_EQ(figure_direction("table3.margin_us"), B::higher);
+    EXPECT_EQ(figure_direction("table3.worst_margin_us"), B::higher);
+    EXPECT_EQ(figure_direction("table3.rs232_isr_us"), B::lower);
+    EXPECT_EQ(figure_direction("table3.budget_us"), B::none);
+    EXPECT_EQ(figure_direction("interrupts.rs232_0.latency_us.max"), B::lower);
+    EXPECT_EQ(figure_direction("interrupts.rs232_0.latency_us.count"), B::none);
+    EXPECT_EQ(figure_direction("ports[1].frames_delivered"), B::higher);
+    EXPECT_EQ(figure_direction("ports[1].overruns"), B::lower);
+    EXPECT_EQ(figure_direction("comm_cpu.instructions"), B::none);
+    // A tolerance's `better` overrides it.
+    const RunDiff r = one(report(82, 10, true), report(82, 5, true),
+                          with_defaults({rule("table3.margin_us", 0, 0, Tolerance::Better::lower)}));
+    EXPECT_EQ(figure(r, "table3.margin_us").better, B::lower);
+    EXPECT_EQ(figure(one(report(82, 10, true), report(82, 5, true)), "table3.margin_us").better, B::higher);
+}
+
+// The delta is coloured by the figure's direction, not its sign: a margin that shrinks (negative
+// delta) and an ISR time that grows (positive) are both worse; a figure of unknown direction is
+// neutral.
+TEST(Compare, HtmlColoursADeltaWorseOrBetterByTheFiguresDirection) {
+    auto cell_of = [](const std::string& h, const std::string& key) {
+        const auto at = h.find("<td class=\"k\">" + key + "</td>", h.find("Runs side by side"));
+        const auto delta = h.find("</td><td", h.find("</td><td", h.find("</td><td", at) + 1) + 1); // after baseline, current
+        return h.substr(delta, h.find('>', delta + 5) - delta);
+    };
+    json base = report(82, 10, true), cur = report(90, 5, true);
+    base["comm_cpu"] = {{"instructions", 100}};
+    cur["comm_cpu"] = {{"instructions", 120}};
+    Comparison c;
+    one(base, cur, default_tolerances(), &c);
+    const std::string h = compare_html(c);
+    EXPECT_NE(cell_of(h, "table3.margin_us").find("class=\"worse\""), std::string::npos) << cell_of(h, "table3.margin_us");
+    EXPECT_NE(cell_of(h, "table3.rs232_isr_us").find("class=\"worse\""), std::string::npos);
+    EXPECT_EQ(cell_of(h, "comm_cpu.instructions").find("class="), std::string::npos) << cell_of(h, "comm_cpu.instructions");
+    Comparison back;
+    one(cur, base, default_tolerances(), &back); // the margin grows, the ISR time shrinks
+    const std::string g = compare_html(back);
+    EXPECT_NE(cell_of(g, "table3.margin_us").find("class=\"better\""), std::string::npos);
+    EXPECT_NE(cell_of(g, "table3.rs232_isr_us").find("class=\"better\""), std::string::npos);
+}
+
 TEST(Compare, HtmlLeadsWithTheRankedReportAndCollapsesTheOtherFiguresPerFamily) {
     std::map<std::string, RunRecord> base, cur;
     for (const char* id : {"a", "b"}) base.emplace(id, run_of(id, slowed(false))), cur.emplace(id, run_of(id, slowed(true)));

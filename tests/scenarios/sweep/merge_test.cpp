@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -119,6 +120,34 @@ TEST(Merge, NotRunRunsOfAnInterruptedSweep) {
     EXPECT_NE(slurp(d / "runs/summary.html").find("1 not run (the sweep was interrupted)"), std::string::npos);
 }
 
+// Issue #51 item 3: interrupted and not-run runs are neither as expected nor not: the banner
+// counts them apart, their rows are not red, the interrupted run's point is a grey ring, no cross.
+TEST(Merge, InterruptedAndNotRunRunsAreDrawnAndCountedApart) {
+    const fs::path d = rcsim::test::scratch_dir();
+    make_run(d / "runs", "g-rom=0", 50.25, true, 0);
+    make_run(d / "runs", "g-rom=1", 40, true, 1);
+    json stopped = json::parse(slurp(d / "runs/g-rom=1/report.json"));
+    stopped["verdict"] = "interrupted";
+    std::ofstream(d / "runs/g-rom=1/report.json") << stopped.dump(2);
+    for (int i = 2; i < 4; ++i) {
+        const std::string id = "g-rom=" + std::to_string(i);
+        fs::create_directories(d / "runs" / id);
+        std::ofstream(d / "runs" / id / "run.json") << json{{"id", id}, {"entry", "g"}, {"parameters", {{"board.wait_states.rom", i}}}};
+        std::ofstream(d / "runs" / id / kNotRunMarker) << "not run\n";
+    }
+    merge_runs({(d / "runs").string()}, d / "runs");
+    const std::string html = slurp(d / "runs/summary.html");
+    EXPECT_NE(html.find("; 1 as expected, 0 not, 3 interrupted/not run</div>"), std::string::npos) << html.substr(0, 1500);
+    EXPECT_NE(html.find("<tr class=\"stopped\"><td class=\"k\">g-rom=1</td><td class=\"k\">interrupted</td>"),
+              std::string::npos);
+    EXPECT_NE(html.find("<tr class=\"stopped\"><td class=\"k\">g-rom=3</td><td class=\"k\">not run</td>"),
+              std::string::npos);
+    EXPECT_EQ(html.find("<tr class=\"fail\">"), std::string::npos);
+    EXPECT_NE(html.find("<circle class=\"stopped\""), std::string::npos);
+    EXPECT_EQ(html.find("stroke=\"#c82333\""), std::string::npos); // no "failed" cross
+    EXPECT_NE(html.find("g-rom=1: 40; interrupted (figures so far)"), std::string::npos);
+}
+
 TEST(Merge, SameRunsInAnyOrderOrSplitGiveTheSameBytes) {
     const fs::path d = rcsim::test::scratch_dir();
     for (int i = 0; i < 6; ++i) make_run(d / "all", "g-rom=" + std::to_string(i), 10.0 / (i + 1), i != 3, i);
@@ -160,4 +189,26 @@ TEST(ReadJson, SyntaxErrorNamesTheLine) {
     } catch (const ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("r.json:3: bad JSON: syntax error"), std::string::npos) << e.what();
     }
+}
+
+// Issue #51 item 3: numbers in run ids compare by value (seed=1, 2, 10, 11), text as text.
+TEST(RunOrder, NumbersInIdsCompareByValueTextAsText) {
+    std::vector<std::string> ids = {"s-seed=11", "s-seed=2", "s-seed=10", "s-seed=1", "grid-rom=0-data_size=128",
+                                    "grid-rom=0-data_size=16", "x=-0.5", "x=0.25", "x=1e-3", "port=b", "port=a"};
+    std::sort(ids.begin(), ids.end(), run_id_less);
+    const std::vector<std::string> want = {"grid-rom=0-data_size=16", "grid-rom=0-data_size=128", "port=a", "port=b",
+                                           "s-seed=1", "s-seed=2", "s-seed=10", "s-seed=11", "x=-0.5", "x=1e-3",
+                                           "x=0.25"};
+    EXPECT_EQ(ids, want);
+    EXPECT_FALSE(run_id_less("a", "a"));
+    EXPECT_TRUE(run_id_less("a", "a-seed=1")); // a prefix first
+}
+
+TEST(RunOrder, TheSummaryListsSeedsInNumericOrder) {
+    const fs::path dir = rcsim::test::scratch_dir();
+    for (const char* id : {"s-seed=10", "s-seed=2", "s-seed=1", "s-seed=11"}) make_run(dir, id, 10, true, 0);
+    const json s = summary_json(collect_runs({dir.string()}));
+    std::vector<std::string> order;
+    for (const auto& r : s["results"]) order.push_back(r["id"]);
+    EXPECT_EQ(order, (std::vector<std::string>{"s-seed=1", "s-seed=2", "s-seed=10", "s-seed=11"}));
 }
