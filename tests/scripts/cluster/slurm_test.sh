@@ -36,6 +36,7 @@ ln -s "$SRC/scripts" "$W/clone/scripts"
 CLONE=$W/clone
 
 trap 'bash "$SRC/scripts/cluster/one-node-slurm.sh" stop "$W/slurm"' EXIT
+trap 'exit 143' TERM INT # ctest's timeout: the EXIT trap still stops the daemons
 bash "$SRC/scripts/cluster/one-node-slurm.sh" start "$W/slurm" || die "the one-node Slurm did not start"
 export SLURM_CONF=$W/slurm/slurm.conf
 
