@@ -1,5 +1,6 @@
 // rcsim sweep | merge | compare: regression timing reports (docs/regression.md).
 //   rcsim sweep SWEEP.yaml --out DIR [--jobs N] [--list] [--shard K/N] [--shards N] [--rom FILE] [--symbols FILE[@SEG]] [--coverage]
+//   rcsim sweep SWEEP.yaml --out DIR --missing [--shards N]
 //   rcsim merge DIR... [--out DIR]
 //   rcsim compare BASELINE CURRENT [--tolerances FILE] [--junit FILE] [--html FILE] [--allow-missing]
 #include "models/plumbing/cli_range.h"
@@ -20,6 +21,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <thread>
 
 namespace rcsim {
@@ -60,6 +62,7 @@ struct SweepArgs {
     std::size_t shards = 0;
     unsigned jobs = 0;
     bool list = false;
+    bool missing = false;  // print the runs (or, with --shards, the shards) without a completed report
     bool coverage = false; // each run with --coverage; the merge writes DIR/coverage.info
 };
 
@@ -106,9 +109,44 @@ void mark_not_run(const Sweep& sweep, const SweepRun& run, const fs::path& dir, 
                "the not-run marker");
 }
 
+/// Whether DIR/<id> holds a completed run: a report with a verdict other than "interrupted".
+/// A report cut short is not one either: the run is to be run again.
+bool completed(const fs::path& run_dir) {
+    std::error_code ec;
+    if (!fs::is_regular_file(run_dir / "report.json", ec)) return false;
+    try {
+        const std::vector<RunRecord> runs = collect_runs({run_dir.string()});
+        const std::string status = runs.empty() ? "no report" : run_status(runs.front());
+        return status == "passed" || status == "failed" || status == "inconclusive";
+    } catch (const ConfigError&) {
+        return false;
+    }
+}
+
+/// --missing: the runs of the sweep that DIR does not hold completed (never run, interrupted,
+/// cancelled, or stopped by bad input), one id a line; with --shards N, the shard indices that
+/// hold them, comma-separated: the list `sbatch --array=` takes to run just those again. Reads
+/// DIR, writes nothing (a shard may still be running there).
+int print_missing(const Sweep& sweep, const fs::path& dir, std::size_t shards) {
+    std::vector<std::size_t> missing;
+    for (std::size_t i = 0; i < sweep.runs.size(); ++i)
+        if (!completed(dir / sweep.runs[i].id)) missing.push_back(i);
+    if (shards == 0) {
+        for (std::size_t i : missing) std::cout << sweep.runs[i].id << "\n";
+        return 0;
+    }
+    std::set<std::size_t> indices; // run i is in shard i mod N (shard_runs)
+    for (std::size_t i : missing) indices.insert(i % shards);
+    std::string line;
+    for (std::size_t k : indices) line += (line.empty() ? "" : ",") + std::to_string(k);
+    if (!line.empty()) std::cout << line << "\n";
+    return 0;
+}
+
 /// Runs this shard's runs `jobs` at a time; returns the sweep's exit code.
 int run_sweep(SweepArgs a, bool shards_given) {
     const Sweep sweep = load_sweep(a.file);
+    if (a.missing) return print_missing(sweep, fs::absolute(a.out).lexically_normal(), shards_given ? a.shards : 0);
     const Shard shard = shard_from(a.shard, shards_given ? std::optional<std::size_t>(a.shards) : std::nullopt,
                                    [](const char* v) { return std::getenv(v); });
     std::string rom;
@@ -179,7 +217,10 @@ void add_sweep(CLI::App& app) {
     cmd->add_option("sweep", a->file, "Sweep file (YAML, see docs/regression.md)")->required();
     cmd->add_option("--out", a->out, "Output directory: one DIR/<id>/ per run, DIR/summary.*")->required();
     cmd->add_option("--jobs,-j", a->jobs, "Runs in parallel (default: the number of cores)")->check(whole_in(1, 1024));
-    cmd->add_flag("--list", a->list, "Write the runs' scenario files and print one line per run: id, command");
+    auto* list = cmd->add_flag("--list", a->list, "Write the runs' scenario files and print one line per run: id, command");
+    auto* missing = cmd->add_flag("--missing", a->missing,
+                                  "Print the runs DIR lacks a completed report of (with --shards N: their shard "
+                                  "indices, for sbatch --array); run nothing, write nothing");
     cmd->add_option("--shard", a->shard, "Run every N-th run starting at K (0-based), e.g. 2/8");
     auto* shards = cmd->add_option("--shards", a->shards, "Shard count with JOB_COMPLETION_INDEX (Kubernetes)")
                        ->check(whole_in(1, 1000000));
@@ -188,6 +229,7 @@ void add_sweep(CLI::App& app) {
                     "The ROM's symbols for every run: its latency causes, --coverage (FILE[@SEG], docs/tools.md \"Symbols\")");
     cmd->add_flag("--coverage", a->coverage,
                   "Every run with --coverage; their tracefiles merged into DIR/coverage.info (docs/tools.md \"Coverage\")");
+    missing->excludes(list);
     cmd->callback([a, shards] {
         int code = 0;
         try {
@@ -213,9 +255,15 @@ void add_merge(CLI::App& app) {
             const fs::path o = out->empty() ? fs::path(dirs->front()) : fs::path(*out);
             std::error_code ec;
             if (!out->empty()) fs::create_directories(o, ec);
-            const std::size_t n = merge_runs(*dirs, o);
+            std::vector<std::string> unfinished;
+            const std::size_t n = merge_runs(*dirs, o, &unfinished);
+            // Said, not fatal: the summary lists them too; a cluster task cancelled or failed left them.
+            for (const std::string& u : unfinished) std::cerr << "rcsim merge: " << u << "\n";
             std::cout << "merged " << n << " runs: " << (o / "summary.json").string() << ", summary.csv, summary.html"
                       << (fs::exists(o / "coverage.info") ? ", coverage.info" : "") << "\n";
+            if (!unfinished.empty())
+                std::cout << "incomplete: " << unfinished.size() << " of " << n
+                          << " runs did not complete; rcsim sweep SWEEP --out DIR --missing lists what to run again\n";
         } catch (const ConfigError& e) {
             std::cerr << "rcsim merge: " << e.what() << "\n";
             code = 2;

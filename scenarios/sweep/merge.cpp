@@ -258,8 +258,15 @@ std::string number_text(const nlohmann::json& v) {
     return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-std::size_t merge_runs(const std::vector<std::string>& dirs, const fs::path& out) {
+std::size_t merge_runs(const std::vector<std::string>& dirs, const fs::path& out, std::vector<std::string>* unfinished) {
     const auto runs = collect_runs(dirs);
+    for (const RunRecord& r : runs) {
+        const std::string status = run_status(r);
+        if (!unfinished || status == "passed" || status == "failed" || status == "inconclusive") continue;
+        // Where to look: the run's log when it started, else its directory.
+        const fs::path log = r.dir / "run.log";
+        unfinished->push_back("run " + r.id + ": " + status + " (" + (fs::exists(log) ? log : r.dir).string() + ")");
+    }
     const nlohmann::json summary = summary_json(runs);
     write_file(out / "summary.json", summary.dump(2) + "\n", "the summary");
     write_file(out / "summary.csv", summary_csv(summary), "the summary");

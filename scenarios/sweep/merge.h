@@ -69,8 +69,11 @@ std::string summary_html(const nlohmann::json& summary);
 
 /// Writes OUT/summary.{json,csv,html} for the runs under `dirs`, and OUT/coverage.info, the runs'
 /// coverage.info files merged (scenarios/coverage/tracefile.h), when any has one (a malformed one
-/// is a ConfigError naming it). Returns the runs merged.
-std::size_t merge_runs(const std::vector<std::string>& dirs, const std::filesystem::path& out);
+/// is a ConfigError naming it). Returns the runs merged. `unfinished`, when given, receives one
+/// line per run that did not complete ("run ID: not run (DIR)", interrupted, no report): what a
+/// cancelled or failed cluster task left (docs/regression.md "On a cluster").
+std::size_t merge_runs(const std::vector<std::string>& dirs, const std::filesystem::path& out,
+                       std::vector<std::string>* unfinished = nullptr);
 
 /// A number as the summaries print it: the shortest text that reads back as the same double.
 std::string number_text(const nlohmann::json& v);

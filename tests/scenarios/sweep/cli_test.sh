@@ -236,5 +236,26 @@ printf '{"scenario": 5, "checks": 3, "passed": []}\n' > odd.json
 printf 'tolerances:\n  - {figure: x, better: sideways}\n' > tol.yaml
 expect2 "tol.yaml:2: 'tolerances[0].better' must be" compare A P --tolerances tol.yaml
 
+# --- 8. what a cancelled cluster task leaves: --missing, the merge naming the runs ---------------
+# (CTest cluster.slurm does this on a real Slurm; here the directories are made by hand.)
+[ -z "$("$RCSIM" sweep s.yaml --out A --missing)" ] || fail "--missing of a complete sweep is not empty"
+[ -z "$("$RCSIM" sweep s.yaml --out A --missing --shards 4)" ] || fail "--missing --shards of a complete sweep is not empty"
+cp -r A MISS && rm "MISS/t-rom=2-seed=1/report.json" && rm -r "MISS/t-rom=2-seed=2" &&
+    sed -i 's/"verdict": "[a-z]*"/"verdict": "interrupted"/' "MISS/t-rom=0-seed=2/report.json" || fail "cannot make MISS"
+before=$(find MISS | sort)
+[ "$("$RCSIM" sweep s.yaml --out MISS --missing | tr '\n' ' ')" = "t-rom=0-seed=2 t-rom=2-seed=1 t-rom=2-seed=2 " ] ||
+    fail "--missing: $("$RCSIM" sweep s.yaml --out MISS --missing)"
+# Runs 1, 2 and 3 of the sweep: shards 1, 2, 3 of 4; 1, 0, 1 of 2.
+[ "$("$RCSIM" sweep s.yaml --out MISS --missing --shards 4)" = 1,2,3 ] || fail "--missing --shards 4: $("$RCSIM" sweep s.yaml --out MISS --missing --shards 4)"
+[ "$("$RCSIM" sweep s.yaml --out MISS --missing --shards 2)" = 0,1 ] || fail "--missing --shards 2"
+[ "$(find MISS | sort)" = "$before" ] || fail "--missing wrote or removed files"
+"$RCSIM" merge MISS > m_out.txt 2> m_err.txt || fail "merge of an incomplete sweep: exit $?"
+grep -qF "rcsim merge: run t-rom=0-seed=2: interrupted (MISS/t-rom=0-seed=2/run.log)" m_err.txt &&
+    grep -qF "rcsim merge: run t-rom=2-seed=1: no report (MISS/t-rom=2-seed=1/run.log)" m_err.txt &&
+    [ "$(wc -l < m_err.txt)" -eq 2 ] || fail "the merge does not name the unfinished runs: $(cat m_err.txt)"
+grep -q "^incomplete: 2 of 3 runs did not complete" m_out.txt || fail "the merge does not say it is incomplete: $(cat m_out.txt)"
+"$RCSIM" merge A > m_out.txt 2> m_err.txt && [ ! -s m_err.txt ] && ! grep -q incomplete m_out.txt ||
+    fail "the merge of a complete sweep: $(cat m_out.txt m_err.txt)"
+
 if [ "$failures" -eq 0 ]; then echo "sweep cli: ok"; else echo "sweep cli: $failures failures"; fi
 [ "$failures" -eq 0 ]
