@@ -55,7 +55,7 @@ void register_bench_motion(CLI::App& bench) {
         std::printf("bench motion: %.0f s simulated, 4 axes, 1 ms cycle, %llu moves (%llu refused), %zu samples: %.3f s wall "
                     "(%.1fx real time)\n",
                     *seconds, static_cast<unsigned long long>(drv.moves),
-                    static_cast<unsigned long long>(drv.refused), mc.recorder().samples().size(), wall,
+                    static_cast<unsigned long long>(drv.refused), mc.recorder().count(), wall,
                     *seconds / wall);
     });
 }

@@ -226,6 +226,8 @@ void MotionController::control_cycle(const sc_core::sc_time& now) {
         }
         if (csp_running_) cmd[cfg_.csp->axis_x] = csp_latched_[0], cmd[cfg_.csp->axis_y] = csp_latched_[1];
         recorder_.add(now.to_seconds(), std::move(cmd), std::move(act));
+        // The circle the checks judge is kept whole, to its outcome's sample (trajectory.h).
+        if (circle_record_ && circle_record_->outcome_at) recorder_.end_window();
     }
 }
 
@@ -363,6 +365,7 @@ MotionReply MotionController::command(const std::string& token, const std::strin
         arc->end_x = arc->start_x + circle_.EndX, arc->end_y = arc->start_y + circle_.EndY;
         arc->ccw = circle_.Direction == dir_ccw;
         circle_record_ = arc;
+        recorder_.start_window();
     }
     return r;
 }

@@ -205,9 +205,10 @@ void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
                         if (b != a && b->active_ == *slot) b->active_.reset();
                     slot->reset();
                 }
-            // The CAMC-QI cannot retarget a running drive: decelerate, then start the new job.
+            // The CAMC-QI cannot retarget a running drive: decelerate (at MC_Halt's own rate for a
+            // halt), then start the new job.
             if (a->api_.InMotion(static_cast<int>(a->index_)) && !job->is_stop)
-                a->api_.SlowStop(static_cast<int>(a->index_), 0);
+                a->api_.SlowStop(static_cast<int>(a->index_), job->abort_decel);
             a->active_ = job;
             a->state_ = job->motion_state; // the state changes when the command is issued
         } else {
@@ -460,10 +461,12 @@ void MC_Stop::after() {
 std::uint16_t MC_Halt::begin() {
     if (!Axis) return err::invalid_axis;
     if (const std::uint16_t r = Axis->motion_refusal()) return r;
+    if (!(Deceleration >= 0) || !std::isfinite(Deceleration)) return err::invalid_accel;
     const int ax = static_cast<int>(Axis->index());
     const double dec = Deceleration;
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dec] { return api.SlowStop(ax, dec); });
     job_->is_stop = false;
+    job_->abort_decel = dec; // the aborted move ramps down at the Halt's rate, not its own
     // Halt decelerates the running drive; it must not be preceded by another SSTOP.
     job_->started = false;
     Axis->submit(job_, Mode);

@@ -59,6 +59,7 @@ struct Job {
     bool is_stop = false;                      // MC_Stop: holds the axis in Stopping
     bool is_home = false;
     bool is_continuous = false;                // MC_MoveVelocity: never Done; a buffered successor takes over at InVelocity
+    double abort_decel = 0;                    // the ramp (pulses/s^2) that stops the drive it aborts; 0 = as programmed
     std::int64_t home_position = 0;
 };
 
@@ -183,6 +184,9 @@ private:
     bool issued_ = false; // this instance's stop holds the axis in Stopping
 };
 
+/// Part 1 §3.7: a controlled stop in DiscreteMotion, abortable by any motion command. The running
+/// drive decelerates at the Halt's own Deceleration (0: the rate programmed for the aborted move),
+/// so it travels v^2 / (2 Deceleration) while halting; Done at standstill.
 class MC_Halt : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;

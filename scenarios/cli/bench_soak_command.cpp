@@ -4,7 +4,12 @@
 // against the exactly-once checks) and the process's memory: its resident size sampled through
 // the run (flat, or the soak fails its purpose) and its peak. The interrupt rows are not written
 // (--interrupts-csv none): the soak measures the model, not the disk.
+//
+// --motion: the motion soak instead (scenarios/soak_motion.yaml, issue #48 item 3): a motion run
+// whose program draws circles for the whole run, its trajectory files written as any run's; the
+// same memory figures, and the motion run's own.
 #include "models/plumbing/cli_range.h"
+#include "models/plumbing/config_error.h"
 #include "scenarios/run/failure.h"
 #include "scenarios/run/runner.h"
 
@@ -119,20 +124,38 @@ void print_books(const nlohmann::json& report) {
 
 } // namespace
 
+void print_motion(const nlohmann::json& report) {
+    const nlohmann::json& m = report["motion"];
+    std::cout << "  motion: " << m.value("samples", std::uint64_t{0}) << " trajectory samples, state "
+              << m.value("state", std::string("?")) << ", largest following error "
+              << m.value("max_following_error_pulses", 0.0) << " pulses\n";
+}
+
 void add_bench_soak(CLI::App& bench) {
-    auto* cmd = bench.add_subcommand("soak", "Three saturated ports with faults on every port; frame books and memory");
-    auto file = std::make_shared<std::string>("scenarios/soak.yaml");
+    auto* cmd = bench.add_subcommand("soak", "Three saturated ports with faults on every port; frame books and memory "
+                                             "(--motion: the motion soak)");
+    auto file = std::make_shared<std::string>();
     auto seconds = std::make_shared<double>(3600);
-    auto out = std::make_shared<std::string>("rcsim-out/soak");
-    cmd->add_option("scenario", *file, "Scenario file (its ports, seed and noise; the bench adds the faults)")
-        ->capture_default_str();
+    auto out = std::make_shared<std::string>();
+    auto motion = std::make_shared<bool>(false);
+    cmd->add_option("scenario", *file,
+                    "Scenario file (its ports, seed and noise; the bench adds the faults) [scenarios/soak.yaml, "
+                    "with --motion scenarios/soak_motion.yaml]");
+    cmd->add_flag("--motion", *motion, "The motion soak: a motion scenario run for --seconds, its memory");
     cmd->add_option("--seconds", *seconds, "Simulated seconds (1 .. 36000)")->capture_default_str()->check(real_in(1, 36000));
-    cmd->add_option("--out", *out, "Output folder for report.json and report.html")->capture_default_str();
-    cmd->callback([file, seconds, out] {
+    cmd->add_option("--out", *out, "Output folder for report.json and report.html [rcsim-out/soak, with --motion "
+                                   "rcsim-out/soak_motion]");
+    cmd->callback([file, seconds, out, motion] {
         sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+        if (file->empty()) *file = *motion ? "scenarios/soak_motion.yaml" : "scenarios/soak.yaml";
+        if (out->empty()) *out = *motion ? "rcsim-out/soak_motion" : "rcsim-out/soak";
         Scenario s = load_scenario(*file);
+        if (*motion != s.has_motion)
+            throw ConfigError(*file + (*motion ? ": --motion needs a scenario with a 'motion:' section"
+                                               : ": a 'motion:' scenario is soaked with --motion"));
         s.duration_s = *seconds;
-        add_faults(s, *seconds);
+        if (s.motion) s.motion->duration_s = *seconds;
+        else add_faults(s, *seconds);
         RunOptions opt;
         opt.out_dir = *out;
         opt.interrupt_rows = RunOptions::Rows::none;
@@ -145,7 +168,8 @@ void add_bench_soak(CLI::App& bench) {
         std::cout << "soak: " << report["scenario"].get<std::string>() << ", " << report["sim_time_s"].get<double>()
                   << " s simulated in " << report["wall_time_s"].get<double>() << " s (RTF " << report["rtf"].get<double>()
                   << "x); verdict " << report["verdict"].get<std::string>() << "\n";
-        print_books(report);
+        if (*motion) print_motion(report);
+        else print_books(report);
         // Flat memory: the resident size after the first tenth of the samples against the last.
         const std::size_t settled = rss.size() / 10;
         std::cout << "  resident memory: " << (rss.empty() ? 0 : rss[settled]) / 1024 << " MB after a tenth of the run, "

@@ -90,9 +90,8 @@ double irq_service_max(monitor::BoardMonitor& m, unsigned p) {
 // ---- per axis (none without the motion layer) ----
 const motion::TrajectorySample* last_sample(monitor::BoardMonitor& m, unsigned a, std::size_t back = 0) {
     if (!m.world().motion) return nullptr;
-    const auto& s = m.world().motion->recorder().samples();
-    if (s.size() <= back || a >= s[s.size() - 1 - back].cmd.size()) return nullptr;
-    return &s[s.size() - 1 - back];
+    const motion::TrajectorySample* s = m.world().motion->recorder().last(back);
+    return s && a < s->cmd.size() ? s : nullptr;
 }
 double cmd_pos(monitor::BoardMonitor& m, unsigned a) {
     const auto* s = last_sample(m, a);

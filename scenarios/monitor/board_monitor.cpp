@@ -488,21 +488,27 @@ void BoardMonitor::send_updates() {
 }
 
 // The trajectory samples this client has not had, skipping those where no axis moved:
-// {"from": index of the first, "points": [[t_s, x_cmd, y_cmd, x_act, y_act], ...]}.
+// {"from": index of the first, "points": [[t_s, x_cmd, y_cmd, x_act, y_act], ...]}. The recorder
+// keeps the latest TrajectoryRecorder::kRecent samples: a client further behind resumes at the
+// oldest of them ("from" says where).
 std::string BoardMonitor::path_json(Subscription& s, std::size_t max_points) {
     nlohmann::json pts = nlohmann::json::array();
-    const std::size_t from = s.path_sent;
     if (world_.motion) {
-        const auto& samples = world_.motion->recorder().samples();
-        for (std::size_t i = s.path_sent; i < samples.size() && pts.size() < max_points; ++i) {
-            const auto& a = samples[i];
-            const bool moved = i == 0 || a.cmd[0] != samples[i - 1].cmd[0] || a.cmd[1] != samples[i - 1].cmd[1] ||
-                               a.act[0] != samples[i - 1].act[0] || a.act[1] != samples[i - 1].act[1];
+        const motion::TrajectoryRecorder& rec = world_.motion->recorder();
+        const auto& recent = rec.recent();
+        s.path_sent = std::max<std::size_t>(s.path_sent, rec.recent_first());
+        const std::size_t from = s.path_sent;
+        for (std::size_t i = s.path_sent; i < rec.count() && pts.size() < max_points; ++i) {
+            const std::size_t r = i - rec.recent_first();
+            const auto& a = recent[r];
+            const bool moved = r == 0 || a.cmd[0] != recent[r - 1].cmd[0] || a.cmd[1] != recent[r - 1].cmd[1] ||
+                               a.act[0] != recent[r - 1].act[0] || a.act[1] != recent[r - 1].act[1];
             if (moved) pts.push_back({a.t_s, a.cmd[0], a.cmd[1], a.act[0], a.act[1]});
             s.path_sent = i + 1;
         }
+        return nlohmann::json{{"from", from}, {"points", pts}}.dump();
     }
-    return nlohmann::json{{"from", from}, {"points", pts}}.dump();
+    return nlohmann::json{{"from", s.path_sent}, {"points", pts}}.dump();
 }
 
 } // namespace rcsim::monitor

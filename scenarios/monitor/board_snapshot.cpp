@@ -103,15 +103,15 @@ nlohmann::json BoardMonitor::interrupt_figures(std::optional<double> budget) {
 nlohmann::json BoardMonitor::motion_json() {
     motion::MotionController* mc = world_.motion.get();
     if (!mc) return nullptr;
-    const auto& samples = mc->recorder().samples();
+    const motion::TrajectorySample* latest = mc->recorder().last();
     nlohmann::json axes = nlohmann::json::array();
     for (unsigned a = 0; a < motion::MotionController::axes; ++a) {
         motion::McAxis& ax = mc->axis(a);
         nlohmann::json aj = {{"axis", a}, {"state", motion::to_string(ax.state())}, {"error_id", ax.error_id()},
                              {"powered", ax.powered()}, {"cmd", nullptr}, {"act", nullptr}};
-        if (!samples.empty() && a < samples.back().cmd.size()) {
-            aj["cmd"] = samples.back().cmd[a];
-            aj["act"] = samples.back().act[a];
+        if (latest && a < latest->cmd.size()) {
+            aj["cmd"] = latest->cmd[a];
+            aj["act"] = latest->act[a];
         }
         axes.push_back(aj);
     }
@@ -131,7 +131,7 @@ nlohmann::json BoardMonitor::motion_json() {
     }
     fbs.push_back(fb_json("MC_LineMove2", -1, mc->line_move()));
     fbs.push_back(fb_json("MC_CircleCenterMove", -1, mc->circle_move()));
-    return {{"state", mc->state()}, {"axes", axes}, {"fbs", fbs}, {"path_samples", samples.size()}};
+    return {{"state", mc->state()}, {"axes", axes}, {"fbs", fbs}, {"path_samples", mc->recorder().count()}};
 }
 
 // Per port: the host's latest protocol step and counters, the main CPU's counters and last frames.

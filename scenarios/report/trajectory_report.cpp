@@ -81,30 +81,41 @@ void time_panel(svg::Doc& d, const std::vector<TrajectorySample>& v, double x, d
     d.legend(x + w + 12, y + 10, legend, 16);
 }
 
-double velocity(const TrajectorySample& s, const TrajectorySample* p, unsigned a, bool actual) {
-    const double dt = s.t_s - p->t_s;
-    const auto& now = actual ? s.act : s.cmd;
-    const auto& before = actual ? p->act : p->cmd;
-    return double(now[a] - before[a]) / dt;
+/// The velocity the recorder kept with `s` (since its control cycle's previous sample).
+std::optional<double> velocity(const TrajectorySample& s, unsigned a, bool actual) {
+    if (!s.has_velocity || a >= s.vel_cmd.size() || !has_axis(s, a)) return std::nullopt;
+    return actual ? s.vel_act[a] : s.vel_cmd[a];
 }
 
 } // namespace
 
-void write_trajectory_csv(const motion::TrajectoryRecorder& rec, const std::filesystem::path& file,
-                          std::size_t every) {
-    OutputFile f(file);
-    std::ostream& out = f.stream();
-    out << "t_s,axis,cmd_pulses,act_pulses\n";
+TrajectoryCsv::TrajectoryCsv(const std::filesystem::path& file, std::size_t every)
+    : file_(file), every_(std::max<std::size_t>(every, 1)) {
+    file_.stream() << "t_s,axis,cmd_pulses,act_pulses\n";
+}
+
+void TrajectoryCsv::row(const TrajectorySample& s) {
     char t[32];
-    const auto& v = rec.samples();
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        if (i % every != 0 && i + 1 != v.size()) continue; // every n-th, and the last
-        const auto& s = v[i];
-        std::snprintf(t, sizeof t, "%.6f", s.t_s);
-        for (std::size_t a = 0; a < s.cmd.size() && a < s.act.size(); ++a)
-            out << t << ',' << a << ',' << s.cmd[a] << ',' << s.act[a] << '\n';
+    std::snprintf(t, sizeof t, "%.6f", s.t_s);
+    for (std::size_t a = 0; a < s.cmd.size() && a < s.act.size(); ++a)
+        file_.stream() << t << ',' << a << ',' << s.cmd[a] << ',' << s.act[a] << '\n';
+}
+
+void TrajectoryCsv::add(const TrajectorySample& s) {
+    if (closed_) return;
+    if (n_++ % every_ == 0) {
+        row(s);
+        unwritten_.reset();
+    } else {
+        unwritten_ = s; // assigned, not rebuilt: the vectors keep their storage
     }
-    f.close();
+}
+
+void TrajectoryCsv::close() {
+    if (closed_) return;
+    closed_ = true;
+    if (unwritten_) row(*unwritten_); // every n-th, and the last
+    file_.close();
 }
 
 void write_pulse_csv(const std::vector<camc::PulseEvent>& pulses, const std::filesystem::path& file) {
@@ -121,7 +132,7 @@ void write_pulse_csv(const std::vector<camc::PulseEvent>& pulses, const std::fil
 }
 
 std::string trajectory_svg(const motion::TrajectoryRecorder& rec, unsigned ax, unsigned ay, const std::string& title) {
-    const auto& v = rec.samples();
+    const std::vector<TrajectorySample> v = rec.plot_samples();
     // The bounding box of both paths (a unit box when nothing was recorded).
     double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
     bool any = false;
@@ -222,7 +233,7 @@ void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::file
 
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
                                 const std::optional<CircleOverlay>& circle) {
-    const auto& v = rec.samples();
+    const std::vector<TrajectorySample> v = rec.plot_samples();
     const double W = 900, M = 80, PW = 640, PH = 170, gap = 80, top = 60;
     const unsigned panels = circle ? 5 : 4;
     const double H = top + panels * (PH + gap) + 10;
@@ -246,10 +257,7 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
                                return double(act ? s.act[a] : s.cmd[a]);
                            }});
             vel.push_back({n + (act ? " actual" : " command"), c, act ? "4 3" : "",
-                           [a, act](const TrajectorySample& s, const TrajectorySample* p) -> std::optional<double> {
-                               if (!p || !has_axis(s, a) || !has_axis(*p, a) || !(s.t_s > p->t_s)) return std::nullopt;
-                               return velocity(s, p, a, act);
-                           }});
+                           [a, act](const TrajectorySample& s, const TrajectorySample*) { return velocity(s, a, act); }});
         }
         fe.push_back({n, c, "", [a](const TrajectorySample& s, const TrajectorySample*) -> std::optional<double> {
                           if (!has_axis(s, a)) return std::nullopt;
@@ -270,9 +278,10 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
     std::vector<Series> path;
     for (const bool act : {false, true})
         path.push_back({act ? "actual" : "command", act ? "#d62728" : "#1f77b4", act ? "4 3" : "",
-                        [act](const TrajectorySample& s, const TrajectorySample* p) -> std::optional<double> {
-                            if (!p || !has_axis(s, 1) || !has_axis(*p, 1) || !(s.t_s > p->t_s)) return std::nullopt;
-                            return std::hypot(velocity(s, p, 0, act), velocity(s, p, 1, act));
+                        [act](const TrajectorySample& s, const TrajectorySample*) -> std::optional<double> {
+                            const auto vx = velocity(s, 0, act), vy = velocity(s, 1, act);
+                            if (!vx || !vy) return std::nullopt;
+                            return std::hypot(*vx, *vy);
                         }});
     time_panel(d, v, M, y, PW, PH, "[pulses/s]", path, t0, t1);
     y += PH + gap;
@@ -296,13 +305,18 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
     return d.str();
 }
 
-void write_trajectory_files(const motion::TrajectoryRecorder& rec, const std::filesystem::path& dir,
-                            const std::string& title, const std::optional<CircleOverlay>& circle,
-                            const TrajectoryOptions& opt, const std::vector<camc::PulseEvent>* pulses) {
-    write_trajectory_csv(rec, dir / "trajectory.csv", opt.csv_every);
-    write_trajectory_svg(rec, dir / "trajectory.svg", 0, 1, title);
-    write_file(dir / "trajectory_time.svg", trajectory_time_svg(rec, title, circle));
-    if (pulses) write_pulse_csv(*pulses, dir / "trajectory_pulses.csv");
+TrajectoryFiles::TrajectoryFiles(motion::TrajectoryRecorder& rec, const std::filesystem::path& dir,
+                                 const TrajectoryOptions& opt)
+    : rec_(rec), dir_(dir), csv_(std::make_shared<TrajectoryCsv>(dir / "trajectory.csv", opt.csv_every)) {
+    rec_.on_sample([csv = csv_](const TrajectorySample& s) { csv->add(s); });
+}
+
+void TrajectoryFiles::finish(const std::string& title, const std::optional<CircleOverlay>& circle,
+                             const std::vector<camc::PulseEvent>* pulses) {
+    csv_->close();
+    write_trajectory_svg(rec_, dir_ / "trajectory.svg", 0, 1, title);
+    write_file(dir_ / "trajectory_time.svg", trajectory_time_svg(rec_, title, circle));
+    if (pulses) write_pulse_csv(*pulses, dir_ / "trajectory_pulses.csv");
 }
 
 } // namespace rcsim

@@ -3,26 +3,45 @@
 // (position, velocity, following error and radial error against time) and, on request,
 // trajectory_pulses.csv (docs/motion.md "Trajectory pictures").
 //
-// Every picture is decimated (svg::ColumnDecimator, svg::PathDecimator), so its size is bounded
-// by its pixels, not by the length of the run: well under 2 MB for any run.
+// Every picture is decimated (svg::ColumnDecimator, svg::PathDecimator) from the recorder's bounded
+// picture samples, so its size is bounded by its pixels, not by the length of the run: well under
+// 2 MB for any run; trajectory.csv is streamed to disk. Memory stays flat (issue #48 item 3).
 #pragma once
 
 #include "scenarios/config/trajectory_options.h"
 #include "camc_qi/camc_qi.h"
 #include "main_cpu/motion/trajectory.h"
+#include "models/plumbing/output_file.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace rcsim {
 
-/// trajectory.csv: header `t_s,axis,cmd_pulses,act_pulses`, one row per axis per kept sample
-/// (every `every`-th, and the last). Throws ConfigError naming the file when it cannot be written.
-void write_trajectory_csv(const motion::TrajectoryRecorder& rec, const std::filesystem::path& file,
-                          std::size_t every = 1);
+/// trajectory.csv, streamed as the run goes (a long run keeps none of its rows): header
+/// `t_s,axis,cmd_pulses,act_pulses`, one row per axis per kept sample (every `every`-th, and the
+/// last). Throws ConfigError naming the file when it cannot be created, and from close() when
+/// anything written was lost.
+class TrajectoryCsv {
+public:
+    explicit TrajectoryCsv(const std::filesystem::path& file, std::size_t every = 1);
+    void add(const motion::TrajectorySample& s);
+    /// Writes the last sample if it was not, and closes; later add()s are ignored.
+    void close();
+
+private:
+    OutputFile file_;
+    std::size_t every_;
+    std::uint64_t n_ = 0;
+    bool closed_ = false;
+    std::optional<motion::TrajectorySample> unwritten_; // the latest sample, when not written
+    void row(const motion::TrajectorySample& s);
+};
 
 /// trajectory_pulses.csv: header `t_s,axis,dir`, one row per pulse (the CAMC-QI's pulse trace).
 void write_pulse_csv(const std::vector<camc::PulseEvent>& pulses, const std::filesystem::path& file);
@@ -42,10 +61,19 @@ void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::file
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
                                 const std::optional<CircleOverlay>& circle);
 
-/// Every trajectory file into `dir`: trajectory.csv, trajectory.svg (axes 0/1),
-/// trajectory_time.svg, and trajectory_pulses.csv when `pulses` is given.
-void write_trajectory_files(const motion::TrajectoryRecorder& rec, const std::filesystem::path& dir,
-                            const std::string& title, const std::optional<CircleOverlay>& circle,
-                            const TrajectoryOptions& opt, const std::vector<camc::PulseEvent>* pulses);
+/// Every trajectory file of one run into `dir`: trajectory.csv streamed from the recorder's samples
+/// from construction on, then at finish() trajectory.svg (axes 0/1), trajectory_time.svg and, when
+/// `pulses` is given, trajectory_pulses.csv. Errors as the writers above.
+class TrajectoryFiles {
+public:
+    TrajectoryFiles(motion::TrajectoryRecorder& rec, const std::filesystem::path& dir, const TrajectoryOptions& opt);
+    void finish(const std::string& title, const std::optional<CircleOverlay>& circle,
+                const std::vector<camc::PulseEvent>* pulses);
+
+private:
+    motion::TrajectoryRecorder& rec_;
+    std::filesystem::path dir_;
+    std::shared_ptr<TrajectoryCsv> csv_; // shared with the recorder's sink
+};
 
 } // namespace rcsim

@@ -60,6 +60,7 @@ struct MotionDriver : sc_core::sc_module {
         if (is.arc) {
             arc = ArcRun{*is.arc, now, -1};
             arc_fb = fbs.size() - 1;
+            mc.recorder().start_window(); // the checks judge its samples, every one
         }
         pending.emplace_back(fbs.size() - 1, std::move(is.watch));
     }
@@ -99,6 +100,7 @@ struct MotionDriver : sc_core::sc_module {
             mc.control_cycle(now);
             if (program) program->cycle(now);
             poll(now.to_seconds());
+            if (arc && fbs[arc_fb].outcome_s >= 0) mc.recorder().end_window();
             if (on_cycle) on_cycle(mc.snapshot());
             if (k < cycles) wait(cycle);
         }
@@ -120,7 +122,7 @@ std::vector<Check> judge(const CheckPlan& p, MotionController& mc, const MotionD
     }
     if (d.program) checks.push_back(program_check(*d.program));
     if (p.circle)
-        for (Check& c : circle_checks(*p.circle, d.arc, mc.recorder().samples(),
+        for (Check& c : circle_checks(*p.circle, d.arc, mc.recorder().window(),
                                       "the scenario has no MC_CircleCenterMove command"))
             checks.push_back(std::move(c));
     return checks;
@@ -130,9 +132,6 @@ std::vector<Check> judge(const CheckPlan& p, MotionController& mc, const MotionD
 void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& driver,
                 const std::vector<Check>& checks, nlohmann::json& rep) {
     std::vector<std::int64_t> cmd(4), act(4);
-    double max_follow = 0;
-    for (const auto& s : mc.recorder().samples())
-        for (unsigned a = 0; a < 4; ++a) max_follow = std::max(max_follow, static_cast<double>(std::llabs(s.cmd[a] - s.act[a])));
     for (unsigned a = 0; a < 4; ++a) {
         cmd[a] = mc.chip().command_position(a);
         act[a] = mc.chip().encoder_position(a);
@@ -142,8 +141,8 @@ void report_run(MotionController& mc, const MotionPlan& p, const MotionDriver& d
     rep["final_cmd_pulses"] = cmd;
     rep["final_act_pulses"] = act;
     rep["state"] = mc.state();
-    rep["max_following_error_pulses"] = max_follow;
-    rep["samples"] = mc.recorder().samples().size();
+    rep["max_following_error_pulses"] = mc.recorder().max_following_error();
+    rep["samples"] = mc.recorder().count();
     rep["commands"] = driver.log;
     if (driver.program) rep["program"] = driver.program->report();
     rep["checks"] = nlohmann::json::array();
@@ -203,19 +202,26 @@ int run_motion_plan(MotionPlan plan, const std::string& name, const std::filesys
         driver.dispatcher = &dispatcher;
         driver.program = program.get();
     }
+    // trajectory.csv streams as the run goes (memory stays flat over any run's length).
+    std::optional<TrajectoryFiles> files;
+    try {
+        std::filesystem::create_directories(out_dir);
+        files.emplace(mc.recorder(), out_dir, plan.trajectory);
+    } catch (const std::exception& e) {
+        rep["error"] = e.what();
+        return 2;
+    }
     sc_core::sc_start();
 
     const std::vector<Check> checks = judge(plan.checks, mc, driver);
     const bool ok = std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed(); });
     report_run(mc, plan, driver, checks, rep);
     try {
-        std::filesystem::create_directories(out_dir);
         std::optional<CircleOverlay> circle;
         if (plan.checks.circle && driver.arc)
             circle = CircleOverlay{plan.checks.circle->center_x, plan.checks.circle->center_y,
                                    plan.checks.circle->radius, driver.arc->t0_s, driver.arc->t1_s};
-        write_trajectory_files(mc.recorder(), out_dir, name, circle, plan.trajectory,
-                               plan.trajectory.pulse_trace ? &mc.chip().pulse_trace() : nullptr);
+        files->finish(name, circle, plan.trajectory.pulse_trace ? &mc.chip().pulse_trace() : nullptr);
         rep["trajectory_csv"] = (out_dir / "trajectory.csv").string();
         rep["trajectory_svg"] = (out_dir / "trajectory.svg").string();
         rep["trajectory_time_svg"] = (out_dir / "trajectory_time.svg").string();

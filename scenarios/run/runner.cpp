@@ -144,7 +144,8 @@ std::string unsent_warning(unsigned p, const nlohmann::json& tcp, const SerialFo
 }
 
 /// report.json "ports", "main_cpu", "dpram", "realtime", "motion".
-void report_world(const World& world, const Scenario& s, const RunOptions& opt, nlohmann::json& report) {
+void report_world(const World& world, const Scenario& s, const RunOptions& opt, TrajectoryFiles* trajectory,
+                  nlohmann::json& report) {
     report["ports"] = nlohmann::json::array();
     report["warnings"] = nlohmann::json::array();
     for (unsigned p = 0; p < kPorts; ++p) {
@@ -181,12 +182,9 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
     }
     if (world.motion) {
         report["motion"] = motion_system_json(world);
-        if (!opt.out_dir.empty()) {
-            const std::filesystem::path out = opt.out_dir;
-            const bool pulses = s.trajectory.pulse_trace;
-            write_trajectory_files(world.motion->recorder(), out, s.name, circle_overlay(world, s), s.trajectory,
-                                   pulses ? &world.motion->chip().pulse_trace() : nullptr);
-        }
+        if (trajectory)
+            trajectory->finish(s.name, circle_overlay(world, s),
+                               s.trajectory.pulse_trace ? &world.motion->chip().pulse_trace() : nullptr);
     }
 }
 
@@ -301,6 +299,10 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
         interrupts.write_csv_to(gzip ? &*gzip : &csv->stream());
     }
 
+    // trajectory.csv, streamed likewise (report/trajectory_report.h).
+    std::optional<TrajectoryFiles> trajectory;
+    if (world.motion && !opt.out_dir.empty()) trajectory.emplace(world.motion->recorder(), opt.out_dir, s.trajectory);
+
     std::unique_ptr<monitor::BoardMonitor> mon = start_monitor(world, s, opt);
     const std::unique_ptr<modbus::ModbusBridge> modbus = start_modbus(mon.get(), opt);
     const auto wall0 = std::chrono::steady_clock::now();
@@ -336,7 +338,7 @@ int run_scenario(Scenario s, const RunOptions& opt, nlohmann::json& report) {
     report["bus_errors"] = to_json(world.ctl.comm.cpu.bus_errors());
     report["table3"] = judged.table3;
     add_latency_causes(report["interrupts"], world, judged.budget.value, symbol);
-    report_world(world, s, opt, report);
+    report_world(world, s, opt, trajectory ? &*trajectory : nullptr, report);
     if (bounded) add_bound(bounding, source, symbols, world, s, opt, judged, report);
     report["checks"] = judged.checks_json();
     report["checks_off"] = s.checks.off;

@@ -77,7 +77,7 @@ nlohmann::json motion_system_json(const World& w) {
                         {"positions", mc.positions()},
                         {"final_cmd_pulses", snap.cmd},
                         {"final_act_pulses", snap.act},
-                        {"samples", mc.recorder().samples().size()}};
+                        {"samples", mc.recorder().count()}};
     const MainCpu& cpu = w.ctl.main;
     j["control_cycle"] = {{"period_us", to_us(cpu.config().cycle_period)},
                           {"duration_us", to_json(cpu.cycle_duration_us().summary())},
@@ -147,7 +147,7 @@ std::vector<Check> system_motion_checks(const World& w, const Scenario& s) {
             const double end = c->outcome_at ? c->outcome_at->to_seconds() : sc_core::sc_time_stamp().to_seconds();
             run = ArcRun{arc, c->at.to_seconds(), end};
         }
-        for (Check& c : circle_checks(lim, run, mc.recorder().samples(), "no MC token was accepted"))
+        for (Check& c : circle_checks(lim, run, mc.recorder().window(), "no MC token was accepted"))
             out.push_back(std::move(c));
     }
     if (!L.motion_final_state.empty()) out.push_back(final_state_check(L.motion_final_state, mc.state()));

@@ -177,6 +177,46 @@ TEST(PLCopen, HaltStopsToStandstillAndCanBeAborted) {
     });
 }
 
+// Issue #49 item 1, Part 1 §3.7: the running drive halts at MC_Halt's own Deceleration, not at the
+// aborted move's. At 20000 pulses/s a Deceleration of 50000 pulses/s^2 travels
+// v^2 / (2 dec) = 20000^2 / 100000 = 4000 pulses; the move's own 200000 would give 1000.
+TEST(PLCopen, HaltRampsAtItsOwnDeceleration) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_MoveAbsolute& m = b.mc.blocks(2).move_abs;
+        m.Position = 1000000, m.Velocity = 20000, m.Acceleration = 200000, m.Deceleration = 200000;
+        m.Execute = true;
+        b.cycles(300); // at speed after 0.1 s
+        MC_Halt& h = b.mc.blocks(2).halt;
+        h.Deceleration = 50000;
+        h.Execute = true;
+        b.cycles(1); // the halt's block sees Execute rise in this cycle and stops the drive then
+        const std::int64_t from = b.mc.chip().command_position(2);
+        ASSERT_GE(b.until([&] { return h.Done; }), 0);
+        const double travel = double(b.mc.chip().command_position(2) - from);
+        EXPECT_NEAR(travel, 20000.0 * 20000.0 / (2 * 50000.0), 40) << "4000 pulses +- 1 %";
+        EXPECT_EQ(b.mc.axis(2).state(), AxisState::standstill);
+    });
+}
+
+// A negative Deceleration is refused (Part 1: rates are positive), the axis keeps moving.
+TEST(PLCopen, HaltRefusesANegativeDeceleration) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_MoveVelocity& v = b.mc.blocks(2).move_vel;
+        v.Velocity = 10000, v.Acceleration = 100000, v.Deceleration = 100000;
+        v.Execute = true;
+        b.cycles(50);
+        MC_Halt& h = b.mc.blocks(2).halt;
+        h.Deceleration = -1;
+        h.Execute = true;
+        b.cycles(2);
+        EXPECT_TRUE(h.Error);
+        EXPECT_EQ(h.ErrorID, err::invalid_accel);
+        EXPECT_EQ(b.mc.axis(2).state(), AxisState::continuous_motion);
+    });
+}
+
 TEST(PLCopen, LimitSwitchDriveFaultAndBadParametersGiveErrors) {
     MotionConfig cfg;
     cfg.switches[0].pelm = 20000; // the plotter's + limit at 20000 pulses

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <optional>
 
@@ -20,17 +21,32 @@ using rcsim::test::slurp;
 
 /// An L-shaped path on axes 0 and 1: (0,0) -> (1000,0) -> (1000,1000); the actual position lags
 /// one sample behind. Axis 2 stays at 7.
+void l_path_into(motion::TrajectoryRecorder& r);
 motion::TrajectoryRecorder l_path() {
     motion::TrajectoryRecorder r;
+    l_path_into(r);
+    return r;
+}
+
+/// trajectory.csv streamed from `rec`'s samples as they are added by `record`.
+void write_csv(const std::filesystem::path& file, std::size_t every,
+               const std::function<void(motion::TrajectoryRecorder&)>& record) {
+    motion::TrajectoryRecorder r;
+    TrajectoryCsv csv(file, every);
+    r.on_sample([&csv](const motion::TrajectorySample& s) { csv.add(s); });
+    record(r);
+    csv.close();
+}
+
+void l_path_into(motion::TrajectoryRecorder& r) {
     r.add(0.0, {0, 0, 7}, {0, 0, 7});
     r.add(0.001, {1000, 0, 7}, {0, 0, 7});
     r.add(0.0025, {1000, 1000, 7}, {1000, 0, 7});
-    return r;
 }
 
 TEST(TrajectoryReport, CsvHasOneRowPerAxisPerSample) {
     const auto file = rcsim::test::scratch_dir() / "trajectory.csv";
-    write_trajectory_csv(l_path(), file);
+    write_csv(file, 1, l_path_into);
     EXPECT_EQ(slurp(file), "t_s,axis,cmd_pulses,act_pulses\n"
                            "0.000000,0,0,0\n0.000000,1,0,0\n0.000000,2,7,7\n"
                            "0.001000,0,1000,0\n0.001000,1,0,0\n0.001000,2,7,7\n"
@@ -79,10 +95,10 @@ TEST(TrajectoryReport, SvgOfOtherAxesUsesThem) {
 }
 
 TEST(TrajectoryReport, CsvEveryNthSampleAndTheLast) {
-    motion::TrajectoryRecorder r;
-    for (int i = 0; i < 10; ++i) r.add(i * 0.001, {i}, {i});
     const auto file = rcsim::test::scratch_dir() / "trajectory_every.csv";
-    write_trajectory_csv(r, file, 4);
+    write_csv(file, 4, [](motion::TrajectoryRecorder& r) {
+        for (int i = 0; i < 10; ++i) r.add(i * 0.001, {i}, {i});
+    });
     EXPECT_EQ(slurp(file), "t_s,axis,cmd_pulses,act_pulses\n0.000000,0,0,0\n0.004000,0,4,4\n0.008000,0,8,8\n"
                            "0.009000,0,9,9\n");
 }
@@ -119,9 +135,9 @@ TEST(TrajectoryReport, UnwritableFileIsNamed) {
         EXPECT_EQ(std::string(e.what()),
                   (dir / "trajectory.svg").string() + ": cannot write the file: " + std::strerror(ENOENT));
     }
-    EXPECT_THROW(write_trajectory_csv(l_path(), dir / "trajectory.csv"), ConfigError);
+    EXPECT_THROW(write_csv(dir / "trajectory.csv", 1, l_path_into), ConfigError);
     // A full disk: the open succeeds, the write fails.
-    EXPECT_THROW(write_trajectory_csv(l_path(), "/dev/full"), ConfigError);
+    EXPECT_THROW(write_csv("/dev/full", 1, l_path_into), ConfigError);
 }
 
 } // namespace
