@@ -14,7 +14,9 @@ if(NOT MAKEFILE2)
 endif()
 
 if(SOURCE)
-  execute_process(COMMAND make -n --no-print-directory -C ${SOURCE} run BUILD=${BUILD}
+  # Run from `make test`, the outer make's MAKEFLAGS (jobserver, variables) must not reach this one.
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=MAKEFLAGS --unset=MFLAGS --unset=MAKELEVEL
+                          make -n --no-print-directory -C ${SOURCE} run BUILD=${BUILD}
     OUTPUT_VARIABLE plan ERROR_VARIABLE plan_err RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "make -n run failed (${rc}): ${plan_err}")
