@@ -1,6 +1,8 @@
 // rcsim run SCENARIO [--out DIR] [--rom FILE] [--seed N] [--reproducible] [--vcd FILE] [--trace FILE]
 //           [--profile] [--coverage] [--gdb [HOST:]PORT [--gdb-wait]] [--symbols FILE[@SEG]] [--monitor [HOST:]PORT]
 //           [--modbus [[HOST:]PORT]] [--bound [--annotations FILE] [--witness SEARCH_DIR/search.json]]
+//           [--duration S] [--realtime [FACTOR]]
+#include "models/plumbing/cli_range.h"
 #include "models/plumbing/config_error.h"
 #include "scenarios/cli/gdb_run.h"
 #include "scenarios/report/output.h"
@@ -13,6 +15,8 @@
 #include <systemc>
 
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -29,12 +33,45 @@ std::uint64_t parse_seed(const std::string& text) {
         throw ConfigError("--seed '" + text + "' is not a number 0 .. 18446744073709551615");
     return v;
 }
+
+// The bounds a scenario file has for the same keys (scenarios/config/scenario.cpp, docs/scenarios.md
+// "Limits"): an hour is the longest run; slower pacing than 1/100 would stretch a run without bound.
+constexpr double kMinDurationS = 1e-6, kMaxDurationS = 3600;
+constexpr double kMinRealtime = 0.01, kMaxRealtime = 1e6;
+
+/// --realtime's FACTOR: "" (the option alone) is 1, wall-clock pace; 0 is off; else [0.01, 1e6].
+double parse_realtime(const std::string& text) {
+    if (text.empty()) return 1.0;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || !(v == 0 || (v >= kMinRealtime && v <= kMaxRealtime)))
+        throw ConfigError("--realtime '" + text + "' must be 0 (off) or a factor in [0.01, 1e6] (1: wall-clock pace)");
+    return v;
+}
+
+/// --duration and --realtime over what the scenario file says (issue #51 item 2: watch any
+/// scenario live with --monitor or --modbus without writing YAML).
+void override_pacing(Scenario& s, std::optional<double> duration_s, std::optional<double> realtime) {
+    if (duration_s) {
+        s.duration_s = *duration_s;
+        if (s.motion) s.motion->duration_s = *duration_s; // a motion run's length is its plan's
+        // A file's duration_s 0 ran until its tcp/pty/replay host ended it; a duration ends it now.
+        for (auto& p : s.ports) p.tcp.end_on_disconnect = p.pty.end_on_disconnect = p.replay.end_at_log_end = false;
+    }
+    if (realtime) {
+        if (s.has_motion)
+            throw ConfigError("--realtime: '" + s.file + "' has a 'motion:' section, which runs the motion side alone, unpaced");
+        s.realtime = *realtime;
+    }
+}
 } // namespace
 
 void add_run_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Run a scenario file; print its summary and write DIR/report.json");
     struct Args {
         std::string scenario, out, rom, rom_odd, vcd, seed, trace, symbols, monitor, modbus, annotations, witness;
+        double duration_s = 0;
+        std::string realtime;
         bool bound = false;
         RunOptions::Rows rows = RunOptions::Rows::automatic;
         bool reproducible = false;
@@ -89,6 +126,13 @@ void add_run_command(CLI::App& app) {
     auto* modbus = cmd->add_option("--modbus", args->modbus,
                                    "Serve Modbus TCP on [HOST:]PORT (127.0.0.1 unless given, port 1502 unless given; docs/monitor.md)")
                        ->expected(0, 1);
+    auto* duration = cmd->add_option("--duration", args->duration_s,
+                                     "Simulated seconds to run, over the scenario's duration_s (1e-6 .. 3600)")
+                         ->check(real_in(kMinDurationS, kMaxDurationS));
+    auto* realtime = cmd->add_option("--realtime", args->realtime,
+                                     "Pace simulated time to wall time x FACTOR (alone: 1), over the scenario's "
+                                     "realtime; 0 runs as fast as it can (docs/scenarios.md)")
+                         ->expected(0, 1);
     cmd->add_flag("--bound", args->bound,
                   "The static bound of the ROM's interrupt paths beside this run's figures: report.json \"bound\", "
                   "report.html, DIR/bound.json (docs/tools.md \"Bound\")");
@@ -97,7 +141,8 @@ void add_run_command(CLI::App& app) {
                                         "(default: the built firmware's comm_cpu/firmware/bound.annotations)");
     auto* witness = cmd->add_option("--witness", args->witness,
                                     "With --bound: a search's SEARCH_DIR/search.json, its worst figure beside the bound");
-    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor, modbus, annotations, witness] {
+    cmd->callback([args, out, seed, rom, rom_odd, trace, gdb, gdb_wait, symbols, monitor, modbus, annotations, witness,
+                   duration, realtime] {
         RunOptions opt;
         // Every run writes its files somewhere it says: without --out, a folder named after the
         // scenario under ./rcsim-out (docs/scenarios.md "Output files").
@@ -141,16 +186,17 @@ void add_run_command(CLI::App& app) {
             args->gdb.symbols = args->symbols;
             install_stop_handlers();
             nlohmann::json report;
+            const std::optional<double> realtime_factor =
+                *realtime ? std::optional<double>(parse_realtime(args->realtime)) : std::nullopt;
             Scenario scenario = load_scenario(args->scenario);
+            override_pacing(scenario, *duration ? std::optional<double>(args->duration_s) : std::nullopt, realtime_factor);
             if (default_out) std::cout << "output: " << args->out << " (no --out given)" << std::endl;
             std::unique_ptr<debug::GdbRun> debugger; // outlives the run: it tells gdb how it ended
             if (*gdb) debugger = std::make_unique<debug::GdbRun>(args->gdb, scenario, opt, std::cout, std::cerr);
             code = run_scenario(std::move(scenario), opt, report);
             if (debugger) debugger->finish(code);
             print_summary(report, std::cout);
-            if (!args->out.empty()) std::cout << "report: " << args->out << "/report.json\n";
-            if (!args->out.empty() && report.contains("interrupts"))
-                std::cout << "html:   " << args->out << "/report.html\n";
+            print_report_paths(report, args->out, std::cout);
         } catch (...) {
             code = report_exception("rcsim run", input);
         }

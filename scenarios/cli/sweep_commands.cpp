@@ -295,6 +295,9 @@ int run_compare(const CompareArgs& a) {
     print_comparison(c, std::cout);
     if (!a.junit.empty()) write_file(a.junit, junit_xml(c));
     if (!a.html.empty()) write_file(a.html, compare_html(c));
+    // The summary ends with the paths of what it wrote (issue #51 item 7).
+    if (!a.junit.empty()) std::cout << "junit: " << a.junit << "\n";
+    if (!a.html.empty()) std::cout << "html:  " << a.html << "\n";
     return c.regression() ? 1 : 0;
 }
 

@@ -57,4 +57,8 @@ int run_scenario(Scenario scenario, const RunOptions& options, nlohmann::json& r
 /// The human-readable summary of a report.
 void print_summary(const nlohmann::json& report, std::ostream& os);
 
+/// The last lines of `rcsim run`'s output: where its reports are (report.json, report.html, a
+/// motion run's included; bound.json with the bound). Nothing when the run wrote no files.
+void print_report_paths(const nlohmann::json& report, const std::string& out_dir, std::ostream& os);
+
 } // namespace rcsim

@@ -1,6 +1,8 @@
 // rcsim — the printed summary of a report (what `rcsim run` shows on the terminal).
 #include "scenarios/run/runner.h"
 
+#include "models/plumbing/sim_time_text.h"
+
 #include <algorithm>
 #include <cctype>
 #include <iomanip>
@@ -14,7 +16,7 @@ namespace rcsim {
 
 namespace {
 /// The last line of every summary: the verdict, and why unless it passed. PASSED, "FAILED:
-/// <checks>", "INCONCLUSIVE: <check>: <reason>", "INTERRUPTED at 1.234000 s: stopped by ...".
+/// <checks>", "INCONCLUSIVE: <check>: <reason>", "INTERRUPTED at 1.234 500 s: stopped by ...".
 std::string verdict_line(const nlohmann::json& r) {
     std::string v = r.value("verdict", r.value("passed", false) ? "passed" : "failed");
     const std::string why = r.value("verdict_reason", "");
@@ -22,7 +24,7 @@ std::string verdict_line(const nlohmann::json& r) {
     std::ostringstream os;
     if (v == "FAILED" && why.rfind("failed: ", 0) == 0) return "FAILED: " + why.substr(8);
     os << v;
-    if (v == "INTERRUPTED") os << std::fixed << std::setprecision(6) << " at " << r["sim_time_s"].get<double>() << " s";
+    if (v == "INTERRUPTED") os << " at " << sim_time_text(r["sim_time_s"].get<double>());
     if (!why.empty()) os << ": " << why;
     return os.str();
 }
@@ -35,14 +37,14 @@ const char* check_mark(const nlohmann::json& c) {
 
 /// The function-block commands with their outcomes (docs/motion.md "Checks").
 void print_motion_commands(const nlohmann::json& m, std::ostream& os) {
-    os << "\n\nfunction blocks        at ms  expect   outcome\n";
+    os << "\n\nfunction blocks       at              expect   outcome\n";
     for (const auto& c : m.value("commands", nlohmann::json::array())) {
         if (!c.contains("outcome")) continue; // tokens and faults: no outcome of their own
-        os << "  " << std::left << std::setw(20) << c["fb"].get<std::string>() << std::right << std::setw(7)
-           << c["at_ms"].get<double>() << "  " << std::left << std::setw(8) << c["expect"].get<std::string>() << " "
+        os << "  " << std::left << std::setw(20) << c["fb"].get<std::string>() << std::setw(16)
+           << sim_time_text(c["at_ms"].get<double>() / 1e3) << std::setw(8) << c["expect"].get<std::string>() << " "
            << c["outcome"].get<std::string>() << std::right;
         if (c.contains("error_id")) os << " (ErrorID " << c["error_id"].get<unsigned>() << ")";
-        if (c["outcome_ms"].is_number()) os << " at " << c["outcome_ms"].get<double>() << " ms";
+        if (c["outcome_ms"].is_number()) os << " at " << sim_time_text(c["outcome_ms"].get<double>() / 1e3);
         os << "\n";
     }
 }
@@ -76,14 +78,13 @@ void print_bus_errors(const nlohmann::json& r, std::ostream& os) {
        << ")\n";
     for (const auto& e : b["first"])
         os << "  " << e["kind"].get<std::string>() << " " << e["cycle"].get<std::string>() << " "
-           << e["address"].get<std::string>() << " at " << std::fixed << std::setprecision(3)
-           << e["time_us"].get<double>() << " us\n" << std::defaultfloat;
+           << e["address"].get<std::string>() << " at " << sim_time_text_us(e["time_us"].get<double>()) << "\n";
 }
 
 void print_motion_summary(const nlohmann::json& r, std::ostream& os) {
     const auto& m = r["motion"];
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
-       << r["sim_time_s"].get<double>() << " s";
+       << sim_time_text(r["sim_time_s"].get<double>());
     if (r["wall_time_s"].get<double>() > 0)
         os << " in " << r["wall_time_s"].get<double>() << " s wall (" << r["rtf"].get<double>() << "x real time)";
     os << "\nmotion state " << m.value("state", std::string("?"));
@@ -103,19 +104,18 @@ std::uint64_t u(const nlohmann::json& j, const char* k) { return j.value(k, std:
 void print_startup(const nlohmann::json& interrupts, std::ostream& os) {
     if (!interrupts.contains("startup")) return;
     const auto& st = interrupts["startup"];
-    os << std::fixed << std::setprecision(3);
     if (!st["interrupts_enabled_us"].is_number()) {
-        os << "  start-up: the CPU never had interrupts enabled\n" << std::defaultfloat;
+        os << "  start-up: the CPU never had interrupts enabled\n";
         return;
     }
-    os << "  start-up: interrupts first enabled at " << st["interrupts_enabled_us"].get<double>() << " us";
+    os << std::fixed;
+    os << "  start-up: interrupts first enabled at " << sim_time_text_us(st["interrupts_enabled_us"].get<double>());
     if (st["records"].empty()) os << "\n";
     else os << "; requested before that (reported, not judged):\n";
     for (const auto& rec : st["records"])
-        os << "    " << rec["source"].get<std::string>() << " IR at " << rec["ir_rise_us"].get<double>() << " us, latency "
+        os << "    " << rec["source"].get<std::string>() << " IR at " << sim_time_text_us(rec["ir_rise_us"].get<double>()) << ", latency "
            << std::setprecision(1) << rec["latency_us"].get<double>() << " us, service " << rec["service_us"].get<double>()
-           << " us" << (rec.contains("text") ? ": " + rec["text"].get<std::string>() : std::string()) << "\n"
-           << std::setprecision(3);
+           << " us" << (rec.contains("text") ? ": " + rec["text"].get<std::string>() : std::string()) << "\n";
     os << std::defaultfloat;
 }
 
@@ -178,11 +178,7 @@ void print_ports(const nlohmann::json& ports, std::ostream& os) {
 /// interrupted stop, and the first frames that count against the exactly-once checks.
 void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
     std::ostringstream out;
-    auto ms = [](const nlohmann::json& us) {
-        std::ostringstream s;
-        s << std::fixed << std::setprecision(3) << us.get<double>() / 1e3 << " ms";
-        return s.str();
-    };
+    auto at = [](const nlohmann::json& us) { return sim_time_text_us(us.get<double>()); };
     // A give-up's attempts (docs/scenarios.md "Expected drops").
     auto attempts = [](const nlohmann::json& e) -> std::string {
         if (!e.contains("attempts")) return "";
@@ -197,8 +193,8 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
             const auto& b = ports[p][k];
             for (const auto& e : b.value("expected_drops", nlohmann::json::array()))
                 out << "  port " << p << " " << k << ": expected, " << e["dropped"].get<std::string>() << " at "
-                    << ms(e["time_us"]) << ": " << e["frame"].get<std::string>() << "; cause "
-                    << e["cause"].get<std::string>() << " at " << ms(e["cause_us"]) << attempts(e) << "\n";
+                    << at(e["time_us"]) << ": " << e["frame"].get<std::string>() << "; cause "
+                    << e["cause"].get<std::string>() << " at " << at(e["cause_us"]) << attempts(e) << "\n";
             const std::uint64_t listed = b.value("expected_drops", nlohmann::json::array()).size();
             if (u(b, "expected") > listed)
                 out << "  port " << p << " " << k << ": " << u(b, "expected") - listed << " more expected\n";
@@ -209,9 +205,9 @@ void print_exactly_once_notes(const nlohmann::json& r, std::ostream& os) {
         if (!c.contains("detail") || !c["detail"].is_object() || !c["detail"].contains("unexplained")) continue;
         for (const auto& e : c["detail"]["unexplained"])
             out << "  port " << e["port"].get<unsigned>() << " " << (e["direction"] == "host_to_controller" ? "commands" : "responses")
-                << ": counted, " << e["what"].get<std::string>() << " at " << ms(e["time_us"]) << ": "
+                << ": counted, " << e["what"].get<std::string>() << " at " << at(e["time_us"]) << ": "
                 << e["frame"].get<std::string>()
-                << (e.contains("cause") ? "; after " + e["cause"].get<std::string>() + " at " + ms(e["cause_us"]) : "")
+                << (e.contains("cause") ? "; after " + e["cause"].get<std::string>() + " at " + at(e["cause_us"]) : "")
                 << attempts(e) << "\n";
     }
     if (!out.str().empty()) os << "\nexactly once: expected drops, in flight, the first counted\n" << out.str();
@@ -270,7 +266,7 @@ void print_latency_causes(const nlohmann::json& r, std::ostream& os) {
         const auto& top = w[0];
         if (!top["latency_us"].is_number()) continue;
         body << "  " << name << " latency max " << std::setprecision(1) << top["latency_us"].get<double>() << " us at "
-             << std::setprecision(3) << top["ir_rise_us"].get<double>() << " us: " << top.value("text", std::string("?"))
+             << sim_time_text_us(top["ir_rise_us"].get<double>()) << ": " << top.value("text", std::string("?"))
              << "\n";
         print_phases(top, body);
         const std::uint64_t over = in[name]["over_budget"].is_number() ? in[name]["over_budget"].get<std::uint64_t>() : 0;
@@ -329,7 +325,7 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
         return a.is_number() && b.is_number() ? nlohmann::json(a.get<double>() + b.get<double>()) : nlohmann::json();
     };
     os << "scenario " << r["scenario"].get<std::string>() << "  seed " << r["seed"] << "  simulated "
-       << f(r["sim_time_s"].get<double>(), 3) << " s";
+       << sim_time_text(r["sim_time_s"].get<double>());
     if (r["wall_time_s"].get<double>() > 0)
         os << " in " << f(r["wall_time_s"].get<double>(), 3) << " s wall (" << f(r["rtf"].get<double>(), 1)
            << "x real time)";
@@ -386,6 +382,13 @@ void print_summary(const nlohmann::json& r, std::ostream& os) {
     for (const auto& name : r.value("checks_off", nlohmann::json::array()))
         os << "  off   " << name.get<std::string>() << "\n";
     os << verdict_line(r) << "\n";
+}
+
+void print_report_paths(const nlohmann::json& report, const std::string& out_dir, std::ostream& os) {
+    if (out_dir.empty()) return;
+    os << "report: " << out_dir << "/report.json\n"
+       << "html:   " << out_dir << "/report.html\n"; // a motion run writes one too (issue #51 item 7)
+    if (report.contains("bound")) os << "bound:  " << out_dir << "/bound.json\n";
 }
 
 } // namespace rcsim

@@ -160,6 +160,8 @@ junit_shape same.xml
 [ "$(xmllint --xpath 'string(/testsuites/@failures)' same.xml)" = 0 ] || fail "same runs: JUnit failures"
 [ "$(xmllint --xpath 'count(/testsuites/testsuite)' same.xml)" = 4 ] || fail "not one testsuite per run"
 grep -q "<h1>rcsim compare</h1>" same.html || fail "no compare.html"
+[ "$(tail -n 2 same.txt)" = "$(printf 'junit: same.xml\nhtml:  same.html')" ] ||
+    fail "compare's summary does not end with the paths it wrote: $(tail -n 2 same.txt)"
 
 cp -r A C
 # One figure moves, one check stops passing, one run is gone.
