@@ -81,7 +81,7 @@ void add_bound_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("bound", "The static worst case of every interrupt path of a ROM, against the budget "
                                             "(DIR/bound.json, DIR/bound.txt; docs/tools.md \"Bound\")");
     auto a = std::make_shared<BoundArgs>();
-    cmd->add_option("rom", a->rom, "ROM image: raw 8..64 KB or Intel HEX (docs/tools.md \"ROM images\")")->required();
+    cmd->add_option("rom", a->rom, "ROM image: raw 8..64 KB, Intel HEX or Motorola S-records (docs/tools.md \"ROM images\")")->required();
     cmd->add_option("--symbols", a->symbols,
                     "The ROM's symbols (FILE[@SEG], docs/tools.md \"Symbols\"; default: the built firmware's)");
     cmd->add_option("--annotations", a->annotations,

@@ -87,8 +87,8 @@ void add_run_command(CLI::App& app) {
                                 "(default: rcsim-out/<scenario>)");
     auto* seed = cmd->add_option("--seed", args->seed, "Seed (overrides the scenario's)");
     auto* rom = cmd->add_option("--rom", args->rom,
-                                "ROM image to run instead of the built firmware: raw 8..64 KB (mirrored when smaller) or "
-                                "Intel HEX; with --rom-odd, the even EPROM of a pair (docs/tools.md \"ROM images\")");
+                                "ROM image to run instead of the built firmware: raw 8..64 KB (mirrored when smaller), "
+                                "Intel HEX or Motorola S-records; with --rom-odd, the even EPROM of a pair (docs/tools.md \"ROM images\")");
     auto* rom_odd = cmd->add_option("--rom-odd", args->rom_odd, "The odd EPROM (D8-D15) of an even/odd pair; --rom is the even one");
     cmd->add_flag("--reproducible", args->reproducible, "Write 0 for wall_time_s and rtf (byte-identical reports)");
     cmd->add_option("--vcd", args->vcd, "Write interrupt lines to this VCD file (its name ends in .vcd)")

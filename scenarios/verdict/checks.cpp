@@ -2,6 +2,8 @@
 
 #include "scenarios/verdict/measure.h"
 
+#include "models/plumbing/sim_time_text.h"
+
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
@@ -21,12 +23,8 @@ Check judge(std::string name, Check::Relation rel, const Figure& f, double limit
     return c;
 }
 
-/// A simulated time as the explanations print it: microseconds, three decimals.
-std::string at_us(const sc_core::sc_time& t) {
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(3) << to_us(t) << " us";
-    return os.str();
-}
+/// A simulated instant as the explanations print it, as the summaries do (sim_time_text).
+std::string at_us(const sc_core::sc_time& t) { return sim_time_text(t.to_seconds()); }
 
 std::string us(double v) {
     std::ostringstream os;

@@ -4,6 +4,7 @@
 #include "scenarios/world/world.h"
 #include "comm_cpu/i8086/disasm.h"
 #include "models/plumbing/hex.h"
+#include "models/plumbing/sim_time_text.h"
 
 #include <cstdio>
 
@@ -19,7 +20,7 @@ std::string fmt(const char* f, double v) {
     std::snprintf(buf, sizeof buf, f, v);
     return buf;
 }
-std::string at_us(const sc_core::sc_time& t) { return fmt("%.3f", to_us(t)); }
+std::string at_text(const sc_core::sc_time& t) { return sim_time_text(t.to_seconds()); }
 std::string dur_us(const sc_core::sc_time& t) { return fmt("%.1f", to_us(t)); }
 std::string seg_off(std::uint16_t cs, std::uint16_t ip) { return hex(cs, 4) + ":" + hex(ip, 4); }
 std::string hex2(unsigned v) { return hex(v & 0xFF, 2); }
@@ -166,9 +167,9 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
         const auto& f = c.if_off;
         std::string s = "interrupts disabled (IF=0)";
         if (!f.valid) return s + " for " + took;
-        s += f.has_off ? " since " + at_us(f.since) + " us (" + change_at(f.off, vector_base, symbol) + ")"
-                       : " since before " + at_us(f.from) + " us";
-        s += " until " + at_us(f.until) + " us";
+        s += f.has_off ? " since " + at_text(f.since) + " (" + change_at(f.off, vector_base, symbol) + ")"
+                       : " since before " + at_text(f.from);
+        s += " until " + at_text(f.until);
         if (f.has_on) s += " (" + change_at(f.on, vector_base, symbol) + ")";
         return s + held_by(r, symbol) + "; " + took + " of the latency";
     }
@@ -185,7 +186,7 @@ std::string latency_cause_text(const InterruptRecord& r, unsigned vector_base, c
         const std::string what = i8086::mnemonic(i.bytes.data(), i.nbytes) + " at " + where(i.cs, i.ip, symbol);
         if (i.halted) return "waking from " + what + ": " + took;
         return std::string(i.sti_shadow ? "the instruction after STI, " : "the instruction in progress, ") + what +
-               " begun at " + at_us(i.start) + " us: " + took + " to its end";
+               " begun at " + at_text(i.start) + ": " + took + " to its end";
     }
     case Kind::dpram_busy:
         return "the bus held by DP-RAM BUSY for " + took + " (" + std::to_string(c.busy.wait_states) +

@@ -2,6 +2,7 @@
 #include "scenarios/verdict/motion_figures.h"
 
 #include "models/clock.h"
+#include "models/plumbing/sim_time_text.h"
 #include "models/stats.h"
 #include "scenarios/world/world.h"
 #include "scenarios/verdict/checks.h"
@@ -19,12 +20,6 @@ double ms(const sc_core::sc_time& t) { return to_us(t) / 1000.0; }
 
 const char* const kNoLatency = "no scripted move command reached its first pulse";
 
-/// A simulated time as the checks' explanations print it (scenarios/verdict/checks.cpp).
-std::string at_us(const sc_core::sc_time& t) {
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(3) << to_us(t) << " us";
-    return os.str();
-}
 
 /// The first missed SYNC in words: when, how late the set-point was, and what made it late.
 std::string why_csp_missed(const motion::CspStats& c) {
@@ -32,7 +27,7 @@ std::string why_csp_missed(const motion::CspStats& c) {
     std::ostringstream os;
     os << std::fixed << std::setprecision(1);
     os << c.missed << " of " << c.setpoints << " set-points came after their drive's SYNC; the first, for the SYNC at "
-       << at_us(m.sync) << ", was written " << to_us(m.written - m.sync) << " us after it: the control cycle started "
+       << sim_time_text(m.sync.to_seconds()) << ", was written " << to_us(m.written - m.sync) << " us after it: the control cycle started "
        << to_us(m.cycle_start - m.cycle_ideal) << " us after its ideal start "
        << (m.held_by.empty() ? std::string("") : "(the processor held by " + m.held_by + ") ") << "and wrote it "
        << to_us(m.written - m.cycle_start) << " us into the cycle; the drives took the set-point before, "

@@ -236,7 +236,7 @@ TEST(LatencyCauseKat, InterruptsDisabledFromCliToSti) {
     EXPECT_FALSE(x.holder_service);
     EXPECT_EQ(path_names(x.holder_path.data(), x.holder_path_len, symbols_of("kat_cli")),
               std::vector<std::string>{"cli_here"});
-    EXPECT_EQ(text, "interrupts disabled (IF=0) since 89.500 us (CLI at F000:0120, cli_here) until 127.500 us "
+    EXPECT_EQ(text, "interrupts disabled (IF=0) since 0.000 089 500 s (CLI at F000:0120, cli_here) until 0.000 127 500 s "
                     "(STI at F000:0185, sti_here); held by main-program code cli_here; 36.2 us of the latency")
         << text;
 }
@@ -314,7 +314,7 @@ TEST(LatencyCauseKat, LongDivInProgress) {
     EXPECT_FALSE(c.if_off.valid);
     // div_start 716 clocks = 89.5 us; 93.5 clocks = 11.6875 us.
     EXPECT_EQ(latency_cause_text(x, 0x20, symbols_of("kat_div")),
-              "the instruction in progress, DIV at F000:0122 (div_here) begun at 89.500 us: 11.7 us to its end");
+              "the instruction in progress, DIV at F000:0122 (div_here) begun at 0.000 089 500 s: 11.7 us to its end");
     const nlohmann::json j = latency_cause_json(x, 0x20, symbols_of("kat_div"));
     EXPECT_EQ(j["cause"], "instruction");
     EXPECT_EQ(j["detail"]["instruction"]["mnemonic"], "DIV");
