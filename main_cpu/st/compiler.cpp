@@ -176,6 +176,9 @@ Type Compiler::resolve_type(const ParseNode& n) {
         return t;
     }
     if (unsupported_type(key)) fail(n, key + " is not supported (docs/st.md)");
+    if (key == "AXES_GROUP_REF")
+        fail(n, "AXES_GROUP_REF is not supported: rcsim has no axes group object; the interpolating blocks take "
+                "their group's axes as AxisX, AxisY (AxisZ, AxisU) inputs (docs/st.md \"Motion blocks\")");
     if (const auto it = type_decls_.find(key); it != type_decls_.end()) {
         const std::string_view keep = file_;
         PouType* keep_cur = cur_;
@@ -544,6 +547,7 @@ std::unique_ptr<Unit> compile(const std::string& text, const std::string& file, 
     }
     add_timer_blocks(*u);
     add_motion_blocks(*u);
+    add_manual_motion_blocks(*u);
     detail::Compiler c(*u);
     c.add_source(standard_prelude(), "<standard library>");
     c.add_source(text, file);
