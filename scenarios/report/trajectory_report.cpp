@@ -396,7 +396,7 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
         std::vector<Level> tol;
         if (c.max_radial_error >= 0) {
             char label[64];
-            std::snprintf(label, sizeof label, "check: |error| <= %g (max_radial_error)", c.max_radial_error);
+            std::snprintf(label, sizeof label, "max_radial_error ±%g", c.max_radial_error); // fits the legend
             tol = {{c.max_radial_error, label, "#555"}, {-c.max_radial_error, label, "#555"}};
         }
         time_panel(d, v, M, y, PW, PH, "[pulses]", rad, t0, t1, tol);
