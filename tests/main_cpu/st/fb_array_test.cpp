@@ -93,6 +93,28 @@ END_PROGRAM)");
     EXPECT_EQ(p->value("c[1].total").i, 30);
 }
 
+TEST(StFbArrays, AGlobalArrayIsSharedByEveryPou) {
+    // A VAR_GLOBAL array of R_TRIG: the FUNCTION_BLOCK calls g[2], the program reads g[2].Q.
+    auto p = started(R"(
+VAR_GLOBAL g : ARRAY[1..2] OF R_TRIG; END_VAR
+FUNCTION_BLOCK Edge
+VAR_INPUT clk : BOOL; END_VAR
+g[2](CLK := clk);
+END_FUNCTION_BLOCK
+PROGRAM T
+VAR e : Edge; clk : BOOL; rose : INT; END_VAR
+e(clk := clk);
+IF g[2].Q THEN rose := rose + 1; END_IF;
+END_PROGRAM)");
+    const bool clk[] = {false, true, true, false, true};
+    for (int k = 0; k < 5; ++k) {
+        p->set_value("clk", Value{clk[k] ? 1 : 0, 0});
+        p->run_once(k * 1000);
+    }
+    EXPECT_EQ(p->value("rose").i, 2); // two rising edges of CLK
+    EXPECT_EQ(p->value("g[1].Q").i, 0); // never called
+}
+
 TEST(StFbArrays, MisusesAreNamed) {
     const std::string head = "PROGRAM T\nVAR t : ARRAY[1..3] OF TON; u : TON; x : BOOL; END_VAR\n";
     EXPECT_EQ(compile_error(head + "t(IN := TRUE);\nEND_PROGRAM"),

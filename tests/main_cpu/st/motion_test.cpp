@@ -311,6 +311,32 @@ END_PROGRAM)";
     });
 }
 
+// Another block taking the axis over ends the jog with CommandAborted (Part 1 §2.4.1), and the
+// jog does not restart while its input stays TRUE.
+TEST(StMotion, AJogTakenOverIsCommandAborted) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; jog : MC_Jog; move : MC_MoveAbsolute; fwd, go : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+jog(Axis := Axis0, JogForward := fwd, Velocity := 5000, Acceleration := 100000, Deceleration := 100000);
+move(Axis := Axis0, Execute := go, Position := 0, Velocity := 5000, Acceleration := 100000,
+     Deceleration := 100000);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.cycles(10);
+        b.program->set_value("fwd", st::Value{1, 0});
+        b.cycles(100);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(3);
+        EXPECT_EQ(b.var("jog.CommandAborted"), 1);
+        EXPECT_EQ(b.var("jog.Busy"), 0);
+        b.cycles(500);
+        EXPECT_EQ(b.var("move.Done"), 1); // back at 0: the jog did not take the axis again
+        EXPECT_EQ(b.mc.chip().command_position(0), 0);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+    });
+}
+
 // A jog on an axis that is not powered is refused with the motion block's ErrorID (0x7001).
 TEST(StMotion, JogOnADisabledAxisIsAnError) {
     const char* text = R"(
