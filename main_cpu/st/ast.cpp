@@ -117,8 +117,12 @@ std::unique_ptr<Instance> PouType::instantiate() const {
     inst->vars.resize(value_slots);
     inst->fbs.resize(fb_slots);
     for (const VarInfo& v : vars) {
-        if (v.type.kind == Kind::Fb) {
-            inst->fbs[v.slot] = v.type.fb->instantiate();
+        if (v.type.kind == Kind::Fb || v.type.fb_array()) {
+            const std::size_t n = v.type.kind == Kind::Fb ? 1 : static_cast<std::size_t>(v.type.hi - v.type.lo + 1);
+            for (std::size_t k = 0; k < n; ++k) {
+                inst->fbs[v.slot + k] = v.type.fb->instantiate();
+                if (k < v.fb_init.size() && !v.fb_init[k].empty()) inst->fbs[v.slot + k]->vars = v.fb_init[k];
+            }
             continue;
         }
         for (std::size_t k = 0; k < v.init.size(); ++k) inst->vars[v.slot + k] = v.init[k];
@@ -129,6 +133,16 @@ std::unique_ptr<Instance> PouType::instantiate() const {
 }
 
 // ---- expressions ---------------------------------------------------------------------------------
+
+Instance* InstancePath::get(ExecContext& c) const {
+    Instance* owner = global ? c.globals : c.self;
+    if (!index) return owner->fbs[slot].get();
+    const std::int64_t i = index->eval(c).i;
+    if (i < lo || i > hi)
+        throw RuntimeError(pos.str() + ": index " + std::to_string(i) + " outside " + name + "[" + std::to_string(lo) +
+                           ".." + std::to_string(hi) + "]");
+    return owner->fbs[slot + static_cast<std::size_t>(i - lo)].get();
+}
 
 Value* LValue::first(ExecContext& c) const {
     Value* p = nullptr;

@@ -35,6 +35,9 @@ struct VarInfo {
     std::size_t slot = 0;
     SourcePos pos;
     std::vector<Value> init; // elementary/array: the initial value of each slot
+    /// An FB instance (or each of an ARRAY OF one) declared with initial inputs: the instance's
+    /// value slots, per element; an element without an entry (or an empty one) starts as declared.
+    std::vector<std::vector<Value>> fb_init;
     bool read_only = false;  // the predefined axes, VAR CONSTANT
     bool constant = false;   // VAR CONSTANT: the compiler uses `init` in its place
 };
@@ -60,6 +63,7 @@ struct PouType {
     std::size_t value_slots = 0;
     std::size_t fb_slots = 0;
     std::size_t ref_slots = 0;      // VAR_IN_OUT
+    std::size_t instances = 1;      // this one and every FB instance inside it, at any depth
     Block body;
     Type result;                    // FUNCTION: its type, in the variable named like the function
     std::function<std::unique_ptr<NativeBlock>()> native;
@@ -119,11 +123,17 @@ struct Const : Expr {
     bool constant() const override { return true; }
 };
 
-/// Where an FB instance is: in the running POU's instance or in the globals.
+/// Where an FB instance is: in the running POU's instance or in the globals; for an element of
+/// an ARRAY OF a block, `slot` is the first element's and `index` (checked against lo..hi when
+/// it runs, like any array index) picks one.
 struct InstancePath {
     bool global = false;
     std::size_t slot = 0;
-    Instance* get(ExecContext& c) const { return (global ? c.globals : c.self)->fbs[slot].get(); }
+    std::shared_ptr<const Expr> index; // shared: an LValue's path is copied per member read
+    std::int64_t lo = 0, hi = 0;
+    SourcePos pos;
+    std::string name; // the array's, for the error
+    Instance* get(ExecContext& c) const;
 };
 
 /// A variable that can be read and written: the slots of an instance (the running POU's, the

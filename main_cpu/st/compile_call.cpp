@@ -386,7 +386,9 @@ ExprPtr Compiler::string_call(const std::string& name, std::vector<ExprPtr> args
 ExprPtr Compiler::call(const ParseNode& n) {
     const ParseNode& id = *n.children.at(0);
     const std::string name = upper(name_of(id));
-    const ParseNode& argn = *n.children.at(1);
+    const ParseNode& argn = *n.children.back();
+    if (n.children.at(1)->is_type<g::index>())
+        fail(*n.children[1], "'" + name_of(id) + "[...](...)' calls a function block instance: a statement, not a value");
     std::vector<ExprPtr> positional;
     std::vector<const ParseNode*> named;
     Decl* d = find_decl(name);

@@ -445,9 +445,19 @@ LValuePtr Compiler::variable(const ParseNode& n, bool for_write, bool whole) {
                 const VarInfo* m = t.fb->find(upper(name_of(mid)));
                 if (!m || (m->kind != VarKind::input && m->kind != VarKind::output))
                     fail(mid, "'" + name_of(mid) + "' is not an input or output of " + t.name());
-                if (r->base == LValue::Base::fb_member || r->offset || !r->indices.empty())
+                if (r->base == LValue::Base::fb_member || r->offset || r->indices.size() > 1)
                     fail(mid, "only one function block instance in a name is in this subset");
-                r->inst = InstancePath{r->base == LValue::Base::global, r->slot};
+                r->inst = InstancePath{};
+                r->inst.global = r->base == LValue::Base::global;
+                r->inst.slot = r->slot;
+                if (!r->indices.empty()) { // t[i].Q: the index picks the instance
+                    r->inst.index = std::move(r->indices.front().index);
+                    r->inst.lo = r->indices.front().lo;
+                    r->inst.hi = r->indices.front().hi;
+                    r->inst.pos = r->pos;
+                    r->inst.name = f.var->name;
+                    r->indices.clear();
+                }
                 r->base = LValue::Base::fb_member;
                 r->slot = m->slot;
                 r->type = m->type;
@@ -481,6 +491,9 @@ LValuePtr Compiler::variable(const ParseNode& n, bool for_write, bool whole) {
     if (t.kind == Kind::Fb)
         fail(id, "'" + name_of(id) + "' is a " + t.name() + " instance, not a value (use its outputs, e.g. " +
                      name_of(id) + ".Q)");
+    if (t.fb_array())
+        fail(id, "'" + r->name + "' is an ARRAY of " + t.fb->name + " instances, not a value (use one's outputs, e.g. " +
+                     r->name + "[" + std::to_string(t.lo) + "].Q)");
     if (t.kind == Kind::Array && !whole) fail(id, "'" + r->name + "' is an ARRAY; index it: " + r->name + "[i]");
     if (t.kind == Kind::Struct && !whole)
         fail(id, "'" + r->name + "' is a STRUCT " + t.name() + "; use its members, e.g. " + r->name + "." +

@@ -90,16 +90,39 @@ StmtPtr Compiler::fb_call(const ParseNode& n) {
     if (Decl* d = find_decl(key); d && d->pou->pou == PouType::Pou::function)
         fail(id, "'" + d->pou->name + "' is a FUNCTION: use its result, e.g. x := " + d->pou->name + "(...);");
     const Found f = lookup(id);
-    if (f.var->type.kind != Kind::Fb)
-        fail(id, "'" + name_of(id) + "' is " + f.var->type.name() + ", not a function block instance");
-    const PouType& fb = *f.var->type.fb;
+    const Type& ft = f.var->type;
+    const bool indexed = n.children.at(1)->is_type<g::index>();
+    if (indexed && !ft.fb_array())
+        fail(id, "'" + name_of(id) + "' is " + ft.name() + ", not an ARRAY of function block instances");
+    if (!indexed && ft.fb_array())
+        fail(id, "'" + name_of(id) + "' is " + ft.name() + "; call one element: " + name_of(id) + "[" +
+                     std::to_string(ft.lo) + "](...)");
+    if (ft.kind != Kind::Fb && !indexed)
+        fail(id, "'" + name_of(id) + "' is " + ft.name() + ", not a function block instance");
+    const PouType& fb = *ft.fb;
     auto call = std::make_unique<FbCall>();
-    call->inst = InstancePath{f.global, f.var->slot};
+    call->inst.global = f.global;
+    call->inst.slot = f.var->slot;
+    if (indexed) {
+        const ParseNode& ix = *n.children[1]->children.at(0);
+        ExprPtr i = expr(ix);
+        if (untyped(*i)) i = coerce(std::move(i), Type::of(Kind::Dint), "an array index");
+        if (!i->type.integer()) fail(ix, "type mismatch: an array index must be an integer, not " + i->type.name());
+        ExecContext none;
+        if (i->constant() && (i->eval(none).i < ft.lo || i->eval(none).i > ft.hi))
+            fail(ix, "index " + std::to_string(i->eval(none).i) + " outside " + f.var->name + "[" +
+                         std::to_string(ft.lo) + ".." + std::to_string(ft.hi) + "]");
+        call->inst.index = std::move(i);
+        call->inst.lo = ft.lo;
+        call->inst.hi = ft.hi;
+        call->inst.pos = at(id);
+        call->inst.name = f.var->name;
+    }
     std::vector<std::string> seen;
     std::vector<const VarInfo*> in_outs;
     for (const VarInfo& v : fb.vars)
         if (v.kind == VarKind::in_out) in_outs.push_back(&v);
-    for (const auto& a : n.children.at(1)->children) {
+    for (const auto& a : n.children.back()->children) {
         if (!a->is_type<g::arg_input>() && !a->is_type<g::arg_output>())
             fail(*a, "the arguments of a function block call are named: " + name_of(id) + "(IN := value, Q => variable)");
         const ParseNode& pn = *a->children.at(0);

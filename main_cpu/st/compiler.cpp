@@ -82,6 +82,8 @@ bool unsupported_type(const std::string& upper_name) {
 /// The default length of a STRING without [n] (CODESYS's; IEC leaves it to the implementation),
 /// and the longest one accepted (a variable is a few hundred slots at most).
 constexpr std::int64_t default_string_length = 80, max_string_length = 1024;
+/// The most FB instances one POU may hold, nested ones included (each is a few dozen bytes).
+constexpr std::size_t max_instances = 65536;
 } // namespace
 
 // ---- declarations --------------------------------------------------------------------------------
@@ -146,11 +148,12 @@ Type Compiler::resolve_type(const ParseNode& n) {
         t.lo = integer_literal(trim(n.children.at(0)->string()), *n.children[0]);
         t.hi = integer_literal(trim(n.children.at(1)->string()), *n.children[1]);
         const Type e = resolve_type(*n.children.at(2));
-        if (e.kind == Kind::Fb || e.kind == Kind::Array || e.kind == Kind::AxisRef)
+        if (e.kind == Kind::Array || e.kind == Kind::AxisRef)
             fail(*n.children[2], "an ARRAY of " + e.name() + " is not supported (docs/st.md)");
         if (t.hi < t.lo) fail(n, "ARRAY[" + std::to_string(t.lo) + ".." + std::to_string(t.hi) + "] is empty");
         if (t.hi - t.lo >= 65536) fail(n, "ARRAY of more than 65536 elements");
         t.elem = e.kind;
+        t.fb = e.fb;
         t.en = e.en;
         t.st = e.st;
         t.len = e.len;
@@ -173,6 +176,9 @@ Type Compiler::resolve_type(const ParseNode& n) {
         return t;
     }
     if (unsupported_type(key)) fail(n, key + " is not supported (docs/st.md)");
+    if (key == "AXES_GROUP_REF")
+        fail(n, "AXES_GROUP_REF is not supported: rcsim has no axes group object; the interpolating blocks take "
+                "their group's axes as AxisX, AxisY (AxisZ, AxisU) inputs (docs/st.md \"Motion blocks\")");
     if (const auto it = type_decls_.find(key); it != type_decls_.end()) {
         const std::string_view keep = file_;
         PouType* keep_cur = cur_;
@@ -248,7 +254,10 @@ void Compiler::add_vars(PouType& p, const ParseNode& block, PouType::Pou where) 
         if (vk == VarKind::global && t.kind == Kind::Fb && t.fb->pou != PouType::Pou::function_block)
             fail(*decl.children[1], "'" + t.name() + "' is not a function block");
         if (constant && !init) fail(names, "a CONSTANT needs its value: name : TYPE := value;");
-        if (constant && t.kind == Kind::Fb) fail(*decl.children[1], "a function block instance cannot be CONSTANT");
+        if (constant && (t.kind == Kind::Fb || t.fb_array())) fail(*decl.children[1], "a function block instance cannot be CONSTANT");
+        if ((vk == VarKind::in_out || vk == VarKind::input || vk == VarKind::output) && t.fb_array())
+            fail(*decl.children[1], "an ARRAY of function block instances as " + kind +
+                                        " is not supported (docs/st.md); declare it in VAR");
         if (vk == VarKind::in_out && t.kind == Kind::Fb)
             fail(*decl.children[1], "a function block instance as VAR_IN_OUT is not supported (docs/st.md)");
         if (vk == VarKind::in_out && init) fail(*init, "a VAR_IN_OUT takes no initial value (it is the caller's variable)");
@@ -272,9 +281,17 @@ void Compiler::add_var(PouType& p, const std::string& name, const ParseNode& at_
     v.type = t;
     v.kind = kind;
     v.pos = at(at_node);
-    if (t.kind == Kind::Fb) {
-        if (init) fail(*init, "a function block instance takes no initial value");
-        v.slot = p.fb_slots++;
+    if (t.kind == Kind::Fb || t.fb_array()) {
+        // An instance, or one per element of an ARRAY OF the block, in consecutive fb slots.
+        if (init) v.fb_init = fb_initial_values(t, *init, name, &p);
+        v.slot = p.fb_slots;
+        const std::size_t n = t.kind == Kind::Fb ? 1 : static_cast<std::size_t>(t.hi - t.lo + 1);
+        p.fb_slots += n;
+        // Arrays of blocks holding arrays of blocks multiply: bound the instances one POU makes.
+        p.instances += n * t.fb->instances;
+        if (p.instances > max_instances)
+            fail(at_node, "'" + p.name + "' would hold more than " + std::to_string(max_instances) +
+                              " function block instances");
     } else if (kind == VarKind::in_out) {
         v.slot = p.ref_slots++;
     } else {
@@ -313,6 +330,47 @@ std::vector<Value> Compiler::initial_values(const Type& t, const ParseNode& init
     cur_ = keep;
     constants_only_ = keep_only;
     return v;
+}
+
+std::vector<std::vector<Value>> Compiler::fb_initial_values(const Type& t, const ParseNode& init,
+                                                            const std::string& name, PouType* scope) {
+    PouType* keep = cur_;
+    const bool keep_only = constants_only_;
+    cur_ = scope == &u_.globals ? nullptr : scope;
+    constants_only_ = true;
+    const ParseNode& value = *init.children.at(0);
+    std::vector<std::vector<Value>> out;
+    if (t.kind == Kind::Fb) {
+        out.push_back(fb_inputs(*t.fb, value, name));
+    } else {
+        if (!value.is_type<g::array_init>())
+            fail(value, "the initial value of an ARRAY of " + t.fb->name + " is a list: [(PT := T#1s), (PT := T#2s)]");
+        const std::size_t n = static_cast<std::size_t>(t.hi - t.lo + 1);
+        if (value.children.size() > n)
+            fail(value, std::to_string(value.children.size()) + " initial values for " + std::to_string(n) +
+                            " elements of '" + name + "'");
+        for (std::size_t k = 0; k < value.children.size(); ++k)
+            out.push_back(fb_inputs(*t.fb, *value.children[k], name + "[" + std::to_string(t.lo + k) + "]"));
+    }
+    cur_ = keep;
+    constants_only_ = keep_only;
+    return out;
+}
+
+std::vector<Value> Compiler::fb_inputs(const PouType& fb, const ParseNode& value, const std::string& name) {
+    if (!value.is_type<g::struct_init>())
+        fail(value, "the initial value of a " + fb.name + " instance names its inputs: (PT := T#1s)");
+    std::vector<Value> out(fb.value_slots);
+    for (const VarInfo& v : fb.vars)
+        for (std::size_t k = 0; k < v.init.size(); ++k) out[v.slot + k] = v.init[k];
+    for (const auto& mi : value.children) {
+        const ParseNode& mn = *mi->children.at(0);
+        const VarInfo* v = fb.find(upper(name_of(mn)));
+        if (!v || v->kind != VarKind::input || v->type.kind == Kind::Fb)
+            fail(mn, "'" + name_of(mn) + "' is not an input of " + fb.name);
+        init_into(out, v->slot, v->type, *mi->children.at(1), name + "." + v->name);
+    }
+    return out;
 }
 
 void Compiler::init_into(std::vector<Value>& out, std::size_t at, const Type& t, const ParseNode& value,
@@ -373,7 +431,7 @@ Type Compiler::define_type(TypeDecl& d, const std::string& name) {
             d.type = define_struct(def, tname);
         } else {
             d.type = resolve_type(def); // an alias: TYPE Speed : LREAL; END_TYPE
-            if (d.type.kind == Kind::Fb) fail(def, "a TYPE cannot name a function block");
+            if (d.type.kind == Kind::Fb || d.type.fb_array()) fail(def, "a TYPE cannot name a function block");
         }
     }
     d.state = TypeDecl::State::defined;
@@ -413,7 +471,7 @@ Type Compiler::define_struct(const ParseNode& spec, const std::string& name) {
     u_.structs.push_back(std::move(st));
     for (const auto& decl : spec.children) {
         const Type t = resolve_type(*decl->children.at(1));
-        if (t.kind == Kind::Fb) fail(*decl->children[1], "a function block instance in a STRUCT is not supported (docs/st.md)");
+        if (t.kind == Kind::Fb || t.fb_array()) fail(*decl->children[1], "a function block instance in a STRUCT is not supported (docs/st.md)");
         const ParseNode* init = decl->children.size() > 2 ? decl->children[2].get() : nullptr;
         for (const auto& nm : decl->children.at(0)->children) {
             if (sp->find(upper(name_of(*nm)))) fail(*nm, "'" + name_of(*nm) + "' is declared twice");
@@ -489,6 +547,7 @@ std::unique_ptr<Unit> compile(const std::string& text, const std::string& file, 
     }
     add_timer_blocks(*u);
     add_motion_blocks(*u);
+    add_manual_motion_blocks(*u);
     detail::Compiler c(*u);
     c.add_source(standard_prelude(), "<standard library>");
     c.add_source(text, file);

@@ -82,6 +82,11 @@ private:
     void add_var(PouType& p, const std::string& name, const ParseNode& at_node, Type t, VarKind kind,
                  const ParseNode* init);
     std::vector<Value> initial_values(const Type& t, const ParseNode& init, const std::string& name, PouType* scope);
+    /// The initial inputs of an FB instance `(PT := T#1s)` or of each of an ARRAY OF one
+    /// `[(PT := T#1s), (PT := T#2s)]`: per instance, all its value slots (none: the defaults).
+    std::vector<std::vector<Value>> fb_initial_values(const Type& t, const ParseNode& init, const std::string& name,
+                                                      PouType* scope);
+    std::vector<Value> fb_inputs(const PouType& fb, const ParseNode& value, const std::string& name);
 
     // expressions
     ExprPtr expr(const ParseNode& n);

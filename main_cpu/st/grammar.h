@@ -231,7 +231,8 @@ struct argument : pg::sor<arg_input, arg_output, expression> {
     static constexpr const char* expected = "an argument";
 };
 struct arguments : pg::opt<argument, pg::star<comma, pg::must<argument>>> {};
-struct call : pg::seq<ident, _, lparen, arguments, pg::must<rparen>> {};
+// `t[i](...)` calls an element of an ARRAY OF a function block (a statement only).
+struct call : pg::seq<ident, _, pg::opt<index>, lparen, arguments, pg::must<rparen>> {};
 struct paren : pg::if_must<lparen, expr_expected, rparen> {};
 struct primary : pg::sor<paren, literal, call, variable> {
     static constexpr const char* expected = "an operand";

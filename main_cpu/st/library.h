@@ -25,5 +25,10 @@ void add_timer_blocks(Unit& u);
 /// MC_Power, MC_Reset, MC_Home, MC_MoveAbsolute, MC_MoveRelative, MC_MoveVelocity, MC_Stop,
 /// MC_Halt, MC_LineMove2, MC_LineMove (2-4 axes), MC_CircleCenterMove.
 void add_motion_blocks(Unit& u);
+/// MC_ReadActualVelocity, MC_Jog, MC_MoveSuperimposed (mc_manual.cpp).
+void add_manual_motion_blocks(Unit& u);
+/// MC_MoveSuperimposed's ErrorID on an axis that moves: the CAMC-QI cannot add a distance to a
+/// running drive (docs/st.md "Motion blocks").
+constexpr std::uint16_t superimposed_in_motion = 0x7202;
 
 } // namespace rcsim::st

@@ -122,6 +122,10 @@ void add_vars(const Instance& inst, const std::string& prefix, bool interface_on
         const std::string name = prefix + v.name;
         if (v.type.kind == Kind::Fb) {
             add_vars(*inst.fbs[v.slot], name + ".", true, out);
+        } else if (v.type.fb_array()) {
+            for (std::int64_t k = v.type.lo; k <= v.type.hi; ++k)
+                add_vars(*inst.fbs[v.slot + static_cast<std::size_t>(k - v.type.lo)],
+                         name + "[" + std::to_string(k) + "].", true, out);
         } else if (v.kind != VarKind::in_out) {
             out[name] = datum_json(v.type, &inst.vars[v.slot]);
         }
@@ -142,9 +146,14 @@ Value* StProgram::locate(const std::string& path) {
     if (const auto dot = path.find('.'); dot != std::string::npos) {
         head = path.substr(0, dot);
         member = path.substr(dot + 1);
-    } else if (const auto br = path.find('['); br != std::string::npos) {
-        head = path.substr(0, br);
-        index = std::stoll(path.substr(br + 1));
+    }
+    if (const auto br = head.find('['); br != std::string::npos) {
+        try {
+            index = std::stoll(head.substr(br + 1));
+        } catch (const std::logic_error&) {
+            throw std::out_of_range("no element " + path);
+        }
+        head = head.substr(0, br);
         indexed = true;
     }
     Instance* inst = program_.get();
@@ -156,6 +165,15 @@ Value* StProgram::locate(const std::string& path) {
     if (!v) throw std::out_of_range("no variable '" + head + "'");
     // Only single-slot data: a forced STRING length or STRUCT slot could break what the compiler
     // laid out.
+    if (indexed && !member.empty()) { // t[2].Q: an output of one of an ARRAY OF a block
+        if (!v->type.fb_array() || index < v->type.lo || index > v->type.hi)
+            throw std::out_of_range("no element " + path);
+        Instance& fb = *inst->fbs[v->slot + static_cast<std::size_t>(index - v->type.lo)];
+        const VarInfo* m = fb.type->find(upper(member));
+        if (!m || m->kind == VarKind::in_out || !m->type.elementary())
+            throw std::out_of_range("no elementary member '" + member + "' in " + head);
+        return &fb.vars[m->slot];
+    }
     if (!member.empty()) {
         if (v->type.kind == Kind::Struct) {
             const StructType::Member* m = v->type.st->find(upper(member));

@@ -52,7 +52,7 @@ struct StructType;
 
 struct Type {
     Kind kind = Kind::Void;
-    const PouType* fb = nullptr; // Kind::Fb: the function block type
+    const PouType* fb = nullptr; // Kind::Fb: the function block type (or an array of one)
     Kind elem = Kind::Void;      // Kind::Array: the element's kind (described by en, st, len below)
     std::int64_t lo = 0, hi = -1; // Kind::Array: the index range
     const EnumType* en = nullptr;   // Kind::Enum (or an array of one)
@@ -71,9 +71,12 @@ struct Type {
         return kind != Kind::Void && kind != Kind::Fb && kind != Kind::Array && kind != Kind::String &&
                kind != Kind::Struct;
     }
+    /// ARRAY[..] OF a function block: its instances are fb slots, not value slots.
+    bool fb_array() const { return kind == Kind::Array && elem == Kind::Fb; }
     /// What an ARRAY holds.
     Type element() const {
         Type e{elem};
+        e.fb = fb;
         e.en = en;
         e.st = st;
         e.len = len;

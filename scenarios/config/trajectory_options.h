@@ -21,6 +21,7 @@ TrajectoryOptions read_trajectory_options(YamlMap m);
 struct CircleOverlay {
     double center_x = 0, center_y = 0, radius = 0;
     double t0_s = 0, t1_s = 0;
+    double max_radial_error = -1; // the circle check's limit, pulses, drawn on the plot (< 0: none)
 };
 
 } // namespace rcsim

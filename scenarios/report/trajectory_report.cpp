@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <memory>
 
 namespace rcsim {
 
@@ -44,12 +45,24 @@ struct Series {
     std::function<std::optional<double>(const TrajectorySample&, const TrajectorySample*)> value;
 };
 
-/// A panel of series against time at (x, y), w x h pixels, decimated to its pixel columns.
+/// A horizontal line across a panel at `value` (a limit), in the legend as `label`.
+struct Level {
+    double value;
+    std::string label, colour;
+};
+
+/// A panel of series against time at (x, y), w x h pixels, decimated to its pixel columns; the
+/// levels drawn across it (dotted) and kept inside its value range.
 void time_panel(svg::Doc& d, const std::vector<TrajectorySample>& v, double x, double y, double w, double h,
-                const std::string& y_title, const std::vector<Series>& series, double t0, double t1) {
+                const std::string& y_title, const std::vector<Series>& series, double t0, double t1,
+                const std::vector<Level>& levels = {}) {
     std::vector<std::vector<std::pair<double, double>>> pts;
     double lo = 0, hi = 0;
     bool any = false;
+    for (const Level& l : levels) {
+        if (!any) lo = hi = l.value, any = true;
+        lo = std::min(lo, l.value), hi = std::max(hi, l.value);
+    }
     for (const Series& s : series) {
         svg::ColumnDecimator dec(t0, t1, static_cast<unsigned>(w));
         const TrajectorySample* prev = nullptr;
@@ -77,6 +90,10 @@ void time_panel(svg::Doc& d, const std::vector<TrajectorySample>& v, double x, d
         if (!p.empty()) d.polyline(p, series[i].colour, 1.2, extra);
         legend.push_back({series[i].label, series[i].colour, series[i].dash});
     }
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        d.line(x, sy(levels[i].value), x + w, sy(levels[i].value), levels[i].colour, 1, "stroke-dasharray=\"1 3\"");
+        if (i == 0 || levels[i].label != levels[i - 1].label) legend.push_back({levels[i].label, levels[i].colour, "1 3"});
+    }
     // The legend to the right of the panel, one row per series.
     d.legend(x + w + 12, y + 10, legend, 16);
 }
@@ -87,7 +104,73 @@ std::optional<double> velocity(const TrajectorySample& s, unsigned a, bool actua
     return actual ? s.vel_act[a] : s.vel_cmd[a];
 }
 
+/// Solves the 3 x 3 normal equations m (a b c) = r by Cramer's rule for b and c; false when singular.
+bool solve3(const double m[3][3], const double r[3], double& b, double& c) {
+    auto det = [](double a0, double a1, double a2, double b0, double b1, double b2, double c0, double c1, double c2) {
+        return a0 * (b1 * c2 - b2 * c1) - a1 * (b0 * c2 - b2 * c0) + a2 * (b0 * c1 - b1 * c0);
+    };
+    const double d = det(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+    if (!(std::abs(d) > 0)) return false;
+    b = det(m[0][0], r[0], m[0][2], m[1][0], r[1], m[1][2], m[2][0], r[2], m[2][2]) / d;
+    c = det(m[0][0], m[0][1], r[0], m[1][0], m[1][1], r[1], m[2][0], m[2][1], r[2]) / d;
+    return true;
+}
+
 } // namespace
+
+double path_speed_window_s(const std::vector<TrajectorySample>& v) {
+    double peak = 0;
+    for (const auto& s : v)
+        if (const auto vx = velocity(s, 0, false), vy = velocity(s, 1, false); vx && vy)
+            peak = std::max(peak, std::hypot(*vx, *vy));
+    if (!(peak > 0)) return kPathSpeedWindowMin;
+    // In steps of 10 ms, so that the speed's own few per cent of ripple between one-cycle
+    // differences does not change the window of a run.
+    const double w = std::ceil(kPathSpeedWindowPulses / peak / 0.010 - 1e-9) * 0.010;
+    return std::clamp(w, kPathSpeedWindowMin, kPathSpeedWindowMax);
+}
+
+std::vector<std::pair<double, double>> path_speed(const std::vector<TrajectorySample>& v, bool actual,
+                                                  double window_s) {
+    // Each axis' least-squares slope over the samples within h = window_s / 2 of the sample's
+    // time: the quantisation (+-0.5 pulse a sample) weighs 1/N^1.5 in a slope of N samples, where
+    // a difference of two samples carries it whole. On a curve the slopes shrink by
+    // 1 - (w h)^2 / 10 (w the velocity's turning rate, a_normal / v); the quadratic terms of the
+    // same fit give a_normal, so that is divided out: a circle's speed is not drawn 0.1 % low.
+    std::vector<std::pair<double, double>> out;
+    const double eps = 1e-9, half = window_s / 2 + eps; // sample times are sums of the cycle
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const double t = v[i].t_s;
+        if (!has_axis(v[i], 1) || t - half + 2 * eps < v.front().t_s || t + half - 2 * eps > v.back().t_s) continue;
+        while (v[first].t_s < t - half) ++first;
+        // Least squares of x = a + b t + c t^2 (t centred on the sample): the normal equations.
+        double m[3][3] = {}, rx[3] = {}, ry[3] = {};
+        std::size_t n = 0;
+        const auto& p0 = actual ? v[i].act : v[i].cmd;
+        for (std::size_t k = first; k < v.size() && v[k].t_s <= t + half; ++k) {
+            if (!has_axis(v[k], 1)) continue;
+            const double dt = v[k].t_s - t, pw[3] = {1, dt, dt * dt};
+            const auto& p = actual ? v[k].act : v[k].cmd;
+            const double px = double(p[0] - p0[0]), py = double(p[1] - p0[1]);
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) m[r][c] += pw[r] * pw[c];
+                rx[r] += pw[r] * px, ry[r] += pw[r] * py;
+            }
+            ++n;
+        }
+        double bx = 0, cx = 0, by = 0, cy = 0;
+        if (n < 4 || !solve3(m, rx, bx, cx) || !solve3(m, ry, by, cy)) continue;
+        const double speed = std::hypot(bx, by);
+        double shrink = 1;
+        if (speed > 0) {
+            const double a_normal = std::abs(bx * 2 * cy - by * 2 * cx) / speed, turn = a_normal / speed;
+            shrink = 1 - turn * turn * (window_s / 2) * (window_s / 2) / 10;
+        }
+        out.emplace_back(t, speed / std::max(shrink, 0.5));
+    }
+    return out;
+}
 
 TrajectoryCsv::TrajectoryCsv(const std::filesystem::path& file, std::size_t every)
     : file_(file), every_(std::max<std::size_t>(every, 1)) {
@@ -274,15 +357,25 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
     y += PH + gap;
     // The speed along the X-Y path (axes 0 and 1): what PLCopen's Velocity of an interpolated
     // move commands, which neither axis' velocity shows alone.
-    heading("path speed of axes 0/1: sqrt(vx^2 + vy^2), from one control cycle to the next");
+    // Over a window, not from one cycle to the next: at 20 000 pulses/s a cycle moves 20 pulses,
+    // and one pulse of quantisation would show as 5 % of ripple (docs/motion.md).
+    const double window = path_speed_window_s(v);
+    char wtext[32];
+    std::snprintf(wtext, sizeof wtext, "%.0f ms", window * 1000);
+    heading(std::string("path speed of axes 0/1: sqrt(vx^2 + vy^2), each the least-squares slope over ") + wtext);
     std::vector<Series> path;
-    for (const bool act : {false, true})
+    for (const bool act : {false, true}) {
+        // Looked up by time: the panel hands the samples in order, the speeds follow them.
+        auto speeds = std::make_shared<std::vector<std::pair<double, double>>>(path_speed(v, act, window));
+        auto at = std::make_shared<std::size_t>(0);
         path.push_back({act ? "actual" : "command", act ? "#d62728" : "#1f77b4", act ? "4 3" : "",
-                        [act](const TrajectorySample& s, const TrajectorySample*) -> std::optional<double> {
-                            const auto vx = velocity(s, 0, act), vy = velocity(s, 1, act);
-                            if (!vx || !vy) return std::nullopt;
-                            return std::hypot(*vx, *vy);
+                        [speeds, at](const TrajectorySample& s, const TrajectorySample* prev) -> std::optional<double> {
+                            if (!prev) *at = 0;
+                            while (*at < speeds->size() && (*speeds)[*at].first < s.t_s) ++*at;
+                            if (*at < speeds->size() && (*speeds)[*at].first == s.t_s) return (*speeds)[*at].second;
+                            return std::nullopt;
                         }});
+    }
     time_panel(d, v, M, y, PW, PH, "[pulses/s]", path, t0, t1);
     y += PH + gap;
     heading("following error (command - actual)");
@@ -300,7 +393,13 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
                                const auto& p = act ? s.act : s.cmd;
                                return std::hypot(double(p[0]) - c.center_x, double(p[1]) - c.center_y) - c.radius;
                            }});
-        time_panel(d, v, M, y, PW, PH, "[pulses]", rad, t0, t1);
+        std::vector<Level> tol;
+        if (c.max_radial_error >= 0) {
+            char label[64];
+            std::snprintf(label, sizeof label, "max_radial_error ±%g", c.max_radial_error); // fits the legend
+            tol = {{c.max_radial_error, label, "#555"}, {-c.max_radial_error, label, "#555"}};
+        }
+        time_panel(d, v, M, y, PW, PH, "[pulses]", rad, t0, t1, tol);
     }
     return d.str();
 }

@@ -19,6 +19,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rcsim {
@@ -55,9 +56,21 @@ std::string trajectory_svg(const motion::TrajectoryRecorder& rec, unsigned ax, u
 void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::filesystem::path& file, unsigned ax,
                           unsigned ay, const std::string& title);
 
+/// The path speed panel's window: long enough that the window covers kPathSpeedWindowPulses
+/// pulses at the run's top commanded path speed (so a pulse of quantisation is lost in it), in
+/// steps of 10 ms from kPathSpeedWindowMin to kPathSpeedWindowMax seconds.
+constexpr double kPathSpeedWindowPulses = 1000, kPathSpeedWindowMin = 0.010, kPathSpeedWindowMax = 0.200;
+double path_speed_window_s(const std::vector<motion::TrajectorySample>& v);
+/// The path speed of axes 0 and 1 (command, or actual) at each sample with a whole window around
+/// it: sqrt(vx^2 + vy^2), each the least-squares slope of the axis' position over the samples
+/// within window_s / 2 of it, corrected for the path's curvature; (time, pulses/s).
+std::vector<std::pair<double, double>> path_speed(const std::vector<motion::TrajectorySample>& v, bool actual,
+                                                  double window_s);
+
 /// Panels against time: position (command solid, actual dashed) and velocity per axis that moved,
-/// the path speed of axes 0/1, the following error per axis, and with `circle` the radial error of
-/// both paths over its window.
+/// the path speed of axes 0/1 (path_speed() over path_speed_window_s(), stated in the heading),
+/// the following error per axis, and with `circle` the radial error of both paths over its window
+/// with the check's tolerance (circle->max_radial_error, when not negative) drawn across it.
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
                                 const std::optional<CircleOverlay>& circle);
 

@@ -220,7 +220,8 @@ int run_motion_plan(MotionPlan plan, const std::string& name, const std::filesys
         std::optional<CircleOverlay> circle;
         if (plan.checks.circle && driver.arc)
             circle = CircleOverlay{plan.checks.circle->center_x, plan.checks.circle->center_y,
-                                   plan.checks.circle->radius, driver.arc->t0_s, driver.arc->t1_s};
+                                   plan.checks.circle->radius, driver.arc->t0_s, driver.arc->t1_s,
+                                   plan.checks.circle->max_radial_error};
         files->finish(name, circle, plan.trajectory.pulse_trace ? &mc.chip().pulse_trace() : nullptr);
         rep["trajectory_csv"] = (out_dir / "trajectory.csv").string();
         rep["trajectory_svg"] = (out_dir / "trajectory.svg").string();

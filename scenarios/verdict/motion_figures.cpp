@@ -116,7 +116,7 @@ std::optional<CircleOverlay> circle_overlay(const World& w, const Scenario& s) {
     const motion::CircleRecord& c = *w.motion->last_circle();
     const double end = c.outcome_at ? c.outcome_at->to_seconds() : sc_core::sc_time_stamp().to_seconds();
     return CircleOverlay{s.checks.circle->center_x, s.checks.circle->center_y, s.checks.circle->radius,
-                         c.at.to_seconds(), end};
+                         c.at.to_seconds(), end, s.checks.circle->max_radial_error};
 }
 
 std::vector<Check> system_motion_checks(const World& w, const Scenario& s) {

@@ -360,6 +360,9 @@ TEST(StLanguage, ConstructsOutsideTheSubsetAreNamed) {
          "t.st:1:38: S=, R=, REF= (set, reset and reference assignments) is not supported (docs/st.md)"},
         {"PROGRAM T VAR s : STRING; i : INT; END_VAR s := INT_TO_STRING(i); END_PROGRAM",
          "t.st:1:49: INT_TO_STRING: a conversion to or from STRING is not supported (docs/st.md)"},
+        {"PROGRAM T VAR g : AXES_GROUP_REF; END_VAR END_PROGRAM",
+         "t.st:1:19: AXES_GROUP_REF is not supported: rcsim has no axes group object; the interpolating blocks take "
+         "their group's axes as AxisX, AxisY (AxisZ, AxisU) inputs (docs/st.md \"Motion blocks\")"},
         {"PROGRAM T VAR s : STRING; END_VAR s := \"wide\"; END_PROGRAM",
          "t.st:1:40: a WSTRING literal \"...\" is not supported (docs/st.md)"},
     };

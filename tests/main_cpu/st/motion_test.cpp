@@ -2,6 +2,7 @@
 // the blocks move the CAMC-QI's axes, a runtime error puts every axis in ErrorStop, SP stops the
 // moving axes. Each test is its own SystemC simulation (CTest runs each in its own process).
 #include "main_cpu/motion/motion_controller.h"
+#include "main_cpu/st/library.h"
 #include "main_cpu/st/program.h"
 #include "tests/support/sc_test.h"
 
@@ -265,6 +266,120 @@ END_PROGRAM)";
         EXPECT_EQ(b.var("bad.Error"), 1);
         EXPECT_EQ(b.var("bad.ErrorID"), 0x7006);
         EXPECT_EQ(b.mc.chip().command_position(0), 1234);
+    });
+}
+
+
+// MC_Jog (PLCopen Part 1): the axis runs while a jog input is held, at Velocity, and stops when
+// it falls with the Deceleration's ramp: v^2 / (2 d) = 20000^2 / (2 * 400000) = 500 pulses.
+TEST(StMotion, JogRunsWhileHeldAndHaltsWithItsDeceleration) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; jog : MC_Jog; rv : MC_ReadActualVelocity; fwd, bwd : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+jog(Axis := Axis0, JogForward := fwd, JogBackward := bwd, Velocity := 20000, Acceleration := 200000,
+    Deceleration := 400000);
+rv(Axis := Axis0, Enable := TRUE);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.cycles(10);
+        b.program->set_value("fwd", st::Value{1, 0});
+        b.cycles(300); // 0.1 s ramp, then constant speed
+        EXPECT_EQ(b.var("jog.Busy"), 1);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::continuous_motion);
+        EXPECT_EQ(b.var("rv.Valid"), 1);
+        EXPECT_NEAR(b.program->value("rv.Velocity").r, 20000, 200); // the drive follows the set speed
+        const auto p0 = b.mc.chip().command_position(0);
+        b.program->set_value("fwd", st::Value{0, 0});
+        b.cycles(200);
+        EXPECT_EQ(b.var("jog.Done"), 1);
+        EXPECT_EQ(b.var("jog.Busy"), 0);
+        EXPECT_EQ(b.var("jog.CommandAborted"), 0);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        // The halt is issued in the cycle the input falls, from full speed: 500 pulses (+-1 of
+        // the chip's pulse quantisation).
+        EXPECT_NEAR(static_cast<double>(b.mc.chip().command_position(0) - p0), 500, 1);
+        b.program->set_value("bwd", st::Value{1, 0});
+        b.cycles(300);
+        EXPECT_NEAR(b.program->value("rv.Velocity").r, -20000, 200);
+        const auto p1 = b.mc.chip().command_position(0);
+        b.program->set_value("fwd", st::Value{1, 0}); // both held: the jog stops
+        b.cycles(200);
+        EXPECT_EQ(b.var("jog.Done"), 1);
+        EXPECT_LT(b.mc.chip().command_position(0), p1);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+    });
+}
+
+// Another block taking the axis over ends the jog with CommandAborted (Part 1 §2.4.1), and the
+// jog does not restart while its input stays TRUE.
+TEST(StMotion, AJogTakenOverIsCommandAborted) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; jog : MC_Jog; move : MC_MoveAbsolute; fwd, go : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+jog(Axis := Axis0, JogForward := fwd, Velocity := 5000, Acceleration := 100000, Deceleration := 100000);
+move(Axis := Axis0, Execute := go, Position := 0, Velocity := 5000, Acceleration := 100000,
+     Deceleration := 100000);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.cycles(10);
+        b.program->set_value("fwd", st::Value{1, 0});
+        b.cycles(100);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(3);
+        EXPECT_EQ(b.var("jog.CommandAborted"), 1);
+        EXPECT_EQ(b.var("jog.Busy"), 0);
+        b.cycles(500);
+        EXPECT_EQ(b.var("move.Done"), 1); // back at 0: the jog did not take the axis again
+        EXPECT_EQ(b.mc.chip().command_position(0), 0);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+    });
+}
+
+// A jog on an axis that is not powered is refused with the motion block's ErrorID (0x7001).
+TEST(StMotion, JogOnADisabledAxisIsAnError) {
+    const char* text = R"(
+PROGRAM M
+VAR jog : MC_Jog; fwd : BOOL; END_VAR
+jog(Axis := Axis1, JogForward := fwd, Velocity := 1000, Acceleration := 10000, Deceleration := 10000);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.program->set_value("fwd", st::Value{1, 0});
+        b.cycles(3);
+        EXPECT_EQ(b.var("jog.Error"), 1);
+        EXPECT_EQ(b.var("jog.ErrorID"), 0x7001);
+        EXPECT_EQ(b.var("jog.Busy"), 0);
+    });
+}
+
+// MC_MoveSuperimposed: in Standstill it acts as MC_MoveRelative (Part 1), VelocityDiff the
+// velocity; on a moving axis it is refused (st::superimposed_in_motion) and the motion goes on.
+TEST(StMotion, MoveSuperimposedMovesFromStandstillAndIsRefusedInMotion) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; sup : MC_MoveSuperimposed; mv : MC_MoveVelocity; go, run : BOOL; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+sup(Axis := Axis0, Execute := go, Distance := 2000, VelocityDiff := 20000, Acceleration := 200000,
+    Deceleration := 200000);
+mv(Axis := Axis0, Execute := run, Velocity := 5000, Acceleration := 100000, Deceleration := 100000);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.cycles(10);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(300);
+        EXPECT_EQ(b.var("sup.Done"), 1);
+        EXPECT_EQ(b.mc.chip().command_position(0), 2000);
+        EXPECT_EQ(b.program->value("sup.CoveredDistance").r, 2000.0);
+        b.program->set_value("go", st::Value{0, 0});
+        b.program->set_value("run", st::Value{1, 0});
+        b.cycles(100);
+        b.program->set_value("go", st::Value{1, 0});
+        b.cycles(2);
+        EXPECT_EQ(b.var("sup.Error"), 1);
+        EXPECT_EQ(b.var("sup.ErrorID"), st::superimposed_in_motion);
+        EXPECT_EQ(b.var("mv.CommandAborted"), 0);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::continuous_motion);
     });
 }
 
