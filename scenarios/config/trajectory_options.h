@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 namespace rcsim {
 
@@ -22,6 +23,12 @@ struct CircleOverlay {
     double center_x = 0, center_y = 0, radius = 0;
     double t0_s = 0, t1_s = 0;
     double max_radial_error = -1; // the circle check's limit, pulses, drawn on the plot (< 0: none)
+};
+
+/// An instant the time pictures mark across every panel and label once (a missed CSP SYNC).
+struct TimeMark {
+    double t_s = 0;
+    std::string label;
 };
 
 } // namespace rcsim

@@ -39,6 +39,8 @@ std::vector<unsigned> moving_axes(const std::vector<TrajectorySample>& v) {
     return out;
 }
 
+const char* const kMarkColour = "#d62728";
+
 /// One series of a time panel: `value(sample, previous)` (nullopt: no point), its colour, dash.
 struct Series {
     std::string label, colour, dash;
@@ -55,7 +57,8 @@ struct Level {
 /// levels drawn across it (dotted) and kept inside its value range.
 void time_panel(svg::Doc& d, const std::vector<TrajectorySample>& v, double x, double y, double w, double h,
                 const std::string& y_title, const std::vector<Series>& series, double t0, double t1,
-                const std::vector<Level>& levels = {}) {
+                const std::vector<Level>& levels = {}, const std::vector<TimeMark>& marks = {},
+                bool label_marks = false) {
     std::vector<std::vector<std::pair<double, double>>> pts;
     double lo = 0, hi = 0;
     bool any = false;
@@ -93,6 +96,11 @@ void time_panel(svg::Doc& d, const std::vector<TrajectorySample>& v, double x, d
     for (std::size_t i = 0; i < levels.size(); ++i) {
         d.line(x, sy(levels[i].value), x + w, sy(levels[i].value), levels[i].colour, 1, "stroke-dasharray=\"1 3\"");
         if (i == 0 || levels[i].label != levels[i - 1].label) legend.push_back({levels[i].label, levels[i].colour, "1 3"});
+    }
+    for (const TimeMark& m : marks) {
+        if (m.t_s < t0 || m.t_s > t1) continue;
+        d.line(sx(m.t_s), y, sx(m.t_s), y + h, kMarkColour, 1, "stroke-dasharray=\"4 2\"");
+        if (label_marks) d.text(sx(m.t_s), y - 24, m.label, "middle", 11, "fill=\"" + std::string(kMarkColour) + "\"");
     }
     // The legend to the right of the panel, one row per series.
     d.legend(x + w + 12, y + 10, legend, 16);
@@ -315,7 +323,7 @@ void write_trajectory_svg(const motion::TrajectoryRecorder& rec, const std::file
 }
 
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
-                                const std::optional<CircleOverlay>& circle) {
+                                const std::optional<CircleOverlay>& circle, const std::vector<TimeMark>& marks) {
     const std::vector<TrajectorySample> v = rec.plot_samples();
     const double W = 900, M = 80, PW = 640, PH = 170, gap = 80, top = 60;
     const unsigned panels = circle ? 5 : 4;
@@ -350,10 +358,10 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
     double y = top;
     auto heading = [&](const std::string& s) { d.text(M, y - 10, s, "start", 13); };
     heading("position");
-    time_panel(d, v, M, y, PW, PH, "[pulses]", pos, t0, t1);
+    time_panel(d, v, M, y, PW, PH, "[pulses]", pos, t0, t1, {}, marks, true);
     y += PH + gap;
     heading("velocity (from one control cycle to the next)");
-    time_panel(d, v, M, y, PW, PH, "[pulses/s]", vel, t0, t1);
+    time_panel(d, v, M, y, PW, PH, "[pulses/s]", vel, t0, t1, {}, marks);
     y += PH + gap;
     // The speed along the X-Y path (axes 0 and 1): what PLCopen's Velocity of an interpolated
     // move commands, which neither axis' velocity shows alone.
@@ -376,10 +384,10 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
                             return std::nullopt;
                         }});
     }
-    time_panel(d, v, M, y, PW, PH, "[pulses/s]", path, t0, t1);
+    time_panel(d, v, M, y, PW, PH, "[pulses/s]", path, t0, t1, {}, marks);
     y += PH + gap;
     heading("following error (command - actual)");
-    time_panel(d, v, M, y, PW, PH, "[pulses]", fe, t0, t1);
+    time_panel(d, v, M, y, PW, PH, "[pulses]", fe, t0, t1, {}, marks);
     if (circle) {
         y += PH + gap;
         const CircleOverlay c = *circle;
@@ -399,7 +407,7 @@ std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std
             std::snprintf(label, sizeof label, "max_radial_error ±%g", c.max_radial_error); // fits the legend
             tol = {{c.max_radial_error, label, "#555"}, {-c.max_radial_error, label, "#555"}};
         }
-        time_panel(d, v, M, y, PW, PH, "[pulses]", rad, t0, t1, tol);
+        time_panel(d, v, M, y, PW, PH, "[pulses]", rad, t0, t1, tol, marks);
     }
     return d.str();
 }
@@ -411,10 +419,10 @@ TrajectoryFiles::TrajectoryFiles(motion::TrajectoryRecorder& rec, const std::fil
 }
 
 void TrajectoryFiles::finish(const std::string& title, const std::optional<CircleOverlay>& circle,
-                             const std::vector<camc::PulseEvent>* pulses) {
+                             const std::vector<camc::PulseEvent>* pulses, const std::vector<TimeMark>& marks) {
     csv_->close();
     write_trajectory_svg(rec_, dir_ / "trajectory.svg", 0, 1, title);
-    write_file(dir_ / "trajectory_time.svg", trajectory_time_svg(rec_, title, circle));
+    write_file(dir_ / "trajectory_time.svg", trajectory_time_svg(rec_, title, circle, marks));
     if (pulses) write_pulse_csv(*pulses, dir_ / "trajectory_pulses.csv");
 }
 

@@ -70,9 +70,10 @@ std::vector<std::pair<double, double>> path_speed(const std::vector<motion::Traj
 /// Panels against time: position (command solid, actual dashed) and velocity per axis that moved,
 /// the path speed of axes 0/1 (path_speed() over path_speed_window_s(), stated in the heading),
 /// the following error per axis, and with `circle` the radial error of both paths over its window
-/// with the check's tolerance (circle->max_radial_error, when not negative) drawn across it.
+/// with the check's tolerance (circle->max_radial_error, when not negative) drawn across it; each
+/// of `marks` as a vertical line across every panel, labelled over the first.
 std::string trajectory_time_svg(const motion::TrajectoryRecorder& rec, const std::string& title,
-                                const std::optional<CircleOverlay>& circle);
+                                const std::optional<CircleOverlay>& circle, const std::vector<TimeMark>& marks = {});
 
 /// Every trajectory file of one run into `dir`: trajectory.csv streamed from the recorder's samples
 /// from construction on, then at finish() trajectory.svg (axes 0/1), trajectory_time.svg and, when
@@ -81,7 +82,7 @@ class TrajectoryFiles {
 public:
     TrajectoryFiles(motion::TrajectoryRecorder& rec, const std::filesystem::path& dir, const TrajectoryOptions& opt);
     void finish(const std::string& title, const std::optional<CircleOverlay>& circle,
-                const std::vector<camc::PulseEvent>* pulses);
+                const std::vector<camc::PulseEvent>* pulses, const std::vector<TimeMark>& marks = {});
 
 private:
     motion::TrajectoryRecorder& rec_;

@@ -184,7 +184,8 @@ void report_world(const World& world, const Scenario& s, const RunOptions& opt, 
         report["motion"] = motion_system_json(world);
         if (trajectory)
             trajectory->finish(s.name, circle_overlay(world, s),
-                               s.trajectory.pulse_trace ? &world.motion->chip().pulse_trace() : nullptr);
+                               s.trajectory.pulse_trace ? &world.motion->chip().pulse_trace() : nullptr,
+                               trajectory_marks(world));
     }
 }
 

@@ -119,6 +119,12 @@ std::optional<CircleOverlay> circle_overlay(const World& w, const Scenario& s) {
                          c.at.to_seconds(), end, s.checks.circle->max_radial_error};
 }
 
+std::vector<TimeMark> trajectory_marks(const World& w) {
+    if (!w.motion || !w.motion->csp_stats().first_miss) return {};
+    const motion::CspStats& c = w.motion->csp_stats();
+    return {{c.first_miss->sync.to_seconds(), "CSP: SYNC missed (first of " + std::to_string(c.missed) + ")"}};
+}
+
 std::vector<Check> system_motion_checks(const World& w, const Scenario& s) {
     std::vector<Check> out;
     for (unsigned p = 0; p < World::kPorts; ++p) {

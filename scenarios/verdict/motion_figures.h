@@ -36,6 +36,8 @@ std::vector<Check> system_motion_checks(const World& w, const Scenario& s);
 /// The radial-error plot's circle: the scenario's `checks.circle` over the window of the last
 /// accepted MC (none without both).
 std::optional<CircleOverlay> circle_overlay(const World& w, const Scenario& s);
+/// The instants the time pictures mark: the first missed CSP SYNC, labelled with the count.
+std::vector<TimeMark> trajectory_marks(const World& w);
 
 /// Command latency in microseconds: the scripted moves of one host (its commands answered BCH 00
 /// with a move token) paired in order with the moves the motion layer accepted.

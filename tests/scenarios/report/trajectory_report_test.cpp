@@ -14,6 +14,7 @@
 #include <functional>
 #include <sstream>
 #include <optional>
+#include <set>
 
 using namespace rcsim;
 
@@ -247,6 +248,35 @@ TEST(TrajectoryReport, RadialErrorPanelDrawsTheTolerance) {
     EXPECT_NE(panel.find(">2</text>"), std::string::npos);
     c.max_radial_error = -1;
     EXPECT_EQ(trajectory_time_svg(rippled_circle(), "c", c).find("max_radial_error"), std::string::npos);
+}
+
+// A mark (the first missed CSP SYNC) is a vertical line across each of the five panels at its
+// time, labelled once over the first; a mark outside the samples' time is not drawn.
+TEST(TrajectoryReport, TimePlotMarksAnInstantAcrossEveryPanel) {
+    const CircleOverlay c{-5000, 0, 5000, 0, 1};
+    const std::string label = "CSP: SYNC missed (first of 2)";
+    const std::string s = trajectory_time_svg(rippled_circle(), "c", c, {{0.25, label}});
+    const std::string stroke = "stroke=\"#d62728\" stroke-width=\"1.0\" stroke-dasharray=\"4 2\"";
+    std::size_t lines = 0;
+    std::set<std::string> x;
+    for (std::size_t p = s.find(stroke); p != std::string::npos; p = s.find(stroke, p + 1)) {
+        const std::size_t open = s.rfind("<line ", p);
+        const std::string tag = s.substr(open, p - open);
+        const std::size_t x1 = tag.find("x1=\""), x2 = tag.find("x2=\"");
+        ASSERT_NE(x1, std::string::npos);
+        ASSERT_NE(x2, std::string::npos);
+        const std::string a = tag.substr(x1 + 4, tag.find('"', x1 + 4) - x1 - 4);
+        EXPECT_EQ(a, tag.substr(x2 + 4, tag.find('"', x2 + 4) - x2 - 4)); // vertical
+        x.insert(a);
+        ++lines;
+    }
+    EXPECT_EQ(lines, 5u); // position, velocity, path speed, following error, radial error
+    EXPECT_EQ(x.size(), 1u); // at one time on every panel
+    std::size_t labels = 0;
+    for (std::size_t p = s.find(">" + label + "</text>"); p != std::string::npos; p = s.find(">" + label + "</text>", p + 1))
+        ++labels;
+    EXPECT_EQ(labels, 1u);
+    EXPECT_EQ(trajectory_time_svg(rippled_circle(), "c", c, {{99.0, label}}).find(label), std::string::npos);
 }
 
 } // namespace
