@@ -251,7 +251,7 @@ sp(Axis := Axis0, Execute := go AND power.Status, Position := 1234);
 rp(Axis := Axis0, Enable := TRUE);
 rs(Axis := Axis0, Enable := TRUE);
 par(Axis := Axis0, Enable := TRUE, ParameterNumber := 8);
-bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
+bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 16);
 END_PROGRAM)";
     run(text, [](StMotionLoop& b) {
         b.cycles(10);
