@@ -26,6 +26,16 @@ std::uint16_t check_relative_target(McAxis& axis, std::int64_t distance) {
     return check_target(axis.limits(), axis.api().CmdPos(ax) + distance);
 }
 
+bool McAxis::blame_partner() {
+    if (!active_ || active_->axes.size() < 2) return false;
+    for (McAxis* a : active_->axes)
+        if (a != this && a->drive_.alarm_output() && a->state_ != AxisState::error_stop) {
+            a->enter_error(err::drive_fault);
+            return true;
+        }
+    return false;
+}
+
 std::uint16_t McAxis::monitor_limits() {
     if (!powered_ || state_ == AxisState::disabled || state_ == AxisState::error_stop) return 0;
     const AxisLimits& l = limits_;

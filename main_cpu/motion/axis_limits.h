@@ -31,6 +31,7 @@ constexpr std::uint16_t parameter_read_only = 0x7010, parameter_value = 0x7011;
 constexpr std::uint16_t sw_limit_positive = 0x7110, sw_limit_negative = 0x7111, following_error = 0x7112;
 constexpr std::uint16_t velocity_above_limit = 0x7113, acceleration_above_limit = 0x7114;
 constexpr std::uint16_t deceleration_above_limit = 0x7115;
+constexpr std::uint16_t group_error_stop = 0x7116; // a group move ended by its partner's axis error (Part 4)
 } // namespace err
 
 struct AxisLimits {

@@ -49,13 +49,14 @@ void McAxis::enter_error(std::uint16_t id) {
     for (auto* slot : {&active_, &queued_})
         if (auto j = *slot) {
             j->status = Job::Status::error;
-            j->error_id = id;
+            j->error_id = j->axes.size() > 1 ? err::group_error_stop : id; // Part 4: the group's error
             for (McAxis* a : j->axes)
                 if (a != this) {
                     if (a->active_ == j) a->active_.reset();
                     if (a->queued_ == j) a->queued_.reset();
                     if (a->state_ == AxisState::synchronized_motion) {
                         if (a->api_.InMotion(static_cast<int>(a->index_))) a->api_.EmergencyStop(static_cast<int>(a->index_));
+                        a->api_.ClearEndStatus(static_cast<int>(a->index_)); // the stop's cause is not the partner's
                         a->settle_state();
                     }
                 }
@@ -127,6 +128,7 @@ void McAxis::cycle() {
             else if (es & (estop_signal | estop_cmd)) e = err::emergency_stop;
         }
         if (!e) e = monitor_limits(); // software limits, following error (axis_limits.cpp)
+        if (e == err::drive_fault && !drive_.alarm_output() && blame_partner()) return;
         if (e) {
             enter_error(e);
             return;

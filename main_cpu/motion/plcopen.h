@@ -118,6 +118,9 @@ private:
     /// Each cycle: a software limit passed while moving toward it, or the following error above
     /// MaxPositionLag (0 = none; axis_limits.cpp).
     std::uint16_t monitor_limits();
+    /// The chip's ALARM end status without this drive's alarm, in a group move: a partner's drive
+    /// failed. That partner takes the error (and stops this axis with it, Part 4); true if found.
+    bool blame_partner();
     void finish_job(Job::Status st, std::uint16_t id = 0);
     void leave_stopping(); // Done AND NOT Execute: a buffered command, or Standstill
     void start(const std::shared_ptr<Job>& j);
