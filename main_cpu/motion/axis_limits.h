@@ -26,6 +26,7 @@ constexpr int fault_reaction_option = 0x605E;
 /// reports them, the axis state is unchanged): a write to a read-only or an invalid value, a target
 /// past an enabled software limit, a velocity or rate above the application's limit. Axis errors
 /// (ErrorStop): a software limit reached while moving, the following error above MaxPositionLag.
+/// GroupErrorStop: the error a group move (line, circle) ends with when one of its axes fails.
 namespace err {
 constexpr std::uint16_t parameter_read_only = 0x7010, parameter_value = 0x7011;
 constexpr std::uint16_t sw_limit_positive = 0x7110, sw_limit_negative = 0x7111, following_error = 0x7112;

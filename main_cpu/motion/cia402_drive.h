@@ -73,6 +73,8 @@ public:
     Cia402State state() const { return state_; }
     /// The transition number (0-16) of the last state change; -1 before any.
     int last_transition() const { return last_transition_; }
+    /// Operation enabled, but ramping down to disable it (0x605C = 1): the pulses are not followed.
+    bool disabling() const { return disabling_; }
     /// 0x6060; the display 0x6061 follows on the next update() (switching takes one cycle).
     /// Throws std::invalid_argument for a mode the drive does not support.
     void set_mode(std::int8_t m);

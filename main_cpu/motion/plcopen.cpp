@@ -365,7 +365,7 @@ void MC_Power::call() {
         history.emplace_back(write, d.statusword());
     }
     const bool was = Status;
-    Status = d.state() == Cia402State::operation_enabled && !write;
+    Status = d.state() == Cia402State::operation_enabled && !write && !d.disabling();
     // The drive enabled where its motor is (its deviation counter cleared): the command counter
     // starts there too, or the next move would carry the old difference to its end point.
     if (Status && !was && !api.InMotion(ax)) api.SetCmdPos(ax, api.ActPos(ax));

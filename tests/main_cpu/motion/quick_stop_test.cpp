@@ -113,3 +113,47 @@ TEST(QuickStop, EmergencyStopReachesTheDrivesQuickStop) {
 }
 
 } // namespace
+
+namespace {
+
+// Servo off at speed with 0x605C = 1, and MC_Power.Enable back on during the ramp: the axis stays
+// unpowered until the drive has stopped and is enabled again (it follows no pulse while ramping),
+// and the next move then travels what it is commanded.
+TEST(QuickStop, PowerBackOnDuringTheDisableRampWaitsForIt) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_WriteParameter w;
+        w.Axis = &b.mc.axis(0), w.ParameterNumber = 0x605C, w.Value = 1, w.Execute = true;
+        w.call();
+        ASSERT_TRUE(w.Done);
+        w.Execute = false, w.call();
+        w.ParameterNumber = 0x6084, w.Value = 20000, w.Execute = true; // 20000 / 20000: a 1 s ramp
+        w.call();
+        ASSERT_TRUE(w.Done);
+        MC_MoveVelocity& v = b.mc.blocks(0).move_vel;
+        v.Velocity = 20000, v.Acceleration = v.Deceleration = 200000;
+        v.Execute = true;
+        b.cycles(150);
+        v.Execute = false;
+        ASSERT_EQ(b.mc.command("SV", "0").bch, 0x00); // the controller's MC_Power.Enable falls
+        b.cycles(1);
+        EXPECT_TRUE(b.mc.drive(0).disabling());
+        ASSERT_EQ(b.mc.command("SV", "1").bch, 0x00);
+        for (int i = 0; i < 100; ++i) { // a tenth of the ramp: not powered yet
+            b.cycles(1);
+            EXPECT_FALSE(b.mc.axis(0).powered());
+        }
+        b.until([&] { return b.mc.axis(0).powered(); }, 2000);
+        EXPECT_FALSE(b.mc.drive(0).disabling());
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        MC_MoveRelative& m = b.mc.blocks(0).move_rel;
+        const std::int64_t from = b.mc.drive(0).actual_position();
+        m.Distance = 1000, m.Velocity = 10000, m.Acceleration = m.Deceleration = 100000;
+        m.Execute = true;
+        b.until([&] { return m.Done || m.Error; }, 1000);
+        b.cycles(50);
+        EXPECT_EQ(b.mc.drive(0).actual_position() - from, 1000);
+    });
+}
+
+} // namespace
