@@ -5,6 +5,7 @@
 #include "tests/main_cpu/motion/motion_loop.h"
 
 #include <cmath>
+#include <utility>
 
 using namespace rcsim::motion;
 using namespace rcsim::motion::test;
@@ -53,5 +54,33 @@ void fault_in_line(unsigned bad) {
 // end status of the line first and hands the error to the partner whose drive failed.
 TEST(GroupFault, FaultOfTheFirstAxisStopsThePartnerOnThePathWithGroupErrorStop) { fault_in_line(0); }
 TEST(GroupFault, FaultOfTheSecondAxisStopsThePartnerOnThePathWithGroupErrorStop) { fault_in_line(1); }
+
+// The same for an axis error of the limits: axis 1 monitored with MaxPositionLag 200 while its
+// drive lags T = 50 ms behind a line at 20000 pulses/s of path (10000 pulses/s on Y: 500 pulses of
+// lag): axis 1 in ErrorStop 0x7112, the line ends with 0x7116, axis 0 in Standstill without error.
+TEST(GroupFault, FollowingErrorOfOneAxisEndsTheLineWithGroupErrorStop) {
+    MotionConfig cfg;
+    cfg.drive.following_lag_s = 0.05;
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        for (const auto& [number, value] : {std::pair{7, 200.0}, std::pair{6, 1.0}}) {
+            MC_WriteParameter w;
+            w.Axis = &b.mc.axis(1), w.ParameterNumber = number, w.Value = value, w.Execute = true;
+            w.call();
+            ASSERT_TRUE(w.Done);
+        }
+        MC_LineMove2& l = b.mc.line_move();
+        l.X = 20000, l.Y = 10000, l.Velocity = 20000, l.Acceleration = l.Deceleration = 200000;
+        l.Execute = true;
+        b.until([&] { return l.Error || l.Done; }, 3000);
+        EXPECT_TRUE(l.Error);
+        EXPECT_EQ(l.ErrorID, err::group_error_stop);
+        b.cycles(2);
+        EXPECT_EQ(b.mc.axis(1).state(), AxisState::error_stop);
+        EXPECT_EQ(b.mc.axis(1).error_id(), err::following_error);
+        EXPECT_EQ(b.mc.axis(0).state(), AxisState::standstill);
+        EXPECT_EQ(b.mc.axis(0).error_id(), 0);
+    }, cfg);
+}
 
 } // namespace
