@@ -54,6 +54,7 @@ std::uint16_t Cia402Drive::statusword() const {
 
 void Cia402Drive::enter(Cia402State s, int transition) {
     const bool was_enabled = state_ == Cia402State::operation_enabled;
+    if (s != Cia402State::operation_enabled) disabling_ = false;
     state_ = s;
     last_transition_ = transition;
     if (s == Cia402State::operation_enabled && !was_enabled) {
@@ -100,7 +101,10 @@ void Cia402Drive::set_controlword(std::uint16_t v) {
         else if (disable_voltage || quick_stop) enter(S::switch_on_disabled, 10);
         break;
     case S::operation_enabled:
-        if (switch_on) enter(S::switched_on, 5);
+        if (disabling_) { // a disable operation ramp: only disable voltage and quick stop cut it short
+            if (disable_voltage) enter(S::switch_on_disabled, 9);
+            else if (quick_stop) enter(S::quick_stop_active, 11);
+        } else if (switch_on) disable_operation();
         else if (shutdown) enter(S::ready_to_switch_on, 8);
         else if (disable_voltage) enter(S::switch_on_disabled, 9);
         else if (quick_stop) enter(S::quick_stop_active, 11);
@@ -136,7 +140,35 @@ void Cia402Drive::set_mode(std::int8_t m) {
 
 void Cia402Drive::set_servo_on_input(bool on) {
     svon_ = on;
-    if (!on && state_ == Cia402State::operation_enabled) enter(Cia402State::switched_on, 5);
+    if (!on && state_ == Cia402State::operation_enabled && !disabling_) disable_operation();
+}
+
+void Cia402Drive::disable_operation() {
+    if (cfg_.disable_operation_option == 1 && cmd_vel_ != 0) disabling_ = true;
+    else enter(Cia402State::switched_on, 5);
+}
+
+bool Cia402Drive::write_object(std::uint16_t index, double value) {
+    const auto in = [value](double lo, double hi) { return value >= lo && value <= hi && value == std::floor(value); };
+    switch (index) {
+    case 0x605A: if (!in(0, 8)) return false; cfg_.quick_stop_option = static_cast<std::int16_t>(value); return true;
+    case 0x605C: if (!in(0, 1)) return false; cfg_.disable_operation_option = static_cast<std::int16_t>(value); return true;
+    case 0x605E: if (!in(0, 4)) return false; cfg_.fault_reaction_option = static_cast<std::int16_t>(value); return true;
+    case 0x6084: if (!in(1, 4294967295.0)) return false; profile_decel = static_cast<std::uint32_t>(value); return true;
+    case 0x6085: if (!in(1, 4294967295.0)) return false; cfg_.quick_stop_decel = value; return true;
+    default: return false;
+    }
+}
+
+bool Cia402Drive::read_object(std::uint16_t index, double& value) const {
+    switch (index) {
+    case 0x605A: value = cfg_.quick_stop_option; return true;
+    case 0x605C: value = cfg_.disable_operation_option; return true;
+    case 0x605E: value = cfg_.fault_reaction_option; return true;
+    case 0x6084: value = profile_decel; return true;
+    case 0x6085: value = cfg_.quick_stop_decel; return true;
+    default: return false;
+    }
 }
 
 void Cia402Drive::set_alarm_reset_input(bool on) {
@@ -209,6 +241,14 @@ void Cia402Drive::step_reference(double dt) {
     if (dt > 0 && mode_display_ != mode::pv) cmd_vel_ = (ref_ - before) / dt;
 }
 
+void Cia402Drive::stop_ramp(int opt, double dt) {
+    // Option 0 disables the drive function: the motor coasts, which stops it at once here (no load
+    // inertia is modelled); 1 and 5 ramp at the slow-down ramp, every other one at the quick stop ramp.
+    const double rate = opt == 0 ? INFINITY : (opt == 1 || opt == 5) ? double(profile_decel) : cfg_.quick_stop_decel;
+    const double dv = std::min(std::abs(cmd_vel_), rate * dt);
+    cmd_vel_ -= cmd_vel_ > 0 ? dv : -dv;
+}
+
 void Cia402Drive::update(double dt) {
     using S = Cia402State;
     if (state_ == S::not_ready_to_switch_on) {
@@ -217,15 +257,21 @@ void Cia402Drive::update(double dt) {
     }
     mode_display_ = mode_; // the mode switch completes within one drive cycle
     const double prev_motor = motor_;
-    if (state_ == S::operation_enabled) {
+    if (state_ == S::operation_enabled && disabling_) {
+        // 0x605C = 1: the reference ramps down on its own (the pulse input is no longer followed),
+        // the position loop stays closed; transition 5 at rest, then any command given meanwhile.
+        stop_ramp(1, dt);
+        ref_ += cmd_vel_ * dt;
+        if (cmd_vel_ == 0) {
+            disabling_ = false;
+            enter(S::switched_on, 5);
+            set_controlword(cw_);
+        }
+    } else if (state_ == S::operation_enabled) {
         step_reference(dt);
     } else if (state_ == S::quick_stop_active || state_ == S::fault_reaction_active) {
-        // Stop ramp (0x6085) from the speed the motor had; option 0 coasts (stops at once here:
-        // no load inertia is modelled).
-        const int opt = state_ == S::quick_stop_active ? cfg_.quick_stop_option : cfg_.fault_reaction_option;
-        const double rate = opt == 0 ? INFINITY : cfg_.quick_stop_decel;
-        const double dv = std::min(std::abs(cmd_vel_), rate * dt);
-        cmd_vel_ -= cmd_vel_ > 0 ? dv : -dv;
+        // The option code's ramp from the speed the motor had.
+        stop_ramp(state_ == S::quick_stop_active ? cfg_.quick_stop_option : cfg_.fault_reaction_option, dt);
         ref_ = motor_ + cmd_vel_ * dt;
         if (cmd_vel_ == 0) {
             ref_ = motor_;

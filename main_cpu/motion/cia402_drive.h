@@ -50,10 +50,17 @@ class Cia402Drive {
 public:
     struct Config {
         double following_lag_s = 0.002;   // first-order time constant of the position loop
-        std::int16_t quick_stop_option = 2;   // 0x605A
-        std::int16_t fault_reaction_option = 2; // 0x605E (0 = coast: stop at once)
+        // Option codes: 0 disables the drive function (no load inertia is modelled: the motor stops
+        // at once); 1 (and 5) ramp at the slow-down ramp 0x6084, 2 (and 6) at the quick stop ramp
+        // 0x6085; 3, 4, 7, 8 (current / voltage limit) at 0x6085 too (no torque model). 0x605A 1-4 go
+        // on to Switch on disabled, 5-8 stay in Quick stop active.
+        std::int16_t quick_stop_option = 2;   // 0x605A, 0..8
+        std::int16_t fault_reaction_option = 2; // 0x605E, 0..4
         double quick_stop_decel = 1e6;    // 0x6085, pulses/s^2
         double init_time_s = 0.001;       // transition 1 (self test) takes this long
+        // 0x605C: 0 disable the drive function at once (the default here: a pulse-train amplifier frees
+        // the motor at servo off), 1 ramp at 0x6084 first, then transition 5 (CiA402's default).
+        std::int16_t disable_operation_option = 0;
     };
 
     explicit Cia402Drive(const Config& c);
@@ -66,6 +73,8 @@ public:
     Cia402State state() const { return state_; }
     /// The transition number (0-16) of the last state change; -1 before any.
     int last_transition() const { return last_transition_; }
+    /// Operation enabled, but ramping down to disable it (0x605C = 1): the pulses are not followed.
+    bool disabling() const { return disabling_; }
     /// 0x6060; the display 0x6061 follows on the next update() (switching takes one cycle).
     /// Throws std::invalid_argument for a mode the drive does not support.
     void set_mode(std::int8_t m);
@@ -79,6 +88,12 @@ public:
     double actual_velocity() const { return vel_; }            // 0x606C
     std::int16_t actual_torque() const { return torque_; }     // 0x6077
     std::uint16_t error_code() const { return error_code_; }   // 0x603F
+    /// SDO access to the option codes and ramps: 0x605A, 0x605C, 0x605E, 0x6084, 0x6085 (the
+    /// PLC's MC_WriteParameter / MC_ReadParameter with the index as vendor number). write_object
+    /// returns false for another index or a value outside the object's range; read_object false
+    /// for another index.
+    bool write_object(std::uint16_t index, double value);
+    bool read_object(std::uint16_t index, double& value) const;
 
     // --- hardware side ---
     void set_pulse_input(std::int64_t pulses) { pulse_in_ = pulses; }
@@ -105,6 +120,7 @@ private:
     std::uint16_t cw_ = 0, error_code_ = 0;
     std::int8_t mode_ = mode::pulse_train, mode_display_ = mode::pulse_train;
     bool svon_ = true, almrst_ = false, fault_cause_ = false;
+    bool disabling_ = false; // Operation enabled, ramping down before transition 5 (0x605C = 1)
     double init_left_;
     std::int64_t pulse_in_ = 0, actual_ = 0;
     std::int64_t pulse_zero_ = 0; // pulse count of the motor's position when operation was enabled
@@ -119,6 +135,10 @@ private:
     void fault_reset_edge();
     void start_pp();
     void step_reference(double dt);
+    /// Transition 5 by 0x605C: at once, or after a ramp at 0x6084 (disabling_).
+    void disable_operation();
+    /// The ramp of Quick stop active / Fault reaction active / disabling at option \p opt.
+    void stop_ramp(int opt, double dt);
 };
 
 } // namespace rcsim::motion

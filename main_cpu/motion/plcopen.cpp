@@ -49,13 +49,14 @@ void McAxis::enter_error(std::uint16_t id) {
     for (auto* slot : {&active_, &queued_})
         if (auto j = *slot) {
             j->status = Job::Status::error;
-            j->error_id = id;
+            j->error_id = j->axes.size() > 1 ? err::group_error_stop : id; // Part 4: the group's error
             for (McAxis* a : j->axes)
                 if (a != this) {
                     if (a->active_ == j) a->active_.reset();
                     if (a->queued_ == j) a->queued_.reset();
                     if (a->state_ == AxisState::synchronized_motion) {
                         if (a->api_.InMotion(static_cast<int>(a->index_))) a->api_.EmergencyStop(static_cast<int>(a->index_));
+                        a->api_.ClearEndStatus(static_cast<int>(a->index_)); // the stop's cause is not the partner's
                         a->settle_state();
                     }
                 }
@@ -66,8 +67,12 @@ void McAxis::enter_error(std::uint16_t id) {
 void McAxis::emergency_stop_all() {
     api_.EmergencyStopAll();
     if (group_.empty()) group_ = {this};
-    for (McAxis* a : group_)
+    for (McAxis* a : group_) {
         if (a->state_ != AxisState::error_stop) a->enter_error(err::emergency_stop);
+        // The drives' own quick stop (controlword 0x02, transition 11): each ramps down by its
+        // 0x605A option code, as the chip's pulses have stopped at once.
+        if (a->drive_.state() == Cia402State::operation_enabled) a->drive_.set_controlword(cw::quick_stop_cmd);
+    }
 }
 
 void McAxis::settle_state() {
@@ -122,6 +127,8 @@ void McAxis::cycle() {
             else if (es & alarm) e = err::drive_fault;
             else if (es & (estop_signal | estop_cmd)) e = err::emergency_stop;
         }
+        if (!e) e = monitor_limits(); // software limits, following error (axis_limits.cpp)
+        if (e == err::drive_fault && !drive_.alarm_output() && blame_partner()) return;
         if (e) {
             enter_error(e);
             return;
@@ -309,7 +316,7 @@ std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double de
     if (!(vel > 0)) return err::invalid_velocity;
     if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
     if (!(acc > 0) || !(dec > 0)) return err::invalid_accel;
-    return 0;
+    return check_dynamics(axis->limits(), vel, acc, dec);
 }
 
 namespace {
@@ -358,11 +365,13 @@ void MC_Power::call() {
         history.emplace_back(write, d.statusword());
     }
     const bool was = Status;
-    Status = d.state() == Cia402State::operation_enabled && !write;
+    Status = d.state() == Cia402State::operation_enabled && !write && !d.disabling();
     // The drive enabled where its motor is (its deviation counter cleared): the command counter
     // starts there too, or the next move would carry the old difference to its end point.
     if (Status && !was && !api.InMotion(ax)) api.SetCmdPos(ax, api.ActPos(ax));
-    if (!Status && !d.alarm_output() && ++waited_ > timeout_cycles && !Error) {
+    // A drive in Quick stop active (0x605A 5-8) waits there for MC_Reset: not a timeout.
+    const bool held = d.alarm_output() || d.state() == Cia402State::quick_stop_active;
+    if (!Status && !held && ++waited_ > timeout_cycles && !Error) {
         Error = true;
         ErrorID = err::power_timeout;
     }
@@ -389,6 +398,12 @@ void MC_Reset::running() {
         // Only a drive in Fault gets a fault reset (ALMRST, controlword bit 7 rising with the
         // enable bits kept): an axis in StandStill, or in ErrorStop by a limit switch, keeps its
         // power stage on (CiA402: bit 7 acts in Fault only; 0x80 alone would disable voltage).
+        if (d.state() == Cia402State::quick_stop_active) {
+            // A quick stop that stays (0x605A 5-8): back to Operation enabled (transition 16)
+            // once the ramp has stopped the motor.
+            if (d.actual_velocity() != 0) return;
+            d.set_controlword(cw::enable_operation_cmd);
+        }
         faulted_ = d.alarm_output();
         if (faulted_) {
             api.SignalServoAlarmReset(ax, 1);
@@ -496,6 +511,7 @@ std::uint16_t MC_MoveAbsolute::begin() {
     if (const std::uint16_t e = check_motion(Axis, Velocity, Acceleration, Deceleration, Mode)) return e;
     const int ax = static_cast<int>(Axis->index());
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
+    if (const std::uint16_t e = check_target(Axis->limits(), Position)) return e;
     if (!(Jerk >= 0)) return err::profile_invalid;
     const std::int32_t p = Position;
     const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
@@ -515,10 +531,12 @@ std::uint16_t MC_MoveRelative::begin() {
     const double v = Velocity, a = Acceleration, d = Deceleration, j = Jerk;
     // Relative to the set position when the move actually starts (after a buffered predecessor);
     // a target beyond the chip's range fails then with 4251.
-    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d, j] {
+    if (const std::uint16_t e = check_relative_target(*Axis, dist)) return e;
+    job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), &lim = Axis->limits(), ax, dist, v, a, d, j] {
         api.SetJerk(ax, j);
         const std::int64_t target = api.CmdPos(ax) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
+        if (const std::uint16_t e = check_target(lim, target)) return int{e}; // FB error, the axis stays
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
     });
     Axis->submit(job_, Mode);
@@ -565,6 +583,8 @@ std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d) {
 
 std::uint16_t MC_LineMove2::begin() {
     if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_relative_target(*AxisX, X)) return e;
+    if (const std::uint16_t e = check_relative_target(*AxisY, Y)) return e;
     QiMotionApi& api = AxisX->api();
     const int coord = 0;
     const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
@@ -589,6 +609,7 @@ std::uint16_t MC_LineMove::begin() {
         McAxis* a = Axes[i];
         if (!a || (mask & (1u << a->index())) || &a->api() != &Axes[0]->api()) return err::invalid_axis;
         if (const std::uint16_t e = check_motion(a, Velocity, Acceleration, Deceleration, Mode)) return e;
+        if (const std::uint16_t e = check_relative_target(*a, Distances[i])) return e;
         mask |= 1u << a->index();
         by_index[a->index()] = Distances[i];
     }

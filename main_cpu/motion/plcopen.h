@@ -8,6 +8,7 @@
 // group in the sense of Part 4).
 #pragma once
 
+#include "main_cpu/motion/axis_limits.h"
 #include "main_cpu/motion/cia402_drive.h"
 #include "main_cpu/motion/qi_api.h"
 
@@ -99,6 +100,9 @@ public:
     /// MC_Power.Enable as last seen (MC_Reset decides between Notes 3 and 4 with it).
     void set_power_enable(bool e) { power_enable_ = e; }
     bool power_enable() const { return power_enable_; }
+    /// The limits MC_WriteParameter sets (axis_limits.h).
+    AxisLimits& limits() { return limits_; }
+    const AxisLimits& limits() const { return limits_; }
 
 private:
     unsigned index_;
@@ -109,7 +113,14 @@ private:
     bool powered_ = false, stop_held_ = false, power_enable_ = false;
     std::shared_ptr<Job> active_, queued_;
     std::vector<McAxis*> group_;
+    AxisLimits limits_;
 
+    /// Each cycle: a software limit passed while moving toward it, or the following error above
+    /// MaxPositionLag (0 = none; axis_limits.cpp).
+    std::uint16_t monitor_limits();
+    /// The chip's ALARM end status without this drive's alarm, in a group move: a partner's drive
+    /// failed. That partner takes the error (and stops this axis with it, Part 4); true if found.
+    bool blame_partner();
     void finish_job(Job::Status st, std::uint16_t id = 0);
     void leave_stopping(); // Done AND NOT Execute: a buffered command, or Standstill
     void start(const std::shared_ptr<Job>& j);
@@ -348,10 +359,11 @@ protected:
     void clear() override { AxisErrorID = 0; }
 };
 
-/// Part 1 §3.10 with the parameter numbers of its Table 3 that this axis has: 1 CommandedPosition
-/// (CNT1), 8 MaxVelocitySystem (the chip's 10 Mpps), 10 ActualVelocity (the drive's 0x606C),
-/// 11 CommandedVelocity (the chip's current drive speed, pulses/s; of the path for an
-/// interpolation's master). Others: Error 0x7006.
+/// Part 1 §3.10 with the parameter numbers of its table that this axis has (axis_limits.h `par`):
+/// 1 CommandedPosition (CNT1), 2-7 and 9, 13, 15 the limits (AxisLimits), 8 MaxVelocitySystem (the
+/// chip's 10 Mpps), 10 ActualVelocity (the drive's 0x606C), 11 CommandedVelocity (the chip's current
+/// drive speed, pulses/s; of the path for an interpolation's master); vendor numbers 0x605A,
+/// 0x605C, 0x605E, 0x6084, 0x6085: the drive's object. Others: Error 0x7006.
 class MC_ReadParameter : public McEnableFb {
 public:
     std::int32_t ParameterNumber = 0;
@@ -360,6 +372,19 @@ public:
 protected:
     std::uint16_t read() override;
     void clear() override { Value = 0; }
+};
+
+/// Part 1 §3.11: writes a parameter MC_ReadParameter reads, Done at once. Read-only numbers (1, 8,
+/// 10, 11) answer 0x7010, a value outside the parameter's range 0x7011 (BOOLs take 0 or 1), other
+/// numbers 0x7006; never refused by the axis state (a limit may be set while the axis moves).
+class MC_WriteParameter : public McExecuteFb {
+public:
+    McAxis* Axis = nullptr;
+    std::int32_t ParameterNumber = 0;
+    double Value = 0;
+
+protected:
+    std::uint16_t begin() override;
 };
 
 /// Part 1 §3.8: shifts the axis' coordinate system without motion: the command and the actual

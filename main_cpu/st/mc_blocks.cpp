@@ -265,6 +265,12 @@ void add_motion_blocks(Unit& u) {
     add_block(u, "MC_ReadAxisError", read_err);
     add_block(u, "MC_ReadParameter", read_par);
     add_block(u, "MC_SetPosition", set_pos);
+    // MC_WriteParameter (Part 1 §3.11; issue #49 item 5): the limits by their Part 1 numbers.
+    using WP = MC_WriteParameter;
+    static const auto write_par = execute_block<WP>(
+        {input<WP>("Axis", &WP::Axis), input<WP>("ParameterNumber", &WP::ParameterNumber),
+         input<WP>("Value", &WP::Value)}, false);
+    add_block(u, "MC_WriteParameter", write_par);
     add_block(u, "MC_Reset", reset);
     add_block(u, "MC_Stop", stop);
     add_block(u, "MC_Halt", halt);

@@ -20,7 +20,7 @@ void expect_latched_until_reset(MotionLoop& b, AxisState after_reset, const char
         EXPECT_FALSE(b.mc.chip().busy(a)) << "axis " << a;
     }
     std::array<std::int64_t, 4> at{};
-    for (unsigned a = 0; a < 4; ++a) at[a] = b.mc.chip().command_position(a);
+    for (unsigned a = 0; a < 4; ++a) at[a] = b.mc.chip().pulse_count(a); // CNT1 may be preset to CNT2 at re-enable
     for (unsigned a = 0; a < 4; ++a) {
         const auto r = b.mc.command("MA", std::to_string(a) + ",500,1000,10000,10000");
         EXPECT_EQ(r.bch, 0x05) << "axis " << a;
@@ -30,7 +30,7 @@ void expect_latched_until_reset(MotionLoop& b, AxisState after_reset, const char
     b.cycles(50);
     for (unsigned a = 0; a < 4; ++a) {
         EXPECT_EQ(b.mc.axis(a).state(), AxisState::error_stop) << "axis " << a; // latched
-        EXPECT_EQ(b.mc.chip().command_position(a), at[a]) << "axis " << a;   // nothing moved
+        EXPECT_EQ(b.mc.chip().pulse_count(a), at[a]) << "axis " << a;   // no pulse: nothing moved
     }
     EXPECT_EQ(b.mc.state(), "ERRORSTOP");
     ASSERT_EQ(b.mc.command("RS", "15").bch, 0x00);

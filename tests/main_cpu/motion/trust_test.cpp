@@ -277,7 +277,7 @@ TEST(Trust, ReadBlocksAndSetPositionFollowPartOne) {
         par.ParameterNumber = 8; // MaxVelocitySystem: the chip's 10 Mpps
         par.call();
         EXPECT_DOUBLE_EQ(par.Value, 10e6);
-        par.ParameterNumber = 2; // SWLimitPos: this axis has none
+        par.ParameterNumber = 16; // MaxJerkSystem: this axis has none
         par.call();
         EXPECT_TRUE(par.Error && !par.Valid);
         EXPECT_EQ(par.ErrorID, err::parameter_unsupported);

@@ -252,7 +252,7 @@ sp(Axis := Axis0, Execute := go AND power.Status, Position := 1234);
 rp(Axis := Axis0, Enable := TRUE);
 rs(Axis := Axis0, Enable := TRUE);
 par(Axis := Axis0, Enable := TRUE, ParameterNumber := 8);
-bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
+bad(Axis := Axis0, Enable := TRUE, ParameterNumber := 16);
 END_PROGRAM)";
     run(text, [](StMotionLoop& b) {
         b.cycles(10);
@@ -385,3 +385,31 @@ END_PROGRAM)";
 
 } // namespace
 
+
+namespace {
+
+// MC_WriteParameter from ST (issue #49 item 5): SWLimitPos 5000 enabled (Part 1 numbers 2 and 4)
+// refuses a move to 6000 with 16#7110 and reads back through MC_ReadParameter 2.
+TEST(StMotion, WriteParameterSetsASoftwareLimit) {
+    const char* text = R"(
+PROGRAM M
+VAR power : MC_Power; lim : MC_WriteParameter; en : MC_WriteParameter; par : MC_ReadParameter;
+    mv : MC_MoveAbsolute; END_VAR
+power(Axis := Axis0, Enable := TRUE);
+lim(Axis := Axis0, Execute := TRUE, ParameterNumber := 2, Value := 5000.0);
+en(Axis := Axis0, Execute := lim.Done, ParameterNumber := 4, Value := 1.0);
+par(Axis := Axis0, Enable := TRUE, ParameterNumber := 2);
+mv(Axis := Axis0, Execute := en.Done AND power.Status, Position := 6000, Velocity := 10000.0,
+   Acceleration := 100000.0, Deceleration := 100000.0);
+END_PROGRAM)";
+    run(text, [](StMotionLoop& b) {
+        b.cycles(10);
+        EXPECT_EQ(b.var("lim.Done"), 1);
+        EXPECT_EQ(b.program->value("par.Value").r, 5000.0);
+        EXPECT_EQ(b.var("mv.Error"), 1);
+        EXPECT_EQ(b.var("mv.ErrorID"), 0x7110);
+        EXPECT_EQ(b.mc.chip().pulse_count(0), 0);
+    });
+}
+
+} // namespace

@@ -321,7 +321,7 @@ TEST(MotionScenario, MoveVelocitySetPositionAndReadsFromFb) {
         "    - {at_ms: 200, fb: MC_Halt, axis: 0, deceleration: 100000}\n"
         "    - {at_ms: 400, fb: MC_SetPosition, axis: 0, position: 0}\n"
         "    - {at_ms: 410, fb: MC_ReadStatus, axis: 0}\n"
-        "    - {at_ms: 410, fb: MC_ReadParameter, axis: 0, parameter: 2, expect: error, error_id: 0x7006}\n"
+        "    - {at_ms: 410, fb: MC_ReadParameter, axis: 0, parameter: 16, expect: error, error_id: 0x7006}\n"
         "  checks:\n    final_state: STANDSTILL\n    final_positions: [0]\n";
     nlohmann::json report;
     const auto out = test::scratch_dir() / "motion_fb_reads";
