@@ -1,6 +1,7 @@
 // rcsim — PLCopen motion function blocks. See plcopen.h.
 #include "main_cpu/motion/plcopen.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -154,6 +155,12 @@ void McAxis::cycle() {
         if (!any_busy) start(active_);
         return;
     }
+    if (queued_ && queued_->started && queued_->status == Job::Status::queued) {
+        // Blending: the chip passed the junction and runs the successor (its queue is empty):
+        // this move is Done and the successor Active, without a stop.
+        if (!any_busy || !api_.BlendQueued(master_of(j))) finish_job(Job::Status::done);
+        return;
+    }
     if (j.is_continuous) {
         // MC_MoveVelocity releases a buffered successor at InVelocity (Part 1 Table 4): it is
         // aborted then, and the successor starts once the chip has ramped the drive down.
@@ -196,6 +203,14 @@ void McAxis::cycle() {
 }
 
 void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
+    job->mode = mode;
+    if (mode != BufferMode::aborting)
+        for (McAxis* a : job->axes)
+            if (a->active_ && a->queued_ && a->queued_->started) { // already on the chip: not replaceable
+                job->status = Job::Status::error;
+                job->error_id = err::buffer_full;
+                return;
+            }
     for (McAxis* a : job->axes) {
         if (mode == BufferMode::aborting || !a->active_) {
             for (auto* slot : {&a->active_, &a->queued_})
@@ -223,6 +238,7 @@ void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
     }
     if (active_everywhere) job->status = Job::Status::active;
     if (active_everywhere && (!any_busy || job->is_stop)) start(job);
+    if (!active_everywhere && blending(mode)) try_blend(job);
 }
 
 void McAxis::set_power(bool status) {
@@ -305,6 +321,7 @@ void McExecuteFb::call() {
 
 std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec, BufferMode mode) {
     if (!axis) return err::invalid_axis;
+    if (!valid(mode)) return err::invalid_buffer_mode;
     if (const std::uint16_t r = axis->motion_refusal(mode)) return r;
     if (!(vel > 0)) return err::invalid_velocity;
     if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
@@ -460,6 +477,7 @@ void MC_Stop::after() {
 
 std::uint16_t MC_Halt::begin() {
     if (!Axis) return err::invalid_axis;
+    if (!valid(Mode)) return err::invalid_buffer_mode;
     if (const std::uint16_t r = Axis->motion_refusal()) return r;
     if (!(Deceleration >= 0) || !std::isfinite(Deceleration)) return err::invalid_accel;
     const int ax = static_cast<int>(Axis->index());
@@ -475,6 +493,7 @@ std::uint16_t MC_Halt::begin() {
 
 std::uint16_t MC_Home::begin() {
     if (!Axis) return err::invalid_axis;
+    if (!valid(Mode)) return err::invalid_buffer_mode;
     if (Axis->state() != AxisState::standstill) return Axis->motion_refusal() ? Axis->motion_refusal() : err::wrong_state;
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
     HomeMethod m;
@@ -503,6 +522,12 @@ std::uint16_t MC_MoveAbsolute::begin() {
         api.SetJerk(ax, j);
         return api.MovePos(ax, p, v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
+    job_->direction = [&api = Axis->api(), ax, p] {
+        const std::int64_t d = p - api.TargetPos(ax);
+        return d > 0 ? 1 : d < 0 ? -1 : 0;
+    };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -517,10 +542,14 @@ std::uint16_t MC_MoveRelative::begin() {
     // a target beyond the chip's range fails then with 4251.
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d, j] {
         api.SetJerk(ax, j);
-        const std::int64_t target = api.CmdPos(ax) + dist;
+        // Blended: from where the running move ends.
+        const std::int64_t target = (api.InMotion(ax) ? api.TargetPos(ax) : api.CmdPos(ax)) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
+    job_->direction = [dist] { return dist > 0 ? 1 : dist < 0 ? -1 : 0; };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -556,15 +585,15 @@ void MC_MoveVelocity::after() {
 }
 
 namespace {
-std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d) {
+std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d, BufferMode mode) {
     if (!x || !y || x == y) return err::invalid_axis;
-    if (const std::uint16_t e = check_motion(x, v, a, d)) return e;
-    return check_motion(y, v, a, d);
+    if (const std::uint16_t e = check_motion(x, v, a, d, mode)) return e;
+    return check_motion(y, v, a, d, mode);
 }
 } // namespace
 
 std::uint16_t MC_LineMove2::begin() {
-    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration, Mode)) return e;
     QiMotionApi& api = AxisX->api();
     const int coord = 0;
     const std::uint32_t mask = (1u << AxisX->index()) | (1u << AxisY->index());
@@ -576,6 +605,8 @@ std::uint16_t MC_LineMove2::begin() {
         const std::int32_t pos[2] = {swapped ? y : x, swapped ? x : y};
         return api.LineMove(coord, pos, v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     AxisX->submit(job_, Mode);
     return 0;
 }
@@ -603,12 +634,14 @@ std::uint16_t MC_LineMove::begin() {
         api.SetCoord(3, mask);
         return api.LineMove(3, pos.data(), v, acc, dec);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     Axes[0]->submit(job_, Mode);
     return 0;
 }
 
 std::uint16_t MC_CircleCenterMove::begin() {
-    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration, Mode)) return e;
     if (Direction != dir_cw && Direction != dir_ccw) return err::interpolation_value;
     if (AxisX->index() > AxisY->index()) return err::invalid_axis; // X must be the lower-numbered axis
     // The end must lie on the circle through the start (within one pulse), or the chip would stop
@@ -632,6 +665,8 @@ std::uint16_t MC_CircleCenterMove::begin() {
         api.SetCoord(1, mask);
         return api.CircleCenterMove(1, cx, cy, ex, ey, v, a, d, dir);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     AxisX->submit(job_, Mode);
     return 0;
 }
