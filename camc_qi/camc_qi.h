@@ -111,6 +111,9 @@ constexpr std::uint32_t vector_speed = 1u << 16;
 // Blending (README "Blending"): STRN while the same axes drive a preset or interpolation queues
 // this drive; the running one re-plans to end at JEXIT, and this one starts at that instant at JSPD.
 constexpr std::uint32_t blend = 1u << 17;
+// Take-over (README "Blending"): STRN while the axis runs a preset or continuous drive the same
+// way replaces it at once, starting at its current speed; POS is then the absolute target (CNT1).
+constexpr std::uint32_t take_over = 1u << 18;
 } // namespace dcfg
 
 /// UCFG1 fields (our layout).

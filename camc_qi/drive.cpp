@@ -92,7 +92,10 @@ void CamcQi::start(unsigned axis) {
                                    running->cause == 0 && running->limit != unlimited && !running->search &&
                                    mode != dcfg::cont_pos && mode != dcfg::cont_neg && mode != dcfg::origin_pos &&
                                    mode != dcfg::origin_neg;
-            if (blendable) continue;
+            const bool single = members == (1u << axis) && running->members == members && !running->search &&
+                                running->cause == 0 && !running->next && mode <= dcfg::cont_neg &&
+                                running->mode <= dcfg::cont_neg;
+            if (blendable || ((m.dcfg & dcfg::take_over) && single)) continue;
             SC_REPORT_WARNING(name(), ("start on axis " + std::to_string(axis) + " ignored: axis " +
                                        std::to_string(i) + " is busy").c_str());
             return;
@@ -115,10 +118,13 @@ void CamcQi::start(unsigned axis) {
     std::uint64_t distance = 0;
     try {
         switch (mode) {
-        case dcfg::preset:
-            d->dir = m.pos < 0 ? -1 : 1;
-            d->limit = distance = static_cast<std::uint64_t>(std::llabs(m.pos));
+        case dcfg::preset: {
+            // A take-over's POS is the absolute target: the host cannot know the position at STRN.
+            const std::int64_t rel = running && (m.dcfg & dcfg::take_over) ? m.pos - command_position(axis) : m.pos;
+            d->dir = rel < 0 ? -1 : 1;
+            d->limit = distance = static_cast<std::uint64_t>(std::llabs(rel));
             break;
+        }
         case dcfg::cont_pos: case dcfg::origin_pos: d->dir = 1; break;
         case dcfg::cont_neg: case dcfg::origin_neg: d->dir = -1; break;
         case dcfg::linear: {
@@ -189,17 +195,32 @@ void CamcQi::start(unsigned axis) {
         }
     }
 
+    const bool take_over = running && (m.dcfg & dcfg::take_over) && !(m.dcfg & dcfg::blend);
+    if (take_over && d->dir != running->dir) {
+        SC_REPORT_WARNING(name(), ("take-over on axis " + std::to_string(axis) + " ignored: it reverses").c_str());
+        return;
+    }
+    const double now_speed = take_over ? current_speed(axis) : 0;
     if (mode == dcfg::cont_pos || mode == dcfg::cont_neg || origin) {
-        d->profile = SpeedProfile::continuous(p);
+        d->profile = SpeedProfile::continuous(p, now_speed);
     } else if (is_interpolation(mode) && m.isnum != 0 && m.isnum != distance) {
         // Deceleration is planned over the host's QiISNUM, not over the real step count: too
         // small a number crawls on at STD, too large a number ends the drive still fast.
         d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(m.isnum)), true);
     } else {
-        const double entry = running ? m.jspd * static_cast<double>(m.range) : 0;
+        const double entry = take_over ? now_speed : running ? m.jspd * static_cast<double>(m.range) : 0;
         d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(distance)), false, entry);
     }
     d->plan_end();
+    if (take_over) {
+        // The running drive ends here with the steps it drove; the new one goes on from them.
+        running->profile.stop(running->rel(d->start));
+        running->end_t = running->rel(d->start);
+        running->at_limit = false;
+        finish(running, d->start);
+        attach(d, d->start);
+        return;
+    }
     if (running) {
         // Blending: the running drive now ends at JEXIT, and this one takes over at that instant.
         const double exit = ax_[running->master].jexit * static_cast<double>(m.range);

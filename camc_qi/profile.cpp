@@ -86,11 +86,12 @@ bool SpeedProfile::blend_exit(double t, double exit, const ProfileParams& p) {
     return true;
 }
 
-SpeedProfile SpeedProfile::continuous(const ProfileParams& p) {
+SpeedProfile SpeedProfile::continuous(const ProfileParams& p, double entry) {
     SpeedProfile prof;
-    const double v0 = p.start_speed, vm = std::max(p.object_speed, p.start_speed);
+    const double v0 = entry > 0 ? entry : p.start_speed, vm = std::max(p.object_speed, p.start_speed);
     prof.v_start_ = v0;
-    prof.ramp(v0, vm, p.accel, p.accel_jerk);
+    if (vm >= v0) prof.ramp(v0, vm, p.accel, p.accel_jerk);
+    else prof.ramp(v0, vm, p.decel, p.decel_jerk);
     prof.tail_v_ = vm;
     return prof;
 }

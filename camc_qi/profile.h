@@ -37,7 +37,7 @@ public:
     /// when above OBJ).
     static SpeedProfile preset(const ProfileParams& p, double distance, bool tail = false, double entry = 0);
     /// A drive without a target: STD -> OBJ, then OBJ forever.
-    static SpeedProfile continuous(const ProfileParams& p);
+    static SpeedProfile continuous(const ProfileParams& p, double entry = 0);
 
     /// Steps driven by time t (continuous; the chip floors it).
     double position(double t) const;

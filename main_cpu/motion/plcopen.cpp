@@ -204,6 +204,7 @@ void McAxis::cycle() {
 
 void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
     job->mode = mode;
+    if (mode == BufferMode::aborting && try_take_over(job)) return;
     if (mode != BufferMode::aborting)
         for (McAxis* a : job->axes)
             if (a->active_ && a->queued_ && a->queued_->started) { // already on the chip: not replaceable
@@ -528,6 +529,7 @@ std::uint16_t MC_MoveAbsolute::begin() {
         const std::int64_t d = p - api.TargetPos(ax);
         return d > 0 ? 1 : d < 0 ? -1 : 0;
     };
+    job_->can_take_over = [&api = Axis->api(), ax, p, d] { return room_to_take_over(api, ax, p - api.CmdPos(ax), d); };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -543,13 +545,14 @@ std::uint16_t MC_MoveRelative::begin() {
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), ax, dist, v, a, d, j] {
         api.SetJerk(ax, j);
         // Blended: from where the running move ends.
-        const std::int64_t target = (api.InMotion(ax) ? api.TargetPos(ax) : api.CmdPos(ax)) + dist;
+        const std::int64_t target = (api.InMotion(ax) && api.BlendPending(ax) ? api.TargetPos(ax) : api.CmdPos(ax)) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
     });
     job_->blendable = true;
     job_->velocity = v;
     job_->direction = [dist] { return dist > 0 ? 1 : dist < 0 ? -1 : 0; };
+    job_->can_take_over = [&api = Axis->api(), ax, dist, d] { return room_to_take_over(api, ax, dist, d); };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -568,6 +571,9 @@ std::uint16_t MC_MoveVelocity::begin() {
         return api.MoveVel(ax, v, a, d);
     });
     job_->is_continuous = true;
+    job_->can_take_over = [&api = Axis->api(), ax, v] {
+        return (v < 0 ? -1 : 1) == ((api.DriveStatus(ax) & camc::drvst::negative) ? -1 : 1);
+    };
     Axis->submit(job_, Mode);
     return 0;
 }

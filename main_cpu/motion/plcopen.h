@@ -79,6 +79,9 @@ struct Job {
     double velocity = 0;
     std::function<int()> direction;
     BufferMode mode = BufferMode::aborting;
+    // Aborting (issue #49 item 3): whether this single-axis move can take over the running drive
+    // from its present speed (same way, room to stop); empty = never.
+    std::function<bool()> can_take_over;
 };
 
 /// The axis whose chip registers hold a job's rates: the lowest-numbered (the chip's master).
@@ -138,6 +141,9 @@ private:
     /// Blending: starts the buffered job on the chip behind the running one (queued there), if
     /// both can blend at a junction speed above 0; false leaves it buffered.
     bool try_blend(const std::shared_ptr<Job>& next);
+    /// Aborting: replaces the running single-axis move by `job` on the chip at once, from the
+    /// present velocity (no stop); false when it cannot, and the old way (ramp down) applies.
+    bool try_take_over(const std::shared_ptr<Job>& job);
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -269,8 +275,9 @@ protected:
 
 /// Part 1 §3.9: an endless drive at Velocity (ContinuousMotion); InVelocity while the commanded
 /// speed equals Velocity; ends only by CommandAborted (another motion block, MC_Halt, MC_Stop)
-/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); the CAMC-QI cannot change
-/// the speed of a running drive, so a new command first ramps this one down (docs/motion.md).
+/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); an aborting command the same
+/// way takes over from the present speed, one that reverses first ramps this one down
+/// (docs/motion.md "Buffer modes").
 class MC_MoveVelocity : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
@@ -399,6 +406,10 @@ public:
 protected:
     std::uint16_t begin() override;
 };
+
+/// Whether a move `rest` pulses on from the present position can take over the axis' running
+/// drive: the same way, and the drive's present speed can stop within it at `dec`.
+bool room_to_take_over(QiMotionApi& api, int axis, std::int64_t rest, double dec);
 
 /// Shared parameter checks (0 = ok).
 std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec,

@@ -52,4 +52,31 @@ bool McAxis::try_blend(const std::shared_ptr<Job>& next) {
     return true;
 }
 
+bool room_to_take_over(QiMotionApi& api, int axis, std::int64_t rest, double dec) {
+    const int way = (api.DriveStatus(axis) & camc::drvst::negative) ? -1 : 1;
+    const double v = api.CurrentSpeed(axis);
+    return rest * way > 0 && v * v / (2 * dec) <= static_cast<double>(rest * way);
+}
+
+bool McAxis::try_take_over(const std::shared_ptr<Job>& job) {
+    const std::shared_ptr<Job> cur = active_;
+    if (!job->can_take_over || job->axes.size() != 1 || job->axes[0] != this || !cur || !cur->started ||
+        cur->status != Job::Status::active || cur->axes.size() != 1 || cur->is_stop || cur->is_home ||
+        !(cur->blendable || cur->is_continuous) || (queued_ && queued_->started))
+        return false;
+    const int ax = static_cast<int>(index_);
+    if (!api_.InMotion(ax) || api_.BlendQueued(ax) || !job->can_take_over()) return false;
+    cur->status = Job::Status::aborted;
+    active_.reset();
+    if (queued_) {
+        queued_->status = Job::Status::aborted;
+        queued_.reset();
+    }
+    api_.SetTakeOver(ax);
+    active_ = job;
+    state_ = job->motion_state;
+    start(job);
+    return true;
+}
+
 } // namespace rcsim::motion

@@ -142,12 +142,16 @@ int QiMotionApi::MovePos(int a, std::int32_t pos, double vel, double acc, double
     if (!axis_ok(a)) return axl::invalid_axis;
     if (!in_range(pos)) return axl::position_out_of_bound;
     const bool busy = InMotion(a);
-    const double vb = take_blend(a, busy);
-    if (busy && !(vb > 0)) return axl::in_motion;
+    const bool over = std::exchange(take_over_[a], false) && busy;
+    const double vb = over ? 0 : take_blend(a, busy);
+    if (busy && !(vb > 0) && !over) return axl::in_motion;
     if (vb > 0) blend_speeds(a, vb, 1);
-    if (int r = speeds(a, vel, acc, dec, (dcfg::preset << dcfg::mode_shift) | (vb > 0 ? dcfg::blend : 0))) return r;
-    // A blended move starts where the running one ends. |dist| <= 2^31 - 2: fits POS.
-    const std::int64_t dist = std::int64_t{pos} - (vb > 0 ? target_[a] : CmdPos(a));
+    if (int r = speeds(a, vel, acc, dec, (dcfg::preset << dcfg::mode_shift) | (vb > 0 ? dcfg::blend : 0) |
+                                             (over ? dcfg::take_over : 0)))
+        return r;
+    // A blended move starts where the running one ends; a take-over's POS is absolute.
+    // |dist| <= 2^31 - 2: fits POS.
+    const std::int64_t dist = over ? pos : std::int64_t{pos} - (vb > 0 ? target_[a] : CmdPos(a));
     target_[a] = pos;
     bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
     bus_.write(a, qi::STRN, 0);
@@ -157,8 +161,9 @@ int QiMotionApi::MovePos(int a, std::int32_t pos, double vel, double acc, double
 
 int QiMotionApi::MoveVel(int a, double vel, double acc, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
-    if (InMotion(a)) return axl::in_motion;
-    const std::uint32_t m = (vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift;
+    const bool over = std::exchange(take_over_[a], false) && InMotion(a);
+    if (!over && InMotion(a)) return axl::in_motion;
+    const std::uint32_t m = ((vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift) | (over ? dcfg::take_over : 0);
     if (int r = speeds(a, std::abs(vel), acc, dec, m)) return r;
     bus_.write(a, qi::STRN, 0);
     return (EndStatus(a) & ~endst::slowdown_cmd) ? axl::sensor_check : axl::success;

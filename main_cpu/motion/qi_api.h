@@ -111,6 +111,11 @@ public:
     /// stopping, and the new move starts there at Vel. For the next move only; without a running
     /// drive the move starts as usual. MovePos then measures from the running move's target.
     int SetBlend(int AxisNo, double Vel);
+    /// Take-over (PLCopen Aborting, camc_qi/README.md "Blending"): the next MovePos or MoveVel on
+    /// this axis replaces the drive it runs now at once, from its current speed and the same way
+    /// (the caller checks the direction and that the new target leaves room to stop).
+    void SetTakeOver(int AxisNo) { take_over_[AxisNo & 3] = true; }
+    bool BlendPending(int AxisNo) const { return blend_[AxisNo & 3] > 0; }
     /// A blended move waits behind the running drive (the chip's queue is not empty).
     bool BlendQueued(int AxisNo);
     /// Where the last MovePos of the axis ends (its blended successor starts there).
@@ -151,6 +156,7 @@ private:
     std::array<unsigned, 4> profile_{1, 1, 1, 1};
     std::array<double, 4> accel_jerk_{}, jerk_{}, blend_{};
     std::array<std::int64_t, 4> target_{};
+    std::array<bool, 4> take_over_{};
     // The axis holding the rates of the drive an axis was last started in (itself, or the master
     // of its interpolation), and that drive's chip steps per pulse of path (for SlowStop's Decel).
     std::array<int, 4> master_{0, 1, 2, 3};

@@ -7,6 +7,7 @@
 
 #include <tlm_utils/simple_initiator_socket.h>
 
+#include <algorithm>
 #include <functional>
 
 using namespace rcsim;
@@ -96,6 +97,39 @@ TEST(CamcQiBlend, AStopCancelsTheQueuedDriveAndAPlainStartWhileBusyIsIgnored) {
         EXPECT_TRUE(h.chip.drive_status(0) & drvst::queue_empty);
         wait(sc_time(100, SC_MS));
         EXPECT_FALSE(h.chip.busy(0)) << "the queued drive never starts";
+    });
+}
+
+// Take-over (PLCopen Aborting): a continuous drive at 10000 replaced by a preset to the absolute
+// position 20000 at 15000 goes on from 10000, never slower, and ends exactly there; a take-over
+// that reverses is ignored.
+TEST(CamcQiBlend, ATakeOverReplacesTheDriveFromItsPresentSpeed) {
+    run([](Host& h) {
+        h.cmd(0, qi::write | qi::OBJ, 10000);
+        h.cmd(0, qi::write | qi::RATE1, 100000);
+        h.cmd(0, qi::write | qi::RATE2, 100000);
+        h.cmd(0, qi::write | qi::DCFG, (dcfg::cont_pos << dcfg::mode_shift) | 1u);
+        h.cmd(0, qi::STRN);
+        wait(sc_time(300, SC_MS));
+        {
+            test::ScAllowWarnings allow;
+            h.cmd(0, qi::write | qi::DCFG, (dcfg::cont_neg << dcfg::mode_shift) | 1u | dcfg::take_over);
+            h.cmd(0, qi::STRN); // the other way: ignored
+        }
+        EXPECT_EQ(h.chip.current_speed(0), 10000);
+        h.cmd(0, qi::write | qi::OBJ, 15000);
+        h.cmd(0, qi::write | qi::POS, 20000);
+        h.cmd(0, qi::write | qi::DCFG, (dcfg::preset << dcfg::mode_shift) | 1u | dcfg::take_over);
+        h.cmd(0, qi::STRN);
+        EXPECT_TRUE(h.chip.drive_status(0) & drvst::preset);
+        double min_speed = 1e9;
+        while (h.chip.busy(0)) {
+            // Until the final ramp: 15000^2 / 200000 = 1125 pulses before the end.
+            if (h.chip.command_position(0) < 20000 - 1200) min_speed = std::min(min_speed, h.chip.current_speed(0));
+            wait(sc_time(100, SC_US));
+        }
+        EXPECT_GE(min_speed, 10000);
+        EXPECT_EQ(h.chip.command_position(0), 20000);
     });
 }
 

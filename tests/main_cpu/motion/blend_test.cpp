@@ -178,3 +178,79 @@ TEST(BufferMode, TwoTangentHalfCirclesBufferedStopAtTheJunction) {
 }
 
 } // namespace
+
+namespace {
+
+// Aborting takes over from the present state (Part 1 §2.4.2, issue #49 item 3): a new target or
+// velocity goes on from the present velocity, no stop in between.
+TEST(Aborting, ARetargetContinuesFromThePresentVelocity) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_MoveAbsolute m1, m2;
+        m1.Axis = m2.Axis = &b.mc.axis(0);
+        m1.Position = 20000, m1.Velocity = 10000, m1.Acceleration = m1.Deceleration = 100000;
+        m2.Position = 30000, m2.Velocity = 15000, m2.Acceleration = m2.Deceleration = 100000;
+        m1.Execute = true;
+        for (int i = 0; i < 300; ++i) step(b, {&m1, &m2}); // cruising at 10000 (ramp 0.1 s)
+        m2.Execute = true;
+        double min_speed = 1e9;
+        bool aborted = false;
+        for (int i = 0; i < 5000 && !m2.Done; ++i) {
+            step(b, {&m1, &m2});
+            aborted |= m1.CommandAborted;
+            // Until the final ramp (15000^2 / 200000 = 1125 pulses before the end).
+            if (b.mc.chip().command_position(0) < 30000 - 1200) min_speed = std::min(min_speed, b.mc.chip().current_speed(0));
+        }
+        EXPECT_TRUE(aborted);
+        EXPECT_TRUE(m2.Done);
+        EXPECT_GE(min_speed, 10000 - 100) << "never below the first move's velocity: no stop";
+        EXPECT_EQ(b.mc.chip().command_position(0), 30000);
+    });
+}
+
+TEST(Aborting, AVelocityChangeContinuesFromThePresentVelocity) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_MoveVelocity v1, v2;
+        v1.Axis = v2.Axis = &b.mc.axis(0);
+        v1.Velocity = 10000, v2.Velocity = 15000;
+        v1.Acceleration = v1.Deceleration = v2.Acceleration = v2.Deceleration = 100000;
+        v1.Execute = true;
+        for (int i = 0; i < 300; ++i) step(b, {&v1, &v2});
+        ASSERT_TRUE(v1.InVelocity);
+        v2.Execute = true;
+        double min_speed = 1e9;
+        for (int i = 0; i < 300; ++i) {
+            step(b, {&v1, &v2});
+            min_speed = std::min(min_speed, b.mc.chip().current_speed(0));
+        }
+        EXPECT_TRUE(v2.InVelocity);
+        EXPECT_EQ(b.mc.chip().current_speed(0), 15000);
+        EXPECT_GE(min_speed, 10000 - 100) << "10000 -> 15000 without passing through 0";
+    });
+}
+
+// Reversing (or a target too close to stop at) cannot take over: the old way, ramp down and
+// start again, and the end is still exact.
+TEST(Aborting, AReversingRetargetStillStopsFirst) {
+    run_motion([](MotionLoop& b) {
+        b.power_on();
+        MC_MoveAbsolute m1, m2;
+        m1.Axis = m2.Axis = &b.mc.axis(0);
+        m1.Position = 20000, m1.Velocity = 10000, m1.Acceleration = m1.Deceleration = 100000;
+        m2.Position = 1000, m2.Velocity = 10000, m2.Acceleration = m2.Deceleration = 100000;
+        m1.Execute = true;
+        for (int i = 0; i < 300; ++i) step(b, {&m1, &m2});
+        m2.Execute = true;
+        double min_speed = 1e9;
+        for (int i = 0; i < 5000 && !m2.Done; ++i) {
+            step(b, {&m1, &m2});
+            if (b.mc.chip().command_position(0) > 2000) min_speed = std::min(min_speed, b.mc.chip().current_speed(0));
+        }
+        EXPECT_TRUE(m2.Done);
+        EXPECT_LT(min_speed, 200);
+        EXPECT_EQ(b.mc.chip().command_position(0), 1000);
+    });
+}
+
+} // namespace
