@@ -76,6 +76,7 @@ bool McAxis::try_take_over(const std::shared_ptr<Job>& job) {
     active_ = job;
     state_ = job->motion_state;
     start(job);
+    api_.SetTakeOver(ax, false); // unused when the move failed before reaching the chip
     return true;
 }
 

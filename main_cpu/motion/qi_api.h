@@ -114,7 +114,7 @@ public:
     /// Take-over (PLCopen Aborting, camc_qi/README.md "Blending"): the next MovePos or MoveVel on
     /// this axis replaces the drive it runs now at once, from its current speed and the same way
     /// (the caller checks the direction and that the new target leaves room to stop).
-    void SetTakeOver(int AxisNo) { take_over_[AxisNo & 3] = true; }
+    void SetTakeOver(int AxisNo, bool on = true) { take_over_[AxisNo & 3] = on; }
     bool BlendPending(int AxisNo) const { return blend_[AxisNo & 3] > 0; }
     /// A blended move waits behind the running drive (the chip's queue is not empty).
     bool BlendQueued(int AxisNo);
