@@ -161,6 +161,8 @@ void CamcQi::execute(unsigned axis, std::uint8_t code) {
                 case qi::REMAIN: return static_cast<std::uint32_t>(a.remain);
                 case qi::UIO: return a.uio;
                 case qi::OBJORG: return a.objorg;
+                case qi::JSPD: return a.jspd;
+                case qi::JEXIT: return a.jexit;
                 case qi::CURSPD: return static_cast<std::uint32_t>(std::lround(current_speed(axis)));
                 case qi::DRPCNT: return static_cast<std::uint32_t>(a.driven);
                 case qi::CNT1: return static_cast<std::uint32_t>(command_position(axis));
@@ -198,6 +200,8 @@ void CamcQi::write_register(unsigned axis, std::uint8_t reg, std::uint32_t v) {
     case qi::ISNUM: a.isnum = v; break;
     case qi::UIO: a.uio = v & 0x3; break;
     case qi::OBJORG: a.objorg = v; break;
+    case qi::JSPD: a.jspd = v; break;
+    case qi::JEXIT: a.jexit = v; break;
     case qi::CNT1:
         // Presetting the command counter while pulsing would tear the path: the chip ignores it.
         if (!a.drive) {
@@ -331,6 +335,7 @@ std::uint32_t CamcQi::drive_status(unsigned axis) const {
     std::uint32_t s = drvst::queue_empty;
     if (!a.drive) return s;
     const Drive& d = *a.drive;
+    if (d.next) s &= ~drvst::queue_empty; // a blended drive waits
     const double t = d.rel(sc_core::sc_time_stamp());
     s |= drvst::busy | drvst::pulsing;
     switch (t >= d.end_t ? SpeedProfile::Phase::idle : d.profile.phase(t)) {

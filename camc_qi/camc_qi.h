@@ -45,10 +45,12 @@ constexpr std::uint8_t RATE2 = 0x14;  // deceleration
 constexpr std::uint8_t SW1 = 0x15;    // S-curve: accel jerk share, percent 0..100
 constexpr std::uint8_t SW2 = 0x16;    // S-curve: decel jerk share, percent
 constexpr std::uint8_t DCFG = 0x17;   // drive configuration (README: profile, drive mode, axis mask)
+constexpr std::uint8_t JSPD = 0x18;   // blending: the speed a blended drive starts at (README "Blending")
 constexpr std::uint8_t POS = 0x19;    // preset distance / interpolation end (relative, signed)
 constexpr std::uint8_t CENT = 0x1A;   // circle centre (relative to the start, signed)
 constexpr std::uint8_t ISNUM = 0x1B;  // interpolation step number (host-computed, for deceleration)
 constexpr std::uint8_t REMAIN = 0x1C; // pulses left after an abnormal stop of a preset drive (read)
+constexpr std::uint8_t JEXIT = 0x1D;  // blending: the speed the running drive ends at, in its units
 constexpr std::uint8_t UIO = 0x1E;    // universal outputs: b0 SVON, b1 ALMRST
 constexpr std::uint8_t OBJORG = 0x1F; // origin search speed
 constexpr std::uint8_t DRPCNT = 0x30; // pulses driven in the last drive (read)
@@ -106,6 +108,12 @@ constexpr std::uint32_t search_immediate = 1u << 15; // 0: slow-down stop at the
 // and rates along the arc, and the steps follow the arc length, so the path speed is OBJ whatever
 // the mix of one- and two-axis steps. Lines ignore it (their step length is constant anyway).
 constexpr std::uint32_t vector_speed = 1u << 16;
+// Blending (README "Blending"): STRN while the same axes drive a preset or interpolation queues
+// this drive; the running one re-plans to end at JEXIT, and this one starts at that instant at JSPD.
+constexpr std::uint32_t blend = 1u << 17;
+// Take-over (README "Blending"): STRN while the axis runs a preset or continuous drive the same
+// way replaces it at once, starting at its current speed; POS is then the absolute target (CNT1).
+constexpr std::uint32_t take_over = 1u << 18;
 } // namespace dcfg
 
 /// UCFG1 fields (our layout).
@@ -212,6 +220,7 @@ private:
         // registers
         std::uint32_t range = 1, std_speed = 100, obj = 1000, rate1 = 10000, rate2 = 10000;
         std::uint32_t sw1 = 0, sw2 = 0, dcfg = 0, isnum = 0, uio = 0, objorg = 1000;
+        std::uint32_t jspd = 0, jexit = 0;
         std::int32_t pos = 0, cent = 0;
         std::uint32_t ucfg1 = ucfg::reset_value, imask1 = 0;
         std::uint32_t end_status = 0, iflag = 0;
@@ -245,6 +254,8 @@ private:
     void write_register(unsigned axis, std::uint8_t code, std::uint32_t value);
     ProfileParams params(const Axis& a, bool origin) const;
     void start(unsigned axis);
+    /// Puts a built drive on its axes at `at` (a blended one when the drive before it ends).
+    void attach(std::shared_ptr<Drive> d, sc_core::sc_time at);
     bool start_check(unsigned axis, int dir_hint, std::optional<Pin> searched);
     void stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause);
     /// The stop at a sensor edge, at the edge's exact time `t` (drive time) after `k` steps.

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace rcsim::camc {
 
@@ -81,9 +82,20 @@ void CamcQi::start(unsigned axis) {
             }
     };
     // A start while any member is still driving is ignored (AXL 4152 ERROR_IN_MOTION); the
-    // host must wait for BUSY to fall (the pre-register queue is not modelled).
+    // host must wait for BUSY to fall (the pre-register queue is not modelled), unless it blends:
+    // the same axes run one preset or interpolation drive, without a blended drive queued yet.
+    std::shared_ptr<Drive> running;
     for (unsigned i = 0; i < axes; ++i)
         if ((members & (1u << i)) && ax_[i].drive) {
+            running = ax_[i].drive;
+            const bool blendable = (m.dcfg & dcfg::blend) && running->members == members && !running->next &&
+                                   running->cause == 0 && running->limit != unlimited && !running->search &&
+                                   mode != dcfg::cont_pos && mode != dcfg::cont_neg && mode != dcfg::origin_pos &&
+                                   mode != dcfg::origin_neg;
+            const bool single = members == (1u << axis) && running->members == members && !running->search &&
+                                running->cause == 0 && !running->next && mode <= dcfg::cont_neg &&
+                                running->mode <= dcfg::cont_neg;
+            if (blendable || ((m.dcfg & dcfg::take_over) && single)) continue;
             SC_REPORT_WARNING(name(), ("start on axis " + std::to_string(axis) + " ignored: axis " +
                                        std::to_string(i) + " is busy").c_str());
             return;
@@ -106,10 +118,13 @@ void CamcQi::start(unsigned axis) {
     std::uint64_t distance = 0;
     try {
         switch (mode) {
-        case dcfg::preset:
-            d->dir = m.pos < 0 ? -1 : 1;
-            d->limit = distance = static_cast<std::uint64_t>(std::llabs(m.pos));
+        case dcfg::preset: {
+            // A take-over's POS is the absolute target: the host cannot know the position at STRN.
+            const std::int64_t rel = running && (m.dcfg & dcfg::take_over) ? m.pos - command_position(axis) : m.pos;
+            d->dir = rel < 0 ? -1 : 1;
+            d->limit = distance = static_cast<std::uint64_t>(std::llabs(rel));
             break;
+        }
         case dcfg::cont_pos: case dcfg::origin_pos: d->dir = 1; break;
         case dcfg::cont_neg: case dcfg::origin_neg: d->dir = -1; break;
         case dcfg::linear: {
@@ -180,19 +195,52 @@ void CamcQi::start(unsigned axis) {
         }
     }
 
+    const bool take_over = running && (m.dcfg & dcfg::take_over) && !(m.dcfg & dcfg::blend);
+    if (take_over && d->dir != running->dir) {
+        SC_REPORT_WARNING(name(), ("take-over on axis " + std::to_string(axis) + " ignored: it reverses").c_str());
+        return;
+    }
+    const double now_speed = take_over ? current_speed(axis) : 0;
     if (mode == dcfg::cont_pos || mode == dcfg::cont_neg || origin) {
-        d->profile = SpeedProfile::continuous(p);
+        d->profile = SpeedProfile::continuous(p, now_speed);
     } else if (is_interpolation(mode) && m.isnum != 0 && m.isnum != distance) {
         // Deceleration is planned over the host's QiISNUM, not over the real step count: too
         // small a number crawls on at STD, too large a number ends the drive still fast.
         d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(m.isnum)), true);
     } else {
-        d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(distance)));
+        const double entry = take_over ? now_speed : running ? m.jspd * static_cast<double>(m.range) : 0;
+        d->profile = SpeedProfile::preset(p, d->pos_of_steps(static_cast<double>(distance)), false, entry);
     }
     d->plan_end();
+    if (take_over) {
+        // The running drive ends here with the steps it drove; the new one goes on from them.
+        running->profile.stop(running->rel(d->start));
+        running->end_t = running->rel(d->start);
+        running->at_limit = false;
+        finish(running, d->start);
+        attach(d, d->start);
+        return;
+    }
+    if (running) {
+        // Blending: the running drive now ends at JEXIT, and this one takes over at that instant.
+        const double exit = ax_[running->master].jexit * static_cast<double>(m.range);
+        if (!running->profile.blend_exit(running->rel(d->start), exit, running->params)) {
+            SC_REPORT_WARNING(name(), ("blended start on axis " + std::to_string(axis) + " ignored: the drive ends").c_str());
+            return;
+        }
+        running->plan_end();
+        plan_edges(*running);
+        running->next = d;
+        schedule();
+        return;
+    }
+    attach(d, d->start);
+}
 
+void CamcQi::attach(std::shared_ptr<Drive> d, sc_core::sc_time at) {
+    d->start = at;
     for (unsigned i = 0; i < axes; ++i)
-        if (members & (1u << i)) {
+        if (d->members & (1u << i)) {
             Axis& a = ax_[i];
             d->base[i] = a.cnt1;
             d->origin[i] = a.cnt1 - a.preset_shift;
@@ -200,7 +248,7 @@ void CamcQi::start(unsigned axis) {
             a.end_status = 0;
             a.iflag |= intf::drive_start;
         }
-    if (distance == 0 && d->limit != unlimited) {
+    if (d->limit == 0) {
         finish(d, d->start);
     } else {
         plan_edges(*d);
@@ -211,6 +259,7 @@ void CamcQi::start(unsigned axis) {
 void CamcQi::stop_drive(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause) {
     const sc_core::sc_time now = sc_core::sc_time_stamp();
     const double t = d->rel(now);
+    d->next.reset(); // a stop cancels a blended successor
     if (t >= d->end_t) return; // ending this instant anyway
     d->cause |= cause;
     if (slow) {
@@ -244,11 +293,13 @@ void CamcQi::finish(std::shared_ptr<Drive> d, sc_core::sc_time at) {
     bool traced = false;
     for (unsigned i = 0; i < axes; ++i) traced |= (d->members & (1u << i)) && ax_[i].trace;
     if (traced) record_trace(*d);
+    if (d->next && d->cause == 0) attach(std::exchange(d->next, nullptr), d->end_abs());
     wake_.notify(sc_core::SC_ZERO_TIME);
 }
 
 void CamcQi::stop_at(std::shared_ptr<Drive> d, bool slow, std::uint32_t cause, double t, std::uint64_t k) {
     d->cause |= cause;
+    d->next.reset();
     if (slow) {
         d->profile.slow_down(t, d->params);
         d->plan_end();

@@ -63,6 +63,7 @@ struct CamcQi::Drive {
         return hi;
     }
     std::uint32_t cause = 0;         // end-status bits of the stop cause (0 = normal end)
+    std::shared_ptr<Drive> next;     // blending: the drive that starts when this one ends normally
     double end_t = SpeedProfile::never; // seconds from start
     bool at_limit = false;           // the drive ends by reaching `limit`
     std::uint64_t stop_k = unlimited; // steps of a stop at a sensor edge's exact time

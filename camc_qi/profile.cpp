@@ -32,41 +32,66 @@ void SpeedProfile::ramp(double v_from, double v_to, double rate, double p) {
     append(tj, sg * rate, -sg * rate / tj);
 }
 
-SpeedProfile SpeedProfile::preset(const ProfileParams& p, double distance, bool tail) {
+SpeedProfile SpeedProfile::preset(const ProfileParams& p, double distance, bool tail, double entry) {
     SpeedProfile prof;
-    const double v0 = p.start_speed, vm = std::max(p.object_speed, p.start_speed);
-    prof.v_start_ = v0;
+    const double v0 = p.start_speed, vin = entry > 0 ? entry : v0;
+    prof.v_start_ = vin;
     prof.tail_v_ = tail ? v0 : 0;
     if (distance <= 0) return prof;
-    const double up = ramp_distance(v0, vm, p.accel, p.accel_jerk);
-    const double dn = ramp_distance(vm, v0, p.decel, p.decel_jerk);
-    // A drive starting and ending at STD with no room to ramp runs at STD throughout.
-    if (vm <= v0) {
-        prof.append(distance / v0, 0, 0);
-        prof.decel_from_ = prof.seg_.size();
-        return prof;
-    }
-    if (up + dn <= distance) {
-        prof.ramp(v0, vm, p.accel, p.accel_jerk);
-        prof.append((distance - up - dn) / vm, 0, 0);
-        prof.decel_from_ = prof.seg_.size();
-        prof.ramp(vm, v0, p.decel, p.decel_jerk);
-    } else {
-        // Triangle (or S without cruise): the peak that makes up + down = distance.
-        const double ea = p.accel * (1 - p.accel_jerk / 2), ed = p.decel * (1 - p.decel_jerk / 2);
-        const double vp = std::sqrt(v0 * v0 + 2 * distance * ea * ed / (ea + ed));
-        prof.ramp(v0, vp, p.accel, p.accel_jerk);
-        prof.decel_from_ = prof.seg_.size();
-        prof.ramp(vp, v0, p.decel, p.decel_jerk);
-    }
+    prof.plan(vin, v0, std::max(p.object_speed, v0), distance, p);
     return prof;
 }
 
-SpeedProfile SpeedProfile::continuous(const ProfileParams& p) {
+void SpeedProfile::plan(double v_in, double v_out, double vm, double distance, const ProfileParams& p) {
+    // Up-ramps at RATE1/SW1, down-ramps at RATE2/SW2.
+    auto rate = [&](double a, double b) { return b > a ? p.accel : p.decel; };
+    auto share = [&](double a, double b) { return b > a ? p.accel_jerk : p.decel_jerk; };
+    auto ramp_to = [&](double a, double b) { ramp(a, b, rate(a, b), share(a, b)); };
+    const double up = ramp_distance(v_in, vm, rate(v_in, vm), share(v_in, vm));
+    const double dn = ramp_distance(vm, v_out, rate(vm, v_out), share(vm, v_out));
+    if (up + dn <= distance) {
+        // A drive starting and ending at STD with no room to ramp (vm = STD) cruises throughout.
+        ramp_to(v_in, vm);
+        append((distance - up - dn) / vm, 0, 0);
+        decel_from_ = seg_.size();
+        ramp_to(vm, v_out);
+        return;
+    }
+    // Triangle (or S without cruise): the peak that makes up + down = distance.
+    const double ea = p.accel * (1 - p.accel_jerk / 2), ed = p.decel * (1 - p.decel_jerk / 2);
+    const double vp = std::sqrt((2 * distance * ea * ed + ed * v_in * v_in + ea * v_out * v_out) / (ea + ed));
+    if (vp >= v_in && vp >= v_out) {
+        ramp_to(v_in, vp);
+        decel_from_ = seg_.size();
+        ramp_to(vp, v_out);
+        return;
+    }
+    // No room to reach the wanted end speed at the programmed rates (a blend planned late): one
+    // constant-rate ramp from v_in to v_out over exactly the distance, so the drive still ends
+    // on its step.
+    decel_from_ = seg_.size();
+    if (std::abs(v_out - v_in) < 1e-9) {
+        append(distance / v_in, 0, 0);
+        return;
+    }
+    const double a = (v_out * v_out - v_in * v_in) / (2 * distance);
+    append((v_out - v_in) / a, a, 0);
+}
+
+bool SpeedProfile::blend_exit(double t, double exit, const ProfileParams& p) {
+    if (tail_v_ > 0 || t >= t_end()) return false;
+    const double total = s_end(), s = position(t), v = velocity(t);
+    cut(t);
+    plan(v, exit, std::max(p.object_speed, p.start_speed), total - s, p);
+    return true;
+}
+
+SpeedProfile SpeedProfile::continuous(const ProfileParams& p, double entry) {
     SpeedProfile prof;
-    const double v0 = p.start_speed, vm = std::max(p.object_speed, p.start_speed);
+    const double v0 = entry > 0 ? entry : p.start_speed, vm = std::max(p.object_speed, p.start_speed);
     prof.v_start_ = v0;
-    prof.ramp(v0, vm, p.accel, p.accel_jerk);
+    if (vm >= v0) prof.ramp(v0, vm, p.accel, p.accel_jerk);
+    else prof.ramp(v0, vm, p.decel, p.decel_jerk);
     prof.tail_v_ = vm;
     return prof;
 }
@@ -132,7 +157,8 @@ void SpeedProfile::cut(double t) {
 
 void SpeedProfile::slow_down(double t, const ProfileParams& p) {
     if (tail_v_ == 0 && t >= t_end()) return;              // already ended
-    if (decel_from_ < seg_.size() && t >= seg_[decel_from_].t0) return; // already decelerating
+    // Already decelerating to STD (a drive re-planned to end faster, for blending, still stops).
+    if (decel_from_ < seg_.size() && t >= seg_[decel_from_].t0 && v_end() <= p.start_speed) return;
     const double v = velocity(t);
     if (v <= p.start_speed) { // in the STD tail or at STD: stop now
         stop(t);

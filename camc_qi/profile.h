@@ -32,9 +32,12 @@ public:
     /// A drive of `distance` steps: STD -> OBJ (or a lower peak when too short) -> STD, ending at
     /// `distance`. With `tail` the speed stays at STD after the profile (interpolation whose
     /// QiISNUM is smaller than the real step count crawls on at STD).
-    static SpeedProfile preset(const ProfileParams& p, double distance, bool tail = false);
+    /// `entry` > 0: the drive starts at that speed instead of STD (a blended drive taking over
+    /// from the one before it, README "Blending"); it ramps from there to OBJ at RATE1 (RATE2
+    /// when above OBJ).
+    static SpeedProfile preset(const ProfileParams& p, double distance, bool tail = false, double entry = 0);
     /// A drive without a target: STD -> OBJ, then OBJ forever.
-    static SpeedProfile continuous(const ProfileParams& p);
+    static SpeedProfile continuous(const ProfileParams& p, double entry = 0);
 
     /// Steps driven by time t (continuous; the chip floors it).
     double position(double t) const;
@@ -50,6 +53,10 @@ public:
     void slow_down(double t, const ProfileParams& p);
     /// Immediate stop at t: the position freezes.
     void stop(double t);
+    /// Blending (README "Blending"): from t, re-plans the rest of the drive so that it still ends
+    /// at the same distance, but at speed `exit` instead of STD (cruise at OBJ as room allows).
+    /// False, and unchanged, when the drive has no end or has ended by t.
+    bool blend_exit(double t, double exit, const ProfileParams& p);
 
 private:
     struct Segment {
@@ -67,6 +74,8 @@ private:
     void cut(double t);
     void append(double dur, double a0, double j);
     void ramp(double v_from, double v_to, double rate, double jerk_share);
+    /// Appends v_in -> (cruise at most vm) -> v_out over `distance` (rates by direction).
+    void plan(double v_in, double v_out, double vm, double distance, const ProfileParams& p);
     double t_end() const { return seg_.empty() ? 0 : seg_.back().end(); }
     double s_end() const { return seg_.empty() ? 0 : seg_.back().s(seg_.back().dur); }
     double v_end() const { return seg_.empty() ? v_start_ : seg_.back().v(seg_.back().dur); }

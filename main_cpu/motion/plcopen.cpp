@@ -1,6 +1,7 @@
 // rcsim — PLCopen motion function blocks. See plcopen.h.
 #include "main_cpu/motion/plcopen.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -161,6 +162,12 @@ void McAxis::cycle() {
         if (!any_busy) start(active_);
         return;
     }
+    if (queued_ && queued_->started && queued_->status == Job::Status::queued) {
+        // Blending: the chip passed the junction and runs the successor (its queue is empty):
+        // this move is Done and the successor Active, without a stop.
+        if (!any_busy || !api_.BlendQueued(master_of(j))) finish_job(Job::Status::done);
+        return;
+    }
     if (j.is_continuous) {
         // MC_MoveVelocity releases a buffered successor at InVelocity (Part 1 Table 4): it is
         // aborted then, and the successor starts once the chip has ramped the drive down.
@@ -203,6 +210,15 @@ void McAxis::cycle() {
 }
 
 void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
+    job->mode = mode;
+    if (mode == BufferMode::aborting && try_take_over(job)) return;
+    if (mode != BufferMode::aborting)
+        for (McAxis* a : job->axes)
+            if (a->active_ && a->queued_ && a->queued_->started) { // already on the chip: not replaceable
+                job->status = Job::Status::error;
+                job->error_id = err::buffer_full;
+                return;
+            }
     for (McAxis* a : job->axes) {
         if (mode == BufferMode::aborting || !a->active_) {
             for (auto* slot : {&a->active_, &a->queued_})
@@ -230,6 +246,7 @@ void McAxis::submit(const std::shared_ptr<Job>& job, BufferMode mode) {
     }
     if (active_everywhere) job->status = Job::Status::active;
     if (active_everywhere && (!any_busy || job->is_stop)) start(job);
+    if (!active_everywhere && blending(mode)) try_blend(job);
 }
 
 void McAxis::set_power(bool status) {
@@ -312,6 +329,7 @@ void McExecuteFb::call() {
 
 std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec, BufferMode mode) {
     if (!axis) return err::invalid_axis;
+    if (!valid(mode)) return err::invalid_buffer_mode;
     if (const std::uint16_t r = axis->motion_refusal(mode)) return r;
     if (!(vel > 0)) return err::invalid_velocity;
     if (vel > camc::CamcQi::max_pps) return err::velocity_out_of_bound;
@@ -475,6 +493,7 @@ void MC_Stop::after() {
 
 std::uint16_t MC_Halt::begin() {
     if (!Axis) return err::invalid_axis;
+    if (!valid(Mode)) return err::invalid_buffer_mode;
     if (const std::uint16_t r = Axis->motion_refusal()) return r;
     if (!(Deceleration >= 0) || !std::isfinite(Deceleration)) return err::invalid_accel;
     const int ax = static_cast<int>(Axis->index());
@@ -490,6 +509,7 @@ std::uint16_t MC_Halt::begin() {
 
 std::uint16_t MC_Home::begin() {
     if (!Axis) return err::invalid_axis;
+    if (!valid(Mode)) return err::invalid_buffer_mode;
     if (Axis->state() != AxisState::standstill) return Axis->motion_refusal() ? Axis->motion_refusal() : err::wrong_state;
     if (Position < -camc::max_coordinate || Position > camc::max_coordinate) return err::position_out_of_bound;
     HomeMethod m;
@@ -519,6 +539,13 @@ std::uint16_t MC_MoveAbsolute::begin() {
         api.SetJerk(ax, j);
         return api.MovePos(ax, p, v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
+    job_->direction = [&api = Axis->api(), ax, p] {
+        const std::int64_t d = p - api.TargetPos(ax);
+        return d > 0 ? 1 : d < 0 ? -1 : 0;
+    };
+    job_->can_take_over = [&api = Axis->api(), ax, p, d] { return room_to_take_over(api, ax, p - api.CmdPos(ax), d); };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -534,11 +561,16 @@ std::uint16_t MC_MoveRelative::begin() {
     if (const std::uint16_t e = check_relative_target(*Axis, dist)) return e;
     job_ = make_job({Axis}, AxisState::discrete_motion, [&api = Axis->api(), &lim = Axis->limits(), ax, dist, v, a, d, j] {
         api.SetJerk(ax, j);
-        const std::int64_t target = api.CmdPos(ax) + dist;
+        // Blended: from where the running move ends.
+        const std::int64_t target = (api.InMotion(ax) && api.BlendPending(ax) ? api.TargetPos(ax) : api.CmdPos(ax)) + dist;
         if (target < -camc::max_coordinate || target > camc::max_coordinate) return axl::position_out_of_bound;
         if (const std::uint16_t e = check_target(lim, target)) return int{e}; // FB error, the axis stays
         return api.MovePos(ax, static_cast<std::int32_t>(target), v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
+    job_->direction = [dist] { return dist > 0 ? 1 : dist < 0 ? -1 : 0; };
+    job_->can_take_over = [&api = Axis->api(), ax, dist, d] { return room_to_take_over(api, ax, dist, d); };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -557,6 +589,9 @@ std::uint16_t MC_MoveVelocity::begin() {
         return api.MoveVel(ax, v, a, d);
     });
     job_->is_continuous = true;
+    job_->can_take_over = [&api = Axis->api(), ax, v] {
+        return (v < 0 ? -1 : 1) == ((api.DriveStatus(ax) & camc::drvst::negative) ? -1 : 1);
+    };
     Axis->submit(job_, Mode);
     return 0;
 }
@@ -574,15 +609,15 @@ void MC_MoveVelocity::after() {
 }
 
 namespace {
-std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d) {
+std::uint16_t check_pair(McAxis* x, McAxis* y, double v, double a, double d, BufferMode mode) {
     if (!x || !y || x == y) return err::invalid_axis;
-    if (const std::uint16_t e = check_motion(x, v, a, d)) return e;
-    return check_motion(y, v, a, d);
+    if (const std::uint16_t e = check_motion(x, v, a, d, mode)) return e;
+    return check_motion(y, v, a, d, mode);
 }
 } // namespace
 
 std::uint16_t MC_LineMove2::begin() {
-    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration, Mode)) return e;
     if (const std::uint16_t e = check_relative_target(*AxisX, X)) return e;
     if (const std::uint16_t e = check_relative_target(*AxisY, Y)) return e;
     QiMotionApi& api = AxisX->api();
@@ -596,6 +631,8 @@ std::uint16_t MC_LineMove2::begin() {
         const std::int32_t pos[2] = {swapped ? y : x, swapped ? x : y};
         return api.LineMove(coord, pos, v, a, d);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     AxisX->submit(job_, Mode);
     return 0;
 }
@@ -624,12 +661,14 @@ std::uint16_t MC_LineMove::begin() {
         api.SetCoord(3, mask);
         return api.LineMove(3, pos.data(), v, acc, dec);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     Axes[0]->submit(job_, Mode);
     return 0;
 }
 
 std::uint16_t MC_CircleCenterMove::begin() {
-    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration)) return e;
+    if (const std::uint16_t e = check_pair(AxisX, AxisY, Velocity, Acceleration, Deceleration, Mode)) return e;
     if (Direction != dir_cw && Direction != dir_ccw) return err::interpolation_value;
     if (AxisX->index() > AxisY->index()) return err::invalid_axis; // X must be the lower-numbered axis
     // The end must lie on the circle through the start (within one pulse), or the chip would stop
@@ -653,6 +692,8 @@ std::uint16_t MC_CircleCenterMove::begin() {
         api.SetCoord(1, mask);
         return api.CircleCenterMove(1, cx, cy, ex, ey, v, a, d, dir);
     });
+    job_->blendable = true;
+    job_->velocity = v;
     AxisX->submit(job_, Mode);
     return 0;
 }

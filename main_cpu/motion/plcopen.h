@@ -25,7 +25,17 @@ enum class AxisState : std::uint8_t {
 };
 const char* to_string(AxisState s);
 
-enum class BufferMode : std::uint8_t { aborting = 0, buffered = 1 };
+/// MC_BUFFER_MODE (Part 1 §2.4.2, numbered as PLC runtimes do): with the blending modes the
+/// command waits for the running one as buffered, but the axis passes the junction without
+/// stopping, at the lower (Low) of both Velocity inputs, the first's (Previous), the second's
+/// (Next) or the higher (High) (docs/motion.md "Buffer modes"). Other values: ErrorID 0x7020.
+enum class BufferMode : std::uint8_t {
+    aborting = 0, buffered = 1, blending_low = 2, blending_previous = 3, blending_next = 4, blending_high = 5,
+};
+bool valid(BufferMode m);
+bool blending(BufferMode m);
+/// The speed at the junction of a move at v1 blended into one at v2 (0 = stop there).
+double blend_velocity(BufferMode m, double v1, double v2);
 /// MC_DIRECTION (Part 1 §2.4.3) for MC_MoveVelocity; mcShortestWay applies to rotary axes only.
 enum class McDirection : std::int8_t { negative = -1, current = 0, positive = 1 };
 
@@ -42,6 +52,8 @@ constexpr std::uint16_t axis_stopping = 0x7003;  // motion command while MC_Stop
 constexpr std::uint16_t wrong_state = 0x7004;    // e.g. MC_Home outside Standstill
 constexpr std::uint16_t power_timeout = 0x7005;  // drive did not reach Operation enabled
 constexpr std::uint16_t parameter_unsupported = 0x7006; // MC_ReadParameter: a number not listed in docs/motion.md
+constexpr std::uint16_t invalid_buffer_mode = 0x7020; // BufferMode not one of MC_BUFFER_MODE's 0..5
+constexpr std::uint16_t buffer_full = 0x7021;   // a command behind a blended one already on the chip
 constexpr std::uint16_t limit_positive = 0x7101, limit_negative = 0x7102, drive_fault = 0x7103;
 constexpr std::uint16_t emergency_stop = 0x7104, home_not_found = 0x7105;
 } // namespace err
@@ -62,7 +74,19 @@ struct Job {
     bool is_continuous = false;                // MC_MoveVelocity: never Done; a buffered successor takes over at InVelocity
     double abort_decel = 0;                    // the ramp (pulses/s^2) that stops the drive it aborts; 0 = as programmed
     std::int64_t home_position = 0;
+    // Blending: a positioning or path move (not a halt, velocity or homing), its Velocity and,
+    // for one axis, its direction from where the move before it ends (0: unknown, no blend).
+    bool blendable = false;
+    double velocity = 0;
+    std::function<int()> direction;
+    BufferMode mode = BufferMode::aborting;
+    // Aborting (issue #49 item 3): whether this single-axis move can take over the running drive
+    // from its present speed (same way, room to stop); empty = never.
+    std::function<bool()> can_take_over;
 };
+
+/// The axis whose chip registers hold a job's rates: the lowest-numbered (the chip's master).
+int master_of(const Job& j);
 
 class McAxis {
 public:
@@ -125,6 +149,12 @@ private:
     void leave_stopping(); // Done AND NOT Execute: a buffered command, or Standstill
     void start(const std::shared_ptr<Job>& j);
     void settle_state();
+    /// Blending: starts the buffered job on the chip behind the running one (queued there), if
+    /// both can blend at a junction speed above 0; false leaves it buffered.
+    bool try_blend(const std::shared_ptr<Job>& next);
+    /// Aborting: replaces the running single-axis move by `job` on the chip at once, from the
+    /// present velocity (no stop); false when it cannot, and the old way (ramp down) applies.
+    bool try_take_over(const std::shared_ptr<Job>& job);
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -256,8 +286,9 @@ protected:
 
 /// Part 1 §3.9: an endless drive at Velocity (ContinuousMotion); InVelocity while the commanded
 /// speed equals Velocity; ends only by CommandAborted (another motion block, MC_Halt, MC_Stop)
-/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); the CAMC-QI cannot change
-/// the speed of a running drive, so a new command first ramps this one down (docs/motion.md).
+/// or Error. Velocity > 0 (its sign, if negative, reverses Direction); an aborting command the same
+/// way takes over from the present speed, one that reverses first ramps this one down
+/// (docs/motion.md "Buffer modes").
 class MC_MoveVelocity : public McExecuteFb {
 public:
     McAxis* Axis = nullptr;
@@ -400,6 +431,10 @@ public:
 protected:
     std::uint16_t begin() override;
 };
+
+/// Whether a move `rest` pulses on from the present position can take over the axis' running
+/// drive: the same way, and the drive's present speed can stop within it at `dec`.
+bool room_to_take_over(QiMotionApi& api, int axis, std::int64_t rest, double dec);
 
 /// Shared parameter checks (0 = ok).
 std::uint16_t check_motion(const McAxis* axis, double vel, double acc, double dec,

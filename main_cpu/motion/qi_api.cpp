@@ -118,12 +118,41 @@ int QiMotionApi::SetJerk(int a, double jerk) {
     return axl::success;
 }
 
+int QiMotionApi::SetBlend(int a, double vel) {
+    if (!axis_ok(a)) return axl::invalid_axis;
+    if (!(vel >= 0) || !(vel <= CamcQi::max_pps)) return axl::invalid_velocity;
+    blend_[a] = vel;
+    return axl::success;
+}
+
+bool QiMotionApi::BlendQueued(int a) { return !(bus_.read(a, qi::STAT2) & drvst::queue_empty); }
+
+double QiMotionApi::take_blend(int m, bool busy) {
+    const double vb = std::exchange(blend_[m], 0.0);
+    return busy && vb > 0 ? vb : 0;
+}
+
+void QiMotionApi::blend_speeds(int m, double vel, double new_scale) {
+    // The running drive's rates are its master's, in its own steps (step_scale_ before this move).
+    bus_.write(m, qi::write | qi::JSPD, reg(vel * new_scale));
+    bus_.write(master_[m], qi::write | qi::JEXIT, reg(vel * step_scale_[m]));
+}
+
 int QiMotionApi::MovePos(int a, std::int32_t pos, double vel, double acc, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
     if (!in_range(pos)) return axl::position_out_of_bound;
-    if (InMotion(a)) return axl::in_motion;
-    if (int r = speeds(a, vel, acc, dec, dcfg::preset << dcfg::mode_shift)) return r;
-    const std::int64_t dist = std::int64_t{pos} - CmdPos(a); // |dist| <= 2^31 - 2: fits POS
+    const bool busy = InMotion(a);
+    const bool over = std::exchange(take_over_[a], false) && busy;
+    const double vb = over ? 0 : take_blend(a, busy);
+    if (busy && !(vb > 0) && !over) return axl::in_motion;
+    if (vb > 0) blend_speeds(a, vb, 1);
+    if (int r = speeds(a, vel, acc, dec, (dcfg::preset << dcfg::mode_shift) | (vb > 0 ? dcfg::blend : 0) |
+                                             (over ? dcfg::take_over : 0)))
+        return r;
+    // A blended move starts where the running one ends; a take-over's POS is absolute.
+    // |dist| <= 2^31 - 2: fits POS.
+    const std::int64_t dist = over ? pos : std::int64_t{pos} - (vb > 0 ? target_[a] : CmdPos(a));
+    target_[a] = pos;
     bus_.write(a, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
     bus_.write(a, qi::STRN, 0);
     return (EndStatus(a) & (endst::alarm | endst::pelm | endst::nelm | endst::estop_signal)) ? axl::sensor_check
@@ -132,8 +161,9 @@ int QiMotionApi::MovePos(int a, std::int32_t pos, double vel, double acc, double
 
 int QiMotionApi::MoveVel(int a, double vel, double acc, double dec) {
     if (!axis_ok(a)) return axl::invalid_axis;
-    if (InMotion(a)) return axl::in_motion;
-    const std::uint32_t m = (vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift;
+    const bool over = std::exchange(take_over_[a], false) && InMotion(a);
+    if (!over && InMotion(a)) return axl::in_motion;
+    const std::uint32_t m = ((vel < 0 ? dcfg::cont_neg : dcfg::cont_pos) << dcfg::mode_shift) | (over ? dcfg::take_over : 0);
     if (int r = speeds(a, std::abs(vel), acc, dec, m)) return r;
     bus_.write(a, qi::STRN, 0);
     return (EndStatus(a) & ~endst::slowdown_cmd) ? axl::sensor_check : axl::success;
@@ -223,21 +253,25 @@ int QiMotionApi::LineMove(int c, const std::int32_t* pos, double vel, double acc
     double len2 = 0;
     std::int64_t longest = 0;
     unsigned n = 0;
+    bool busy = false;
     for (int a = 0; a < 4; ++a) {
         if (!(mask & (1u << a))) continue;
         if (master < 0) master = a;
-        if (InMotion(a)) return axl::in_motion;
+        busy |= InMotion(a);
         const std::int64_t d = pos[n++];
         if (!in_range(d)) return axl::position_out_of_bound;
         len2 += static_cast<double>(d) * static_cast<double>(d);
         longest = std::max(longest, d < 0 ? -d : d);
     }
+    const double vb = master >= 0 ? take_blend(master, busy) : 0;
+    if (busy && !(vb > 0)) return axl::in_motion;
     if (!(vel > 0)) return axl::invalid_velocity;
     if (len2 == 0) return axl::success; // nothing to move
     // The chip's speed is the long axis' step rate; scale so that the path speed is Vel.
     const double k = static_cast<double>(longest) / std::sqrt(len2);
+    if (vb > 0) blend_speeds(master, vb, k);
     if (int r = speeds(master, vel * k, acc * k, dec * k,
-                       (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift)))
+                       (dcfg::linear << dcfg::mode_shift) | (mask << dcfg::axes_shift) | (vb > 0 ? dcfg::blend : 0)))
         return r;
     set_master(mask, master, k);
     n = 0;
@@ -261,7 +295,9 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
             ids[n++] = a;
         }
     if (n != 2 || (dir != dir_cw && dir != dir_ccw)) return axl::invalid_axis;
-    if (InMotion(ids[0]) || InMotion(ids[1])) return axl::in_motion;
+    const bool busy = InMotion(ids[0]) || InMotion(ids[1]);
+    const double vb = take_blend(ids[0], busy);
+    if (busy && !(vb > 0)) return axl::in_motion;
     if (!(vel > 0)) return axl::invalid_velocity;
     const Point s{-std::int64_t{cx}, -std::int64_t{cy}};
     const Point e{std::int64_t{ex} - cx, std::int64_t{ey} - cy};
@@ -277,9 +313,10 @@ int QiMotionApi::CircleCenterMove(int c, std::int32_t cx, std::int32_t cy, std::
     }
     // Constant vector speed: Vel, Acc and Dec are along the arc (PLCopen's path velocity), the
     // chip spaces the steps by the arc length they cover.
+    if (vb > 0) blend_speeds(ids[0], vb, 1);
     if (int r = speeds(ids[0], vel, acc, dec,
                        ((dir == dir_cw ? dcfg::circle_cw : dcfg::circle_ccw) << dcfg::mode_shift) |
-                           (coord_[c] << dcfg::axes_shift) | dcfg::vector_speed))
+                           (coord_[c] << dcfg::axes_shift) | dcfg::vector_speed | (vb > 0 ? dcfg::blend : 0)))
         return r;
     set_master(coord_[c], ids[0], 1);
     bus_.write(ids[0], qi::write | qi::CENT, static_cast<std::uint32_t>(cx));

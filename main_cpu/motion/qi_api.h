@@ -105,6 +105,22 @@ public:
     /// jerk is higher.
     int SetJerk(int AxisNo, double Jerk);
 
+    /// Blending (PLCopen BufferMode 2-5; camc_qi/README.md "Blending"): the next MovePos,
+    /// LineMove or CircleCenterMove on this axis (the master of a group) is queued behind the
+    /// drive the same axes run now, which then ends at Vel (pulses/s along the path) instead of
+    /// stopping, and the new move starts there at Vel. For the next move only; without a running
+    /// drive the move starts as usual. MovePos then measures from the running move's target.
+    int SetBlend(int AxisNo, double Vel);
+    /// Take-over (PLCopen Aborting, camc_qi/README.md "Blending"): the next MovePos or MoveVel on
+    /// this axis replaces the drive it runs now at once, from its current speed and the same way
+    /// (the caller checks the direction and that the new target leaves room to stop).
+    void SetTakeOver(int AxisNo, bool on = true) { take_over_[AxisNo & 3] = on; }
+    bool BlendPending(int AxisNo) const { return blend_[AxisNo & 3] > 0; }
+    /// A blended move waits behind the running drive (the chip's queue is not empty).
+    bool BlendQueued(int AxisNo);
+    /// Where the last MovePos of the axis ends (its blended successor starts there).
+    std::int64_t TargetPos(int AxisNo) const { return target_[AxisNo & 3]; }
+
     int SetCoord(int Coord, std::uint32_t axis_mask);
     void SetStartSpeed(int AxisNo, double Vel) { start_speed_[AxisNo & 3] = Vel; }
     bool InMotion(int AxisNo);
@@ -138,7 +154,9 @@ private:
     };
     std::array<Homing, 4> homing_{};
     std::array<unsigned, 4> profile_{1, 1, 1, 1};
-    std::array<double, 4> accel_jerk_{}, jerk_{};
+    std::array<double, 4> accel_jerk_{}, jerk_{}, blend_{};
+    std::array<std::int64_t, 4> target_{};
+    std::array<bool, 4> take_over_{};
     // The axis holding the rates of the drive an axis was last started in (itself, or the master
     // of its interpolation), and that drive's chip steps per pulse of path (for SlowStop's Decel).
     std::array<int, 4> master_{0, 1, 2, 3};
@@ -147,6 +165,10 @@ private:
     static bool axis_ok(long a) { return a >= 0 && a < 4; }
     int home_step(int axis);
     int speeds(int axis, double vel, double acc, double dec, std::uint32_t profile_mode);
+    /// Takes the SetBlend speed of `master` if `busy`: 0 = no blend (a busy axis is refused).
+    double take_blend(int master, bool busy);
+    /// JSPD/JEXIT of a blended start: the junction speed in the new drive's and the running one's steps.
+    void blend_speeds(int master, double vel, double new_scale);
     void uio(int axis, unsigned bit, bool on);
     void set_master(std::uint32_t mask, int master, double scale);
 };

@@ -9,6 +9,7 @@
 #include "main_cpu/st/library.h"
 
 #include <functional>
+#include <limits>
 #include <type_traits>
 #include <utility>
 
@@ -48,9 +49,12 @@ template <typename Fb, typename C, typename M> Field<Fb> input(const char* name,
     } else if constexpr (std::is_enum_v<M>) {
         f.type = Kind::Int;
         f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
-        // Through the underlying type: any INT value becomes some value of the enumeration.
+        // Through the underlying type; a value it cannot hold becomes its largest, never a valid
+        // value by wrapping (BufferMode 259 must be refused as 259, not run as 3).
         f.in = [m](Fb& b, const Value& v, const ExecContext&) {
-            b.*m = static_cast<M>(static_cast<std::underlying_type_t<M>>(v.i));
+            using U = std::underlying_type_t<M>;
+            const bool fits = v.i >= std::numeric_limits<U>::min() && v.i <= std::numeric_limits<U>::max();
+            b.*m = static_cast<M>(fits ? static_cast<U>(v.i) : std::numeric_limits<U>::max());
         };
     } else {
         f.init = Value{static_cast<std::int64_t>(Fb{}.*m), 0};
@@ -171,6 +175,17 @@ private:
 
 void add_motion_blocks(Unit& u) {
     using namespace motion;
+    // MC_BUFFER_MODE's values as PLC runtimes number them (PLCopen Part 1 §2.4.2): INT constants,
+    // so that BufferMode takes a name or a number (a number outside 0..5 gets ErrorID 0x7020).
+    static const std::pair<const char*, BufferMode> buffer_modes[] = {
+        {"mcAborting", BufferMode::aborting},         {"mcBuffered", BufferMode::buffered},
+        {"mcBlendingLow", BufferMode::blending_low},   {"mcBlendingPrevious", BufferMode::blending_previous},
+        {"mcBlendingNext", BufferMode::blending_next}, {"mcBlendingHigh", BufferMode::blending_high},
+    };
+    for (const auto& [name, mode] : buffer_modes) {
+        PouBuilder{u.globals}.add(name, VarKind::global, Kind::Int, Value{static_cast<std::int64_t>(mode), 0});
+        u.globals.vars.back().read_only = u.globals.vars.back().constant = true;
+    }
     {
         auto p = std::make_unique<PouType>();
         p->name = "MC_Power";

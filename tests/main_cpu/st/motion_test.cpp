@@ -412,4 +412,61 @@ END_PROGRAM)";
     });
 }
 
+// MC_BUFFER_MODE's names in ST (issue #49 item 2): two tangent half circles (an S of radius 2000 at
+// 10000 pulses/s) with BufferMode := mcBlendingLow keep the path speed at 10000 through the
+// junction; the same program with mcBuffered stops there; 7 and 259 are refused with 0x7020.
+const char* s_curve = R"(
+PROGRAM M
+VAR p0, p1 : MC_Power; c1, c2 : MC_CircleCenterMove; bad : MC_MoveRelative; go : BOOL;
+    mode : INT := mcBlendingLow; badmode : INT := 7; names_ok : BOOL; END_VAR
+p0(Axis := Axis0, Enable := TRUE);
+p1(Axis := Axis1, Enable := TRUE);
+c1(AxisX := Axis0, AxisY := Axis1, Execute := go, CenterX := 2000, CenterY := 0, EndX := 4000, EndY := 0,
+   Direction := 0, Velocity := 10000, Acceleration := 100000, Deceleration := 100000);
+c2(AxisX := Axis0, AxisY := Axis1, Execute := go AND c1.Busy, CenterX := 2000, CenterY := 0, EndX := 4000,
+   EndY := 0, Direction := 1, Velocity := 10000, Acceleration := 100000, Deceleration := 100000,
+   BufferMode := mode);
+bad(Axis := Axis2, Execute := go, Distance := 100, Velocity := 1000, Acceleration := 1000,
+    Deceleration := 1000, BufferMode := badmode);
+names_ok := mcAborting = 0 AND mcBuffered = 1 AND mcBlendingLow = 2 AND mcBlendingPrevious = 3
+            AND mcBlendingNext = 4 AND mcBlendingHigh = 5;
+END_PROGRAM)";
+
+/// Runs the S once; returns the lowest path speed from 0.1 s after the start to the second arc's
+/// final ramp (its last 0.1 s), and the refused move's ErrorID.
+double s_curve_min_speed(StMotionLoop& b, std::int64_t& bad_error) {
+    b.program->set_value("go", st::Value{1, 0});
+    b.cycles(100);
+    double min_speed = 1e9;
+    for (int i = 0; i < 5000 && !b.var("c2.Done"); ++i) {
+        b.cycles(1);
+        if (!b.mc.chip().busy(0) || ((b.mc.chip().drive_status(0) & camc::drvst::down) && b.var("c2.Active")))
+            continue; // the second arc's own final ramp, and the end
+        min_speed = std::min(min_speed, b.mc.chip().current_speed(0));
+    }
+    EXPECT_EQ(b.var("c2.Done"), 1);
+    bad_error = b.var("bad.ErrorID");
+    b.program->set_value("go", st::Value{0, 0});
+    b.cycles(2);
+    return min_speed;
+}
+
+TEST(StMotion, BufferModeNamesBlendTwoTangentHalfCircles) {
+    run(s_curve, [](StMotionLoop& b) {
+        b.cycles(10);
+        EXPECT_EQ(b.var("names_ok"), 1);
+        std::int64_t bad = 0;
+        EXPECT_GT(s_curve_min_speed(b, bad), 9900) << "mcBlendingLow: no stop at the junction";
+        EXPECT_EQ(b.mc.chip().command_position(0), 8000);
+        EXPECT_EQ(b.mc.chip().command_position(1), 0);
+        EXPECT_EQ(bad, 0x7020) << "BufferMode 7";
+        b.program->set_value("mode", st::Value{1, 0}); // mcBuffered
+        b.program->set_value("badmode", st::Value{259, 0}); // not 3 by wrapping
+        EXPECT_LT(s_curve_min_speed(b, bad), 200) << "mcBuffered stops between the arcs";
+        EXPECT_EQ(b.mc.chip().command_position(0), 16000);
+        EXPECT_EQ(bad, 0x7020) << "BufferMode 259";
+        EXPECT_EQ(b.mc.chip().command_position(2), 0) << "the refused moves never ran";
+    });
+}
+
 } // namespace
