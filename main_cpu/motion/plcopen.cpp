@@ -14,20 +14,6 @@ using camc::endst::home_ok;
 using camc::endst::nelm;
 using camc::endst::pelm;
 
-const char* to_string(AxisState s) {
-    switch (s) {
-    case AxisState::disabled: return "DISABLED";
-    case AxisState::standstill: return "STANDSTILL";
-    case AxisState::homing: return "HOMING";
-    case AxisState::discrete_motion: return "DISCRETE_MOTION";
-    case AxisState::continuous_motion: return "CONTINUOUS_MOTION";
-    case AxisState::synchronized_motion: return "SYNCHRONIZED_MOTION";
-    case AxisState::stopping: return "STOPPING";
-    case AxisState::error_stop: return "ERRORSTOP";
-    }
-    return "?";
-}
-
 // ---------------------------------------------------------------------------------------------
 // Axis
 

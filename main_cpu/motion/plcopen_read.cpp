@@ -1,10 +1,25 @@
-// rcsim — PLCopen Part 1's Enable-type reads of an axis (MC_ReadStatus, MC_ReadActualPosition,
-// MC_ReadAxisError, MC_ReadParameter), MC_WriteParameter and MC_SetPosition. See plcopen.h.
+// rcsim — an axis state's name and PLCopen Part 1's Enable-type reads of an axis (MC_ReadStatus,
+// MC_ReadActualPosition, MC_ReadAxisError, MC_ReadParameter), MC_WriteParameter and MC_SetPosition.
+// See plcopen.h.
 #include "main_cpu/motion/plcopen.h"
 
 #include <cmath>
 
 namespace rcsim::motion {
+
+const char* to_string(AxisState s) {
+    switch (s) {
+    case AxisState::disabled: return "DISABLED";
+    case AxisState::standstill: return "STANDSTILL";
+    case AxisState::homing: return "HOMING";
+    case AxisState::discrete_motion: return "DISCRETE_MOTION";
+    case AxisState::continuous_motion: return "CONTINUOUS_MOTION";
+    case AxisState::synchronized_motion: return "SYNCHRONIZED_MOTION";
+    case AxisState::stopping: return "STOPPING";
+    case AxisState::error_stop: return "ERRORSTOP";
+    }
+    return "?";
+}
 
 void McEnableFb::call() {
     Busy = Enable;
