@@ -5,7 +5,9 @@
   - idle connections: at most 16 plain HTTP connections from one address and 64 in all, a new one
     closing the oldest that has sent nothing; an idle connection closed after 2 s; with 64 idle
     sockets renewed as they get closed, GET / and a WebSocket request are answered within 1 s;
-  - the bytes sent in the same write as the WebSocket upgrade request are served.
+  - the bytes sent in the same write as the WebSocket upgrade request are served;
+  - 16 WebSocket clients at once, the 17th handshake answered 503; a message nested 33 deep drops
+    its client.
 
 usage: net_test.py RCSIM SCENARIO"""
 import json
@@ -189,12 +191,52 @@ def early_frames(run):
     c.close()
 
 
+WS_CLIENTS = 16  # docs/monitor.md "Limits"
+
+
+def websocket_cap(run):
+    """16 WebSocket clients are served; the 17th handshake is answered 503 and closed."""
+    clients = []
+    try:
+        for _ in range(WS_CLIENTS):
+            clients.append(run.ws())
+            clients[-1].recv()  # hello: the session is running
+        s = connect(run.port)
+        s.sendall(UPGRADE)
+        head = b""
+        while b"\r\n" not in head:
+            chunk = s.recv(1)
+            if not chunk:
+                break
+            head += chunk
+        check(b" 503 " in head.split(b"\r\n", 1)[0],
+              "with %d WebSocket clients the next handshake is answered 503 (%r)" % (WS_CLIENTS, head[:40]))
+        s.close()
+    finally:
+        for c in clients:
+            c.close()
+
+
+def json_nesting(run):
+    """A message nested 33 levels deep drops its client, naming the reason in the log."""
+    c = run.ws()
+    c.recv()  # hello
+    c.send_raw(b"[" * 33 + b"]" * 33)
+    check(wait_closed([c.sock]), "a client sending JSON nested 33 levels deep is dropped")
+    c.close()
+    end = time.monotonic() + HANG_S
+    while "nested deeper than 32" not in run.stderr() and time.monotonic() < end:
+        time.sleep(0.05)
+    check("nested deeper than 32" in run.stderr(), "the log says why: JSON nested deeper than 32")
+
+
 def main(rcsim, scenario):
     run = Rcsim(rcsim, scenario)
     try:
         # The frames sent with the upgrade last: without them the wait for their answer is the
         # only one long enough to outlast the scenario.
-        for part in (pipelining, per_peer_cap, total_cap, idle_timeout, page_under_idle_flood, early_frames):
+        for part in (websocket_cap, json_nesting, pipelining, per_peer_cap, total_cap, idle_timeout, page_under_idle_flood,
+                     early_frames):
             try:
                 part(run)
             except (ConnectionError, TimeoutError, OSError) as e:
