@@ -148,7 +148,14 @@ std::string GdbStub::BoardTarget::monitor(const std::string& command) {
 
 GdbStub::GdbStub(const GdbStubConfig& config, CommBoard& board, RealtimePacer* pacer, std::ostream& log)
     : config_(config), board_(board), pacer_(pacer), log_(log), target_(std::make_unique<BoardTarget>(board)),
-      session_(*target_), acceptor_(io_) {
+      session_(*target_), acceptor_(io_),
+      // At most kMaxConnectionLines per window, so that a flood of peers cannot flood the log.
+      connection_lines_(log, kMaxConnectionLines, kConnectionLogWindow, [](std::uint64_t n) {
+          return "gdb: " + std::to_string(n) +
+                 " more connection lines not shown (peers dropped, debuggers attached or gone; " +
+                 std::to_string(kMaxConnectionLines) + " are shown every " +
+                 std::to_string(kConnectionLogWindow.count()) + " s)";
+      }) {
     boost::system::error_code ec;
     const auto addr = asio::ip::make_address(config_.address, ec);
     if (ec) throw ConfigError("--gdb: bad address '" + config_.address + "'");
@@ -279,31 +286,6 @@ bool GdbStub::newcomer_attached() {
     return false;
 }
 
-// Connection lines (attached, dropped, gone): at most kMaxConnectionLines per window, so that a
-// flood of peers cannot flood the log; the rest are counted in one line when the window ends.
-void GdbStub::connection_line(const std::string& line) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - log_window_start_ >= kConnectionLogWindow) {
-        flush_connection_lines(false);
-        log_window_start_ = now;
-        log_lines_ = 0;
-    }
-    if (log_lines_ < kMaxConnectionLines) {
-        ++log_lines_;
-        log_ << line << std::endl;
-    } else {
-        ++log_suppressed_;
-    }
-}
-
-void GdbStub::flush_connection_lines(bool at_end) {
-    if (log_suppressed_ == 0) return;
-    if (!at_end && std::chrono::steady_clock::now() - log_window_start_ < kConnectionLogWindow) return;
-    log_ << "gdb: " << log_suppressed_ << " more connection lines not shown (peers dropped, debuggers attached or gone; "
-         << kMaxConnectionLines << " are shown every " << kConnectionLogWindow.count() << " s)" << std::endl;
-    log_suppressed_ = 0;
-}
-
 void GdbStub::note_ignored() {
     if (ignored_)
         log_ << "gdb: ignored " << ignored_ << " packets sent while the board ran (only Ctrl-C is read then)"
@@ -313,7 +295,7 @@ void GdbStub::note_ignored() {
 }
 
 void GdbStub::poll() {
-    if (log_suppressed_) flush_connection_lines(false);
+    connection_lines_.flush();
     arm_read();
     io_.restart();
     io_.poll();
@@ -327,7 +309,7 @@ void GdbStub::wait_for(std::chrono::milliseconds timeout) {
 }
 
 void GdbStub::drop_client(const std::string& why) {
-    if (!why.empty()) connection_line("gdb: " + why + "; the run continues");
+    if (!why.empty()) connection_lines_.line("gdb: " + why + "; the run continues");
     boost::system::error_code ec;
     socket_->close(ec);
     poll(); // lets the cancelled read and write finish before the socket goes
@@ -414,7 +396,7 @@ void GdbStub::boundary(const i8086::Cpu& cpu) {
     if (fresh_client_) {
         if (!newcomer_attached()) return;
         fresh_client_ = false;
-        connection_line("gdb: debugger attached");
+        connection_lines_.line("gdb: debugger attached");
         halt(StopReason{StopReason::Kind::step}, false); // gdb expects a stopped target: its packets are served there
         return;
     }
@@ -523,7 +505,7 @@ void GdbStub::serve(const RspDecoder::Event& e) {
 }
 
 void GdbStub::finish(int exit_code) {
-    flush_connection_lines(true);
+    connection_lines_.flush(true);
     if (!socket_) return;
     if (!closed_ && !fresh_client_) { // a peer that has not attached is no debugger to tell
         StopReason end;

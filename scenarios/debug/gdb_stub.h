@@ -41,6 +41,7 @@
 //     running.
 #pragma once
 
+#include "models/plumbing/log_limiter.h"
 #include "scenarios/debug/gdb_protocol.h"
 
 #include <boost/asio.hpp>
@@ -120,8 +121,6 @@ private:
     void drop_client(const std::string& why); // why: the log line, "" for none
     void check_greeting(const char* data, std::size_t n);
     bool newcomer_attached();
-    void connection_line(const std::string& line);
-    void flush_connection_lines(bool at_end);
 
     GdbStubConfig config_;
     CommBoard& board_;
@@ -140,9 +139,7 @@ private:
     std::size_t greeting_bytes_ = 0;  // received from the newcomer so far
     bool greeting_started_ = false;   // its first byte other than '+' was '$'
     std::string not_debugger_;        // why the newcomer is no debugger ("" while it may be one)
-    std::chrono::steady_clock::time_point log_window_start_;
-    unsigned log_lines_ = 0;          // connection lines printed in this window
-    std::size_t log_suppressed_ = 0;  // and not printed
+    LogLimiter connection_lines_; // attached, dropped, gone
     std::array<char, kReadChunk> rx_{};
     bool reading_ = false;                    // a read is pending
     RspDecoder decoder_;

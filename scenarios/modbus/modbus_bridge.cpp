@@ -17,27 +17,11 @@ constexpr auto kPublishEvery = std::chrono::milliseconds(20);
 constexpr std::uint16_t kNoResult = 0xFFFF;
 } // namespace
 
-void WriteLog::line(const std::string& text) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - window_ >= std::chrono::seconds(1)) {
-        flush(true);
-        window_ = now;
-    }
-    if (lines_ < kLinesPerSecond) {
-        out_ << "modbus: " << text << std::endl;
-        ++lines_;
-    } else ++left_out_;
-}
-
-void WriteLog::flush(bool now) {
-    if (left_out_ == 0 && lines_ == 0) return;
-    if (!now && std::chrono::steady_clock::now() - window_ < std::chrono::seconds(1)) return;
-    if (left_out_ > 0)
-        out_ << "modbus: ... and " << left_out_ << " more writes in that second, not logged (at most " << kLinesPerSecond
-             << " lines a second)" << std::endl;
-    left_out_ = 0;
-    lines_ = 0;
-}
+WriteLog::WriteLog(std::ostream& out)
+    : lines_(out, kLinesPerSecond, std::chrono::seconds(1), [](std::uint64_t n) {
+          return "modbus: ... and " + std::to_string(n) + " more writes in that second, not logged (at most " +
+                 std::to_string(kLinesPerSecond) + " lines a second)";
+      }) {}
 
 ModbusBridge::ModbusBridge(monitor::BoardMonitor& mon, const std::string& host, unsigned port, std::ostream& log)
     : mon_(mon), server_(host, port, log), log_(log), holding_(table_size(Table::holding_register), 0) {

@@ -8,6 +8,7 @@
 // mailbox's registers themselves are stored at once).
 #pragma once
 
+#include "models/plumbing/log_limiter.h"
 #include "scenarios/modbus/modbus_server.h"
 #include "scenarios/monitor/board_monitor.h"
 
@@ -25,19 +26,16 @@ namespace rcsim::modbus {
 class WriteLog {
 public:
     static constexpr unsigned kLinesPerSecond = 10;
-    explicit WriteLog(std::ostream& out) : out_(out) {}
+    explicit WriteLog(std::ostream& out);
     ~WriteLog() { flush(true); }
     WriteLog(const WriteLog&) = delete;
     WriteLog& operator=(const WriteLog&) = delete;
-    void line(const std::string& text);
+    void line(const std::string& text) { lines_.line("modbus: " + text); }
     /// The summary of a second that is over (`now`: whatever the second).
-    void flush(bool now = false);
+    void flush(bool now = false) { lines_.flush(now); }
 
 private:
-    std::ostream& out_;
-    std::chrono::steady_clock::time_point window_; // the start of the current second
-    unsigned lines_ = 0;                           // written in it
-    std::uint64_t left_out_ = 0;                   // not written in it
+    LogLimiter lines_;
 };
 
 class ModbusBridge {
