@@ -1,11 +1,7 @@
 // The CAMC-QI's blended start (camc_qi/README.md "Blending", issue #49 item 2): a drive queued
 // behind a running one, which re-plans its end to JEXIT and hands over at that speed, no stop.
 // Expected values are the kinematics of the programmed ramps.
-#include "camc_qi/camc_qi.h"
-#include "models/bus.h"
-#include "tests/support/sc_test.h"
-
-#include <tlm_utils/simple_initiator_socket.h>
+#include "tests/camc_qi/chip_host.h"
 
 #include <algorithm>
 #include <functional>
@@ -18,47 +14,28 @@ using sc_core::SC_US;
 
 namespace {
 
-struct Host : sc_core::sc_module {
-    tlm_utils::simple_initiator_socket<Host> sock{"sock"};
-    CamcQi chip{"chip"};
-    std::function<void(Host&)> body;
-    explicit Host(sc_core::sc_module_name n) : sc_module(n) {
-        sock.bind(chip.socket);
-        test::spawn_checked([this] { body(*this); sc_core::sc_stop(); }, "run");
-    }
-    void cmd(unsigned axis, std::uint8_t code, std::uint32_t data = 0) {
-        std::uint8_t b[4] = {std::uint8_t(data), std::uint8_t(data >> 8), std::uint8_t(data >> 16),
-                             std::uint8_t(data >> 24)};
-        const sc_time now = sc_core::sc_time_stamp();
-        EXPECT_TRUE(bus_access(sock, BusCycle::mem_write, axis * win::stride + win::data, b, 4, now).ok());
-        EXPECT_TRUE(bus_access(sock, BusCycle::mem_write, axis * win::stride + win::command, &code, 1, now).ok());
-    }
-    /// A preset drive of `dist` at `obj`, 100000 pulses/s^2 both ways, STD 100; blended if `jspd`.
-    void move(std::int32_t dist, std::uint32_t obj, std::uint32_t jspd = 0, std::uint32_t jexit = 0) {
-        cmd(0, qi::write | qi::STD, 100);
-        cmd(0, qi::write | qi::OBJ, obj);
-        cmd(0, qi::write | qi::RATE1, 100000);
-        cmd(0, qi::write | qi::RATE2, 100000);
-        cmd(0, qi::write | qi::JSPD, jspd);
-        cmd(0, qi::write | qi::JEXIT, jexit);
-        cmd(0, qi::write | qi::DCFG, (dcfg::preset << dcfg::mode_shift) | 1u | (jspd ? dcfg::blend : 0));
-        cmd(0, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
-        cmd(0, qi::STRN);
-    }
-};
+using camc_test::Host;
+using camc_test::run;
 
-void run(const std::function<void(Host&)>& body) {
-    Host h("host");
-    h.body = body;
-    sc_core::sc_start();
+/// A preset drive of `dist` at `obj`, 100000 pulses/s^2 both ways, STD 100; blended if `jspd`.
+void move(Host& h, std::int32_t dist, std::uint32_t obj, std::uint32_t jspd = 0, std::uint32_t jexit = 0) {
+    h.cmd(0, qi::write | qi::STD, 100);
+    h.cmd(0, qi::write | qi::OBJ, obj);
+    h.cmd(0, qi::write | qi::RATE1, 100000);
+    h.cmd(0, qi::write | qi::RATE2, 100000);
+    h.cmd(0, qi::write | qi::JSPD, jspd);
+    h.cmd(0, qi::write | qi::JEXIT, jexit);
+    h.cmd(0, qi::write | qi::DCFG, (dcfg::preset << dcfg::mode_shift) | 1u | (jspd ? dcfg::blend : 0));
+    h.cmd(0, qi::write | qi::POS, static_cast<std::uint32_t>(dist));
+    h.cmd(0, qi::STRN);
 }
 
 TEST(CamcQiBlend, AQueuedDriveTakesOverAtTheJunctionSpeedWithoutAStop) {
     run([](Host& h) {
         h.chip.trace_pulses(0, true);
-        h.move(10000, 20000);
+        move(h, 10000, 20000);
         wait(sc_time(300, SC_MS)); // cruising at 20000 (the ramp takes 0.2 s, 2000 pulses)
-        h.move(10000, 10000, 15000, 15000);
+        move(h, 10000, 10000, 15000, 15000);
         EXPECT_FALSE(h.chip.drive_status(0) & drvst::queue_empty) << "the blended drive waits";
         bool stopped = false;
         while (h.chip.busy(0)) {
@@ -82,14 +59,14 @@ TEST(CamcQiBlend, AQueuedDriveTakesOverAtTheJunctionSpeedWithoutAStop) {
 
 TEST(CamcQiBlend, AStopCancelsTheQueuedDriveAndAPlainStartWhileBusyIsIgnored) {
     run([](Host& h) {
-        h.move(10000, 20000);
+        move(h, 10000, 20000);
         wait(sc_time(300, SC_MS));
         {
             test::ScAllowWarnings allow;
-            h.move(10000, 10000); // no blend bit: ignored, as before (a warning)
+            move(h, 10000, 10000); // no blend bit: ignored, as before (a warning)
         }
         EXPECT_TRUE(h.chip.drive_status(0) & drvst::queue_empty);
-        h.move(10000, 10000, 15000, 15000);
+        move(h, 10000, 10000, 15000, 15000);
         EXPECT_FALSE(h.chip.drive_status(0) & drvst::queue_empty);
         h.cmd(0, qi::SSTOP);
         while (h.chip.busy(0)) wait(sc_time(100, SC_US));
