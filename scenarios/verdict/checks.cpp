@@ -24,7 +24,7 @@ Check judge(std::string name, Check::Relation rel, const Figure& f, double limit
 }
 
 /// A simulated instant as the explanations print it, as the summaries do (sim_time_text).
-std::string at_us(const sc_core::sc_time& t) { return sim_time_text(t.to_seconds()); }
+std::string at_text(const sc_core::sc_time& t) { return sim_time_text(t.to_seconds()); }
 
 std::string us(double v) {
     std::ostringstream os;
@@ -45,7 +45,7 @@ std::string why_overruns(const World& w) {
         const auto& u = w.ctl.comm.uart[p];
         if (u.stats().overruns == 0) continue;
         v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(u.stats().overruns) +
-                    " character(s) lost, the first arriving at " + at_us(*u.first_overrun()) +
+                    " character(s) lost, the first arriving at " + at_text(*u.first_overrun()) +
                     " with the RX FIFO full");
     }
     return joined(v);
@@ -59,7 +59,7 @@ std::string why_frames_failed(const World& w) {
         if (!h || !h->first_failure()) continue;
         v.push_back("port " + std::to_string(p) + " (host to controller): " + std::to_string(h->counters().frames_failed) +
                     " command(s) given up after their retries, the first (" + h->first_failure()->token + ") at " +
-                    at_us(h->first_failure()->at));
+                    at_text(h->first_failure()->at));
     }
     return joined(v);
 }
@@ -79,7 +79,7 @@ std::string why_frames_delivered(const World& w, const Scenario& s) {
 std::string why_char_latency(const World& w, unsigned p) {
     const World::CharWait& worst = w.char_latency_worst[p];
     return "port " + std::to_string(p) + " (host to controller): a character waited " + us(worst.wait_us) +
-           " in the RX FIFO, from its stop bit at " + at_us(worst.stop) + " to its RXD read at " + at_us(worst.read);
+           " in the RX FIFO, from its stop bit at " + at_text(worst.stop) + " to its RXD read at " + at_text(worst.read);
 }
 
 /// table3_worst_margin_us: the longest RS-232 receive interrupt and its place in the sum.
@@ -87,7 +87,7 @@ std::string why_worst_margin(const World& w, const CheckFigures& f, double budge
     if (w.rs232_rx_service_us().count() == 0) return "";
     const InterruptRecord& r = w.rs232_rx_longest();
     const double sum = budget - *f.table3_worst_margin_us.value; // longest + DP-RAM per byte
-    return "the longest RS-232 receive interrupt, " + source_name(r.level) + " entered at " + at_us(r.first_isr) +
+    return "the longest RS-232 receive interrupt, " + source_name(r.level) + " entered at " + at_text(r.first_isr) +
            ", took " + us(r.service_us()) + "; with the DP-RAM time per byte that is " + us(sum) + " against the " +
            us(budget) + " budget";
 }
@@ -107,7 +107,7 @@ std::string why_blocking(const InterruptRecord& r, const SymbolOf& symbol) {
     std::string path;
     for (const std::string& name : path_names(r.path.data(), r.path_len, symbol))
         path += (path.empty() ? "" : " > ") + name;
-    return source_name(r.level) + " entered at " + at_us(r.first_isr) + " kept other requests waiting " +
+    return source_name(r.level) + " entered at " + at_text(r.first_isr) + " kept other requests waiting " +
            us(r.blocking_us()) + " (IF = 0, or its level in service before its EOI) of its " + us(r.service_us()) +
            " service" + (path.empty() ? std::string() : "; what ran: " + path);
 }
@@ -330,7 +330,7 @@ std::vector<Check> communication_checks(const World& w, const Scenario& s, const
     if (!dropped.empty())
         explain(malformed, [&] {
             return "port " + std::to_string(dropped[0].port) + " (host to controller): the first at " +
-                   at_us(dropped[0].time) + ": " + dropped[0].reason;
+                   at_text(dropped[0].time) + ": " + dropped[0].reason;
         }, dropped[0].time);
     checks.push_back(std::move(malformed));
     checks.push_back(Check::at_least("frames_delivered", count(f.frames_delivered), min_delivered));
